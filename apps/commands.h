@@ -1,0 +1,15 @@
+#ifndef BOUNCECAL_APPS_COMMANDS_H_
+#define BOUNCECAL_APPS_COMMANDS_H_
+
+#include <CLI/CLI.hpp>
+
+namespace bouncecal::apps {
+
+// Each subcommand lives in its own file and registers itself on the top-level app. The callback
+// does the work and throws bouncecal::Error subclasses for problems the user can fix; main()
+// turns them into one-line messages and exit statuses.
+void AddVersionCommand(CLI::App& app);
+
+}  // namespace bouncecal::apps
+
+#endif  // BOUNCECAL_APPS_COMMANDS_H_

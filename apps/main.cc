@@ -1,0 +1,49 @@
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+
+#include "bouncecal/error.h"
+#include "commands.h"
+#include "exit_codes.h"
+
+namespace {
+
+int ReportError(const char* message, int status) {
+  std::fprintf(stderr, "bouncecal: error: %s\n", message);
+  return status;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  namespace apps = bouncecal::apps;
+  CLI::App app{
+      "bouncecal: calibrate DEM contact damping from the sound of a bouncing ball.\n"
+      "All quantities are SI (m, s, kg, N/m) unless an option name says otherwise."};
+  app.require_subcommand(1);
+  apps::AddVersionCommand(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& success) {
+    return app.exit(success);
+  } catch (const CLI::ParseError& error) {
+    // CLI11 prints its own message; map every usage problem to one documented status.
+    app.exit(error);
+    return apps::kExitBadOption;
+  } catch (const bouncecal::InputError& error) {
+    return ReportError(error.what(), apps::kExitInputFile);
+  } catch (const bouncecal::ConfigError& error) {
+    return ReportError(error.what(), apps::kExitBadOption);
+  } catch (const bouncecal::OutputError& error) {
+    return ReportError(error.what(), apps::kExitOutputFile);
+  } catch (const bouncecal::Error& error) {
+    return ReportError(error.what(), apps::kExitBadOption);
+  } catch (const std::bad_alloc&) {
+    return ReportError("out of memory; try a shorter recording or a smaller scene",
+                       apps::kExitInternal);
+  } catch (const std::exception& error) {
+    return ReportError(error.what(), apps::kExitInternal);
+  }
+  return apps::kExitOk;
+}

@@ -1,0 +1,53 @@
+#ifndef BOUNCECAL_AUDIO_SRC_SOUND_FILE_H_
+#define BOUNCECAL_AUDIO_SRC_SOUND_FILE_H_
+
+#include <sndfile.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+
+namespace bouncecal::audio {
+
+// RAII owner of a libsndfile handle: the only place that talks to libsndfile, so every error
+// message names the file and says what to do.
+class SoundFile {
+ public:
+  // Opens for reading; throws InputError (missing file, directory, not audio, unsupported codec).
+  static SoundFile OpenForReading(const std::filesystem::path& path);
+  // Opens for writing with a libsndfile format such as SF_FORMAT_WAV | SF_FORMAT_PCM_16.
+  static SoundFile OpenForWriting(const std::filesystem::path& path, int sample_rate_hz,
+                                  int channels, int format);
+
+  SoundFile(SoundFile&& other) noexcept;
+  SoundFile& operator=(SoundFile&& other) noexcept;
+  SoundFile(const SoundFile&) = delete;
+  SoundFile& operator=(const SoundFile&) = delete;
+  ~SoundFile();
+
+  int sample_rate_hz() const { return info_.samplerate; }
+  int channels() const { return info_.channels; }
+  // Frames the header claims; a truncated file may hold fewer, so readers must trust the count
+  // ReadFrames returns, not this.
+  std::int64_t frames() const { return info_.frames; }
+  int format() const { return info_.format; }
+  const std::filesystem::path& path() const { return path_; }
+
+  // Reads up to interleaved.size() / channels() frames as float (full scale +-1); returns the
+  // number of frames read, 0 at the end. Throws InputError on a read error.
+  std::int64_t ReadFrames(std::span<float> interleaved);
+  // Writes whole frames; throws OutputError on failure.
+  void WriteFrames(std::span<const float> interleaved);
+
+ private:
+  SoundFile(SNDFILE* handle, const SF_INFO& info, std::filesystem::path path);
+
+  SNDFILE* handle_ = nullptr;
+  SF_INFO info_{};
+  std::filesystem::path path_;
+};
+
+}  // namespace bouncecal::audio
+
+#endif  // BOUNCECAL_AUDIO_SRC_SOUND_FILE_H_

@@ -1,0 +1,120 @@
+#include "bouncecal/calibrate/restitution.h"
+
+#include <cmath>
+#include <string>
+
+#include "bouncecal/error.h"
+
+namespace bouncecal::calibrate {
+namespace {
+
+// sigma of a quantity from its gradient with respect to the onsets, onsets independent.
+double PropagatedSigma(const std::vector<double>& gradient,
+                       const std::vector<TimedImpact>& impacts) {
+  double variance = 0;
+  for (size_t i = 0; i < gradient.size(); ++i) {
+    const double term = gradient[i] * impacts[i].uncertainty_s;
+    variance += term * term;
+  }
+  return std::sqrt(variance);
+}
+
+void Validate(const std::vector<TimedImpact>& impacts, const RestitutionOptions& options) {
+  if (!(options.gravity_mps2 > 0) || !std::isfinite(options.gravity_mps2)) {
+    throw ConfigError("gravity must be a positive number of m/s^2, got " +
+                      std::to_string(options.gravity_mps2));
+  }
+  if (options.drop_height_m &&
+      (!(*options.drop_height_m > 0) || !std::isfinite(*options.drop_height_m))) {
+    throw ConfigError("drop height must be a positive number of metres, got " +
+                      std::to_string(*options.drop_height_m));
+  }
+  if (options.first_n < 1) {
+    throw ConfigError("first N must be at least 1, got " + std::to_string(options.first_n));
+  }
+  for (size_t i = 0; i < impacts.size(); ++i) {
+    if (!std::isfinite(impacts[i].onset_s) || !std::isfinite(impacts[i].uncertainty_s) ||
+        impacts[i].uncertainty_s < 0) {
+      throw ConfigError("impact " + std::to_string(i + 1) +
+                        " has a non-finite onset or a negative/non-finite uncertainty");
+    }
+    if (i > 0 && !(impacts[i].onset_s > impacts[i - 1].onset_s)) {
+      throw ConfigError("impact times must increase strictly; impact " + std::to_string(i + 1) +
+                        " is not later than impact " + std::to_string(i));
+    }
+  }
+}
+
+}  // namespace
+
+double DropFlightTime(double drop_height_m, double gravity_mps2) {
+  return 2.0 * std::sqrt(2.0 * drop_height_m / gravity_mps2);
+}
+
+RestitutionAnalysis AnalyzeRestitution(const std::vector<TimedImpact>& impacts,
+                                       const RestitutionOptions& options) {
+  Validate(impacts, options);
+  RestitutionAnalysis result;
+  const double g = options.gravity_mps2;
+  const size_t n = impacts.size();
+  for (size_t j = 0; j + 1 < n; ++j) {
+    const double dt = impacts[j + 1].onset_s - impacts[j].onset_s;
+    const double sigma = std::hypot(impacts[j].uncertainty_s, impacts[j + 1].uncertainty_s);
+    result.intervals_s.push_back(dt);
+    result.interval_uncertainty_s.push_back(sigma);
+    result.bounce_height_m.push_back(g * dt * dt / 8.0);
+    result.bounce_height_uncertainty_m.push_back(g * dt * sigma / 4.0);
+  }
+
+  // Each restitution entry keeps its gradient over the onsets so the mean's uncertainty is
+  // propagated with the shared-onset correlations intact.
+  std::vector<std::vector<double>> energy_loss_gradients;
+  auto add_impact = [&](int impact, double incoming, double outgoing,
+                        std::vector<double> gradient_of_e) {
+    const double e = outgoing / incoming;
+    const double eta = 1.0 - e * e;
+    std::vector<double> gradient_of_eta(gradient_of_e.size());
+    for (size_t i = 0; i < gradient_of_e.size(); ++i)
+      gradient_of_eta[i] = -2.0 * e * gradient_of_e[i];
+    result.impact_index.push_back(impact);
+    result.restitution.push_back(e);
+    result.restitution_uncertainty.push_back(PropagatedSigma(gradient_of_e, impacts));
+    result.energy_loss.push_back(eta);
+    result.energy_loss_uncertainty.push_back(PropagatedSigma(gradient_of_eta, impacts));
+    energy_loss_gradients.push_back(std::move(gradient_of_eta));
+  };
+
+  if (options.drop_height_m && n >= 2) {
+    // dt_0 comes from h0, not from a measurement, so only t_1 and t_2 carry timing error.
+    const double incoming = DropFlightTime(*options.drop_height_m, g);
+    std::vector<double> gradient(n, 0.0);
+    gradient[0] = -1.0 / incoming;
+    gradient[1] = 1.0 / incoming;
+    add_impact(0, incoming, result.intervals_s[0], std::move(gradient));
+  }
+  for (size_t k = 1; k + 1 < n; ++k) {
+    const double incoming = result.intervals_s[k - 1];  // t_k - t_{k-1}
+    const double outgoing = result.intervals_s[k];      // t_{k+1} - t_k
+    const double e = outgoing / incoming;
+    std::vector<double> gradient(n, 0.0);
+    gradient[k + 1] = 1.0 / incoming;
+    gradient[k] = -(1.0 + e) / incoming;
+    gradient[k - 1] = e / incoming;
+    add_impact(static_cast<int>(k), incoming, outgoing, std::move(gradient));
+  }
+
+  const size_t first_n = static_cast<size_t>(options.first_n);
+  if (result.energy_loss.size() >= first_n) {
+    double mean = 0;
+    std::vector<double> gradient(n, 0.0);
+    for (size_t j = 0; j < first_n; ++j) {
+      mean += result.energy_loss[j] / first_n;
+      for (size_t i = 0; i < n; ++i) gradient[i] += energy_loss_gradients[j][i] / first_n;
+    }
+    result.energy_loss_mean_first_n = mean;
+    result.energy_loss_mean_first_n_uncertainty = PropagatedSigma(gradient, impacts);
+  }
+  return result;
+}
+
+}  // namespace bouncecal::calibrate

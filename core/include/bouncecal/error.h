@@ -1,0 +1,37 @@
+#ifndef BOUNCECAL_ERROR_H_
+#define BOUNCECAL_ERROR_H_
+
+#include <stdexcept>
+#include <string>
+
+namespace bouncecal {
+
+// Every problem a user can fix (a bad file, an out-of-range parameter, an unwritable output) is
+// reported as an Error whose message is one line: what went wrong, which file or value, and what
+// to do. Programmer invariants use assert instead; numerical non-convergence goes into a Summary.
+class Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// An input file that cannot be read or does not hold what it should (exit status 2 in the CLI).
+class InputError : public Error {
+ public:
+  using Error::Error;
+};
+
+// A parameter or configuration value outside its valid range (exit status 3 in the CLI).
+class ConfigError : public Error {
+ public:
+  using Error::Error;
+};
+
+// An output that cannot be written (exit status 4 in the CLI).
+class OutputError : public Error {
+ public:
+  using Error::Error;
+};
+
+}  // namespace bouncecal
+
+#endif  // BOUNCECAL_ERROR_H_

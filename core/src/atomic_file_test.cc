@@ -1,0 +1,57 @@
+#include "bouncecal/atomic_file.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "bouncecal/error.h"
+
+namespace bouncecal {
+namespace {
+
+std::filesystem::path FreshDir(const std::string& name) {
+  auto dir = std::filesystem::temp_directory_path() / ("bouncecal_atomic_" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::string ReadAll(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
+TEST(AtomicFile, CommitPutsContentInPlaceAndLeavesNoTemporary) {
+  const auto dir = FreshDir("commit");
+  WriteFileAtomically(dir / "out.json", "{}\n");
+  EXPECT_EQ(ReadAll(dir / "out.json"), "{}\n");
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir),
+                          std::filesystem::directory_iterator()),
+            1);
+}
+
+TEST(AtomicFile, AbandonedWriteLeavesExistingFileUntouched) {
+  const auto dir = FreshDir("abandon");
+  WriteFileAtomically(dir / "out.json", "old");
+  try {
+    AtomicFile file(dir / "out.json");
+    file.stream() << "new, half written";
+    throw std::runtime_error("simulated failure before commit");
+  } catch (const std::runtime_error&) {
+  }
+  EXPECT_EQ(ReadAll(dir / "out.json"), "old");
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir),
+                          std::filesystem::directory_iterator()),
+            1);
+}
+
+TEST(AtomicFile, MissingFolderIsAnOutputError) {
+  EXPECT_THROW(AtomicFile("/nonexistent-bouncecal-dir/out.json"), OutputError);
+}
+
+}  // namespace
+}  // namespace bouncecal
