@@ -119,13 +119,48 @@ class ContactStepper {
   double acceleration_ = 0;
 };
 
+// Finds the sub-step s in (0, dt] after which value(state) crosses 0, given its values at the
+// start and after the full step (of opposite signs), by regula falsi with the Illinois
+// modification on the sub-step length: each trial re-integrates the sub-step from the saved
+// stepper, so the event is located on the integrator's own trajectory, whatever the step size.
+// Leaves the state and stepper at the event and returns s.
+template <typename Stepper, typename Value>
+double LocateEvent(const Stepper& saved, const State& start, double dt, Branch branch,
+                   double value_start, double value_end, Value value, State& state,
+                   Stepper& stepper) {
+  double lo = 0, hi = dt, f_lo = value_start, f_hi = value_end;
+  const double tolerance = 1e-12 * std::max(std::abs(value_start), std::abs(value_end));
+  double s = dt * value_start / (value_start - value_end);
+  int side = 0;
+  for (int iteration = 0; iteration < 30; ++iteration) {
+    stepper = saved;
+    state = start;
+    stepper.Step(state, s, branch);
+    const double f = value(state);
+    if (std::abs(f) <= tolerance || hi - lo <= 1e-12 * dt) break;
+    if ((f < 0) == (f_lo < 0)) {
+      lo = s;
+      f_lo = f;
+      if (side == -1) f_hi *= 0.5;
+      side = -1;
+    } else {
+      hi = s;
+      f_hi = f;
+      if (side == 1) f_lo *= 0.5;
+      side = 1;
+    }
+    s = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+  }
+  return s;
+}
+
 enum class ContactEnd { kReleased, kTrapped, kTimeLimit, kStepLimit };
 
 // One contact integrated with a fixed step from `state` (overlap >= 0, approaching) until the
 // ball is released, can never be released, or the time or step budget ends.
 //
 // With options.locate_contact_events, a step in which the velocity changes sign is redone as
-// two sub-steps split at the (linearly estimated) turning point, with the law's loading branch
+// two sub-steps split at the turning point (located by LocateEvent), with the law's loading branch
 // before it and the unloading branch after, and the step in which the ball leaves the plane is
 // redone up to the crossing. There the contact behaves like Coulomb friction in
 // velocity space (Filippov): if neither branch can move the ball (upward acceleration <= 0 on
@@ -147,15 +182,14 @@ ContactEnd IntegrateContact(const Law& law, const Physics& physics, const DropOp
     stepper.Step(state, dt, Branch::kFree);
     ++steps;
     if (options.locate_contact_events && previous.v * state.v < 0 && state.z < 0) {
-      const double fraction = previous.v / (previous.v - state.v);
-      stepper = saved;
-      state = previous;
       const Branch before = previous.v < 0 ? Branch::kLoading : Branch::kUnloading;
-      const State turned_from = state;
-      stepper.Step(state, fraction * dt, before);
+      const double v_end = state.v;
+      const double sub_step = LocateEvent(
+          saved, previous, dt, before, previous.v, v_end, [](const State& at) { return at.v; },
+          state, stepper);
       state.v = 0;
       const auto [up, down] = stepper.TurningAccelerations(state.z);
-      recorder.Segment(turned_from.t, turned_from.z, turned_from.v, state.t, state.z, state.v);
+      recorder.Segment(previous.t, previous.z, previous.v, state.t, state.z, state.v);
       if (up <= 0 && down >= 0) {
         impact.max_overlap_m = std::max(impact.max_overlap_m, -state.z);
         return ContactEnd::kTrapped;
@@ -163,19 +197,18 @@ ContactEnd IntegrateContact(const Law& law, const Physics& physics, const DropOp
       const Branch after = up > 0 ? Branch::kUnloading : Branch::kLoading;
       stepper.Turn(state, after);
       const State mid = state;
-      stepper.Step(state, (1 - fraction) * dt, after);
+      stepper.Step(state, dt - sub_step, after);
       ++steps;
       state.t = previous.t + dt;
       recorder.Segment(mid.t, mid.z, mid.v, state.t, state.z, state.v);
     } else if (options.locate_contact_events && state.z >= 0 && previous.z < 0) {
-      // Release inside the step: redo it up to the (linearly estimated) crossing, so that no
-      // part of the step feels the force jump there (the dashpot's pull ends at overlap 0).
-      const double fraction = previous.z / (previous.z - state.z);
-      stepper = saved;
-      state = previous;
-      stepper.Step(state, fraction * dt, Branch::kFree);
+      // Release inside the step: redo it up to the crossing, so that no part of the step feels
+      // the force jump there (the dashpot's pull ends at overlap 0).
+      LocateEvent(
+          saved, previous, dt, Branch::kFree, previous.z, state.z,
+          [](const State& at) { return at.z; }, state, stepper);
       recorder.Segment(previous.t, previous.z, previous.v, state.t, state.z, state.v);
-      state.z = std::max(state.z, 0.0);  // a remaining overlap of O(dt^2) is released too
+      state.z = std::max(state.z, 0.0);  // what remains is below the location tolerance
     } else {
       recorder.Segment(previous.t, previous.z, previous.v, state.t, state.z, state.v);
     }
