@@ -33,7 +33,9 @@ template <typename Law>
 double Acceleration(const Law& law, const Physics& physics, double z, double v,
                     NormalHistory& history) {
   double a = -physics.gravity_mps2 - physics.drag_per_mass * v * std::abs(v);
-  if (z < 0) {
+  // Touching and approaching counts as contact: laws whose force jumps at touchdown (dashpot)
+  // then act from the first instant of the contact.
+  if (z < 0 || (z == 0 && v < 0)) {
     const NormalContact contact{.overlap_m = -z,
                                 .overlap_rate_mps = -v,
                                 .effective_mass_kg = physics.mass_kg,
