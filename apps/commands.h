@@ -9,6 +9,8 @@ namespace bouncecal::apps {
 // does the work and throws bouncecal::Error subclasses for problems the user can fix; main()
 // turns them into one-line messages and exit statuses.
 void AddVersionCommand(CLI::App& app);
+// simulate drop: the DEM single-ball drop (apps/simulate_command.cc).
+void AddSimulateCommand(CLI::App& app);
 
 }  // namespace bouncecal::apps
 
