@@ -17,16 +17,6 @@ constexpr double kKnockContactS = 1.5e-3;
 constexpr std::array<PlateMode, 2> kThumpModes = {{{35.0, 0.08, 1.0}, {70.0, 0.04, 0.5}}};
 constexpr double kThumpContactS = 0.02;
 
-// Largest |y| of a unit-scale modal sound sampled from its onset: used to honour peak_amplitude.
-double SampledPeak(const ModalImpact& impact, double sample_rate_hz) {
-  double peak = 0.0;
-  const auto count = static_cast<std::int64_t>(impact.ring_duration_s() * sample_rate_hz);
-  for (std::int64_t i = 0; i < count; ++i) {
-    peak = std::max(peak, std::abs(impact.Evaluate(static_cast<double>(i) / sample_rate_hz)));
-  }
-  return peak;
-}
-
 void AddModal(std::span<const PlateMode> modes, double contact_s, double arrival_s,
               double peak_amplitude, double sample_rate_hz, std::int64_t first_index,
               std::span<float> out) {
@@ -35,7 +25,7 @@ void AddModal(std::span<const PlateMode> modes, double contact_s, double arrival
     if (mode.frequency_hz < 0.45 * sample_rate_hz) audible.push_back(mode);
   }
   const ModalImpact impact(audible, contact_s);
-  const double peak = SampledPeak(impact, sample_rate_hz);
+  const double peak = impact.SampledPeak(sample_rate_hz, impact.ring_duration_s());
   if (peak <= 0.0) return;
   impact.Add(arrival_s, peak_amplitude / peak, sample_rate_hz, first_index, out);
 }

@@ -95,6 +95,15 @@ double ModalImpact::Evaluate(double t_s) const {
   return sum;
 }
 
+double ModalImpact::SampledPeak(double sample_rate_hz, double span_s) const {
+  double peak = 0.0;
+  const auto count = static_cast<std::int64_t>(std::min(span_s, ring_duration_s_) * sample_rate_hz);
+  for (std::int64_t i = 0; i <= count; ++i) {
+    peak = std::max(peak, std::abs(Evaluate(static_cast<double>(i) / sample_rate_hz)));
+  }
+  return peak;
+}
+
 void ModalImpact::Add(double onset_s, double scale, double sample_rate_hz, std::int64_t first_index,
                       std::span<float> out) const {
   for (const ModeResponse& mode : modes_) {

@@ -53,6 +53,10 @@ class ModalImpact {
            std::span<float> out) const;
   double ring_duration_s() const { return ring_duration_s_; }
 
+  // Largest |y| at the sample times 0, 1/rate, ... up to span_s after the onset: the peak an
+  // onset on a sample would show, used to give amplitudes a meaning in full-scale units.
+  double SampledPeak(double sample_rate_hz, double span_s) const;
+
  private:
   std::vector<ModeResponse> modes_;
   double ring_duration_s_ = 0.0;

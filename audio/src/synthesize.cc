@@ -51,11 +51,19 @@ struct ImpactVoice {
   double scale;
 };
 
-ImpactVoice VoiceFor(const SynthesisOptions& options, double impact_speed_mps, double jitter) {
+// unit_peak: the sampled peak of the mode bank at the reference speed, so that peak_amplitude is
+// the actual peak of a reference impact in full-scale units.
+ImpactVoice VoiceFor(const SynthesisOptions& options, double unit_peak, double impact_speed_mps,
+                     double jitter) {
   const double ratio = impact_speed_mps / options.reference_speed_mps;
   return {options.contact_duration_s * std::pow(ratio, options.contact_duration_speed_exponent),
-          options.peak_amplitude * std::pow(ratio, options.amplitude_speed_exponent) * jitter};
+          options.peak_amplitude / unit_peak * std::pow(ratio, options.amplitude_speed_exponent) *
+              jitter};
 }
+
+// The peak of an impact comes within the first few periods of the lowest mode; 50 ms covers any
+// mode above 100 Hz with margin.
+constexpr double kPeakSearchS = 0.05;
 
 // Mean square of one impact's direct sound over the round(window_s * rate) samples that start
 // at the first sample at or after its arrival (a sample count, so rounding of t_i never adds or
@@ -159,6 +167,13 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
   const double rate_hz = options.sample_rate_hz;
   const std::vector<SynthesizedEvent> ball_impacts = PlanBallImpacts(options);
   const std::vector<PlateMode> modes = AudibleModes(options);
+  const double unit_peak =
+      ModalImpact(modes, options.contact_duration_s).SampledPeak(rate_hz, kPeakSearchS);
+  if (!(unit_peak > 0.0)) {
+    throw ConfigError(
+        "synthesis option modes: the audible modes give a silent impact; give "
+        "modes with non-zero gain below 0.45 x sample_rate_hz");
+  }
 
   // Every event of the truth, before truncation to the file length.
   std::vector<SynthesizedEvent> events = ball_impacts;
@@ -235,7 +250,7 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
     for (size_t k = 0; k < ball_impacts.size(); ++k) {
       const SynthesizedEvent& impact = ball_impacts[k];
       if (impact.onset_s >= duration_s) break;
-      const ImpactVoice voice = VoiceFor(options, impact.impact_speed_mps, jitter[k]);
+      const ImpactVoice voice = VoiceFor(options, unit_peak, impact.impact_speed_mps, jitter[k]);
       const ModalImpact sound(modes, voice.contact_s);
       const double arrival_s = impact.onset_s + channel.delay_s;
       const double scale = voice.scale * channel_gain;
@@ -259,7 +274,7 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
                            RandomStream(options.seed, kExtraEventStream, i), 0, out);
       }
     }
-    if (options.reverb) {
+    if (options.reverb && options.reverb->rt60_s > 0.0) {
       AddConvolution(
           DiffuseTail(*options.reverb, rate_hz, RandomStream(options.seed, kReverbStream, c)), out);
     }

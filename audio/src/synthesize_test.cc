@@ -166,6 +166,17 @@ TEST(SynthesizeBounces, AmplitudeGrowsLinearlyWithImpactSpeedForARigidContact) {
   EXPECT_LT(PeakIn(hertz.channels[0], 1.1, 1.2), PeakIn(hertz.channels[0], 2.1, 2.2));
 }
 
+TEST(SynthesizeBounces, ReferenceSpeedImpactPeaksAtTheRequestedAmplitude) {
+  // Onset on a sample: the sampled peak is exactly the one peak_amplitude is normalised by.
+  SynthesisOptions options = ExplicitImpacts({{0.1, 1.98}});
+  options.peak_amplitude = 0.3;
+  const auto recording = SynthesizeBounces(options);
+  EXPECT_NEAR(PeakIn(recording.channels[0], 0.1, 0.15), 0.3, 1e-6);  // float rounding
+  // Off-sample onsets see the waveform at other phases: within a few percent for 48 kHz.
+  options.impacts[0].onset_s = 0.1 + 0.5 / 48000;
+  EXPECT_NEAR(PeakIn(SynthesizeBounces(options).channels[0], 0.1, 0.15), 0.3, 0.03);
+}
+
 // Measures the SNR exactly as NoiseOptions defines it, from a render with and without noise.
 double MeasuredSnrDb(const SynthesisOptions& noisy, double reference_onset_s) {
   SynthesisOptions clean_options = noisy;

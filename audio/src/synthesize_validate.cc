@@ -93,7 +93,7 @@ void ValidateSynthesisOptions(const SynthesisOptions& options) {
 
   if (options.reverb) {
     const ReverbOptions& reverb = *options.reverb;
-    RequireAbove("reverb.rt60_s", reverb.rt60_s, 0.0, 10.0, "s");
+    RequireRange("reverb.rt60_s", reverb.rt60_s, 0.0, 10.0, "s (0 = echoes only)");
     RequireRange("reverb.direct_to_reverberant_db", reverb.direct_to_reverberant_db, -20.0, 80.0,
                  "dB");
     RequireRange("reverb.predelay_s", reverb.predelay_s, 0.0, 1.0, "s");

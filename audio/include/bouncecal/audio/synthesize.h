@@ -86,7 +86,7 @@ struct Echo {
 // Diffuse room reverb: each channel's dry sound is convolved with an exponentially decaying
 // Gaussian noise tail (Schroeder's statistical reverb model) that starts predelay_s after the
 // direct sound and falls by 60 dB in rt60_s. direct_to_reverberant_db is the energy ratio of the
-// direct impulse (1) to the whole tail.
+// direct impulse (1) to the whole tail. rt60_s = 0 leaves out the diffuse tail (echoes only).
 struct ReverbOptions {
   double rt60_s = 0.3;
   double direct_to_reverberant_db = 10.0;
@@ -177,9 +177,10 @@ struct SynthesisOptions {
   // steel ~50-70 us, a ping-pong ball ~1 ms.
   double contact_duration_s = 70e-6;
   double contact_duration_speed_exponent = -0.2;
-  // Amplitude scale: the modes see a unit-area force pulse times peak_amplitude *
-  // (v / v_ref)^amplitude_speed_exponent. Exponent 1: the impulse m (1 + e) v grows linearly
-  // with speed, and modes much slower than the contact respond to the impulse.
+  // Amplitude: an impact at reference_speed_mps peaks at peak_amplitude (full scale, sampled
+  // peak of its direct sound); other speeds scale as (v / v_ref)^amplitude_speed_exponent.
+  // Exponent 1: the impulse m (1 + e) v grows linearly with speed, and modes much slower than
+  // the contact respond to the impulse (faster impacts also get shorter, brighter pulses).
   double reference_speed_mps = 1.98;  // a 0.20 m drop
   double peak_amplitude = 0.5;
   double amplitude_speed_exponent = 1.0;
