@@ -206,8 +206,8 @@ void AddSynthCommand(CLI::App& app) {
       ->capture_default_str();
   command
       ->add_option("--surface", args->surface,
-                   "Mode set: plate (steel plate, 1.2-14 kHz) or counter (0.4-5 kHz, long "
-                   "ringing)")
+                   "Mode set: plate (steel plate, 1.2-14 kHz) or counter (ping-pong on a counter, "
+                   "1.2-17 kHz, rings 50-250 ms)")
       ->check(CLI::IsMember({"plate", "counter"}))
       ->capture_default_str();
   command

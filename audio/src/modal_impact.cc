@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 namespace bouncecal::audio {
 namespace {
@@ -108,6 +109,67 @@ void ModalImpact::Add(double onset_s, double scale, double sample_rate_hz, std::
                       std::span<float> out) const {
   for (const ModeResponse& mode : modes_) {
     mode.Add(onset_s, scale, sample_rate_hz, first_index, out);
+  }
+}
+
+void RenderModalExcitations(std::span<const PlateMode> modes,
+                            std::span<const ModalExcitation> excitations, double sample_rate_hz,
+                            std::span<float> out) {
+  constexpr double kDroppedMagnitude = 1e-12;
+  const auto size = static_cast<std::int64_t>(out.size());
+  // Where each excitation's contact ends (first sample at or after it), in order.
+  struct Injection {
+    std::int64_t index;
+    const ModalExcitation* excitation;
+  };
+  std::vector<Injection> injections;
+  injections.reserve(excitations.size());
+  for (const ModalExcitation& excitation : excitations) {
+    injections.push_back(
+        {FirstSampleAtOrAfter(excitation.arrival_s + excitation.contact_s, sample_rate_hz),
+         &excitation});
+  }
+  std::sort(injections.begin(), injections.end(),
+            [](const Injection& a, const Injection& b) { return a.index < b.index; });
+  for (const PlateMode& mode : modes) {
+    if (mode.gain == 0.0) continue;
+    // During contact: evaluated directly (a handful of samples per excitation).
+    for (const ModalExcitation& excitation : excitations) {
+      const ModeResponse response(mode, excitation.contact_s);
+      const std::int64_t start = FirstSampleAtOrAfter(excitation.arrival_s, sample_rate_hz);
+      const std::int64_t stop = std::min(
+          size, FirstSampleAtOrAfter(excitation.arrival_s + excitation.contact_s, sample_rate_hz));
+      for (std::int64_t index = std::max<std::int64_t>(start, 0); index < stop; ++index) {
+        const double t_s = static_cast<double>(index) / sample_rate_hz - excitation.arrival_s;
+        out[static_cast<size_t>(index)] +=
+            static_cast<float>(excitation.scale * response.Evaluate(t_s));
+      }
+    }
+    // After contact: one complex state per mode, advanced by one multiplication per sample.
+    const std::complex<double> pole(-1.0 / mode.decay_s,
+                                    2.0 * std::numbers::pi * mode.frequency_hz);
+    const std::complex<double> step = std::exp(pole / sample_rate_hz);
+    std::complex<double> state = 0.0;
+    size_t next = 0;
+    std::int64_t index = injections.empty() ? size : injections.front().index;
+    while (index < size) {
+      while (next < injections.size() && injections[next].index == index) {
+        const ModalExcitation& excitation = *injections[next].excitation;
+        const ModeResponse response(mode, excitation.contact_s);
+        const double t_s = static_cast<double>(index) / sample_rate_hz - excitation.arrival_s;
+        state += excitation.scale * mode.gain * std::exp(pole * t_s) * response.contact_integral();
+        ++next;
+      }
+      out[static_cast<size_t>(index)] += static_cast<float>(state.imag());
+      state *= step;
+      ++index;
+      if (std::abs(state.real()) + std::abs(state.imag()) < kDroppedMagnitude) {
+        // Silent until the next excitation: jump there.
+        state = 0.0;
+        if (next >= injections.size()) break;
+        index = std::max(index, injections[next].index);
+      }
+    }
   }
 }
 

@@ -172,9 +172,10 @@ TEST(SynthesizeBounces, ReferenceSpeedImpactPeaksAtTheRequestedAmplitude) {
   options.peak_amplitude = 0.3;
   const auto recording = SynthesizeBounces(options);
   EXPECT_NEAR(PeakIn(recording.channels[0], 0.1, 0.15), 0.3, 1e-6);  // float rounding
-  // Off-sample onsets see the waveform at other phases: within a few percent for 48 kHz.
-  options.impacts[0].onset_s = 0.1 + 0.5 / 48000;
-  EXPECT_NEAR(PeakIn(SynthesizeBounces(options).channels[0], 0.1, 0.15), 0.3, 0.03);
+  // Twice the speed, twice the peak for a rigid (speed-independent) contact duration.
+  options.impacts[0].impact_speed_mps = 2 * 1.98;
+  options.contact_duration_speed_exponent = 0.0;
+  EXPECT_NEAR(PeakIn(SynthesizeBounces(options).channels[0], 0.1, 0.15), 0.6, 2e-6);
 }
 
 // Measures the SNR exactly as NoiseOptions defines it, from a render with and without noise.

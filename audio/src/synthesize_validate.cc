@@ -81,8 +81,8 @@ void ValidateSynthesisOptions(const SynthesisOptions& options) {
     const std::string name = "modes[" + std::to_string(i) + "]";
     RequireAbove(name + ".frequency_hz", options.modes[i].frequency_hz, 0.0, 200000.0, "Hz");
     RequireAbove(name + ".decay_s", options.modes[i].decay_s, 0.0, 10.0, "s");
-    RequireRange(name + ".gain", options.modes[i].gain, 0.0, 1000.0, "");
-    any_audible |= options.modes[i].frequency_hz < 0.9 * nyquist_hz && options.modes[i].gain > 0;
+    RequireRange(name + ".gain", options.modes[i].gain, -1000.0, 1000.0, "");
+    any_audible |= options.modes[i].frequency_hz < 0.9 * nyquist_hz && options.modes[i].gain != 0;
   }
   if (!any_audible) {
     throw ConfigError(
