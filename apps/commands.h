@@ -11,6 +11,7 @@ namespace bouncecal::apps {
 void AddVersionCommand(CLI::App& app);
 // simulate drop: the DEM single-ball drop (apps/simulate_command.cc).
 void AddSimulateCommand(CLI::App& app);
+void AddSynthCommand(CLI::App& app);
 
 }  // namespace bouncecal::apps
 
