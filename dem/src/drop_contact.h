@@ -52,10 +52,17 @@ class ContactStepper {
  public:
   ContactStepper(const Law& law, const Physics& physics) : law_(&law), physics_(&physics) {}
 
-  void Start(const State& state) {
+  // grid_entry: the contact starts at a grid step that already has overlap (classic stepping).
+  // A Verlet code reaching that step has applied half a kick of the contact force there
+  // (v = v_half + dt/2 a with the new force), which the ballistic state lacks: add it.
+  void Start(State& state, double dt, bool grid_entry) {
     history_ = {};
     if constexpr (kMethod == Integrator::kVelocityVerlet) {
       acceleration_ = Acceleration(*law_, *physics_, state.z, state.v, history_);
+      if (grid_entry) {
+        NormalHistory none;
+        state.v += 0.5 * dt * (acceleration_ - Acceleration(*law_, *physics_, 1.0, state.v, none));
+      }
     }
   }
 
@@ -174,7 +181,7 @@ ContactEnd IntegrateContact(const Law& law, const Physics& physics, const DropOp
                             double dt, State& state, DropImpact& impact, std::int64_t& steps,
                             TrajectoryRecorder& recorder) {
   ContactStepper<kMethod, Law> stepper(law, physics);
-  stepper.Start(state);
+  stepper.Start(state, dt, options.fixed_step_grid && state.z < 0);
   const double m = physics.mass_kg;
   const double g = physics.gravity_mps2;
   for (;;) {
