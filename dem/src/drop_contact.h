@@ -203,6 +203,7 @@ ContactEnd IntegrateContact(const Law& law, const Physics& physics, const DropOp
         impact.max_overlap_m = std::max(impact.max_overlap_m, -state.z);
         return ContactEnd::kTrapped;
       }
+      impact.max_overlap_m = std::max(impact.max_overlap_m, -state.z);  // exact at v = 0
       const Branch after = up > 0 ? Branch::kUnloading : Branch::kLoading;
       stepper.Turn(state, after);
       const State mid = state;

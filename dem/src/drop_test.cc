@@ -288,5 +288,81 @@ TEST(SimulateDrop, TrajectoryFollowsTheFreeFall) {
   }
 }
 
+// With the turning point located, the peak overlap is the integrator's state at v = 0; at 1000
+// steps it matches the exact path to the O(dt) of Euler, 1e-3 relative.
+TEST(SimulateDrop, PeakOverlapMatchesTheExactPath) {
+  DropOptions options = PaperDrop();
+  options.max_impacts = 1;
+  options.integrator = Integrator::kExact;
+  const double exact = SimulateDrop(options).impacts.at(0).max_overlap_m;
+  for (Integrator integrator : kSteppedIntegrators) {
+    options.integrator = integrator;
+    options.steps_per_contact = 1000;
+    EXPECT_NEAR(SimulateDrop(options).impacts.at(0).max_overlap_m, exact, 1e-3 * exact)
+        << ToString(integrator);
+  }
+}
+
+TEST(SimulateDrop, EveryStopReasonIsReachedAndExplained) {
+  DropOptions options = PaperDrop();
+  options.max_impacts = 4;
+  DropResult result = SimulateDrop(options);
+  EXPECT_EQ(result.stop_reason, DropStopReason::kMaxImpacts);
+  EXPECT_EQ(result.impacts.size(), 4u);
+  options = PaperDrop();
+  options.max_time_s = 0.5;
+  result = SimulateDrop(options);
+  EXPECT_EQ(result.stop_reason, DropStopReason::kTimeLimit);
+  EXPECT_EQ(result.impacts.size(), 2u);  // onsets at 0.202 s and 0.435 s
+  options = PaperDrop();
+  options.max_steps = 10;
+  result = SimulateDrop(options);
+  EXPECT_EQ(result.stop_reason, DropStopReason::kStepLimit);
+  EXPECT_LE(result.steps, 12);  // a located event may add one sub-step to the last step
+  options = PaperDrop();
+  options.rest_flight_s = 0.05;  // flights of 0.4 e^k s: rest after impact 4 (0.044 s)
+  result = SimulateDrop(options);
+  EXPECT_EQ(result.stop_reason, DropStopReason::kAtRest);
+  EXPECT_EQ(result.impacts.size(), 4u);
+  for (DropStopReason reason :
+       {DropStopReason::kMaxImpacts, DropStopReason::kTimeLimit, DropStopReason::kAtRest,
+        DropStopReason::kStuck, DropStopReason::kStepLimit}) {
+    EXPECT_NE(ToString(reason), "unknown");
+  }
+}
+
+// The paper's simulated eta-bar = 0.598 (../shared/PHYSICS.md section 3) is what fixed-step
+// stepping at dt = 10 us gives on average over where the touchdown falls inside a step (the
+// hysteresis branch switches only at step boundaries); located events give the formula's 0.667.
+// Over 100 onset phases the classic mean has a standard error of 0.0046 (spread 0.046), so
+// 0.02 is 4 standard errors; the located result is within 0.025 of 0.667 at 7 steps/contact.
+TEST(SimulateDrop, ClassicTenMicrosecondStepsReproduceThePaperValue) {
+  const auto eta_bar = [](const DropResult& result, double h0) {
+    double previous = 2 * std::sqrt(2 * h0 / 9.8), sum = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double interval = result.impacts.at(k + 1).time_s - result.impacts.at(k).time_s;
+      sum += 1 - (interval / previous) * (interval / previous);
+      previous = interval;
+    }
+    return sum / 3;
+  };
+  DropOptions options = PaperDrop();
+  options.gravity_mps2 = 9.8;
+  options.time_step_s = 10e-6;
+  options.max_impacts = 5;
+  options.fixed_step_grid = true;
+  options.locate_contact_events = false;
+  double mean = 0;
+  for (int i = 0; i < 100; ++i) {
+    options.drop_height_m = 0.2 + i / 100.0 * std::sqrt(2 * 9.8 * 0.2) * 10e-6;
+    mean += eta_bar(SimulateDrop(options), options.drop_height_m) / 100;
+  }
+  EXPECT_NEAR(mean, 0.598, 0.02);
+  options.fixed_step_grid = false;
+  options.locate_contact_events = true;
+  options.drop_height_m = 0.2;
+  EXPECT_NEAR(eta_bar(SimulateDrop(options), 0.2), 2 * 0.5 / 1.5, 0.025);
+}
+
 }  // namespace
 }  // namespace bouncecal::dem
