@@ -29,7 +29,8 @@ enum class DropStopReason {
   kMaxImpacts,  // options.max_impacts impacts were simulated
   kTimeLimit,   // options.max_time_s was reached
   kAtRest,      // the bounces became shorter than rest_flight_s, or the ball stayed in contact
-                // (its remaining energy cannot lift it off the plane any more)
+                // (its remaining energy cannot lift it off the plane any more, or the contact
+                // lasted rest_contact_factor contact durations)
   kStuck,       // the law returns no energy at all (e = 0, e.g. gamma_n = 1): the first contact
                 // never ends
   kStepLimit,   // options.max_steps integration steps were taken (guarantees finite work)
@@ -92,6 +93,10 @@ struct DropOptions {
   // recording resolves such bounces. Contacts that can never release (remaining kinetic plus
   // returnable elastic energy below the work to lift the ball out) also end the drop.
   double rest_flight_s = 1e-5;
+  // A contact lasting more than this many contact durations (the law's, at that impact's speed)
+  // is sustained: the ball rests on the plane while a weakly damped ring-down decays, [1, 1e9].
+  // Bounds the work of a contact to this many times steps_per_contact steps.
+  double rest_contact_factor = 100;
   std::int64_t max_steps = 200'000'000;  // [1, 1e12]
   double trajectory_interval_s = 0;      // 0: no trajectory recorded, else (0, 1e3]
 };
