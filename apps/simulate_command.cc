@@ -43,6 +43,7 @@ struct DropArguments {
   int max_impacts = 1000;
   double max_time_s = 60;
   double rest_flight_s = dem::DropOptions{}.rest_flight_s;
+  double rest_contact_factor = dem::DropOptions{}.rest_contact_factor;
   std::string json_path;
   std::string trajectory_path;
   double trajectory_interval_s = 1e-4;
@@ -132,6 +133,7 @@ dem::DropOptions MakeDropOptions(const DropArguments& args, const DropOptionHand
   options.max_impacts = args.max_impacts;
   options.max_time_s = args.max_time_s;
   options.rest_flight_s = args.rest_flight_s;
+  options.rest_contact_factor = args.rest_contact_factor;
   options.trajectory_interval_s = args.trajectory_path.empty() ? 0 : args.trajectory_interval_s;
   return options;
 }
@@ -255,6 +257,9 @@ void AddDropCommand(CLI::App& simulate) {
       ->capture_default_str();
   drop->add_option("--rest-flight", args->rest_flight_s,
                    "At rest when a bounce's flight would be shorter than this, in s")
+      ->capture_default_str();
+  drop->add_option("--rest-contact-factor", args->rest_contact_factor,
+                   "At rest when a contact lasts this many contact durations (dimensionless)")
       ->capture_default_str();
   drop->add_option("--json", args->json_path, "Write impacts and summary as JSON to FILE");
   drop->add_option("--trajectory", args->trajectory_path,

@@ -80,14 +80,15 @@ void ValidateOptions(const DropOptions& options) {
   CheckRange("max_impacts", options.max_impacts, 1, 1e9, "");
   CheckRange("max_time_s", options.max_time_s, 0, 1e6, "s", true);
   CheckRange("rest_flight_s", options.rest_flight_s, 0, 1, "s");
+  CheckRange("rest_contact_factor", options.rest_contact_factor, 1, 1e9, "");
   CheckRange("max_steps", static_cast<double>(options.max_steps), 1, 1e12, "");
   CheckRange("trajectory_interval_s", options.trajectory_interval_s, 0, 1e3, "s");
 }
 
 // The contact time scale steps_per_contact divides.
 template <typename Law>
-double ReferenceContactDuration(const Law& law, double mass, double radius, double speed) {
-  const double stable = law.MaxStableTimeStepS(mass, radius, speed);
+double ReferenceContactDuration(const Law& law, double mass, double radius, double speed,
+                                double stable) {
   const auto duration = law.ClosedFormContactDuration(mass, radius, speed);
   // pi / omega_max for laws without a closed form (or that never release).
   const double fallback = std::numbers::pi / 2 * stable;
@@ -174,8 +175,13 @@ class DropRunner {
         contact.v = -flight.speed_mps - physics_.gravity_mps2 * s;
       }
       state = contact;
-      const ContactEnd end = IntegrateContact<kMethod>(law, physics_, options_, dt, state, impact,
-                                                       result_.steps, recorder_);
+      const double max_contact_s =
+          options_.rest_contact_factor *
+          ReferenceContactDuration(law, physics_.mass_kg, physics_.radius_m, flight.speed_mps,
+                                   law.MaxStableTimeStepS(physics_.mass_kg, physics_.radius_m,
+                                                          flight.speed_mps, physics_.gravity_mps2));
+      const ContactEnd end = IntegrateContact<kMethod>(law, physics_, options_, dt, max_contact_s,
+                                                       state, impact, result_.steps, recorder_);
       result_.end_time_s = state.t;
       switch (end) {
         case ContactEnd::kReleased:
@@ -187,6 +193,16 @@ class DropRunner {
           impact.released = false;
           impact.contact_duration_s = state.t - impact.time_s;
           return Trapped(law, impact);
+        case ContactEnd::kSustained:
+          impact.released = false;
+          impact.contact_duration_s = state.t - impact.time_s;
+          Trapped(law, impact);
+          result_.stop_detail = fmt::format(
+              "at rest in contact: impact {} at {:.3g} m/s lasted {:.3g} s, more than "
+              "rest_contact_factor = {:g} contact durations",
+              result_.impacts.size(), impact.speed_in_mps, impact.contact_duration_s,
+              options_.rest_contact_factor);
+          return;
         case ContactEnd::kTimeLimit:
           impact.released = false;
           impact.contact_duration_s = state.t - impact.time_s;
@@ -337,10 +353,10 @@ DropStep ChooseDropStep(const DropOptions& options) {
   return std::visit(
       [&](const auto& typed) {
         DropStep step;
-        const double stable =
-            typed.MaxStableTimeStepS(physics.mass_kg, physics.radius_m, first_speed);
+        const double stable = typed.MaxStableTimeStepS(physics.mass_kg, physics.radius_m,
+                                                       first_speed, physics.gravity_mps2);
         step.contact_duration_s =
-            ReferenceContactDuration(typed, physics.mass_kg, physics.radius_m, first_speed);
+            ReferenceContactDuration(typed, physics.mass_kg, physics.radius_m, first_speed, stable);
         step.stability_limit_s = stable * StabilityFactor(options.integrator);
         const double resolved = std::min(step.contact_duration_s, std::numbers::pi * stable);
         step.time_step_s =

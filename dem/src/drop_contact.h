@@ -52,10 +52,17 @@ class ContactStepper {
  public:
   ContactStepper(const Law& law, const Physics& physics) : law_(&law), physics_(&physics) {}
 
-  void Start(const State& state) {
+  // grid_entry: the contact starts at a grid step that already has overlap (classic stepping).
+  // A Verlet code reaching that step has applied half a kick of the contact force there
+  // (v = v_half + dt/2 a with the new force), which the ballistic state lacks: add it.
+  void Start(State& state, double dt, bool grid_entry) {
     history_ = {};
     if constexpr (kMethod == Integrator::kVelocityVerlet) {
       acceleration_ = Acceleration(*law_, *physics_, state.z, state.v, history_);
+      if (grid_entry) {
+        NormalHistory none;
+        state.v += 0.5 * dt * (acceleration_ - Acceleration(*law_, *physics_, 1.0, state.v, none));
+      }
     }
   }
 
@@ -156,10 +163,12 @@ double LocateEvent(const Stepper& saved, const State& start, double dt, Branch b
   return s;
 }
 
-enum class ContactEnd { kReleased, kTrapped, kTimeLimit, kStepLimit };
+enum class ContactEnd { kReleased, kTrapped, kSustained, kTimeLimit, kStepLimit };
 
 // One contact integrated with a fixed step from `state` (overlap >= 0, approaching) until the
-// ball is released, can never be released, or the time or step budget ends.
+// ball is released, can never be released, stays longer than max_contact_s (sustained contact:
+// resting on the plane while a weakly damped ring-down decays), or the time or step budget
+// ends.
 //
 // With options.locate_contact_events, a step in which the velocity changes sign is redone as
 // two sub-steps split at the turning point (located by LocateEvent), with the law's loading branch
@@ -171,10 +180,10 @@ enum class ContactEnd { kReleased, kTrapped, kTimeLimit, kStepLimit };
 // point by up to a step (e > 0 even for gamma_n = 1).
 template <Integrator kMethod, typename Law>
 ContactEnd IntegrateContact(const Law& law, const Physics& physics, const DropOptions& options,
-                            double dt, State& state, DropImpact& impact, std::int64_t& steps,
-                            TrajectoryRecorder& recorder) {
+                            double dt, double max_contact_s, State& state, DropImpact& impact,
+                            std::int64_t& steps, TrajectoryRecorder& recorder) {
   ContactStepper<kMethod, Law> stepper(law, physics);
-  stepper.Start(state);
+  stepper.Start(state, dt, options.fixed_step_grid && state.z < 0);
   const double m = physics.mass_kg;
   const double g = physics.gravity_mps2;
   for (;;) {
@@ -196,6 +205,7 @@ ContactEnd IntegrateContact(const Law& law, const Physics& physics, const DropOp
         impact.max_overlap_m = std::max(impact.max_overlap_m, -state.z);
         return ContactEnd::kTrapped;
       }
+      impact.max_overlap_m = std::max(impact.max_overlap_m, -state.z);  // exact at v = 0
       const Branch after = up > 0 ? Branch::kUnloading : Branch::kLoading;
       stepper.Turn(state, after);
       const State mid = state;
@@ -229,6 +239,7 @@ ContactEnd IntegrateContact(const Law& law, const Physics& physics, const DropOp
     if (0.5 * m * state.v * state.v + stepper.ReturnableEnergy(state) < m * g * (-state.z)) {
       return ContactEnd::kTrapped;
     }
+    if (state.t - impact.time_s > max_contact_s) return ContactEnd::kSustained;
     if (state.t >= options.max_time_s) return ContactEnd::kTimeLimit;
   }
 }

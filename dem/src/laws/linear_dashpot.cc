@@ -55,7 +55,7 @@ std::optional<double> LinearDashpot::ClosedFormContactDuration(double effective_
   return std::numbers::pi / (omega * std::sqrt(1 - zeta * zeta));
 }
 
-double LinearDashpot::MaxStableTimeStepS(double effective_mass_kg, double, double) const {
+double LinearDashpot::MaxStableTimeStepS(double effective_mass_kg, double, double, double) const {
   const double zeta = params_.damping_ratio;
   const double omega = std::sqrt(params_.stiffness_n_per_m / effective_mass_kg);
   return 2 / omega * (std::sqrt(1 + zeta * zeta) - zeta);

@@ -51,7 +51,7 @@ class LinearDashpot {
   // omega dt < 2 (sqrt(1 + zeta^2) - zeta): the central-difference limit with viscous damping
   // (O'Sullivan & Bray 2004, Eng. Comput. 21).
   double MaxStableTimeStepS(double effective_mass_kg, double effective_radius_m,
-                            double impact_speed_mps) const;
+                            double impact_speed_mps, double gravity_mps2 = 9.81) const;
   double ReturnableEnergyJ(const NormalContact& contact, const NormalHistory& history) const;
   ExactImpact SolveImpactExactly(double mass_kg, double gravity_mps2,
                                  double impact_speed_mps) const;
