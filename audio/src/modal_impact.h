@@ -47,25 +47,6 @@ class ModeResponse {
   double ring_duration_s_;
 };
 
-// A bank of modes excited together by one contact.
-class ModalImpact {
- public:
-  ModalImpact(std::span<const PlateMode> modes, double contact_duration_s);
-
-  double Evaluate(double t_s) const;
-  void Add(double onset_s, double scale, double sample_rate_hz, std::int64_t first_index,
-           std::span<float> out) const;
-  double ring_duration_s() const { return ring_duration_s_; }
-
-  // Largest |y| at the sample times 0, 1/rate, ... up to span_s after the onset: the peak an
-  // onset on a sample would show, used to give amplitudes a meaning in full-scale units.
-  double SampledPeak(double sample_rate_hz, double span_s) const;
-
- private:
-  std::vector<ModeResponse> modes_;
-  double ring_duration_s_ = 0.0;
-};
-
 // One excitation of a mode bank: a unit-area half-sine of contact_s starting at arrival_s,
 // scaled by scale.
 struct ModalExcitation {
@@ -84,6 +65,27 @@ struct ModalExcitation {
 void RenderModalExcitations(std::span<const PlateMode> modes,
                             std::span<const ModalExcitation> excitations, double sample_rate_hz,
                             std::span<float> out);
+
+// A bank of modes excited together by one contact.
+class ModalImpact {
+ public:
+  ModalImpact(std::span<const PlateMode> modes, double contact_duration_s);
+
+  double Evaluate(double t_s) const;
+  void Add(double onset_s, double scale, double sample_rate_hz, std::int64_t first_index,
+           std::span<float> out) const;
+  double ring_duration_s() const { return ring_duration_s_; }
+
+  // Largest |y| at the sample times 0, 1/rate, ... up to span_s after the onset: the peak an
+  // onset on a sample would show, used to give amplitudes a meaning in full-scale units.
+  double SampledPeak(double sample_rate_hz, double span_s) const;
+
+ private:
+  std::vector<PlateMode> plate_modes_;
+  double contact_s_;
+  std::vector<ModeResponse> modes_;
+  double ring_duration_s_ = 0.0;
+};
 
 }  // namespace bouncecal::audio
 
