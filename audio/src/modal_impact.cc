@@ -15,15 +15,14 @@ constexpr double kRingDecayLog = 13.815510557964274;  // ln(1e6)
 // 1e-13 even for modes ringing for seconds.
 constexpr std::int64_t kReanchorSamples = 1024;
 
-// First sample index whose time i / rate is at or after t_s.
+}  // namespace
+
 std::int64_t FirstSampleAtOrAfter(double t_s, double sample_rate_hz) {
   auto index = static_cast<std::int64_t>(std::ceil(t_s * sample_rate_hz));
   while (static_cast<double>(index) / sample_rate_hz < t_s) ++index;
   while (index > 0 && static_cast<double>(index - 1) / sample_rate_hz >= t_s) --index;
   return index;
 }
-
-}  // namespace
 
 ModeResponse::ModeResponse(const PlateMode& mode, double contact_duration_s)
     : gain_(mode.gain),

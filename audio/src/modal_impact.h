@@ -10,6 +10,10 @@
 
 namespace bouncecal::audio {
 
+// The first sample index i whose time i / sample_rate_hz is at or after t_s, robust to the
+// rounding of t_s * sample_rate_hz (so a sample exactly at an onset counts as after it).
+std::int64_t FirstSampleAtOrAfter(double t_s, double sample_rate_hz);
+
 // The closed-form response of one decaying mode, h(t) = exp(-t / T) sin(w t), to a half-sine
 // force pulse of unit area and duration tau, f(u) = (pi / 2 tau) sin(pi u / tau) on [0, tau]:
 //   y(t) = Im[ exp(s t) I(min(t, tau)) ],  s = -1/T + i w,  I(x) = int_0^x f(u) exp(-s u) du,

@@ -71,8 +71,7 @@ constexpr double kPeakSearchS = 0.05;
 // drops a sample at the window's end).
 double WindowPower(std::span<const PlateMode> modes, double contact_s, double scale,
                    double arrival_s, double window_s, double sample_rate_hz) {
-  auto first = static_cast<std::int64_t>(std::ceil(arrival_s * sample_rate_hz));
-  if (static_cast<double>(first) / sample_rate_hz < arrival_s) ++first;
+  const std::int64_t first = FirstSampleAtOrAfter(arrival_s, sample_rate_hz);
   const auto count = std::max<std::int64_t>(1, std::llround(window_s * sample_rate_hz));
   // Rendered into a window-sized buffer whose sample 0 is sample `first` of the file.
   std::vector<float> window(static_cast<size_t>(count), 0.0f);
@@ -197,7 +196,8 @@ std::vector<SynthesizedEvent> PlanBallImpacts(const SynthesisOptions& options) {
   std::vector<SynthesizedEvent> impacts;
   if (!options.impacts.empty()) {
     for (const ImpactSpec& spec : options.impacts) {
-      impacts.push_back({spec.onset_s, SoundEventKind::kBallImpact, spec.impact_speed_mps, 0});
+      impacts.push_back(
+          {spec.onset_s, SoundEventKind::kBallImpact, spec.impact_speed_mps, spec.drop_index});
     }
     std::sort(impacts.begin(), impacts.end(),
               [](const auto& a, const auto& b) { return a.onset_s < b.onset_s; });
