@@ -46,8 +46,7 @@ void AddStrayBurst(double arrival_s, double peak_amplitude, double sample_rate_h
   const double b0 = alpha / a0, b2 = -alpha / a0;
   const double a1 = -2.0 * std::cos(w0) / a0, a2 = (1.0 - alpha) / a0;
 
-  auto start = static_cast<std::int64_t>(std::ceil(arrival_s * sample_rate_hz));
-  if (static_cast<double>(start) / sample_rate_hz < arrival_s) ++start;
+  const std::int64_t start = FirstSampleAtOrAfter(arrival_s, sample_rate_hz);
   const auto count = static_cast<std::int64_t>(kLengthS * sample_rate_hz);
   std::vector<double> burst(static_cast<size_t>(count));
   double x1 = 0, x2 = 0, y1 = 0, y2 = 0, peak = 0;

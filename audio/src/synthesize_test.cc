@@ -118,6 +118,31 @@ TEST(SynthesizeBounces, SignalIsExactlyZeroBeforeTheFirstOnsetAndNotAfter) {
   EXPECT_GT(PeakIn(recording.channels[0], 0.1234567, 0.1244567), 0.05);
 }
 
+TEST(SynthesizeBounces, EchoesAndPrecursorsAreExactScaledCopiesOfTheImpact) {
+  SynthesisOptions dry = ExplicitImpacts({{0.1000123, 1.5}});
+  SynthesisOptions wet = dry;
+  // 9 ms and 7 ms are 432 and 336 samples at 48 kHz, so the copies line up sample for sample.
+  wet.reverb = ReverbOptions{.rt60_s = 0.0, .echoes = {{0.009, -12.0}}};
+  wet.precursor = PrecursorOptions{.lead_s = 0.007, .gain_db = -20.0};
+  const auto a = SynthesizeBounces(dry).channels[0].samples;
+  const auto b = SynthesizeBounces(wet).channels[0].samples;
+  const double echo = std::pow(10.0, -12.0 / 20.0);
+  const double precursor = std::pow(10.0, -20.0 / 20.0);
+  const auto at = [&](std::ptrdiff_t i) {
+    return i >= 0 && i < std::ssize(a) ? double{a[static_cast<size_t>(i)]} : 0.0;
+  };
+  double worst = 0.0;
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i + 336 < a.size(); ++i) {  // a ends 336 samples early for the precursor
+    const auto n = static_cast<std::ptrdiff_t>(i);
+    // main + echo of main + precursor + the precursor's own echo
+    const double expected =
+        at(n) + echo * at(n - 432) + precursor * at(n + 336) + precursor * echo * at(n + 336 - 432);
+    worst = std::max(worst, std::abs(b[i] - expected));
+  }
+  EXPECT_LT(worst, 1e-6);  // float rounding of four overlapping copies
+}
+
 TEST(SynthesizeBounces, FractionalOnsetShiftMovesTheWaveformBySubSampleTime) {
   // Rendering at rate f with the onset a quarter sample later must equal rendering at 4 f with
   // the original onset and taking every fourth sample one fine step early: both evaluate the

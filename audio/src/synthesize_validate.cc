@@ -50,6 +50,7 @@ void ValidateSynthesisOptions(const SynthesisOptions& options) {
     RequireRange(name + ".onset_s", options.impacts[i].onset_s, 0.0, 4 * 3600.0, "s");
     RequireAbove(name + ".impact_speed_mps", options.impacts[i].impact_speed_mps, 0.0, 1000.0,
                  "m/s");
+    RequireRange(name + ".drop_index", options.impacts[i].drop_index, 0, 1e6, "");
   }
   if (options.impacts.empty()) {
     const DropSpec& drop = options.drop;

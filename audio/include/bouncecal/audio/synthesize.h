@@ -87,6 +87,7 @@ struct RestitutionLaw {
 struct ImpactSpec {
   double onset_s = 0.0;           // start of contact
   double impact_speed_mps = 1.0;  // normal speed just before contact, > 0
+  int drop_index = 0;             // which drop it belongs to (truth only), >= 0
 };
 
 // Ballistic drops: a ball released from rest at drop_height_m at release_s hits the floor at
@@ -191,7 +192,8 @@ struct ChannelOptions {
 
 struct SynthesisOptions {
   int sample_rate_hz = 48000;  // 8 kHz to 384 kHz
-  // Length of the file; 0 = up to the last event plus tail_s.
+  // Length of the file; 0 = up to the last event plus tail_s. Events at or after duration_s
+  // are left out of the file and of the truth.
   double duration_s = 0.0;
   double tail_s = 1.0;
   double gravity_mps2 = 9.81;
