@@ -12,6 +12,7 @@ void AddVersionCommand(CLI::App& app);
 // simulate drop: the DEM single-ball drop (apps/simulate_command.cc).
 void AddSimulateCommand(CLI::App& app);
 void AddSynthCommand(CLI::App& app);
+void AddAnalyzeCommand(CLI::App& app);
 
 }  // namespace bouncecal::apps
 

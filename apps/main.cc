@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   apps::AddVersionCommand(app);
   apps::AddSimulateCommand(app);
   apps::AddSynthCommand(app);
+  apps::AddAnalyzeCommand(app);
 
   try {
     app.parse(argc, argv);
