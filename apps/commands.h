@@ -12,6 +12,7 @@ void AddVersionCommand(CLI::App& app);
 void AddCalibrateCommand(CLI::App& app);
 void AddSweepCommand(CLI::App& app);
 void AddCompareCommand(CLI::App& app);
+void AddSynthCommand(CLI::App& app);
 
 }  // namespace bouncecal::apps
 

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   apps::AddCalibrateCommand(app);
   apps::AddSweepCommand(app);
   apps::AddCompareCommand(app);
+  apps::AddSynthCommand(app);
 
   try {
     app.parse(argc, argv);

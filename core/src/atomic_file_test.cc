@@ -53,5 +53,29 @@ TEST(AtomicFile, MissingFolderIsAnOutputError) {
   EXPECT_THROW(AtomicFile("/nonexistent-bouncecal-dir/out.json"), OutputError);
 }
 
+TEST(AtomicPath, CommitRenamesTheTemporaryAndAbandonRemovesIt) {
+  const auto dir = FreshDir("path");
+  {
+    AtomicPath path(dir / "out.wav");
+    EXPECT_EQ(path.temporary_path().parent_path(), dir);
+    std::ofstream(path.temporary_path()) << "audio";
+    path.Commit();
+  }
+  EXPECT_EQ(ReadAll(dir / "out.wav"), "audio");
+  {
+    AtomicPath path(dir / "out.wav");
+    std::ofstream(path.temporary_path()) << "half";
+  }
+  EXPECT_EQ(ReadAll(dir / "out.wav"), "audio");
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir),
+                          std::filesystem::directory_iterator()),
+            1);
+}
+
+TEST(AtomicPath, MissingFolderOrDirectoryTargetIsAnOutputError) {
+  EXPECT_THROW(AtomicPath("/nonexistent-bouncecal-dir/out.wav"), OutputError);
+  EXPECT_THROW(AtomicPath(std::filesystem::temp_directory_path()), OutputError);
+}
+
 }  // namespace
 }  // namespace bouncecal

@@ -1,0 +1,385 @@
+#include "bouncecal/audio/synthesize.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include "bouncecal/error.h"
+#include "extra_event_sound.h"
+#include "modal_impact.h"
+#include "noise.h"
+#include "random_stream.h"
+#include "reverb.h"
+
+namespace bouncecal::audio {
+namespace {
+
+// Independent random streams (see RandomStream); never renumber, or seeded outputs change.
+enum Stream : std::uint64_t {
+  kLevelJitterStream = 1,
+  kReverbStream = 2,
+  kNoiseStream = 3,
+  kHumStream = 4,
+  kExtraEventStream = 5,
+};
+
+double DbToGain(double db) { return std::pow(10.0, db / 20.0); }
+
+std::string Number(double value) {
+  std::ostringstream out;
+  out.precision(6);
+  out << value;
+  return out.str();
+}
+
+// Modes a recorder would actually capture: its anti-aliasing filter removes everything near
+// and above Nyquist, and a mode rendered there would alias.
+std::vector<PlateMode> AudibleModes(const SynthesisOptions& options) {
+  std::vector<PlateMode> audible;
+  for (const PlateMode& mode : options.modes) {
+    if (mode.frequency_hz < 0.45 * options.sample_rate_hz && mode.gain != 0)
+      audible.push_back(mode);
+  }
+  return audible;
+}
+
+// How one ball impact sounds (before channel gain): contact duration and amplitude scale with
+// impact speed (Hertz: tau ~ v^-1/5; impulse ~ v).
+struct ImpactVoice {
+  double contact_s;
+  double scale;
+};
+
+// unit_peak: the sampled peak of the mode bank at the reference speed, so that peak_amplitude is
+// the actual peak of a reference impact in full-scale units.
+ImpactVoice VoiceFor(const SynthesisOptions& options, double unit_peak, double impact_speed_mps,
+                     double jitter) {
+  const double ratio = impact_speed_mps / options.reference_speed_mps;
+  return {options.contact_duration_s * std::pow(ratio, options.contact_duration_speed_exponent),
+          options.peak_amplitude / unit_peak * std::pow(ratio, options.amplitude_speed_exponent) *
+              jitter};
+}
+
+// The peak of an impact comes within the first few periods of the lowest mode; 50 ms covers any
+// mode above 100 Hz with margin.
+constexpr double kPeakSearchS = 0.05;
+
+// Mean square of one impact's direct sound over the round(window_s * rate) samples that start
+// at the first sample at or after its arrival (a sample count, so rounding of t_i never adds or
+// drops a sample at the window's end).
+double WindowPower(const ModalImpact& impact, double scale, double arrival_s, double window_s,
+                   double sample_rate_hz) {
+  auto first = static_cast<std::int64_t>(std::ceil(arrival_s * sample_rate_hz));
+  if (static_cast<double>(first) / sample_rate_hz < arrival_s) ++first;
+  const auto count = std::max<std::int64_t>(1, std::llround(window_s * sample_rate_hz));
+  double sum = 0.0;
+  for (std::int64_t index = first; index < first + count; ++index) {
+    const double value =
+        scale * impact.Evaluate(static_cast<double>(index) / sample_rate_hz - arrival_s);
+    sum += value * value;
+  }
+  return sum / static_cast<double>(count);
+}
+
+}  // namespace
+
+std::vector<PlateMode> RectangularPlateModes(const RectangularPlate& plate) {
+  const double rigidity = plate.youngs_modulus_pa * std::pow(plate.thickness_m, 3) /
+                          (12.0 * (1.0 - plate.poisson_ratio * plate.poisson_ratio));
+  const double wave_factor =
+      0.5 * std::numbers::pi * std::sqrt(rigidity / (plate.density_kg_per_m3 * plate.thickness_m));
+  const auto shape = [](int m, int n, double x, double y) {
+    return std::sin(m * std::numbers::pi * x) * std::sin(n * std::numbers::pi * y);
+  };
+  std::vector<PlateMode> modes;
+  double largest = 0.0;
+  for (int m = 1;; ++m) {
+    if (wave_factor * std::pow(m / plate.length_m, 2) > plate.max_frequency_hz) break;
+    for (int n = 1;; ++n) {
+      const double frequency_hz =
+          wave_factor * (std::pow(m / plate.length_m, 2) + std::pow(n / plate.width_m, 2));
+      if (frequency_hz > plate.max_frequency_hz) break;
+      if (frequency_hz < plate.min_frequency_hz) continue;
+      const double gain = shape(m, n, plate.impact_x_fraction, plate.impact_y_fraction) *
+                          shape(m, n, plate.pickup_x_fraction, plate.pickup_y_fraction);
+      modes.push_back(
+          {frequency_hz, 1.0 / (std::numbers::pi * plate.loss_factor * frequency_hz), gain});
+      largest = std::max(largest, std::abs(gain));
+    }
+  }
+  std::sort(modes.begin(), modes.end(),
+            [](const PlateMode& a, const PlateMode& b) { return a.frequency_hz < b.frequency_hz; });
+  if (largest > 0.0) {
+    for (PlateMode& mode : modes) mode.gain /= largest;
+  }
+  return modes;
+}
+
+std::vector<PlateMode> SteelPlateModes() { return RectangularPlateModes(RectangularPlate{}); }
+
+std::vector<PlateMode> CounterTopModes() {
+  // Matched by eye to the spectrogram of eeps-pingpong/pingpong.wav: dense lines from 1 to 18 kHz
+  // with the highest dying within ~50 ms and the rest ringing into the next bounce. What rings
+  // there (counter, sink, the ball's shell) is unknown; a plate with these numbers has the same
+  // modal density and decays.
+  RectangularPlate plate;
+  plate.length_m = 0.20;
+  plate.width_m = 0.13;
+  plate.thickness_m = 0.0012;
+  plate.loss_factor = 8e-4;
+  plate.impact_x_fraction = 0.23;
+  plate.impact_y_fraction = 0.61;
+  plate.pickup_x_fraction = 0.71;
+  plate.pickup_y_fraction = 0.37;
+  plate.min_frequency_hz = 1100.0;
+  plate.max_frequency_hz = 18000.0;
+  return RectangularPlateModes(plate);
+}
+
+double RestitutionLaw::Evaluate(double impact_speed_mps) const {
+  if (callback) return callback(impact_speed_mps);
+  return constant + slope_per_mps * impact_speed_mps;
+}
+
+std::string_view ToString(SoundEventKind kind) {
+  switch (kind) {
+    case SoundEventKind::kBallImpact:
+      return "ball_impact";
+    case SoundEventKind::kPrecursor:
+      return "precursor";
+    case SoundEventKind::kKnock:
+      return "knock";
+    case SoundEventKind::kThump:
+      return "thump";
+    case SoundEventKind::kStray:
+      return "stray";
+  }
+  return "unknown";
+}
+
+std::vector<double> SynthesizedRecording::BallImpactOnsetsS(std::optional<int> drop_index) const {
+  std::vector<double> onsets;
+  for (const SynthesizedEvent& event : events) {
+    if (event.kind != SoundEventKind::kBallImpact) continue;
+    if (drop_index && event.drop_index != *drop_index) continue;
+    onsets.push_back(event.onset_s);
+  }
+  return onsets;
+}
+
+std::vector<SynthesizedEvent> PlanBallImpacts(const SynthesisOptions& options) {
+  std::vector<SynthesizedEvent> impacts;
+  if (!options.impacts.empty()) {
+    for (const ImpactSpec& spec : options.impacts) {
+      impacts.push_back({spec.onset_s, SoundEventKind::kBallImpact, spec.impact_speed_mps, 0});
+    }
+    std::sort(impacts.begin(), impacts.end(),
+              [](const auto& a, const auto& b) { return a.onset_s < b.onset_s; });
+    return impacts;
+  }
+  const DropSpec& drop = options.drop;
+  const double g = options.gravity_mps2;
+  double release_s = drop.release_s;
+  for (int d = 0; d < drop.drop_count; ++d) {
+    double onset_s = release_s + std::sqrt(2.0 * drop.drop_height_m / g);
+    double speed_mps = std::sqrt(2.0 * g * drop.drop_height_m);
+    for (int k = 0; k < drop.max_impacts_per_drop; ++k) {
+      impacts.push_back({onset_s, SoundEventKind::kBallImpact, speed_mps, d});
+      const double e = drop.restitution.Evaluate(speed_mps);
+      if (!std::isfinite(e) || e <= 0.0 || e >= 1.0) {
+        throw ConfigError("synthesis option drop.restitution gives e = " + Number(e) +
+                          " at impact speed " + Number(speed_mps) +
+                          " m/s; the law must stay inside (0, 1) for every impact speed");
+      }
+      speed_mps *= e;
+      const double flight_s = 2.0 * speed_mps / g;
+      if (flight_s < drop.min_flight_s) break;
+      onset_s += flight_s;
+    }
+    release_s = impacts.back().onset_s + drop.gap_between_drops_s;
+  }
+  return impacts;
+}
+
+SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
+  ValidateSynthesisOptions(options);
+  const double rate_hz = options.sample_rate_hz;
+  const std::vector<SynthesizedEvent> ball_impacts = PlanBallImpacts(options);
+  const std::vector<PlateMode> modes = AudibleModes(options);
+  const double unit_peak =
+      ModalImpact(modes, options.contact_duration_s).SampledPeak(rate_hz, kPeakSearchS);
+  if (!(unit_peak > 0.0)) {
+    throw ConfigError(
+        "synthesis option modes: the audible modes give a silent impact; give "
+        "modes with non-zero gain below 0.45 x sample_rate_hz");
+  }
+
+  // Every event of the truth, before truncation to the file length.
+  std::vector<SynthesizedEvent> events = ball_impacts;
+  if (options.precursor) {
+    for (const SynthesizedEvent& impact : ball_impacts) {
+      events.push_back({impact.onset_s - options.precursor->lead_s, SoundEventKind::kPrecursor,
+                        impact.impact_speed_mps, impact.drop_index});
+    }
+  }
+  for (const ExtraEvent& extra : options.extra_events) {
+    events.push_back({extra.onset_s, extra.kind, 0.0, -1});
+  }
+  std::stable_sort(events.begin(), events.end(),
+                   [](const auto& a, const auto& b) { return a.onset_s < b.onset_s; });
+  double max_delay_s = 0.0;
+  for (const ChannelOptions& channel : options.channels) {
+    max_delay_s = std::max(max_delay_s, channel.delay_s);
+  }
+  const double duration_s =
+      options.duration_s > 0.0
+          ? options.duration_s
+          : (events.empty() ? 0.0 : events.back().onset_s) + max_delay_s + options.tail_s;
+  const auto frame_count = static_cast<std::int64_t>(std::ceil(duration_s * rate_hz));
+  if (frame_count < 1) {
+    throw ConfigError(
+        "synthesis option duration_s gives an empty recording; set duration_s or "
+        "tail_s above 0");
+  }
+  std::erase_if(events, [&](const SynthesizedEvent& event) { return event.onset_s >= duration_s; });
+  for (const SynthesizedEvent& event : events) {
+    if (event.onset_s < options.leading_digital_silence_s) {
+      throw ConfigError("synthesis option leading_digital_silence_s = " +
+                        Number(options.leading_digital_silence_s) + " s hides the " +
+                        std::string(ToString(event.kind)) + " at " + Number(event.onset_s) +
+                        " s; make the silence end before the first event");
+    }
+    if (event.onset_s < 0.0) {
+      throw ConfigError("synthesis: the " + std::string(ToString(event.kind)) + " at " +
+                        Number(event.onset_s) +
+                        " s falls before the start of the file; start the drop later");
+    }
+  }
+
+  // Per-impact level jitter is a property of the impact, shared by every channel.
+  std::vector<double> jitter(ball_impacts.size(), 1.0);
+  if (options.level_jitter_db > 0.0) {
+    RandomStream random(options.seed, kLevelJitterStream);
+    for (double& value : jitter) value = DbToGain(options.level_jitter_db * random.Gaussian());
+  }
+  std::vector<double> echo_delays_s = {0.0};
+  std::vector<double> echo_gains = {1.0};
+  if (options.reverb) {
+    for (const Echo& echo : options.reverb->echoes) {
+      echo_delays_s.push_back(echo.delay_s);
+      echo_gains.push_back(DbToGain(echo.gain_db));
+    }
+  }
+
+  SynthesizedRecording result;
+  const auto silence_frames = std::min<std::int64_t>(
+      frame_count,
+      static_cast<std::int64_t>(std::ceil(options.leading_digital_silence_s * rate_hz)));
+  for (size_t c = 0; c < options.channels.size(); ++c) {
+    const ChannelOptions& channel = options.channels[c];
+    const double channel_gain = DbToGain(channel.gain_db);
+    Recording recording;
+    recording.sample_rate_hz = options.sample_rate_hz;
+    recording.source_channel = static_cast<int>(c);
+    recording.source_channel_count = static_cast<int>(options.channels.size());
+    recording.samples.assign(static_cast<size_t>(frame_count), 0.0f);
+    std::span<float> out(recording.samples);
+
+    std::vector<double> direct_power;  // per ball impact, for the SNR
+    std::vector<ModalExcitation> excitations;
+    for (size_t k = 0; k < ball_impacts.size(); ++k) {
+      const SynthesizedEvent& impact = ball_impacts[k];
+      if (impact.onset_s >= duration_s) break;
+      const ImpactVoice voice = VoiceFor(options, unit_peak, impact.impact_speed_mps, jitter[k]);
+      const double arrival_s = impact.onset_s + channel.delay_s;
+      const double scale = voice.scale * channel_gain;
+      for (size_t e = 0; e < echo_delays_s.size(); ++e) {
+        excitations.push_back(
+            {arrival_s + echo_delays_s[e], scale * echo_gains[e], voice.contact_s});
+        if (options.precursor) {
+          excitations.push_back({arrival_s + echo_delays_s[e] - options.precursor->lead_s,
+                                 scale * echo_gains[e] * DbToGain(options.precursor->gain_db),
+                                 voice.contact_s});
+        }
+      }
+      if (options.noise) {
+        direct_power.push_back(WindowPower(ModalImpact(modes, voice.contact_s), scale, arrival_s,
+                                           options.noise->window_s, rate_hz));
+      }
+    }
+    RenderModalExcitations(modes, excitations, rate_hz, out);
+    for (size_t i = 0; i < options.extra_events.size(); ++i) {
+      const ExtraEvent& extra = options.extra_events[i];
+      for (size_t e = 0; e < echo_delays_s.size(); ++e) {
+        AddExtraEventSound(extra.kind, extra.onset_s + channel.delay_s + echo_delays_s[e],
+                           extra.peak_amplitude * channel_gain * echo_gains[e], rate_hz,
+                           RandomStream(options.seed, kExtraEventStream, i), 0, out);
+      }
+    }
+    if (options.reverb && options.reverb->rt60_s > 0.0) {
+      AddConvolution(
+          DiffuseTail(*options.reverb, rate_hz, RandomStream(options.seed, kReverbStream, c)), out);
+    }
+
+    double noise_rms = 0.0;
+    std::span<float> live = out.subspan(static_cast<size_t>(silence_frames));
+    if (options.noise && !direct_power.empty()) {
+      const double reference_power =
+          options.noise->reference == SnrReference::kFirstImpact
+              ? direct_power.front()
+              : *std::min_element(direct_power.begin(), direct_power.end());
+      const double snr_db = options.noise->snr_db + channel.snr_offset_db;
+      noise_rms = std::sqrt(reference_power / std::pow(10.0, snr_db / 10.0));
+      AddNoise(options.noise->color, noise_rms, RandomStream(options.seed, kNoiseStream, c), live);
+    }
+    if (options.hum) {
+      RandomStream random(options.seed, kHumStream, c);
+      const double amplitude = DbToGain(options.hum->fundamental_dbfs);
+      for (int h = 1; h <= options.hum->harmonics_count; ++h) {
+        const double frequency_hz = h * options.hum->frequency_hz;
+        const double phase = 2.0 * std::numbers::pi * random.Uniform();
+        if (frequency_hz >= 0.45 * rate_hz) continue;
+        const double omega = 2.0 * std::numbers::pi * frequency_hz / rate_hz;
+        for (size_t i = 0; i < live.size(); ++i) {
+          const double n = static_cast<double>(i + static_cast<size_t>(silence_frames));
+          live[i] += static_cast<float>(amplitude / h * std::sin(omega * n + phase));
+        }
+      }
+    }
+    if (options.dc_offset != 0.0) {
+      for (float& sample : live) sample += static_cast<float>(options.dc_offset);
+    }
+    int clipped = 0;
+    if (options.clip_level) {
+      const auto level = static_cast<float>(*options.clip_level);
+      for (float& sample : out) {
+        if (std::abs(sample) >= level) {
+          sample = std::copysign(level, sample);
+          ++clipped;
+        }
+      }
+    }
+    result.channels.push_back(std::move(recording));
+    result.noise_rms.push_back(noise_rms);
+    result.clipped_sample_count.push_back(clipped);
+  }
+  result.events = std::move(events);
+  return result;
+}
+
+std::string TruthCsv(const SynthesizedRecording& recording) {
+  std::ostringstream out;
+  out << "onset_s,impact_speed_mps,kind,drop\n";
+  out.setf(std::ios::fixed);
+  for (const SynthesizedEvent& event : recording.events) {
+    out.precision(9);
+    out << event.onset_s << ',';
+    out.precision(6);
+    out << event.impact_speed_mps << ',' << ToString(event.kind) << ',' << event.drop_index << '\n';
+  }
+  return out.str();
+}
+
+}  // namespace bouncecal::audio

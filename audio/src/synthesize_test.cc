@@ -1,0 +1,379 @@
+#include "bouncecal/audio/synthesize.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <span>
+#include <string>
+
+#include "bouncecal/error.h"
+
+namespace bouncecal::audio {
+namespace {
+
+constexpr double kG = 9.81;
+
+// Options with one or more explicit impacts and no impairments: the bare renderer.
+SynthesisOptions ExplicitImpacts(std::vector<ImpactSpec> impacts) {
+  SynthesisOptions options;
+  options.impacts = std::move(impacts);
+  options.tail_s = 0.3;
+  return options;
+}
+
+double MeanSquare(std::span<const float> samples) {
+  double sum = 0.0;
+  for (float x : samples) sum += static_cast<double>(x) * x;
+  return samples.empty() ? 0.0 : sum / static_cast<double>(samples.size());
+}
+
+double PeakIn(const Recording& recording, double from_s, double to_s) {
+  const auto from = static_cast<size_t>(from_s * recording.sample_rate_hz);
+  const auto to =
+      std::min(recording.samples.size(), static_cast<size_t>(to_s * recording.sample_rate_hz));
+  double peak = 0.0;
+  for (size_t i = from; i < to; ++i) peak = std::max(peak, std::abs(double{recording.samples[i]}));
+  return peak;
+}
+
+TEST(SynthesizeBounces, DefaultOptionsAreValid) {
+  const SynthesisOptions options;
+  EXPECT_NO_THROW(ValidateSynthesisOptions(options));
+  const SynthesizedRecording recording = SynthesizeBounces(options);
+  ASSERT_EQ(recording.channels.size(), 1u);
+  EXPECT_EQ(recording.channels[0].sample_rate_hz, 48000);
+  EXPECT_GT(recording.BallImpactOnsetsS().size(), 5u);
+}
+
+TEST(SynthesizeBounces, BallisticImpactTimesFollowTheAnalyticSeries) {
+  SynthesisOptions options;
+  options.drop.drop_height_m = 0.20;
+  options.drop.release_s = 0.25;
+  options.drop.restitution.constant = 0.7;
+  options.drop.min_flight_s = 0.01;
+  const std::vector<SynthesizedEvent> impacts = PlanBallImpacts(options);
+  ASSERT_GE(impacts.size(), 10u);
+  // Constant e: t_1 = release + sqrt(2 h0 / g), v_k = e^(k-1) v_1, t_{k+1} = t_k + 2 e v_k / g,
+  // so t_k = t_1 + (2 v_1 / g) sum_{j=1}^{k-1} e^j in closed form. The planner sums flights one
+  // by one; 1e-12 s allows for that rounding over tens of impacts, far below one sample.
+  const double v1 = std::sqrt(2 * kG * 0.20);
+  const double t1 = 0.25 + std::sqrt(2 * 0.20 / kG);
+  for (size_t k = 0; k < impacts.size(); ++k) {
+    const double e = 0.7;
+    const double geometric = e * (1 - std::pow(e, static_cast<double>(k))) / (1 - e);
+    EXPECT_NEAR(impacts[k].onset_s, t1 + 2 * v1 / kG * geometric, 1e-12) << "impact " << k;
+    EXPECT_NEAR(impacts[k].impact_speed_mps, v1 * std::pow(e, static_cast<double>(k)), 1e-12);
+  }
+  // The drop stops at the first flight shorter than min_flight_s.
+  const double last_flight = 2 * 0.7 * impacts.back().impact_speed_mps / kG;
+  EXPECT_LT(last_flight, 0.01);
+  EXPECT_GE(impacts[impacts.size() - 1].onset_s - impacts[impacts.size() - 2].onset_s, 0.01);
+}
+
+TEST(SynthesizeBounces, SpeedDependentRestitutionIsEvaluatedAtEachImpactSpeed) {
+  SynthesisOptions options;
+  options.drop.restitution.constant = 0.9;
+  options.drop.restitution.slope_per_mps = -0.1;  // e falls with impact speed
+  const auto impacts = PlanBallImpacts(options);
+  ASSERT_GE(impacts.size(), 4u);
+  for (size_t k = 0; k + 2 < impacts.size(); ++k) {
+    const double v = impacts[k].impact_speed_mps;
+    const double e = 0.9 - 0.1 * v;
+    // Rebound speed from the planner and from the next flight agree to rounding.
+    EXPECT_NEAR(impacts[k + 1].impact_speed_mps, e * v, 1e-12);
+    EXPECT_NEAR(impacts[k + 1].onset_s - impacts[k].onset_s, 2 * e * v / kG, 1e-12);
+  }
+  // A user callback wins over the linear law.
+  options.drop.restitution.callback = [](double) { return 0.5; };
+  const auto halves = PlanBallImpacts(options);
+  EXPECT_NEAR(halves[1].impact_speed_mps, 0.5 * halves[0].impact_speed_mps, 1e-12);
+}
+
+TEST(SynthesizeBounces, SeveralDropsAreSeparatedBySilence) {
+  SynthesisOptions options;
+  options.drop.drop_count = 3;
+  options.drop.gap_between_drops_s = 0.8;
+  const SynthesizedRecording recording = SynthesizeBounces(options);
+  for (int d = 0; d < 3; ++d) EXPECT_GT(recording.BallImpactOnsetsS(d).size(), 3u);
+  const double last_of_first = recording.BallImpactOnsetsS(0).back();
+  const double first_of_second = recording.BallImpactOnsetsS(1).front();
+  EXPECT_NEAR(first_of_second - last_of_first, 0.8 + std::sqrt(2 * 0.20 / kG), 1e-12);
+}
+
+TEST(SynthesizeBounces, SignalIsExactlyZeroBeforeTheFirstOnsetAndNotAfter) {
+  // Echoes and a diffuse reverb tail are on: neither may leak before the direct sound (the
+  // reverb is an FFT convolution, whose rounding would otherwise smear before the onset).
+  SynthesisOptions options = ExplicitImpacts({{0.1234567, 2.0}, {0.3, 1.5}});
+  options.reverb = ReverbOptions{.rt60_s = 0.2, .echoes = {Echo{}}};
+  const SynthesizedRecording recording = SynthesizeBounces(options);
+  const std::vector<float>& x = recording.channels[0].samples;
+  const double onset_samples = 0.1234567 * 48000;
+  const auto first_after = static_cast<size_t>(std::ceil(onset_samples));
+  for (size_t i = 0; i < first_after; ++i) ASSERT_EQ(x[i], 0.0f) << "sample " << i;
+  // The first sample after the onset lies 0.58 samples (12 us) into a 70 us contact: small but
+  // non-zero; by 1 ms the plate rings at a good fraction of the requested peak amplitude.
+  EXPECT_NE(x[first_after], 0.0f);
+  EXPECT_GT(PeakIn(recording.channels[0], 0.1234567, 0.1244567), 0.05);
+}
+
+TEST(SynthesizeBounces, FractionalOnsetShiftMovesTheWaveformBySubSampleTime) {
+  // Rendering at rate f with the onset a quarter sample later must equal rendering at 4 f with
+  // the original onset and taking every fourth sample one fine step early: both evaluate the
+  // same analytic waveform at the same times. Modes stay below 0.45 f so both rates keep all.
+  SynthesisOptions base = ExplicitImpacts({{0.05, 2.0}});
+  base.sample_rate_hz = 24000;
+  base.modes = {{1500.0, 0.05, 1.0}, {4200.0, 0.02, 0.6}, {9100.0, 0.01, 0.4}};
+  base.duration_s = 0.1;
+  const double quarter_s = 0.25 / 24000;
+  SynthesisOptions shifted = base;
+  shifted.impacts[0].onset_s += quarter_s;
+  SynthesisOptions fine = base;
+  fine.sample_rate_hz = 96000;
+  const auto coarse = SynthesizeBounces(shifted).channels[0].samples;
+  const auto unshifted = SynthesizeBounces(base).channels[0].samples;
+  const auto reference = SynthesizeBounces(fine).channels[0].samples;
+  double max_error = 0.0;
+  double max_shift_effect = 0.0;
+  for (size_t i = 1; i < coarse.size(); ++i) {
+    max_error = std::max(max_error, std::abs(double{coarse[i]} - reference[4 * i - 1]));
+    max_shift_effect = std::max(max_shift_effect, std::abs(double{coarse[i]} - unshifted[i]));
+  }
+  // Float storage rounds at ~6e-8 relative to values of ~0.5; 1e-6 leaves margin. A quarter-
+  // sample shift itself changes samples by far more (a 9 kHz mode moves by ~0.4 rad).
+  EXPECT_LT(max_error, 1e-6);
+  EXPECT_GT(max_shift_effect, 0.05);
+}
+
+TEST(SynthesizeBounces, AmplitudeGrowsLinearlyWithImpactSpeedForARigidContact) {
+  SynthesisOptions options = ExplicitImpacts({{0.1, 0.5}, {1.1, 1.0}, {2.1, 2.0}});
+  options.contact_duration_speed_exponent = 0.0;  // same pulse shape: response scales exactly
+  options.modes = {{2000.0, 0.05, 1.0}};
+  const auto recording = SynthesizeBounces(options);
+  const double p1 = PeakIn(recording.channels[0], 0.1, 0.2);
+  const double p2 = PeakIn(recording.channels[0], 1.1, 1.2);
+  const double p3 = PeakIn(recording.channels[0], 2.1, 2.2);
+  // Each impact has decayed by 1e-8 before the next; float rounding ~1e-7 relative.
+  EXPECT_NEAR(p2 / p1, 2.0, 1e-5);
+  EXPECT_NEAR(p3 / p2, 2.0, 1e-5);
+
+  // With the default Hertz contact (shorter, brighter pulses when faster) it still grows.
+  options.contact_duration_speed_exponent = -0.2;
+  options.modes = SteelPlateModes();
+  const auto hertz = SynthesizeBounces(options);
+  EXPECT_LT(PeakIn(hertz.channels[0], 0.1, 0.2), PeakIn(hertz.channels[0], 1.1, 1.2));
+  EXPECT_LT(PeakIn(hertz.channels[0], 1.1, 1.2), PeakIn(hertz.channels[0], 2.1, 2.2));
+}
+
+TEST(SynthesizeBounces, ReferenceSpeedImpactPeaksAtTheRequestedAmplitude) {
+  // Onset on a sample: the sampled peak is exactly the one peak_amplitude is normalised by.
+  SynthesisOptions options = ExplicitImpacts({{0.1, 1.98}});
+  options.peak_amplitude = 0.3;
+  const auto recording = SynthesizeBounces(options);
+  EXPECT_NEAR(PeakIn(recording.channels[0], 0.1, 0.15), 0.3, 1e-6);  // float rounding
+  // Twice the speed, twice the peak for a rigid (speed-independent) contact duration.
+  options.impacts[0].impact_speed_mps = 2 * 1.98;
+  options.contact_duration_speed_exponent = 0.0;
+  EXPECT_NEAR(PeakIn(SynthesizeBounces(options).channels[0], 0.1, 0.15), 0.6, 2e-6);
+}
+
+// Measures the SNR exactly as NoiseOptions defines it, from a render with and without noise.
+double MeasuredSnrDb(const SynthesisOptions& noisy, double reference_onset_s) {
+  SynthesisOptions clean_options = noisy;
+  clean_options.noise.reset();
+  const auto clean = SynthesizeBounces(clean_options).channels[0].samples;
+  const auto with_noise = SynthesizeBounces(noisy).channels[0].samples;
+  std::vector<float> noise(clean.size());
+  for (size_t i = 0; i < clean.size(); ++i) noise[i] = with_noise[i] - clean[i];
+  const double rate = noisy.sample_rate_hz;
+  const auto from = static_cast<size_t>(std::ceil(reference_onset_s * rate));
+  const auto to = from + static_cast<size_t>(std::llround(noisy.noise->window_s * rate));
+  const double signal = MeanSquare(std::span(clean).subspan(from, to - from));
+  return 10 * std::log10(signal / MeanSquare(noise));
+}
+
+TEST(SynthesizeBounces, MeasuredSnrMatchesTheRequestForWhiteAndPinkNoise) {
+  for (NoiseColor color : {NoiseColor::kWhite, NoiseColor::kPink}) {
+    // One impact: the window power is the impact's own direct sound.
+    SynthesisOptions options = ExplicitImpacts({{0.2, 1.0}});
+    options.noise = NoiseOptions{.snr_db = 10.0, .color = color};
+    // The noise is rescaled to its exact power; the residue is float rounding of signal + noise
+    // (~1e-7 relative), so 0.01 dB is generous yet would catch any definitional slip.
+    EXPECT_NEAR(MeasuredSnrDb(options, 0.2), 10.0, 0.01);
+  }
+}
+
+TEST(SynthesizeBounces, WeakestImpactReferenceSetsTheNoiseByTheQuietestImpact) {
+  SynthesisOptions options = ExplicitImpacts({{0.2, 2.0}, {0.7, 0.5}});
+  options.noise = NoiseOptions{.snr_db = 20.0, .reference = SnrReference::kWeakestImpact};
+  options.modes = {{2000.0, 0.02, 1.0}};
+  EXPECT_NEAR(MeasuredSnrDb(options, 0.7), 20.0, 0.01);  // tolerance as above
+  options.noise->reference = SnrReference::kFirstImpact;
+  EXPECT_NEAR(MeasuredSnrDb(options, 0.2), 20.0, 0.01);
+}
+
+TEST(SynthesizeBounces, SameSeedGivesIdenticalSamplesAndAnotherSeedOtherNoise) {
+  SynthesisOptions options;
+  options.noise = NoiseOptions{.snr_db = 30.0};
+  options.reverb = ReverbOptions{};
+  options.level_jitter_db = 1.0;
+  options.seed = 7;
+  const auto a = SynthesizeBounces(options);
+  const auto b = SynthesizeBounces(options);
+  EXPECT_EQ(a.channels[0].samples, b.channels[0].samples);
+  options.seed = 8;
+  const auto c = SynthesizeBounces(options);
+  ASSERT_EQ(a.channels[0].samples.size(), c.channels[0].samples.size());
+  EXPECT_NE(a.channels[0].samples, c.channels[0].samples);
+  // The impact times are physics, not chance: the seed must not move them.
+  EXPECT_EQ(a.BallImpactOnsetsS(), c.BallImpactOnsetsS());
+}
+
+TEST(SynthesizeBounces, SecondChannelIsADelayedScaledCopyWithItsOwnNoise) {
+  SynthesisOptions options = ExplicitImpacts({{0.1, 2.0}});
+  options.channels = {ChannelOptions{}, ChannelOptions{.delay_s = 0.00025, .gain_db = -6.0}};
+  const auto recording = SynthesizeBounces(options);
+  ASSERT_EQ(recording.channels.size(), 2u);
+  const auto& left = recording.channels[0].samples;
+  const auto& right = recording.channels[1].samples;
+  // 0.25 ms is exactly 12 samples at 48 kHz; -6 dB is a factor 0.50119. Float rounding 1e-6.
+  const double gain = std::pow(10.0, -6.0 / 20.0);
+  for (size_t i = 0; i + 12 < left.size(); ++i) {
+    ASSERT_NEAR(right[i + 12], gain * left[i], 1e-6) << "sample " << i;
+  }
+  options.noise = NoiseOptions{.snr_db = 20.0};
+  const auto noisy = SynthesizeBounces(options);
+  EXPECT_NE(noisy.channels[0].samples[10], 0.0f);
+  // Independent noise: the two channels' noise before the onset is uncorrelated.
+  double cross = 0, l2 = 0, r2 = 0;
+  for (size_t i = 0; i < 4000; ++i) {
+    cross += double{noisy.channels[0].samples[i]} * noisy.channels[1].samples[i];
+    l2 += double{noisy.channels[0].samples[i]} * noisy.channels[0].samples[i];
+    r2 += double{noisy.channels[1].samples[i]} * noisy.channels[1].samples[i];
+  }
+  // For 4000 independent samples the correlation coefficient has sigma 1/sqrt(4000) = 0.016.
+  EXPECT_LT(std::abs(cross / std::sqrt(l2 * r2)), 0.08);
+}
+
+TEST(SynthesizeBounces, TruthListsPrecursorsAndNonBallEventsWithTheirKinds) {
+  SynthesisOptions options;
+  options.precursor = PrecursorOptions{.lead_s = 0.007};
+  options.extra_events = {{SoundEventKind::kKnock, 0.05, 0.3},
+                          {SoundEventKind::kThump, 0.15, 0.2},
+                          {SoundEventKind::kStray, 0.9, 0.1}};
+  const auto recording = SynthesizeBounces(options);
+  const auto onsets = recording.BallImpactOnsetsS();
+  int knocks = 0, thumps = 0, strays = 0, precursors = 0;
+  for (const auto& event : recording.events) {
+    switch (event.kind) {
+      case SoundEventKind::kKnock:
+        ++knocks;
+        EXPECT_DOUBLE_EQ(event.onset_s, 0.05);
+        EXPECT_EQ(event.drop_index, -1);
+        break;
+      case SoundEventKind::kThump:
+        ++thumps;
+        break;
+      case SoundEventKind::kStray:
+        ++strays;
+        break;
+      case SoundEventKind::kPrecursor:
+        ++precursors;
+        EXPECT_TRUE(std::any_of(onsets.begin(), onsets.end(), [&](double t) {
+          return std::abs(t - 0.007 - event.onset_s) < 1e-12;
+        }));
+        break;
+      case SoundEventKind::kBallImpact:
+        break;
+    }
+  }
+  EXPECT_EQ(knocks, 1);
+  EXPECT_EQ(thumps, 1);
+  EXPECT_EQ(strays, 1);
+  EXPECT_EQ(precursors, static_cast<int>(onsets.size()));
+  EXPECT_TRUE(std::is_sorted(recording.events.begin(), recording.events.end(),
+                             [](const auto& a, const auto& b) { return a.onset_s < b.onset_s; }));
+  // The knock really sounds, near its requested peak (sampled peak of the analytic shape).
+  EXPECT_NEAR(PeakIn(recording.channels[0], 0.05, 0.1), 0.3, 0.03);
+  const std::string csv = TruthCsv(recording);
+  EXPECT_EQ(csv.rfind("onset_s,impact_speed_mps,kind,drop\n", 0), 0u);
+  EXPECT_NE(csv.find(",knock,-1\n"), std::string::npos);
+}
+
+TEST(SynthesizeBounces, HumDcClippingAndDigitalSilenceAreApplied) {
+  SynthesisOptions options = ExplicitImpacts({{0.5, 2.0}});
+  options.hum = HumOptions{.frequency_hz = 50.0, .fundamental_dbfs = -30.0, .harmonics_count = 1};
+  options.dc_offset = 0.01;
+  options.clip_level = 0.2;
+  options.leading_digital_silence_s = 0.1;
+  const auto recording = SynthesizeBounces(options);
+  const auto& x = recording.channels[0].samples;
+  for (size_t i = 0; i < 4800; ++i) ASSERT_EQ(x[i], 0.0f) << "sample " << i;
+  // Between 0.1 s and the impact: DC plus a 50 Hz sine of amplitude 10^(-30/20) = 0.0316.
+  // 0.4 s holds exactly 20 periods, so the mean is the DC and the RMS of the rest A / sqrt(2).
+  double mean = 0.0;
+  for (size_t i = 4800; i < 24000; ++i) mean += x[i];
+  mean /= 19200;
+  double ac = 0.0;
+  for (size_t i = 4800; i < 24000; ++i) ac += (x[i] - mean) * (x[i] - mean);
+  ac = std::sqrt(ac / 19200);
+  EXPECT_NEAR(mean, 0.01, 1e-6);                      // float rounding only
+  EXPECT_NEAR(ac, 0.0316228 / std::sqrt(2.0), 1e-5);  // idem
+  EXPECT_GT(recording.clipped_sample_count[0], 0);
+  EXPECT_LE(*std::max_element(x.begin(), x.end()), 0.2f);
+  EXPECT_GE(*std::min_element(x.begin(), x.end()), -0.2f);
+}
+
+TEST(SynthesizeBounces, ModesAboveNyquistAreLeftOutAtLowSampleRates) {
+  SynthesisOptions options = ExplicitImpacts({{0.1, 2.0}});
+  options.sample_rate_hz = 16000;  // keeps only the modes under 7.2 kHz
+  const auto recording = SynthesizeBounces(options);
+  EXPECT_GT(PeakIn(recording.channels[0], 0.1, 0.2), 0.05);
+  options.modes = {{9000.0, 0.1, 1.0}};
+  EXPECT_THROW(SynthesizeBounces(options), ConfigError);
+}
+
+void ExpectConfigErrorNaming(const SynthesisOptions& options, const std::string& name) {
+  try {
+    SynthesizeBounces(options);
+    FAIL() << "expected ConfigError naming " << name;
+  } catch (const ConfigError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find(name), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+}
+
+TEST(SynthesizeBounces, InvalidOptionsGiveOneLineErrorsNamingTheOption) {
+  SynthesisOptions options;
+  options.sample_rate_hz = 4000;
+  ExpectConfigErrorNaming(options, "sample_rate_hz = 4000 is outside [8000, 384000]");
+  options = {};
+  options.drop.restitution.constant = 1.2;
+  ExpectConfigErrorNaming(options, "drop.restitution.constant");
+  options = {};
+  options.drop.restitution.callback = [](double v) { return v > 1.0 ? 1.5 : 0.5; };
+  ExpectConfigErrorNaming(options, "drop.restitution gives e = 1.5");
+  options = {};
+  options.contact_duration_s = -1e-6;
+  ExpectConfigErrorNaming(options, "contact_duration_s");
+  options = {};
+  options.noise = NoiseOptions{.snr_db = std::nan("")};
+  ExpectConfigErrorNaming(options, "noise.snr_db");
+  options = {};
+  options.channels.clear();
+  ExpectConfigErrorNaming(options, "channels");
+  options = {};
+  options.extra_events = {{SoundEventKind::kBallImpact, 0.1, 0.1}};
+  ExpectConfigErrorNaming(options, "extra_events[0].kind");
+  options = {};
+  options.leading_digital_silence_s = 1.0;
+  ExpectConfigErrorNaming(options, "leading_digital_silence_s");
+  options = {};
+  options.clip_level = 1.5;
+  ExpectConfigErrorNaming(options, "clip_level");
+}
+
+}  // namespace
+}  // namespace bouncecal::audio
