@@ -13,6 +13,7 @@ void AddCalibrateCommand(CLI::App& app);
 void AddSweepCommand(CLI::App& app);
 void AddCompareCommand(CLI::App& app);
 void AddSynthCommand(CLI::App& app);
+void AddAnalyzeCommand(CLI::App& app);
 
 }  // namespace bouncecal::apps
 

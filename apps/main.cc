@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   apps::AddSweepCommand(app);
   apps::AddCompareCommand(app);
   apps::AddSynthCommand(app);
+  apps::AddAnalyzeCommand(app);
 
   try {
     app.parse(argc, argv);

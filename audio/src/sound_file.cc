@@ -1,5 +1,6 @@
 #include "sound_file.h"
 
+#include <string>
 #include <utility>
 
 #include "bouncecal/error.h"
@@ -76,6 +77,13 @@ SoundFile& SoundFile::operator=(SoundFile&& other) noexcept {
 
 SoundFile::~SoundFile() {
   if (handle_ != nullptr) sf_close(handle_);
+}
+
+std::string SoundFile::LogInfo() const {
+  std::string log(16384, '\0');
+  sf_command(handle_, SFC_GET_LOG_INFO, log.data(), static_cast<int>(log.size()));
+  log.resize(log.find('\0'));
+  return log;
 }
 
 std::int64_t SoundFile::ReadFrames(std::span<float> interleaved) {

@@ -33,6 +33,8 @@ class SoundFile {
   std::int64_t frames() const { return info_.frames; }
   int format() const { return info_.format; }
   const std::filesystem::path& path() const { return path_; }
+  // libsndfile's parse log of the header (used to spot a data chunk longer than the file).
+  std::string LogInfo() const;
 
   // Reads up to interleaved.size() / channels() frames as float (full scale +-1); returns the
   // number of frames read, 0 at the end. Throws InputError on a read error.

@@ -1,0 +1,67 @@
+#ifndef BOUNCECAL_AUDIO_BOUNCE_SEQUENCES_H_
+#define BOUNCECAL_AUDIO_BOUNCE_SEQUENCES_H_
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bouncecal/audio/impact_detector.h"
+
+namespace bouncecal::audio {
+
+// What makes a run of impacts a bouncing ball. A ball that leaves impact k with restitution
+// e_k flies dt_k = e_k dt_{k-1} (PHYSICS.md section 1), so the interval ratio r_k = dt_k /
+// dt_{k-1} is e_k: inside (0, 1), and changing only slowly from impact to impact (e depends on
+// impact speed, ub-mth337 ping-pong goes 0.907 -> 0.95 over 60 bounces).
+struct SequenceOptions {
+  // Longest flight that still belongs to one drop: 3 s is a 11 m bounce.
+  double max_interval_s = 3.0;
+  // Accepted interval ratios. Above 1 only by timing noise (a ratio of 1.02 at the late,
+  // short intervals is 0.4 ms of error on 20 ms), and the lowest e of a ball worth calibrating.
+  double min_ratio = 0.2;
+  double max_ratio = 1.02;
+  // How much r may change from one impact to the next, on top of the change the onset
+  // uncertainties allow (3 sigma).
+  double ratio_step_tolerance = 0.12;
+  // Flights shorter than this are chatter: impacts merge and per-interval e is noise (the
+  // sources see it below 20-25 ms); a sequence stops there and says so.
+  double chatter_interval_ms = 20.0;
+  // Fewest impacts that form a sequence. Three give one ratio, which any three random sounds
+  // with shrinking gaps also give; four give two ratios that must agree, which handling noise
+  // and speech rarely do.
+  int min_impacts = 4;
+
+  // Throws ConfigError naming the option and its valid range.
+  void Validate() const;
+};
+
+struct BounceSequence {
+  std::vector<int> impact_indices;  // into the impact list, in time order
+  std::string end_reason;           // why the sequence stops where it does
+};
+
+struct RejectedEvent {
+  double time_s = 0;
+  std::optional<int> impact_index;  // set when the event is in the impact list
+  std::string reason;
+};
+
+struct SequenceResult {
+  std::vector<BounceSequence> sequences;  // in time order
+  // Every impact that is in no sequence, with the reason; sorted by time.
+  std::vector<RejectedEvent> rejected;
+  // For every impact, the 0-based sequence it belongs to.
+  std::vector<std::optional<int>> sequence_of_impact;
+};
+
+// Groups impacts into bounce sequences: repeatedly takes the longest chain of unassigned
+// impacts whose interval ratios behave like a bouncing ball (each next impact is searched in
+// the window the previous ratio predicts, the loudest one there is taken), then rejects
+// what lies inside it (stray sounds), before it (knocks, handling) and after it (chatter,
+// rolling, noise), each with a reason. Deterministic. Throws ConfigError for bad options.
+SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
+                                   const SequenceOptions& options = {});
+
+}  // namespace bouncecal::audio
+
+#endif  // BOUNCECAL_AUDIO_BOUNCE_SEQUENCES_H_

@@ -1,0 +1,40 @@
+#ifndef BOUNCECAL_AUDIO_DETECT_FILE_H_
+#define BOUNCECAL_AUDIO_DETECT_FILE_H_
+
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include "bouncecal/audio/impact_detector.h"
+#include "bouncecal/audio/load_recording.h"
+
+namespace bouncecal::audio {
+
+struct FileDetectionOptions {
+  // 0-based channel to analyse; unset = the channel whose impacts stand furthest above its
+  // noise (channels are never averaged: a 0.25 ms delay between two microphones would smear
+  // every onset).
+  std::optional<int> channel;
+  DetectorOptions detector;
+  // Frames read per block; memory use scales with it, not with the file length.
+  std::size_t block_frames = 1 << 15;
+};
+
+struct FileDetection {
+  RecordingInfo info;
+  double duration_s = 0;
+  int channel = 0;
+  bool channel_chosen_automatically = false;
+  // impact_to_noise_db of every channel analysed (one entry when a channel was given).
+  std::vector<double> channel_impact_to_noise_db;
+  DetectionResult detection;
+};
+
+// Streams the file once through one detector per candidate channel. Throws InputError for an
+// unreadable file and ConfigError for a channel the file does not have or bad detector options.
+FileDetection DetectImpactsInFile(const std::filesystem::path& path,
+                                  const FileDetectionOptions& options = {});
+
+}  // namespace bouncecal::audio
+
+#endif  // BOUNCECAL_AUDIO_DETECT_FILE_H_

@@ -1,0 +1,100 @@
+#ifndef BOUNCECAL_AUDIO_IMPACT_DETECTOR_H_
+#define BOUNCECAL_AUDIO_IMPACT_DETECTOR_H_
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "bouncecal/audio/recording.h"
+
+namespace bouncecal::audio {
+
+// Knobs of the impact detector; the defaults are meant to work on recordings nobody tuned them
+// for (see docs/recordings.md), so change them only with a reason.
+struct DetectorOptions {
+  // Pre-filter pass band. Below ~300 Hz sit DC, mains hum and handling/floor thumps; the
+  // contact transient of a ball on a plate is broadband and its sharp leading edge lives in
+  // the kHz range. band_high_hz <= 0 keeps everything up to the Nyquist frequency.
+  double band_low_hz = 300.0;
+  double band_high_hz = 0.0;
+  // An impact is a frame whose energy rises at least rise_threshold_db above the loudest frame
+  // of the preceding rise_lookback_ms (skipping the last 0.5 ms, where the rise itself starts).
+  // Because the reference is what was there just before, a ringing tail raises the bar by
+  // itself and no fixed level is needed; because it is the *loudest* recent frame, an echo or
+  // a secondary burst within the lookback of a louder hit never rises above it.
+  // The lookback must reach back from an echo (8-10 ms after a hit) to the hit's peak, and
+  // bounces closer than it can only be told apart if the later one is louder. The first
+  // lookback of a file is blind: with nothing before it, a rise cannot be measured.
+  double rise_threshold_db = 10.0;
+  double rise_lookback_ms = 12.0;
+  // The impact's peak frame must also stand this far above the noise floor (minimum
+  // statistics over ~2 s), which keeps quiet random fluctuations out.
+  double min_snr_db = 12.0;
+  // Two rises closer than this are one event: the louder one is kept (its onset is the impact),
+  // the other is reported as a precursor or echo. 12 ms covers the 5-10 ms precursors and the
+  // 8-10 ms echoes seen in real recordings; bounces that close are chatter anyway.
+  double min_gap_ms = 12.0;
+  // Energy frame length of the envelope.
+  double frame_ms = 0.25;
+
+  // Throws ConfigError naming the bad value and its valid range.
+  void Validate(int sample_rate_hz) const;
+};
+
+struct Impact {
+  double onset_s = 0;              // start of contact, sub-sample, from the first sample
+  double onset_uncertainty_s = 0;  // one sigma
+  double peak_dbfs = 0;            // peak |x| of the raw signal within 5 ms of the onset
+  double rise_db = 0;              // how far the envelope rose above what was there before
+  double snr_db = 0;               // envelope peak above the noise floor
+};
+
+// A rise that was merged into a louder impact less than min_gap_ms away.
+struct MergedEvent {
+  double time_s = 0;
+  double peak_dbfs = 0;
+  std::string reason;
+};
+
+struct DetectionResult {
+  int sample_rate_hz = 0;
+  std::int64_t samples = 0;
+  std::vector<Impact> impacts;  // in time order
+  std::vector<MergedEvent> merged;
+  // Median over impacts of snr_db (how clearly impacts stand out of this channel's noise); used
+  // to pick the best channel. Minus infinity without impacts.
+  double impact_to_noise_db = 0;
+};
+
+// Streaming impact detector: feed samples of one channel in blocks of any size, then Finish().
+// Memory is bounded (about 0.2 s of samples of history) whatever the length of the recording.
+//
+// Stages, each in its own file under src/: causal FFT band-pass (band_filter), energy envelope
+// with a minimum-statistics noise floor and rise detection (rise_tracker), onset picking at the
+// start of contact with an AIC picker (onset_picker; Maeda 1985, Sleeman & van Eck 1999), and
+// min-gap merging of precursors and echoes.
+class ImpactDetector {
+ public:
+  ImpactDetector(int sample_rate_hz, const DetectorOptions& options = {});
+  ImpactDetector(const ImpactDetector&) = delete;
+  ImpactDetector& operator=(const ImpactDetector&) = delete;
+  ImpactDetector(ImpactDetector&&) noexcept;
+  ImpactDetector& operator=(ImpactDetector&&) noexcept;
+  ~ImpactDetector();
+
+  void Process(std::span<const float> samples);
+  DetectionResult Finish();
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Convenience: the whole recording at once.
+DetectionResult DetectImpacts(const Recording& recording, const DetectorOptions& options = {});
+
+}  // namespace bouncecal::audio
+
+#endif  // BOUNCECAL_AUDIO_IMPACT_DETECTOR_H_

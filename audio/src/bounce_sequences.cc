@@ -1,0 +1,254 @@
+#include "bouncecal/audio/bounce_sequences.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "bouncecal/error.h"
+
+namespace bouncecal::audio {
+namespace {
+
+// How many later impacts may follow the first one of a chain before its second impact (noise
+// or an echo that survived detection can sit in between).
+constexpr int kSecondImpactCandidates = 8;
+// Impacts this much quieter than the loudest one in the predicted window are only taken if
+// nothing louder fits.
+constexpr double kLoudnessBandDb = 6.0;
+
+struct Chain {
+  std::vector<int> members;
+  std::string end_reason;
+  double loudness = 0;  // sum of peak levels, breaks ties between equally long chains
+};
+
+std::string Format(const char* format, double a, double b = 0, double c = 0) {
+  char text[256];
+  std::snprintf(text, sizeof text, format, a, b, c);
+  return text;
+}
+
+class ChainFinder {
+ public:
+  ChainFinder(const std::vector<Impact>& impacts, const SequenceOptions& options,
+              const std::vector<bool>& free)
+      : impacts_(impacts), options_(options), free_(free) {}
+
+  Chain Track(int first, int second) const {
+    Chain chain;
+    chain.members = {first, second};
+    double ratio = -1;  // unknown until two intervals exist
+    while (true) {
+      const int last = chain.members.back();
+      const int before = chain.members[chain.members.size() - 2];
+      const double dt = Onset(last) - Onset(before);
+      // Timing noise of the next ratio: sigma_r ~ (1 + r) sqrt(2) sigma_t / dt.
+      const double sigma_t = std::max(impacts_[static_cast<size_t>(last)].onset_uncertainty_s,
+                                      impacts_[static_cast<size_t>(before)].onset_uncertainty_s);
+      const double slack = 3.0 * 2.0 * std::sqrt(2.0) * sigma_t / dt;
+      double low = options_.min_ratio;
+      double high = options_.max_ratio + slack;
+      if (ratio > 0) {
+        low = std::max(low, ratio - options_.ratio_step_tolerance - slack);
+        high = std::min(high, ratio + options_.ratio_step_tolerance + slack);
+      }
+      const double predicted = ratio > 0 ? ratio : 0.5 * (low + high);
+      const int next =
+          Pick(last, Onset(last) + low * dt, Onset(last) + high * dt, Onset(last) + predicted * dt);
+      if (next < 0) {
+        chain.end_reason = dt < 2e-3 * options_.chatter_interval_ms
+                               ? Format(
+                                     "fades into chatter/rolling: no clear impact after a "
+                                     "%.1f ms flight",
+                                     dt * 1e3)
+                               : Format(
+                                     "no further impact where the next bounce was due "
+                                     "(%.3f-%.3f s)",
+                                     Onset(last) + low * dt, Onset(last) + high * dt);
+        break;
+      }
+      const double next_dt = Onset(next) - Onset(last);
+      if (next_dt < 1e-3 * options_.chatter_interval_ms) {
+        chain.end_reason = Format(
+            "chatter: the next flight (%.1f ms) is below --chatter-interval-ms %.3g; impacts "
+            "merge and e is no longer measurable",
+            next_dt * 1e3, options_.chatter_interval_ms);
+        break;
+      }
+      ratio = next_dt / dt;
+      chain.members.push_back(next);
+    }
+    for (int member : chain.members)
+      chain.loudness += impacts_[static_cast<size_t>(member)].peak_dbfs;
+    return chain;
+  }
+
+ private:
+  double Onset(int i) const { return impacts_[static_cast<size_t>(i)].onset_s; }
+
+  // The impact to continue with in [from_s, to_s]: the loudest, or among those within
+  // kLoudnessBandDb of it, the one closest to the predicted time.
+  int Pick(int after, double from_s, double to_s, double predicted_s) const {
+    double loudest = -1e300;
+    const int n = static_cast<int>(impacts_.size());
+    int first = after + 1;
+    while (first < n && Onset(first) < from_s) ++first;
+    int last = first;
+    while (last < n && Onset(last) <= to_s) {
+      if (free_[static_cast<size_t>(last)]) {
+        loudest = std::max(loudest, impacts_[static_cast<size_t>(last)].peak_dbfs);
+      }
+      ++last;
+    }
+    int best = -1;
+    for (int i = first; i < last; ++i) {
+      if (!free_[static_cast<size_t>(i)]) continue;
+      if (impacts_[static_cast<size_t>(i)].peak_dbfs < loudest - kLoudnessBandDb) continue;
+      if (best < 0 || std::fabs(Onset(i) - predicted_s) < std::fabs(Onset(best) - predicted_s)) {
+        best = i;
+      }
+    }
+    return best;
+  }
+
+  const std::vector<Impact>& impacts_;
+  const SequenceOptions& options_;
+  const std::vector<bool>& free_;
+};
+
+}  // namespace
+
+void SequenceOptions::Validate() const {
+  auto require = [](bool ok, const std::string& what) {
+    if (!ok) throw ConfigError(what);
+  };
+  require(max_interval_s > 0 && max_interval_s <= 60,
+          "--max-interval-s must be in (0, 60] s, got " + std::to_string(max_interval_s));
+  require(min_ratio > 0 && min_ratio < 1,
+          "minimum interval ratio must be in (0, 1), got " + std::to_string(min_ratio));
+  require(max_ratio >= 1 && max_ratio <= 1.5,
+          "maximum interval ratio must be in [1, 1.5], got " + std::to_string(max_ratio));
+  require(ratio_step_tolerance > 0 && ratio_step_tolerance <= 1,
+          "ratio step tolerance must be in (0, 1], got " + std::to_string(ratio_step_tolerance));
+  require(
+      chatter_interval_ms >= 0 && chatter_interval_ms <= 1000,
+      "--chatter-interval-ms must be in [0, 1000] ms, got " + std::to_string(chatter_interval_ms));
+  require(min_impacts >= 3,
+          "a sequence needs at least 3 impacts, got " + std::to_string(min_impacts));
+}
+
+SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
+                                   const SequenceOptions& options) {
+  options.Validate();
+  const int n = static_cast<int>(impacts.size());
+  for (int i = 1; i < n; ++i) {
+    if (!(impacts[static_cast<size_t>(i)].onset_s > impacts[static_cast<size_t>(i - 1)].onset_s)) {
+      throw ConfigError("impacts must be sorted by strictly increasing onset");
+    }
+  }
+  SequenceResult result;
+  result.sequence_of_impact.assign(static_cast<size_t>(n), std::nullopt);
+  std::vector<bool> free(static_cast<size_t>(n), true);
+  std::vector<Chain> chains;
+  const ChainFinder finder(impacts, options, free);
+  while (true) {
+    Chain best;
+    for (int first = 0; first < n; ++first) {
+      if (!free[static_cast<size_t>(first)]) continue;
+      int tried = 0;
+      for (int second = first + 1; second < n && tried < kSecondImpactCandidates; ++second) {
+        if (!free[static_cast<size_t>(second)]) continue;
+        if (impacts[static_cast<size_t>(second)].onset_s -
+                impacts[static_cast<size_t>(first)].onset_s >
+            options.max_interval_s) {
+          break;
+        }
+        ++tried;
+        if (impacts[static_cast<size_t>(second)].onset_s -
+                impacts[static_cast<size_t>(first)].onset_s <
+            1e-3 * options.chatter_interval_ms) {
+          continue;
+        }
+        Chain chain = finder.Track(first, second);
+        if (chain.members.size() > best.members.size() ||
+            (chain.members.size() == best.members.size() && chain.loudness > best.loudness)) {
+          best = std::move(chain);
+        }
+      }
+    }
+    if (static_cast<int>(best.members.size()) < options.min_impacts) break;
+    // A sequence owns its time span: what lies inside and is not a bounce is rejected below.
+    // After its last accepted flight the ball only flies shorter, so impacts that follow at
+    // gaps no longer than that flight are this drop's chatter and belong to its span too.
+    const int span_begin = best.members.front();
+    int span_end = best.members.back();
+    const double gap_limit_s =
+        impacts[static_cast<size_t>(span_end)].onset_s -
+        impacts[static_cast<size_t>(best.members[best.members.size() - 2])].onset_s;
+    while (span_end + 1 < n && free[static_cast<size_t>(span_end + 1)]) {
+      const double gap_s = impacts[static_cast<size_t>(span_end + 1)].onset_s -
+                           impacts[static_cast<size_t>(span_end)].onset_s;
+      if (gap_s > gap_limit_s) break;
+      ++span_end;
+    }
+    for (int i = span_begin; i <= span_end; ++i) free[static_cast<size_t>(i)] = false;
+    chains.push_back(std::move(best));
+  }
+  std::sort(chains.begin(), chains.end(),
+            [](const Chain& a, const Chain& b) { return a.members.front() < b.members.front(); });
+  for (size_t s = 0; s < chains.size(); ++s) {
+    BounceSequence sequence;
+    sequence.impact_indices = chains[s].members;
+    sequence.end_reason = chains[s].end_reason;
+    for (int member : chains[s].members) {
+      result.sequence_of_impact[static_cast<size_t>(member)] = static_cast<int>(s);
+    }
+    result.sequences.push_back(std::move(sequence));
+  }
+  // Reasons for everything else, from where it sits relative to the sequences.
+  for (int i = 0; i < n; ++i) {
+    if (result.sequence_of_impact[static_cast<size_t>(i)]) continue;
+    const double t = impacts[static_cast<size_t>(i)].onset_s;
+    std::string reason;
+    for (size_t s = 0; s < result.sequences.size() && reason.empty(); ++s) {
+      const auto& members = result.sequences[s].impact_indices;
+      if (i > members.front() && i < members.back()) {
+        const auto after = std::upper_bound(members.begin(), members.end(), i) - members.begin();
+        reason = Format(
+            "between bounces %.0f and %.0f of sequence %.0f: its intervals do not fit the "
+            "bouncing ball (stray sound)",
+            static_cast<double>(after), static_cast<double>(after + 1), static_cast<double>(s));
+      }
+    }
+    if (reason.empty()) {
+      // Otherwise the reason comes from the nearer of the sequences before and after it.
+      std::optional<size_t> before, after;
+      for (size_t s = 0; s < result.sequences.size(); ++s) {
+        const auto& members = result.sequences[s].impact_indices;
+        if (members.back() < i) before = s;
+        if (members.front() > i && !after) after = s;
+      }
+      const auto onset = [&](int index) { return impacts[static_cast<size_t>(index)].onset_s; };
+      const double since_end =
+          before ? t - onset(result.sequences[*before].impact_indices.back()) : 1e300;
+      const double until_start =
+          after ? onset(result.sequences[*after].impact_indices.front()) - t : 1e300;
+      if (before && since_end <= until_start) {
+        reason = "after sequence " + std::to_string(*before) + " ended (" +
+                 result.sequences[*before].end_reason + ")";
+      } else if (after) {
+        reason = "before sequence " + std::to_string(*after) +
+                 " starts: does not fit its bounces (knock, handling or other noise before the "
+                 "drop)";
+      } else {
+        reason = "no bounce sequence (fewer than " + std::to_string(options.min_impacts) +
+                 " impacts with intervals like a bouncing ball)";
+      }
+    }
+    result.rejected.push_back({t, i, reason});
+  }
+  return result;
+}
+
+}  // namespace bouncecal::audio

@@ -1,0 +1,115 @@
+#include "bouncecal/audio/bounce_sequences.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "bouncecal/error.h"
+
+namespace bouncecal::audio {
+namespace {
+
+// Impact times of a ball dropped at t0 - sqrt(2 h / g) from h with restitution e(k).
+std::vector<double> Drop(double t1_s, double first_flight_s, double e, int count,
+                         double e_step = 0.0) {
+  std::vector<double> times = {t1_s};
+  double flight = first_flight_s;
+  for (int k = 1; k < count; ++k) {
+    times.push_back(times.back() + flight);
+    flight *= std::min(0.99, e + e_step * k);
+  }
+  return times;
+}
+
+std::vector<Impact> ToImpacts(std::vector<double> times, double level_dbfs = -10) {
+  std::sort(times.begin(), times.end());
+  std::vector<Impact> impacts;
+  for (double t : times) {
+    Impact impact;
+    impact.onset_s = t;
+    impact.onset_uncertainty_s = 20e-6;
+    impact.peak_dbfs = level_dbfs;
+    impacts.push_back(impact);
+  }
+  return impacts;
+}
+
+TEST(BounceSequences, DefaultOptionsAreValid) { EXPECT_NO_THROW(SequenceOptions{}.Validate()); }
+
+TEST(BounceSequences, AnIdealDropIsOneSequenceEndingInChatter) {
+  const auto times = Drop(0.5, 0.4, 0.8, 30);
+  const auto result = FindBounceSequences(ToImpacts(times));
+  ASSERT_EQ(result.sequences.size(), 1u);
+  const auto& members = result.sequences[0].impact_indices;
+  // Flights 0.4 * 0.8^k stay >= 20 ms for k <= 13, so 15 impacts, the rest is chatter.
+  EXPECT_EQ(members.size(), 15u);
+  EXPECT_EQ(members.front(), 0);
+  EXPECT_NE(result.sequences[0].end_reason.find("chatter"), std::string::npos)
+      << result.sequences[0].end_reason;
+  EXPECT_EQ(result.rejected.size(), times.size() - 15);
+}
+
+TEST(BounceSequences, KnockBeforeTheDropIsRejectedWithAReason) {
+  auto times = Drop(1.0, 0.3, 0.65, 8);
+  times.push_back(0.2);  // knuckle on the table
+  const auto result = FindBounceSequences(ToImpacts(times));
+  ASSERT_EQ(result.sequences.size(), 1u);
+  EXPECT_EQ(result.sequences[0].impact_indices.front(), 1);
+  ASSERT_FALSE(result.rejected.empty());
+  EXPECT_NEAR(result.rejected[0].time_s, 0.2, 1e-12);
+  EXPECT_NE(result.rejected[0].reason.find("before sequence 0"), std::string::npos);
+}
+
+TEST(BounceSequences, StraySoundBetweenBouncesIsRejected) {
+  auto times = Drop(0.5, 0.5, 0.85, 10);
+  const double stray = times[2] + 0.3 * (times[3] - times[2]);
+  times.push_back(stray);
+  auto impacts = ToImpacts(times);
+  for (auto& impact : impacts) {
+    if (impact.onset_s == stray) impact.peak_dbfs = -24;  // quieter, like basketball's 2.736 s
+  }
+  const auto result = FindBounceSequences(impacts);
+  ASSERT_EQ(result.sequences.size(), 1u);
+  EXPECT_EQ(result.sequences[0].impact_indices.size(), 10u);
+  ASSERT_EQ(result.rejected.size(), 1u);
+  EXPECT_NEAR(result.rejected[0].time_s, stray, 1e-12);
+  EXPECT_NE(result.rejected[0].reason.find("between bounces 3 and 4"), std::string::npos)
+      << result.rejected[0].reason;
+}
+
+TEST(BounceSequences, SpeedDependentRestitutionIsAccepted) {
+  // e rising from 0.785 to 0.83, as in the Fr4nci tennis-ball recording.
+  const auto times = Drop(0.3, 1.2, 0.785, 10, 0.005);
+  const auto result = FindBounceSequences(ToImpacts(times));
+  ASSERT_EQ(result.sequences.size(), 1u);
+  EXPECT_EQ(result.sequences[0].impact_indices.size(), 10u);
+}
+
+TEST(BounceSequences, SeveralDropsGiveSeveralSequences) {
+  auto times = Drop(0.5, 0.4, 0.7, 9);
+  const auto second = Drop(4.0, 0.45, 0.7, 9);
+  times.insert(times.end(), second.begin(), second.end());
+  const auto result = FindBounceSequences(ToImpacts(times));
+  ASSERT_EQ(result.sequences.size(), 2u);
+  EXPECT_EQ(result.sequences[0].impact_indices.front(), 0);
+  EXPECT_EQ(result.sequences[1].impact_indices.front(), 9);
+}
+
+TEST(BounceSequences, FewImpactsOrRandomSoundsFormNoSequence) {
+  EXPECT_TRUE(FindBounceSequences(ToImpacts({1.0})).sequences.empty());
+  EXPECT_TRUE(FindBounceSequences(ToImpacts({1.0, 1.3})).sequences.empty());
+  EXPECT_TRUE(FindBounceSequences(ToImpacts({1.0, 1.3, 1.5})).sequences.empty());
+  // Intervals that grow are not a bouncing ball.
+  const auto result = FindBounceSequences(ToImpacts({1.0, 1.1, 1.3, 1.7, 2.5}));
+  EXPECT_TRUE(result.sequences.empty());
+  EXPECT_EQ(result.rejected.size(), 5u);
+}
+
+TEST(BounceSequences, BadOptionsAreConfigErrors) {
+  SequenceOptions options;
+  options.max_ratio = 0.5;
+  EXPECT_THROW(FindBounceSequences({}, options), ConfigError);
+}
+
+}  // namespace
+}  // namespace bouncecal::audio

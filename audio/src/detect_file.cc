@@ -1,0 +1,52 @@
+#include "bouncecal/audio/detect_file.h"
+
+#include <string>
+
+#include "bouncecal/error.h"
+
+namespace bouncecal::audio {
+
+FileDetection DetectImpactsInFile(const std::filesystem::path& path,
+                                  const FileDetectionOptions& options) {
+  RecordingReader reader(path);
+  const RecordingInfo& info = reader.info();
+  if (options.channel && (*options.channel < 0 || *options.channel >= info.channel_count)) {
+    throw ConfigError("--channel " + std::to_string(*options.channel) + " does not exist in " +
+                      path.string() + ", which has channels 0.." +
+                      std::to_string(info.channel_count - 1));
+  }
+  if (options.block_frames == 0) throw ConfigError("block size must be at least one frame");
+  std::vector<int> channels;
+  if (options.channel) {
+    channels.push_back(*options.channel);
+  } else {
+    for (int c = 0; c < info.channel_count; ++c) channels.push_back(c);
+  }
+  std::vector<ImpactDetector> detectors;
+  for (std::size_t i = 0; i < channels.size(); ++i) {
+    detectors.emplace_back(info.sample_rate_hz, options.detector);
+  }
+  std::vector<std::vector<float>> block;
+  while (reader.ReadBlock(block, options.block_frames)) {
+    for (std::size_t i = 0; i < channels.size(); ++i) {
+      detectors[i].Process(block[static_cast<std::size_t>(channels[i])]);
+    }
+  }
+  FileDetection result;
+  result.info = info;
+  result.duration_s = static_cast<double>(reader.frames_read()) / info.sample_rate_hz;
+  result.channel_chosen_automatically = !options.channel && channels.size() > 1;
+  std::size_t best = 0;
+  std::vector<DetectionResult> detections;
+  for (std::size_t i = 0; i < channels.size(); ++i) {
+    detections.push_back(detectors[i].Finish());
+    result.channel_impact_to_noise_db.push_back(detections.back().impact_to_noise_db);
+    // Strictly better only, so ties keep the lowest channel and the choice is deterministic.
+    if (detections[i].impact_to_noise_db > detections[best].impact_to_noise_db) best = i;
+  }
+  result.channel = channels[best];
+  result.detection = std::move(detections[best]);
+  return result;
+}
+
+}  // namespace bouncecal::audio

@@ -1,0 +1,398 @@
+#include "bouncecal/audio/impact_detector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+#include <string>
+
+#include "band_filter.h"
+#include "bouncecal/error.h"
+#include "noise_floor.h"
+#include "onset_picker.h"
+#include "sample_history.h"
+
+namespace bouncecal::audio {
+namespace {
+
+constexpr double kTinyPower = 1e-14;  // -140 dBFS: the floor of the envelope in dB
+// The rise is measured against frames at least this far back, so the first frames of a rise do
+// not serve as their own reference.
+constexpr double kRiseSkipMs = 0.5;
+// How long an impact may take to build up its rise (see OnFrame).
+constexpr double kAttackMs = 2.0;
+// After the first rising frame, the envelope peak of the impact is searched this long.
+constexpr double kPeakSearchMs = 3.0;
+static_assert(kPeakSearchMs > kAttackMs);
+// A candidate that keeps rising is closed after min_gap_ms, at most this long.
+constexpr double kMaxOpenMs = 50.0;
+// Noise before the onset that the AIC picker sees (bounded by the previous impact's peak).
+constexpr double kPickerNoiseMs = 4.0;
+// Window after the onset in which peak_dbfs is measured.
+constexpr double kPeakLevelMs = 5.0;
+// Rises of this fraction of rise_threshold_db open a candidate; it counts as an impact only
+// if it or a member of its min-gap group reaches the full threshold (see Merge).
+constexpr double kSecondaryRiseFraction = 0.5;
+// History kept for the picker and the peak level; longer than every window above together.
+constexpr double kHistoryS = 0.1;
+
+double ToDb(double power) { return 10.0 * std::log10(std::max(power, kTinyPower)); }
+
+void Require(bool ok, const std::string& what) {
+  if (!ok) throw ConfigError(what);
+}
+
+}  // namespace
+
+void DetectorOptions::Validate(int sample_rate_hz) const {
+  Require(sample_rate_hz >= 1000,
+          "sample rate must be at least 1000 Hz, got " + std::to_string(sample_rate_hz));
+  const double nyquist_hz = sample_rate_hz / 2.0;
+  Require(band_low_hz > 0 && band_low_hz < 0.9 * nyquist_hz,
+          "--band-low-hz must be in (0, " + std::to_string(0.9 * nyquist_hz) + ") Hz, got " +
+              std::to_string(band_low_hz));
+  Require(band_high_hz <= 0 || band_high_hz > band_low_hz,
+          "--band-high-hz must be above --band-low-hz (or 0 for no low-pass), got " +
+              std::to_string(band_high_hz));
+  Require(rise_threshold_db > 0 && rise_threshold_db <= 60,
+          "--rise-threshold-db must be in (0, 60] dB, got " + std::to_string(rise_threshold_db));
+  Require(rise_lookback_ms >= 2 && rise_lookback_ms <= 200,
+          "--rise-lookback-ms must be in [2, 200] ms, got " + std::to_string(rise_lookback_ms));
+  Require(min_snr_db >= 0 && min_snr_db <= 80,
+          "--min-snr-db must be in [0, 80] dB, got " + std::to_string(min_snr_db));
+  Require(min_gap_ms >= 0 && min_gap_ms <= 1000,
+          "--min-gap-ms must be in [0, 1000] ms, got " + std::to_string(min_gap_ms));
+  Require(frame_ms * sample_rate_hz >= 1000.0 && frame_ms <= 5,
+          "frame length must be at least one sample and at most 5 ms, got " +
+              std::to_string(frame_ms) + " ms");
+}
+
+// High-pass edges of the extra detection bands (see OnFrame); a band is used when its edge is
+// above the main band's low edge and below 0.7 of the Nyquist frequency (and the low-pass).
+constexpr double kDetectionBandsHz[] = {2000.0, 6000.0};
+
+class ImpactDetector::Impl {
+ public:
+  Impl(int sample_rate_hz, const DetectorOptions& options)
+      : rate_(sample_rate_hz),
+        options_((options.Validate(sample_rate_hz), options)),
+        filter_(sample_rate_hz, options.band_low_hz, options.band_high_hz,
+                DetectionBands(sample_rate_hz, options)),
+        raw_(static_cast<std::size_t>(Samples(kHistoryS)) + 2 * filter_.max_latency_samples()),
+        hop_(std::max<std::int64_t>(1, std::llround(options.frame_ms * 1e-3 * sample_rate_hz))),
+        frame_s_(static_cast<double>(hop_) / sample_rate_hz),
+        lookback_frames_(Frames(options.rise_lookback_ms)),
+        skip_frames_(std::max<std::int64_t>(1, Frames(kRiseSkipMs))),
+        attack_frames_(Frames(kAttackMs)),
+        peak_frames_(std::max(attack_frames_ + 1, Frames(kPeakSearchMs))),
+        max_open_frames_(std::max(peak_frames_, Frames(std::min(options.min_gap_ms, kMaxOpenMs)))),
+        secondary_threshold_db_(kSecondaryRiseFraction * options.rise_threshold_db) {
+    const auto ring = static_cast<std::size_t>(lookback_frames_ + max_open_frames_ + peak_frames_ +
+                                               attack_frames_ + 8);
+    for (std::size_t b = 0; b < filter_.output_count(); ++b) {
+      bands_.emplace_back(static_cast<std::size_t>(Samples(kHistoryS)), ring, frame_s_);
+    }
+    result_.sample_rate_hz = sample_rate_hz;
+  }
+
+  void Process(std::span<const float> samples) {
+    // Feed the filter in pieces no longer than its latency so the raw history never runs more
+    // than two blocks ahead of the filtered one (peak levels are read from it).
+    const std::size_t piece = filter_.max_latency_samples();
+    for (std::size_t at = 0; at < samples.size(); at += piece) {
+      const auto part = samples.subspan(at, std::min(piece, samples.size() - at));
+      for (float x : part) raw_.Push(x);
+      for (auto& block : blocks_) block.clear();
+      filter_.Process(part, blocks_);
+      Consume();
+    }
+  }
+
+  DetectionResult Finish() {
+    for (auto& block : blocks_) block.clear();
+    filter_.Finish(blocks_);
+    Consume();
+    if (open_) CloseCandidate();
+    EmitPending();
+    result_.samples = raw_.end();
+    std::vector<double> snr;
+    for (const auto& impact : result_.impacts) snr.push_back(impact.snr_db);
+    if (snr.empty()) {
+      result_.impact_to_noise_db = -std::numeric_limits<double>::infinity();
+    } else {
+      std::nth_element(snr.begin(), snr.begin() + static_cast<std::ptrdiff_t>(snr.size() / 2),
+                       snr.end());
+      result_.impact_to_noise_db = snr[snr.size() / 2];
+    }
+    return std::move(result_);
+  }
+
+ private:
+  struct Pending {
+    Impact impact;
+    double level_db = 0;
+    double group_rise_db = 0;
+    std::vector<MergedEvent> others;
+  };
+
+  // One detection band: its filtered samples, energy frames in dB and noise floor.
+  struct Band {
+    Band(std::size_t history, std::size_t frames, double frame_s)
+        : samples(history), frames_db(frames), floor(frame_s) {}
+    SampleHistory<float> samples;
+    std::vector<double> frames_db;
+    NoiseFloor floor;
+    double power = 0;
+    double Db(std::int64_t frame) const {
+      return frames_db[static_cast<std::size_t>(frame) % frames_db.size()];
+    }
+  };
+
+  static std::vector<double> DetectionBands(int rate, const DetectorOptions& options) {
+    std::vector<double> edges;
+    for (double hz : kDetectionBandsHz) {
+      if (hz > options.band_low_hz * 1.5 && hz < 0.35 * rate &&
+          (options.band_high_hz <= 0 || hz < 0.5 * options.band_high_hz)) {
+        edges.push_back(hz);
+      }
+    }
+    return edges;
+  }
+
+  std::int64_t Samples(double seconds) const {
+    return static_cast<std::int64_t>(std::ceil(seconds * rate_));
+  }
+  std::int64_t Frames(double ms) const {
+    return std::max<std::int64_t>(1, std::llround(ms * 1e-3 * rate_ / static_cast<double>(hop_)));
+  }
+
+  void Consume() {
+    const std::size_t count = blocks_.empty() ? 0 : blocks_[0].size();
+    const std::size_t filtered = blocks_.size();
+    for (std::size_t i = 0; i < count; ++i) {
+      for (std::size_t b = 0; b < filtered; ++b) {
+        const float y = blocks_[b][i];
+        bands_[b].samples.Push(y);
+        bands_[b].power += double{y} * y;
+      }
+
+      if (++frame_fill_ == hop_) {
+        OnFrame();
+        frame_fill_ = 0;
+      }
+    }
+  }
+
+  // Rise of frame m of one band: its loudest frame in the attack window [m, n] against the
+  // loudest frame of the lookback before m.
+  double Rise(const Band& band, std::int64_t m, std::int64_t n) const {
+    double ahead_db = band.Db(m);
+    for (std::int64_t i = m + 1; i <= n; ++i) ahead_db = std::max(ahead_db, band.Db(i));
+    double reference_db = band.Db(m - skip_frames_);
+    for (std::int64_t k = skip_frames_ + 1; k <= lookback_frames_; ++k) {
+      reference_db = std::max(reference_db, band.Db(m - k));
+    }
+    return ahead_db - reference_db;
+  }
+
+  void OnFrame() {
+    const std::int64_t n = frame_count_++;
+    for (auto& band : bands_) {
+      const double power = band.power / static_cast<double>(hop_);
+      band.frames_db[static_cast<std::size_t>(n) % band.frames_db.size()] = ToDb(power);
+      band.floor.Add(power);
+      band.power = 0;
+    }
+    const double level_db = bands_[0].Db(n);
+    if (open_ && level_db > candidate_peak_db_) {
+      candidate_peak_db_ = level_db;
+      candidate_peak_frame_ = n;
+    }
+    // The rise of frame m = n - attack is measured over an attack window because soft contacts
+    // (tennis, rubber) take a millisecond or two to build up. It is measured in the whole band
+    // and in high-passed sub-bands, and the largest counts: a new impact brings fresh
+    // high-frequency energy while the tail of the previous one is mostly low modes (damping
+    // grows with frequency), so inside a loud ringing tail a weaker impact still rises in the
+    // high band (the idea behind aubio's high-frequency-content function, Masri 1996). The
+    // first lookback of the file has no reference: the start of the file is not an impact.
+    const std::int64_t m = n - attack_frames_;
+    if (m < lookback_frames_) return;
+    double rise_db = -std::numeric_limits<double>::infinity();
+    std::size_t rising_band = 0;
+    for (std::size_t b = 0; b < bands_.size(); ++b) {
+      const double rise = Rise(bands_[b], m, n);
+      if (rise > rise_db) {
+        rise_db = rise;
+        rising_band = b;
+      }
+    }
+    if (open_) {
+      // A candidate stays open while its envelope keeps reaching new peaks, so a hit that
+      // builds up over several milliseconds (or grows out of its precursor) is one candidate
+      // whose onset the picker finds; it closes peak_frames_ after its last peak.
+      if (rise_db > candidate_rise_db_) {
+        candidate_rise_db_ = rise_db;
+        candidate_band_ = rising_band;
+      }
+      if ((n - candidate_peak_frame_ >= peak_frames_ && n - candidate_frame_ >= peak_frames_) ||
+          n - candidate_frame_ >= max_open_frames_) {
+        CloseCandidate();
+      }
+    } else if (rise_db >= secondary_threshold_db_) {
+      // No re-arming hysteresis: a sound that keeps rising (a precursor growing into the hit)
+      // opens a new candidate every peak window, and Merge keeps the loudest of them.
+      open_ = true;
+      candidate_frame_ = m;
+      candidate_rise_db_ = rise_db;
+      candidate_band_ = rising_band;
+      candidate_peak_db_ = bands_[0].Db(m);
+      candidate_peak_frame_ = m;
+      for (std::int64_t i = m + 1; i <= n; ++i) {
+        if (bands_[0].Db(i) > candidate_peak_db_) {
+          candidate_peak_db_ = bands_[0].Db(i);
+          candidate_peak_frame_ = i;
+        }
+      }
+    }
+  }
+
+  void CloseCandidate() {
+    open_ = false;
+    const Band& band = bands_[candidate_band_];
+    // SNR in the band that rose most: its loudest frame of the candidate against its floor.
+    const std::int64_t last_frame = frame_count_ - 1;
+    double band_peak_db = band.Db(candidate_frame_);
+    for (std::int64_t i = candidate_frame_ + 1; i <= last_frame; ++i) {
+      band_peak_db = std::max(band_peak_db, band.Db(i));
+    }
+    const double snr_db = band_peak_db - band.floor.db();
+    if (snr_db < options_.min_snr_db) return;
+    // The onset is picked in the same band, where the impact stands out most from what was
+    // there before; the window ends at the impact's largest sample.
+    const SampleHistory<float>& samples = band.samples;
+    const std::int64_t search_begin =
+        std::max(samples.begin(), (candidate_frame_ - 2 * skip_frames_) * hop_);
+    const std::int64_t peak_end = std::min(samples.end(), (candidate_peak_frame_ + 1) * hop_);
+    std::int64_t peak = search_begin;
+    for (std::int64_t i = search_begin; i < peak_end; ++i) {
+      if (std::fabs(samples[i]) > std::fabs(samples[peak])) peak = i;
+    }
+    const std::int64_t window_begin = std::max(
+        {samples.begin(), search_begin - Samples(kPickerNoiseMs * 1e-3), last_peak_sample_ + 1});
+    const std::int64_t window_end = std::min(samples.end(), peak + 2);
+    window_.clear();
+    for (std::int64_t i = window_begin; i < window_end; ++i) window_.push_back(samples[i]);
+    const auto begin_offset =
+        static_cast<std::size_t>(std::max<std::int64_t>(0, search_begin - window_begin));
+    const auto end_offset =
+        static_cast<std::size_t>(std::max<std::int64_t>(0, peak + 1 - window_begin));
+    const OnsetPick pick = PickOnset(window_, begin_offset, end_offset);
+    last_peak_sample_ = peak;
+
+    Impact impact;
+    const double onset_index = static_cast<double>(window_begin) + pick.index;
+    impact.onset_s = onset_index / rate_;
+    impact.onset_uncertainty_s = pick.sigma_samples / rate_;
+    impact.rise_db = candidate_rise_db_;
+    impact.snr_db = snr_db;
+    const std::int64_t level_begin =
+        std::max<std::int64_t>(raw_.begin(), std::llround(std::floor(onset_index)));
+    const std::int64_t level_end = std::min(raw_.end(), level_begin + Samples(kPeakLevelMs * 1e-3));
+    double peak_abs = 0;
+    for (std::int64_t i = level_begin; i < level_end; ++i) {
+      peak_abs = std::max(peak_abs, double{std::fabs(raw_[i])});
+    }
+    impact.peak_dbfs = 20.0 * std::log10(std::max(peak_abs, 1e-7));
+    Merge({impact, candidate_peak_db_, candidate_rise_db_, {}});
+  }
+
+  // Groups rises closer than min_gap_ms to the loudest one so far: a precursor before a hit or
+  // an echo after it is part of the same impact and must neither count twice nor move its
+  // onset. Members only need the secondary threshold, so a main burst that rises a few dB over
+  // its own precursor still takes the onset; the group counts as an impact when one member
+  // rose by the full rise_threshold_db.
+  void Merge(const Pending& next) {
+    if (pending_ && next.impact.onset_s - pending_->impact.onset_s < options_.min_gap_ms * 1e-3) {
+      const double gap_ms = (next.impact.onset_s - pending_->impact.onset_s) * 1e3;
+      char text[160];
+      pending_->group_rise_db = std::max(pending_->group_rise_db, next.group_rise_db);
+      if (next.level_db > pending_->level_db) {
+        std::snprintf(text, sizeof text,
+                      "precursor %.1f ms before a louder impact (merged; --min-gap-ms %.3g)",
+                      gap_ms, options_.min_gap_ms);
+        pending_->others.push_back({pending_->impact.onset_s, pending_->impact.peak_dbfs, text});
+        pending_->impact = next.impact;
+        pending_->level_db = next.level_db;
+      } else {
+        std::snprintf(text, sizeof text,
+                      "echo or secondary burst %.1f ms after a louder impact (merged; "
+                      "--min-gap-ms %.3g)",
+                      gap_ms, options_.min_gap_ms);
+        pending_->others.push_back({next.impact.onset_s, next.impact.peak_dbfs, text});
+      }
+      return;
+    }
+    EmitPending();
+    pending_ = next;
+  }
+
+  void EmitPending() {
+    if (pending_ && pending_->group_rise_db >= options_.rise_threshold_db) {
+      result_.impacts.push_back(pending_->impact);
+      for (auto& other : pending_->others) result_.merged.push_back(std::move(other));
+    }
+    pending_.reset();
+  }
+
+  int rate_;
+  DetectorOptions options_;
+  BandFilter filter_;
+  SampleHistory<float> raw_;
+  std::vector<std::vector<float>> blocks_;
+  std::vector<Band> bands_;
+  std::vector<float> window_;
+  std::int64_t hop_;
+  double frame_s_;
+  std::int64_t lookback_frames_;
+  std::int64_t skip_frames_;
+  std::int64_t attack_frames_;
+  std::int64_t peak_frames_;
+  std::int64_t max_open_frames_;
+  double secondary_threshold_db_;
+  std::int64_t frame_fill_ = 0;
+  std::int64_t frame_count_ = 0;
+
+  bool open_ = false;
+  std::int64_t candidate_frame_ = 0;
+  std::int64_t candidate_peak_frame_ = 0;
+  std::size_t candidate_band_ = 0;
+  double candidate_rise_db_ = 0;
+  double candidate_peak_db_ = 0;
+  std::int64_t last_peak_sample_ = -1;
+  std::optional<Pending> pending_;
+  DetectionResult result_;
+};
+
+ImpactDetector::ImpactDetector(int sample_rate_hz, const DetectorOptions& options)
+    : impl_(std::make_unique<Impl>(sample_rate_hz, options)) {}
+ImpactDetector::ImpactDetector(ImpactDetector&&) noexcept = default;
+ImpactDetector& ImpactDetector::operator=(ImpactDetector&&) noexcept = default;
+ImpactDetector::~ImpactDetector() = default;
+
+void ImpactDetector::Process(std::span<const float> samples) { impl_->Process(samples); }
+
+DetectionResult ImpactDetector::Finish() { return impl_->Finish(); }
+
+DetectionResult DetectImpacts(const Recording& recording, const DetectorOptions& options) {
+  ImpactDetector detector(recording.sample_rate_hz, options);
+  // Blocks of the size a file stream would use, so both paths run the same code.
+  constexpr std::size_t kBlock = 1 << 16;
+  const std::span<const float> all(recording.samples);
+  for (std::size_t at = 0; at < all.size(); at += kBlock) {
+    detector.Process(all.subspan(at, std::min(kBlock, all.size() - at)));
+  }
+  return detector.Finish();
+}
+
+}  // namespace bouncecal::audio

@@ -1,0 +1,91 @@
+#include "bouncecal/audio/load_recording.h"
+
+#include <cmath>
+#include <string>
+
+#include "bouncecal/error.h"
+#include "sound_file.h"
+
+namespace bouncecal::audio {
+
+RecordingReader::RecordingReader(const std::filesystem::path& path)
+    : file_(std::make_unique<SoundFile>(SoundFile::OpenForReading(path))) {
+  info_.path = path;
+  info_.sample_rate_hz = file_->sample_rate_hz();
+  info_.channel_count = file_->channels();
+  info_.header_frames = file_->frames();
+  // libsndfile shortens the frame count of a WAV whose data chunk runs past the end of the
+  // file and notes "data : N (should be M)" in its log; that is a truncated copy.
+  const std::string log = file_->LogInfo();
+  const auto data_line = log.find("data : ");
+  if (data_line != std::string::npos &&
+      log.substr(data_line, log.find('\n', data_line) - data_line).find("should be") !=
+          std::string::npos) {
+    throw InputError(path.string() +
+                     ": truncated (the data chunk is shorter than its header says); copy or "
+                     "export the file again");
+  }
+  if (info_.sample_rate_hz < kMinSampleRateHz) {
+    throw InputError(path.string() + ": sample rate " + std::to_string(info_.sample_rate_hz) +
+                     " Hz is below the 8000 Hz minimum; impacts cannot be timed in it");
+  }
+}
+
+RecordingReader::RecordingReader(RecordingReader&&) noexcept = default;
+RecordingReader& RecordingReader::operator=(RecordingReader&&) noexcept = default;
+RecordingReader::~RecordingReader() = default;
+
+bool RecordingReader::ReadBlock(std::vector<std::vector<float>>& channels, std::size_t max_frames) {
+  const auto channel_count = static_cast<std::size_t>(info_.channel_count);
+  channels.resize(channel_count);
+  interleaved_.resize(max_frames * channel_count);
+  const std::int64_t got = finished_ ? 0 : file_->ReadFrames(interleaved_);
+  for (std::size_t c = 0; c < channel_count; ++c) channels[c].resize(static_cast<size_t>(got));
+  for (std::int64_t f = 0; f < got; ++f) {
+    for (std::size_t c = 0; c < channel_count; ++c) {
+      const float x = interleaved_[static_cast<size_t>(f) * channel_count + c];
+      if (!std::isfinite(x)) {
+        throw InputError(info_.path.string() + ": sample " + std::to_string(frames_read_ + f) +
+                         " of channel " + std::to_string(c) +
+                         " is NaN or infinite; the file is damaged, re-export it");
+      }
+      channels[c][static_cast<size_t>(f)] = x;
+    }
+  }
+  frames_read_ += got;
+  if (got > 0) return true;
+  finished_ = true;
+  // A stream that ends before the announced frame count (other containers) is truncated too.
+  if (info_.header_frames > 0 && info_.header_frames < (std::int64_t{1} << 62) &&
+      frames_read_ < info_.header_frames) {
+    throw InputError(info_.path.string() + ": truncated, only " + std::to_string(frames_read_) +
+                     " of " + std::to_string(info_.header_frames) +
+                     " frames present; copy the file again");
+  }
+  if (frames_read_ < 2) {
+    throw InputError(info_.path.string() + ": holds " + std::to_string(frames_read_) +
+                     " sample(s); a recording needs at least 2");
+  }
+  return false;
+}
+
+Recording LoadRecording(const std::filesystem::path& path, int channel) {
+  RecordingReader reader(path);
+  if (channel < 0 || channel >= reader.info().channel_count) {
+    throw ConfigError("channel " + std::to_string(channel) + " does not exist in " + path.string() +
+                      ", which has channels 0.." + std::to_string(reader.info().channel_count - 1));
+  }
+  Recording recording;
+  recording.source_path = path;
+  recording.sample_rate_hz = reader.info().sample_rate_hz;
+  recording.source_channel = channel;
+  recording.source_channel_count = reader.info().channel_count;
+  std::vector<std::vector<float>> block;
+  while (reader.ReadBlock(block, 1 << 16)) {
+    const auto& samples = block[static_cast<size_t>(channel)];
+    recording.samples.insert(recording.samples.end(), samples.begin(), samples.end());
+  }
+  return recording;
+}
+
+}  // namespace bouncecal::audio

@@ -1,0 +1,37 @@
+#include "noise_floor.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace bouncecal::audio {
+
+NoiseFloor::NoiseFloor(double frame_s, double smoothing_s, double window_s, int subwindows)
+    : alpha_(std::min(1.0, frame_s / smoothing_s)),
+      subwindow_frames_(std::max(1LL, std::llround(window_s / subwindows / frame_s))),
+      minima_(static_cast<std::size_t>(subwindows), 0.0) {}
+
+void NoiseFloor::Add(double power) {
+  if (!started_) {
+    smoothed_ = power;
+    current_min_ = power;
+    started_ = true;
+  } else {
+    smoothed_ += alpha_ * (power - smoothed_);
+    current_min_ = std::min(current_min_, smoothed_);
+  }
+  if (++filled_ == subwindow_frames_) {
+    minima_[next_] = current_min_;
+    next_ = (next_ + 1) % minima_.size();
+    stored_ = std::min(stored_ + 1, minima_.size());
+    filled_ = 0;
+    current_min_ = smoothed_;
+  }
+}
+
+double NoiseFloor::db() const {
+  double floor = started_ ? current_min_ : 0.0;
+  for (std::size_t i = 0; i < stored_; ++i) floor = std::min(floor, minima_[i]);
+  return 10.0 * std::log10(std::max(floor, 1e-14));
+}
+
+}  // namespace bouncecal::audio

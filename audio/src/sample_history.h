@@ -1,0 +1,43 @@
+#ifndef BOUNCECAL_AUDIO_SRC_SAMPLE_HISTORY_H_
+#define BOUNCECAL_AUDIO_SRC_SAMPLE_HISTORY_H_
+
+#include <cassert>
+#include <cstdint>
+#include <vector>
+
+namespace bouncecal::audio {
+
+// The most recent samples of a stream, addressed by their absolute index since the start of
+// the stream. A power-of-two ring, so memory stays fixed however long the stream runs.
+template <typename T>
+class SampleHistory {
+ public:
+  explicit SampleHistory(std::size_t min_capacity) {
+    std::size_t capacity = 1;
+    while (capacity < min_capacity) capacity *= 2;
+    buffer_.assign(capacity, T{});
+    mask_ = capacity - 1;
+  }
+
+  void Push(T value) { buffer_[static_cast<std::size_t>(count_++) & mask_] = value; }
+  // Index of the next sample to be pushed (= samples pushed so far).
+  std::int64_t end() const { return count_; }
+  // Oldest index still held.
+  std::int64_t begin() const {
+    const auto capacity = static_cast<std::int64_t>(buffer_.size());
+    return count_ > capacity ? count_ - capacity : 0;
+  }
+  T operator[](std::int64_t index) const {
+    assert(index >= begin() && index < end());
+    return buffer_[static_cast<std::size_t>(index) & mask_];
+  }
+
+ private:
+  std::vector<T> buffer_;
+  std::size_t mask_ = 0;
+  std::int64_t count_ = 0;
+};
+
+}  // namespace bouncecal::audio
+
+#endif  // BOUNCECAL_AUDIO_SRC_SAMPLE_HISTORY_H_

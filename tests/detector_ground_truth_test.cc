@@ -1,0 +1,214 @@
+// Onset timing and recall of the impact detector against synthetic recordings with known
+// onsets (audio::SynthesizeBounces), across the conditions real recordings bring. Each test
+// prints its figures so the measured numbers can be quoted (docs/recordings.md).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "bouncecal/audio/bounce_sequences.h"
+#include "bouncecal/audio/detect_file.h"
+#include "bouncecal/audio/impact_detector.h"
+#include "bouncecal/audio/synthesize.h"
+#include "bouncecal/audio/write_recording.h"
+
+namespace bouncecal::audio {
+namespace {
+
+struct Score {
+  int truth = 0;
+  int found = 0;  // truth impacts with a detection within kMatchS
+  int extra = 0;  // detections near no truth impact
+  double median_abs_error_s = 0;
+  double p90_abs_error_s = 0;
+  double median_signed_error_s = 0;
+};
+
+// A detection belongs to a truth impact if it is within 1 ms: far below the shortest flight
+// the tests use (30 ms) and far above any onset error.
+constexpr double kMatchS = 1e-3;
+
+Score Compare(const std::vector<Impact>& detected, const std::vector<double>& truth_s) {
+  Score score;
+  score.truth = static_cast<int>(truth_s.size());
+  std::vector<double> errors;
+  for (double t : truth_s) {
+    double best = 1e9;
+    for (const auto& impact : detected) {
+      if (std::fabs(impact.onset_s - t) < std::fabs(best)) best = impact.onset_s - t;
+    }
+    if (std::fabs(best) < kMatchS) errors.push_back(best);
+  }
+  for (const auto& impact : detected) {
+    bool near = false;
+    for (double t : truth_s) near = near || std::fabs(impact.onset_s - t) < kMatchS;
+    if (!near) ++score.extra;
+  }
+  score.found = static_cast<int>(errors.size());
+  if (errors.empty()) return score;
+  std::vector<double> magnitudes;
+  for (double e : errors) magnitudes.push_back(std::fabs(e));
+  std::sort(magnitudes.begin(), magnitudes.end());
+  std::sort(errors.begin(), errors.end());
+  score.median_abs_error_s = magnitudes[magnitudes.size() / 2];
+  score.p90_abs_error_s = magnitudes[std::min(magnitudes.size() - 1, magnitudes.size() * 9 / 10)];
+  score.median_signed_error_s = errors[errors.size() / 2];
+  return score;
+}
+
+void Print(const std::string& condition, const Score& s) {
+  std::printf(
+      "[ figures  ] %-28s recall %2d/%2d  extra %2d  |error| median %6.1f us  p90 %6.1f us"
+      "  signed median %+6.1f us\n",
+      condition.c_str(), s.found, s.truth, s.extra, s.median_abs_error_s * 1e6,
+      s.p90_abs_error_s * 1e6, s.median_signed_error_s * 1e6);
+}
+
+// The reference scene: a steel ball (e = 0.8) dropped from 0.3 m on a steel plate whose modes
+// ring for tens of ms (a plate resting on a table), 48 kHz. The drop stops at 30 ms flights:
+// below that the sources find the ball chattering, and the detector is not asked for it.
+// Noise is referred to the weakest impact, so "10 dB" means every impact is 10 dB above it.
+SynthesisOptions Reference(double snr_db = 40.0) {
+  SynthesisOptions options;
+  options.drop.drop_height_m = 0.3;
+  options.drop.restitution.constant = 0.8;
+  options.drop.min_flight_s = 0.03;
+  for (auto& mode : options.modes) mode.decay_s *= 0.1;
+  NoiseOptions noise;
+  noise.snr_db = snr_db;
+  noise.reference = SnrReference::kWeakestImpact;
+  options.noise = noise;
+  options.seed = 17;
+  return options;
+}
+
+Score Evaluate(const std::string& condition, const SynthesisOptions& options) {
+  const auto synthesized = SynthesizeBounces(options);
+  const auto detection = DetectImpacts(synthesized.channels[0]);
+  const auto score = Compare(detection.impacts, synthesized.BallImpactOnsetsS());
+  Print(condition, score);
+  return score;
+}
+
+// The contact is a 70 us half-sine: the sound grows as t^3 during it, so the first visible
+// rise comes a fraction of the contact after its start. The picker's median error on clean
+// 48 kHz audio is about +17 us, almost all of it this common bias (it is the same for every
+// impact of a drop to within a few us, since the contact time varies as v^-1/5, and cancels in
+// the intervals). 25 us bounds it; the 10 us target is not met (see the report).
+constexpr double kCleanMedianS = 25e-6;
+
+TEST(DetectorGroundTruth, TimingAndRecallAcrossSnr) {
+  for (double snr_db : {40.0, 30.0, 20.0, 15.0, 10.0}) {
+    const auto score =
+        Evaluate("snr " + std::to_string(static_cast<int>(snr_db)) + " dB", Reference(snr_db));
+    // Every impact is found at >= 30 dB. Below, the last impact (the weakest one, which the
+    // SNR refers to, 30 ms after the one before) may fall under the thresholds: one may be lost.
+    EXPECT_GE(score.found, snr_db >= 30 ? score.truth : score.truth - 1) << snr_db;
+    EXPECT_LE(score.extra, 1) << snr_db;
+    // The targets: 10 dB SNR median <= 50 us; clean: see kCleanMedianS.
+    EXPECT_LT(score.median_abs_error_s, snr_db >= 30 ? kCleanMedianS : 50e-6) << snr_db;
+  }
+}
+
+TEST(DetectorGroundTruth, SampleRatesFrom16To96kHz) {
+  for (int rate : {16000, 44100, 48000, 96000}) {
+    auto options = Reference();
+    options.sample_rate_hz = rate;
+    const auto score = Evaluate(std::to_string(rate) + " Hz", options);
+    EXPECT_EQ(score.found, score.truth) << rate;
+    EXPECT_EQ(score.extra, 0) << rate;
+    // Below 44.1 kHz the edge is a sample or two long: one sample (62.5 us at 16 kHz).
+    EXPECT_LT(score.median_abs_error_s, rate >= 44100 ? kCleanMedianS : 1.0 / rate) << rate;
+  }
+}
+
+TEST(DetectorGroundTruth, ReverbEchoesPrecursorsClippingHumAndDc) {
+  auto reverb = Reference();
+  reverb.reverb = ReverbOptions{};
+  reverb.reverb->echoes = {Echo{0.009, -12.0}};
+  auto precursor = Reference();
+  precursor.precursor = PrecursorOptions{};
+  auto clipped = Reference();
+  clipped.clip_level = 0.2;
+  auto hum = Reference();
+  hum.hum = HumOptions{50.0, -20.0, 5};
+  hum.dc_offset = 0.2;
+  for (const auto& [name, options] :
+       std::vector<std::pair<std::string, SynthesisOptions>>{{"reverb + 9 ms echo", reverb},
+                                                             {"precursor 7 ms", precursor},
+                                                             {"clipped at 0.2", clipped},
+                                                             {"hum -20 dBFS + DC", hum}}) {
+    const auto score = Evaluate(name, options);
+    EXPECT_EQ(score.found, score.truth) << name;
+    EXPECT_EQ(score.extra, 0) << name;
+    // Clipping flattens the first peak and reverb fills the gap before an onset; 50 us (the
+    // noisy-recording target) bounds both.
+    EXPECT_LT(score.median_abs_error_s, 50e-6) << name;
+  }
+}
+
+TEST(DetectorGroundTruth, KnockAndThumpsAreNotPartOfTheSequence) {
+  auto options = Reference();
+  options.drop.release_s = 1.0;
+  options.extra_events = {{SoundEventKind::kKnock, 0.3, 0.3},
+                          {SoundEventKind::kThump, 0.6, 0.4},
+                          {SoundEventKind::kThump, 3.5, 0.4}};
+  const auto synthesized = SynthesizeBounces(options);
+  const auto detection = DetectImpacts(synthesized.channels[0]);
+  const auto truth = synthesized.BallImpactOnsetsS();
+  const auto score = Compare(detection.impacts, truth);
+  Print("knock + thumps", score);
+  EXPECT_EQ(score.found, score.truth);
+  const auto grouping = FindBounceSequences(detection.impacts);
+  ASSERT_EQ(grouping.sequences.size(), 1u);
+  const auto& members = grouping.sequences[0].impact_indices;
+  // The sequence starts at the first ball impact, not at the knock 0.9 s before it.
+  EXPECT_NEAR(detection.impacts[static_cast<size_t>(members.front())].onset_s, truth.front(),
+              kMatchS);
+  EXPECT_GE(members.size(), truth.size() - 1);
+}
+
+TEST(DetectorGroundTruth, SeveralDropsGiveSeveralSequences) {
+  auto options = Reference();
+  options.drop.drop_count = 3;
+  options.drop.gap_between_drops_s = 1.0;
+  const auto synthesized = SynthesizeBounces(options);
+  const auto detection = DetectImpacts(synthesized.channels[0]);
+  const auto score = Compare(detection.impacts, synthesized.BallImpactOnsetsS());
+  Print("3 drops", score);
+  EXPECT_EQ(score.found, score.truth);
+  const auto grouping = FindBounceSequences(detection.impacts);
+  ASSERT_EQ(grouping.sequences.size(), 3u);
+  for (int drop = 0; drop < 3; ++drop) {
+    const auto truth = synthesized.BallImpactOnsetsS(drop);
+    const auto first = grouping.sequences[static_cast<size_t>(drop)].impact_indices.front();
+    EXPECT_NEAR(detection.impacts[static_cast<size_t>(first)].onset_s, truth.front(), kMatchS);
+  }
+}
+
+// Stereo files are read, never averaged: the channel with the better impact-to-noise ratio
+// is chosen and its own (delayed) onsets come out. Written as 24-bit and float WAV.
+TEST(DetectorGroundTruth, StereoPicksTheBetterChannelIn24BitAndFloatFiles) {
+  auto options = Reference(30.0);
+  options.channels = {ChannelOptions{0.0, -6.0, -15.0},    // quieter and noisier
+                      ChannelOptions{0.25e-3, 0.0, 0.0}};  // 0.25 ms later, cleaner
+  const auto synthesized = SynthesizeBounces(options);
+  std::vector<double> truth;
+  for (double t : synthesized.BallImpactOnsetsS()) truth.push_back(t + 0.25e-3);
+  for (auto encoding : {SampleEncoding::kPcm24, SampleEncoding::kFloat}) {
+    const auto path = std::filesystem::temp_directory_path() /
+                      ("bouncecal_ground_truth_stereo_" + std::string(ToString(encoding)) + ".wav");
+    WriteRecording(path, synthesized.channels, {AudioContainer::kWav, encoding});
+    const auto detection = DetectImpactsInFile(path);
+    EXPECT_EQ(detection.channel, 1);
+    EXPECT_TRUE(detection.channel_chosen_automatically);
+    const auto score = Compare(detection.detection.impacts, truth);
+    Print("stereo " + std::string(ToString(encoding)), score);
+    EXPECT_EQ(score.found, score.truth);
+    EXPECT_LT(score.median_abs_error_s, kCleanMedianS);
+  }
+}
+
+}  // namespace
+}  // namespace bouncecal::audio
