@@ -11,6 +11,9 @@ namespace bouncecal::apps {
 void AddVersionCommand(CLI::App& app);
 // simulate drop: the DEM single-ball drop (apps/simulate_command.cc).
 void AddSimulateCommand(CLI::App& app);
+void AddCalibrateCommand(CLI::App& app);
+void AddSweepCommand(CLI::App& app);
+void AddCompareCommand(CLI::App& app);
 void AddSynthCommand(CLI::App& app);
 void AddAnalyzeCommand(CLI::App& app);
 

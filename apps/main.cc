@@ -23,6 +23,9 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   apps::AddVersionCommand(app);
   apps::AddSimulateCommand(app);
+  apps::AddCalibrateCommand(app);
+  apps::AddSweepCommand(app);
+  apps::AddCompareCommand(app);
   apps::AddSynthCommand(app);
   apps::AddAnalyzeCommand(app);
 

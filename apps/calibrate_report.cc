@@ -1,0 +1,194 @@
+#include "calibrate_report.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <string>
+
+#include "plot/gnuplot_plot.h"
+
+namespace bouncecal::apps {
+namespace {
+
+std::string FormatValue(double value) { return fmt::format("{:.6g}", value); }
+
+std::string FixedParameters(const calibrate::FitSummary& summary) {
+  std::string text;
+  for (const auto& spec : dem::ParameterSpecs(summary.law.kind)) {
+    const bool fitted = std::any_of(summary.parameters.begin(), summary.parameters.end(),
+                                    [&](const auto& p) { return p.name == spec.name; });
+    if (!fitted) {
+      text += fmt::format("{}{} = {} {}", text.empty() ? "fixed: " : ", ", spec.name,
+                          FormatValue(summary.law.Get(spec.name)), spec.unit);
+    }
+  }
+  return text.empty() ? "no fixed parameters" : text;
+}
+
+void PrintParameters(const calibrate::FitSummary& summary, double confidence_level) {
+  for (const auto& parameter : summary.parameters) {
+    std::string interval = "no interval (bootstrap off)";
+    if (parameter.confidence_interval) {
+      interval = fmt::format("{:.0f} % CI [{}, {}]", 100 * confidence_level,
+                             FormatValue(parameter.confidence_interval->first),
+                             FormatValue(parameter.confidence_interval->second));
+    }
+    fmt::print("  {} = {} {}   {}{}\n", parameter.name, FormatValue(parameter.value),
+               parameter.unit == "1" ? "" : parameter.unit, interval,
+               parameter.at_bound ? "   (at the edge of its search range)" : "");
+  }
+}
+
+}  // namespace
+
+void PrintFit(const calibrate::FitSummary& summary, const calibrate::FitOptions& options,
+              size_t sequence_count) {
+  fmt::print("bouncecal calibrate: {} sequence(s), law {}, objective {}{}\n", sequence_count,
+             dem::ToString(summary.law.kind), ToString(summary.objective),
+             summary.objective == calibrate::FitObjective::kMeanEnergyLoss
+                 ? fmt::format(" (first {} impacts)", options.first_n)
+                 : "");
+  fmt::print("ball: d = {} m, m = {:.4g} kg; drop height {}; integrator {}{}\n",
+             options.ball.diameter_m, options.ball.MassKg(),
+             options.drop_height_m ? FormatValue(*options.drop_height_m) + " m" : "unknown",
+             dem::ToString(options.integrator), options.drag.enabled ? ", air drag on" : "");
+  for (const auto& sequence : summary.sequences) {
+    const auto& measured = sequence.measured;
+    fmt::print("  {}: {} impacts, eta-bar(first {}) = {}\n", sequence.source,
+               measured.intervals_s.size() + 1, options.first_n,
+               measured.energy_loss_mean_first_n
+                   ? fmt::format("{:.4f} +- {:.2g}", *measured.energy_loss_mean_first_n,
+                                 *measured.energy_loss_mean_first_n_uncertainty)
+                   : "n/a");
+  }
+  fmt::print("fitted parameters ({}):\n", FixedParameters(summary));
+  PrintParameters(summary, options.uncertainty.confidence_level);
+  fmt::print("  uncertainty: {}\n", summary.uncertainty_method);
+  fmt::print("  implied first impact: e = {:.4f}, eta = {:.4f}\n", summary.implied_restitution,
+             summary.implied_energy_loss);
+  const auto& check = summary.check;
+  if (check.applicable) {
+    fmt::print("analytic check (eta = 2 gamma / (1 + gamma)):\n");
+    fmt::print("  measured eta-bar = {:.4f} +- {:.2g} -> gamma_n = eta/(2 - eta) = {:.4f}\n",
+               check.energy_loss_mean, check.energy_loss_mean_uncertainty, check.gamma_n_formula);
+    fmt::print(
+        "  fitted - formula = {:+.4f}; time-step error {:+.4f} (eta-bar {:.4f} with this "
+        "step vs {:.4f} exact), formula model error {:+.4f}\n",
+        check.difference, check.time_step_gamma_error, check.energy_loss_mean_chosen_step,
+        check.energy_loss_mean_exact, check.model_gamma_error);
+    fmt::print("  {}{}\n", check.warning ? "WARNING: " : "", check.message);
+  } else {
+    fmt::print("analytic check: not applicable ({})\n", check.message);
+  }
+  fmt::print(
+      "optimiser: stopped because {} ({}); {} evaluations; residual chi^2 = {:.4g} over "
+      "{} data ({} dof); fit {:.3f} s, total {:.3f} s\n",
+      summary.stop_message, ToString(summary.stop), summary.evaluations, summary.residual,
+      summary.data_points, summary.degrees_of_freedom, summary.fit_time_s, summary.total_time_s);
+}
+
+void PrintComparison(const calibrate::LawComparison& comparison, size_t sequence_count) {
+  fmt::print(
+      "bouncecal calibrate --compare-laws: {} sequence(s), objective {}; ranked by BIC "
+      "(chi^2 + k ln n)\n",
+      sequence_count, ToString(comparison.fits.front().objective));
+  fmt::print("  {:<22} {:>12} {:>5} {:>10} {:>10} {:>10} {:>9}  parameters\n", "law", "chi^2", "n",
+             "AIC", "BIC", "dBIC", "dof");
+  const double best = comparison.fits.front().bic;
+  for (const auto& fit : comparison.fits) {
+    std::string parameters;
+    for (const auto& parameter : fit.parameters) {
+      parameters += fmt::format("{}{} = {}", parameters.empty() ? "" : ", ", parameter.name,
+                                FormatValue(parameter.value));
+      if (parameter.confidence_interval) {
+        parameters += fmt::format(" [{}, {}]", FormatValue(parameter.confidence_interval->first),
+                                  FormatValue(parameter.confidence_interval->second));
+      } else if (fit.bootstrap_failures > 0) {
+        parameters +=
+            fmt::format(" (no interval: {} bootstrap refits failed)", fit.bootstrap_failures);
+      }
+    }
+    fmt::print("  {:<22} {:>12.5g} {:>5} {:>10.4g} {:>10.4g} {:>10.3g} {:>9}  {}\n",
+               dem::ToString(fit.law.kind), fit.residual, fit.data_points, fit.aic, fit.bic,
+               fit.bic - best, fit.degrees_of_freedom, parameters);
+  }
+  fmt::print("  dBIC > 10 is very strong evidence against a law (Kass & Raftery 1995)\n");
+}
+
+void PlotFit(const std::filesystem::path& target, const calibrate::FitSummary& summary,
+             const calibrate::FitOptions& options) {
+  PlotPanel energy{
+      "Energy loss per impact: measured vs fitted " + std::string(dem::ToString(summary.law.kind)),
+      "impact number k",
+      "energy loss eta_k (1)",
+      {},
+      {},
+      {},
+      false,
+      "top right"};
+  PlotPanel flights{"Flight time between impacts",
+                    "interval number k",
+                    "flight time dt_k (s)",
+                    {},
+                    {},
+                    {},
+                    true,
+                    "top right"};
+  const size_t shown = std::min<size_t>(summary.sequences.size(), 4);
+  for (size_t s = 0; s < shown; ++s) {
+    const auto& sequence = summary.sequences[s];
+    PlotSeries measured{
+        sequence.source + " measured (1 sigma)", {}, {}, {}, SeriesStyle::kErrorBars, false};
+    for (size_t j = 0; j < sequence.measured.energy_loss.size(); ++j) {
+      measured.x.push_back(sequence.measured.impact_index[j] + 1);
+      measured.y.push_back(sequence.measured.energy_loss[j]);
+      measured.y_error.push_back(sequence.measured.energy_loss_uncertainty[j]);
+    }
+    PlotSeries simulated{sequence.source + " fitted drop", {},  {}, {},
+                         SeriesStyle::kLinesPoints,        true};
+    // The simulation starts at the measured impact it stands for (1 with an unknown height).
+    const int offset = options.drop_height_m ? 0 : 1;
+    for (size_t j = 0; j < sequence.simulated.energy_loss.size(); ++j) {
+      simulated.x.push_back(static_cast<double>(j + 1 + offset));
+      simulated.y.push_back(sequence.simulated.energy_loss[j]);
+    }
+    if (!measured.x.empty()) energy.series.push_back(measured);
+    if (!simulated.x.empty()) energy.series.push_back(simulated);
+
+    PlotSeries measured_flights{sequence.source + " measured", {},   {}, {},
+                                SeriesStyle::kErrorBars,       false};
+    for (size_t j = 0; j < sequence.measured.intervals_s.size(); ++j) {
+      measured_flights.x.push_back(static_cast<double>(j + 1));
+      measured_flights.y.push_back(sequence.measured.intervals_s[j]);
+      measured_flights.y_error.push_back(sequence.measured.interval_uncertainty_s[j]);
+    }
+    PlotSeries simulated_flights{sequence.source + " fitted drop", {},  {}, {},
+                                 SeriesStyle::kLinesPoints,        true};
+    for (size_t j = 0; j + 1 < sequence.simulated_onsets_s.size(); ++j) {
+      simulated_flights.x.push_back(static_cast<double>(j + 1 + offset));
+      simulated_flights.y.push_back(sequence.simulated_onsets_s[j + 1] -
+                                    sequence.simulated_onsets_s[j]);
+    }
+    flights.series.push_back(measured_flights);
+    if (!simulated_flights.x.empty()) flights.series.push_back(simulated_flights);
+  }
+  if (summary.check.applicable) {
+    const double x_max = energy.series.empty() || energy.series.front().x.empty()
+                             ? 3.0
+                             : energy.series.front().x.back();
+    energy.series.push_back({"formula 2 gamma/(1+gamma) at the fitted gamma_n",
+                             {1.0, x_max},
+                             {summary.check.energy_loss_formula, summary.check.energy_loss_formula},
+                             {},
+                             SeriesStyle::kLines,
+                             false});
+  }
+  double last = 1;
+  for (const auto& series : flights.series) {
+    if (!series.x.empty()) last = std::max(last, series.x.back());
+  }
+  energy.x_range = flights.x_range = std::make_pair(0.0, last + 1);
+  RenderPlot(target, {energy, flights});
+}
+
+}  // namespace bouncecal::apps

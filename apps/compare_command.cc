@@ -1,0 +1,141 @@
+#include <fmt/core.h>
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "bouncecal/atomic_file.h"
+#include "bouncecal/calibrate/material_card.h"
+#include "bouncecal/calibrate/sequence_input.h"
+#include "bouncecal/calibrate/sweep.h"
+#include "bouncecal/calibrate/trajectory_compare.h"
+#include "bouncecal/dem/contact_law_json.h"
+#include "bouncecal/error.h"
+#include "commands.h"
+#include "drop_cli_options.h"
+#include "plot/gnuplot_plot.h"
+
+namespace bouncecal::apps {
+namespace {
+
+struct CompareCliOptions {
+  std::filesystem::path input;
+  DropCliOptions drop;
+  std::string gamma_values;
+  std::filesystem::path material;
+  double sample_interval_s = 5e-4;
+  std::filesystem::path json;
+  std::filesystem::path plot;
+};
+
+std::string Label(const dem::ContactLawConfig& law) {
+  std::string text(dem::ToString(law.kind));
+  for (const auto& [name, value] : law.parameters) {
+    if (name != "stiffness_n_per_m" && name != "effective_modulus_pa")
+      text += fmt::format(" {}={:.4g}", name, value);
+  }
+  return text;
+}
+
+void Run(const CompareCliOptions& cli) {
+  if (cli.gamma_values.empty() == cli.material.empty()) {
+    throw ConfigError("give exactly one of --gamma LIST or --material CARD");
+  }
+  calibrate::TrajectoryCompareOptions options;
+  options.ball = cli.drop.Ball();
+  if (!cli.material.empty()) {
+    const auto card = calibrate::ReadMaterialCard(cli.material);
+    options.laws.push_back(card.law);
+    options.ball = card.ball;
+  } else {
+    for (double gamma : calibrate::ParseValueList(cli.gamma_values)) {
+      auto law = cli.drop.Law();
+      law.parameters["gamma_n"] = gamma;
+      law.Validate();
+      options.laws.push_back(law);
+    }
+  }
+  options.drop_height_m = cli.drop.drop_height_m;
+  options.gravity_mps2 = cli.drop.gravity_mps2;
+  options.drag = cli.drop.Drag();
+  options.integrator = cli.drop.Integrator();
+  options.time_step_s = cli.drop.time_step_s;
+  options.steps_per_contact = cli.drop.steps_per_contact;
+  options.fixed_step_grid = cli.drop.fixed_step_grid;
+  options.sample_interval_s = cli.sample_interval_s;
+  const auto sequences = calibrate::LoadSequences({cli.input});
+  std::vector<double> onsets;
+  for (const auto& impact : sequences.front().impacts) onsets.push_back(impact.onset_s);
+  const auto summary = calibrate::CompareTrajectories(onsets, options);
+
+  fmt::print("bouncecal compare: {} ({} impacts), h0 = {:g} m; measured arcs vs simulated drops\n",
+             sequences.front().source, onsets.size(), options.drop_height_m);
+  fmt::print("  {:<40} {:>18}\n", "simulated law", "RMS height error m");
+  nlohmann::json curves = nlohmann::json::array();
+  for (const auto& curve : summary.simulated) {
+    fmt::print("  {:<40} {:>18.5f}\n", Label(curve.law), curve.rms_height_error_m);
+    curves.push_back({{"contact_law", dem::ToJson(curve.law)},
+                      {"rms_height_error_m", curve.rms_height_error_m}});
+  }
+  if (!cli.json.empty()) {
+    WriteFileAtomically(cli.json, nlohmann::json{{"source", sequences.front().source},
+                                                 {"drop_height_m", options.drop_height_m},
+                                                 {"curves", curves}}
+                                          .dump(2) +
+                                      "\n");
+  }
+  if (!cli.plot.empty()) {
+    PlotPanel panel{"Bounce trajectory: measured (arcs from the onsets) vs simulated",
+                    "time since release t (s)",
+                    "height of the ball's lowest point h (m)",
+                    {},
+                    {},
+                    {},
+                    false,
+                    "top right"};
+    panel.series.push_back({"measured " + sequences.front().source,
+                            summary.measured.time_s,
+                            summary.measured.height_m,
+                            {},
+                            SeriesStyle::kLines,
+                            false});
+    for (const auto& curve : summary.simulated) {
+      panel.series.push_back(
+          {fmt::format("{} (RMS {:.4f} m)", Label(curve.law), curve.rms_height_error_m),
+           curve.curve.time_s,
+           curve.curve.height_m,
+           {},
+           SeriesStyle::kLines,
+           true});
+    }
+    RenderPlot(cli.plot, {panel});
+    fmt::print("plot written to {}\n", cli.plot.string());
+  }
+}
+
+}  // namespace
+
+void AddCompareCommand(CLI::App& app) {
+  auto cli = std::make_shared<CompareCliOptions>();
+  auto* command = app.add_subcommand(
+      "compare",
+      "Plot the measured bounce trajectory against simulated drops, with the RMS height error "
+      "per curve (the paper's Fig. 5).\nExample: bouncecal compare drop.wav --gamma "
+      "0.1,0.3,0.5,0.7,0.9 --plot fig5.png");
+  command
+      ->add_option("recording", cli->input,
+                   "Recording, impact-time CSV or analyze JSON (its first bounce sequence)")
+      ->required();
+  cli->drop.Add(*command);
+  command->add_option("--gamma", cli->gamma_values,
+                      "gamma_n values to simulate: a,b,c or lo:hi:step (walton-braun)");
+  command->add_option("--material", cli->material,
+                      "Simulate the law and ball of this material card instead");
+  command->add_option("--sample-interval", cli->sample_interval_s,
+                      "Spacing of the height samples in s (default 5e-4)");
+  command->add_option("--json", cli->json, "Write the RMS errors as JSON to this file");
+  command->add_option("--plot", cli->plot, "Plot height vs time (.png or .svg)");
+  command->callback([cli] { Run(*cli); });
+}
+
+}  // namespace bouncecal::apps

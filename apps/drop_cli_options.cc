@@ -1,0 +1,101 @@
+#include "drop_cli_options.h"
+
+#include <cmath>
+
+#include "bouncecal/dem/contact_law_kind.h"
+#include "bouncecal/error.h"
+
+namespace bouncecal::apps {
+
+void DropCliOptions::Add(CLI::App& command, bool with_law) {
+  command.add_option("--diameter", diameter_m, "Ball diameter in m (default 0.01)");
+  auto* density = command.add_option("--density", density_kg_per_m3,
+                                     "Ball density in kg/m^3 (default 7800, steel)");
+  auto* mass = command.add_option("--mass", mass_kg, "Ball mass in kg (instead of --density)");
+  density->excludes(mass);
+  mass->excludes(density);
+  if (with_law) {
+    command.add_option("--law", law,
+                       "Contact law: " + dem::ContactLawNames() + " (default walton-braun)");
+  }
+  command.add_option("--stiffness", stiffness_n_per_m,
+                     "Normal stiffness k_n in N/m of the linear laws (default 1e7)");
+  command.add_option("--param", parameters,
+                     "Fixed law parameter NAME=VALUE in the SI unit of its name, repeatable "
+                     "(e.g. --param effective_modulus_pa=1e11)");
+  command.add_option(
+      "--drop-height", drop_height_m,
+      "Release height of the ball's lowest point above the plate in m (default 0.2)");
+  command.add_option("--gravity", gravity_mps2,
+                     "Gravitational acceleration in m/s^2 (default 9.81)");
+  command.add_option("--integrator", integrator,
+                     "Drop integrator: " + dem::IntegratorNames() +
+                         " (exact: event-driven, piecewise-linear laws, no drag)");
+  command.add_option("--time-step", time_step_s,
+                     "Absolute DEM time step in s (default: from --steps-per-contact)");
+  command.add_option("--steps-per-contact", steps_per_contact,
+                     "Time steps per contact duration (default: the drop engine's accuracy)");
+  command.add_flag("--fixed-step-grid", fixed_step_grid,
+                   "One fixed step grid from the release, contact switched on at the first step "
+                   "with overlap (a classic DEM code, as in the paper)");
+  command.add_flag("--drag", drag, "Switch on quadratic air drag (ping-pong and tennis balls)");
+  command.add_option("--drag-coefficient", drag_coefficient, "Drag coefficient C_d (default 0.47)");
+  command.add_option("--air-density", air_density_kg_per_m3,
+                     "Air density in kg/m^3 (default 1.204)");
+}
+
+dem::Ball DropCliOptions::Ball() const {
+  dem::Ball ball;
+  if (!(diameter_m > 0 && diameter_m < 10)) {
+    throw ConfigError("--diameter must be in (0, 10) m, got " + std::to_string(diameter_m));
+  }
+  if (!(density_kg_per_m3 > 0 && density_kg_per_m3 < 1e5)) {
+    throw ConfigError("--density must be in (0, 1e5) kg/m^3, got " +
+                      std::to_string(density_kg_per_m3));
+  }
+  if (mass_kg && !(*mass_kg > 0 && std::isfinite(*mass_kg))) {
+    throw ConfigError("--mass must be a positive number of kg, got " + std::to_string(*mass_kg));
+  }
+  ball.diameter_m = diameter_m;
+  ball.density_kg_per_m3 = density_kg_per_m3;
+  ball.mass_kg = mass_kg;
+  return ball;
+}
+
+dem::ContactLawConfig DropCliOptions::Law() const {
+  dem::ContactLawConfig config;
+  config.kind = dem::ContactLawKindFromString(law);
+  if (stiffness_n_per_m) config.parameters["stiffness_n_per_m"] = *stiffness_n_per_m;
+  for (const auto& assignment : parameters) {
+    const auto equals = assignment.find('=');
+    double value = 0;
+    bool parsed = false;
+    if (equals != std::string::npos) {
+      try {
+        size_t used = 0;
+        value = std::stod(assignment.substr(equals + 1), &used);
+        parsed = used == assignment.size() - equals - 1;
+      } catch (const std::exception&) {
+      }
+    }
+    if (!parsed) {
+      throw ConfigError("--param '" + assignment + "' must be NAME=VALUE with a number, e.g. " +
+                        "gamma_n=0.4");
+    }
+    config.parameters[assignment.substr(0, equals)] = value;
+  }
+  config.Validate();
+  return config;
+}
+
+dem::Integrator DropCliOptions::Integrator() const { return dem::IntegratorFromString(integrator); }
+
+dem::AirDrag DropCliOptions::Drag() const {
+  dem::AirDrag air;
+  air.enabled = drag;
+  air.drag_coefficient = drag_coefficient;
+  air.air_density_kg_per_m3 = air_density_kg_per_m3;
+  return air;
+}
+
+}  // namespace bouncecal::apps

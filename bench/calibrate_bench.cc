@@ -1,0 +1,87 @@
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "bouncecal/calibrate/fit.h"
+#include "bouncecal/calibrate/material_card.h"
+#include "bouncecal/calibrate/sequence_input.h"
+#include "bouncecal/dem/drop.h"
+
+namespace {
+
+namespace calibrate = bouncecal::calibrate;
+namespace dem = bouncecal::dem;
+
+// A recording's impact times as the analyzer would write them: a simulated gamma_n = 0.41 drop
+// from 0.2 m (30 impacts) with 10 us Gaussian onset noise, one CSV per seed.
+std::filesystem::path ImpactCsv(int seed) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("bouncecal_bench_drop_" + std::to_string(seed) + ".csv");
+  dem::DropOptions drop;
+  drop.law = {dem::ContactLawKind::kWaltonBraun, {{"gamma_n", 0.41}}};
+  drop.max_impacts = 30;
+  std::mt19937_64 random(static_cast<std::uint64_t>(seed));
+  std::normal_distribution<double> noise(0.0, 10e-6);
+  std::ofstream out(path);
+  out << "onset_s,onset_uncertainty_s\n";
+  for (const auto& impact : dem::SimulateDrop(drop).impacts)
+    out << impact.time_s + 0.5 + noise(random) << ",1e-5\n";
+  return path;
+}
+
+// The whole `bouncecal calibrate` of the given inputs at the default accuracy: load -> fit
+// (with the analytic check and the 32-replicate bootstrap) -> material card written.
+void Calibrate(const std::vector<std::filesystem::path>& inputs, calibrate::FitOptions options,
+               const std::filesystem::path& card) {
+  const auto sequences = calibrate::LoadSequences(inputs);
+  const auto summary = calibrate::Fit(sequences, options);
+  calibrate::WriteMaterialCard(card, calibrate::MakeMaterialCard(summary, options, inputs));
+  benchmark::DoNotOptimize(summary.residual);
+}
+
+// Arguments: objective (0 mean-energy-loss, 1 intervals), threads.
+void BM_CalibrateOneRecording(benchmark::State& state) {
+  const std::vector<std::filesystem::path> inputs = {ImpactCsv(1)};
+  calibrate::FitOptions options;
+  options.objective = state.range(0) == 0 ? calibrate::FitObjective::kMeanEnergyLoss
+                                          : calibrate::FitObjective::kIntervals;
+  options.uncertainty.threads = static_cast<int>(state.range(1));
+  const auto card = std::filesystem::temp_directory_path() / "bouncecal_bench_card.json";
+  for (auto _ : state) Calibrate(inputs, options, card);
+}
+BENCHMARK(BM_CalibrateOneRecording)
+    ->ArgsProduct({{0, 1}, {1, 2}})
+    ->ArgNames({"objective", "threads"})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
+// Five recordings fitted jointly (the paper averaged five), one or two threads.
+void BM_CalibrateFiveRecordings(benchmark::State& state) {
+  std::vector<std::filesystem::path> inputs;
+  for (int seed = 1; seed <= 5; ++seed) inputs.push_back(ImpactCsv(seed));
+  calibrate::FitOptions options;
+  options.uncertainty.threads = static_cast<int>(state.range(0));
+  const auto card = std::filesystem::temp_directory_path() / "bouncecal_bench_card5.json";
+  for (auto _ : state) Calibrate(inputs, options, card);
+}
+BENCHMARK(BM_CalibrateFiveRecordings)
+    ->Arg(1)
+    ->Arg(2)
+    ->ArgNames({"threads"})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
+// One objective evaluation's drop: the unit cost of every fit.
+void BM_SimulateDropForFit(benchmark::State& state) {
+  dem::DropOptions drop;
+  drop.law = {dem::ContactLawKind::kWaltonBraun, {{"gamma_n", 0.41}}};
+  drop.max_impacts = static_cast<int>(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(dem::SimulateDrop(drop).impacts.size());
+}
+BENCHMARK(BM_SimulateDropForFit)->Arg(4)->Arg(30)->Unit(benchmark::kMicrosecond);
+
+}  // namespace

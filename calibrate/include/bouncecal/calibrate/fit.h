@@ -1,0 +1,197 @@
+#ifndef BOUNCECAL_CALIBRATE_FIT_H_
+#define BOUNCECAL_CALIBRATE_FIT_H_
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "bouncecal/calibrate/impact_times.h"
+#include "bouncecal/calibrate/minimizer.h"
+#include "bouncecal/calibrate/restitution.h"
+#include "bouncecal/dem/contact_law.h"
+#include "bouncecal/dem/drop.h"
+
+namespace bouncecal::calibrate {
+
+// What the simulated drops must reproduce. Every objective is a chi-square: squared residuals
+// divided by the variance propagated from the onset-timing uncertainties, summed over the
+// recordings fitted jointly, so residuals are comparable across objectives' recordings and feed
+// the information criteria of CompareLaws.
+//  - kMeanEnergyLoss: eta-bar over the first N impacts (the paper's method: N = 3; later impacts
+//    carry two orders of magnitude less energy). One datum per recording.
+//  - kIntervals: every measured flight interval, weighted by 1/sigma^2 of the interval (sigma^2 =
+//    sum of its two onsets' variances). Neighbouring intervals share an onset; that correlation
+//    is neglected, which slightly under-weights the late, noisy intervals' agreement.
+//  - kHeights: bounce heights g dt^2 / 8, weighted the same way; stresses the first bounces.
+enum class FitObjective { kMeanEnergyLoss, kIntervals, kHeights };
+std::string_view ToString(FitObjective objective);
+// "mean-energy-loss", "intervals", "heights"; throws ConfigError listing them otherwise.
+FitObjective FitObjectiveFromString(std::string_view name);
+
+// The search range of one fitted parameter. Parameters spanning orders of magnitude (stiffness,
+// dissipative time) are searched in log space so the optimiser's steps are relative.
+struct ParameterRange {
+  double lower = 0;
+  double upper = 1;
+  bool log_scale = false;
+};
+
+// The dissipative parameters of a law (what a drop constrains): every parameter except the
+// elastic ones that set only the contact duration (stiffness_n_per_m, effective_modulus_pa).
+std::vector<std::string> DefaultFittedParameters(dem::ContactLawKind kind);
+// The default search range of a parameter for the law `config` (gamma_n [0, 0.98]; the plastic
+// unloading stiffness [k1, 1e4 k1]; the Hertz dissipative time [1e-9, 1e-4] s in log space; other
+// parameters their ParameterSpec range, capped at 1e3 x the default when unbounded). Throws
+// ConfigError for a name the law does not have.
+ParameterRange DefaultParameterRange(const dem::ContactLawConfig& config, std::string_view name);
+
+struct UncertaintyOptions {
+  // Bootstrap replicates; 0 skips the confidence intervals. 32 replicates give the 2.5 % and
+  // 97.5 % quantiles to about +-15 % of the interval width, enough for a calibration report and
+  // affordable within the 0.5 s budget; raise it for a publication figure.
+  int bootstrap_samples = 32;
+  double confidence_level = 0.95;
+  std::uint64_t seed = 1;
+  // Threads for the bootstrap refits (and CompareLaws); results do not depend on it.
+  int threads = 2;
+  // One-sigma uncertainty of the drop height, propagated by the bootstrap (h0 sets dt_0, so it
+  // enters eta_1 directly); 0 treats h0 as exact.
+  double drop_height_uncertainty_m = 0;
+};
+
+struct FitOptions {
+  // The law, its fixed parameters and the start values of the fitted ones.
+  dem::ContactLawConfig law;
+  // Empty: DefaultFittedParameters(law.kind).
+  std::vector<std::string> fitted_parameters;
+  // Overrides of DefaultParameterRange per parameter name.
+  std::map<std::string, ParameterRange, std::less<>> ranges;
+
+  dem::Ball ball;  // 1 cm steel, 7800 kg/m^3 (the paper's)
+  // Release height of the ball's lowest point. Unset: unknown, and each simulation then starts
+  // from rest at the apex of the first measured flight (g dt_1^2 / 8), matched to the measured
+  // impacts from the second one on.
+  std::optional<double> drop_height_m = 0.2;
+  double gravity_mps2 = 9.81;
+  dem::AirDrag drag;
+  dem::Integrator integrator = dem::Integrator::kVelocityVerlet;
+  std::optional<double> time_step_s;        // absolute step; otherwise steps_per_contact
+  std::optional<double> steps_per_contact;  // unset: the drop engine's default accuracy
+  // One fixed step grid from the release, contact force switched on at the first grid step with
+  // overlap: a classic DEM code, as in the paper (dem::DropOptions::fixed_step_grid).
+  bool fixed_step_grid = false;
+
+  FitObjective objective = FitObjective::kMeanEnergyLoss;
+  int first_n = 3;  // impacts averaged by kMeanEnergyLoss
+  // Intervals fitted by kIntervals/kHeights per recording (0: all). Late intervals of a long
+  // chatter add little information and cost simulated time.
+  int max_intervals = 0;
+
+  // global_evaluations < 0 picks automatically: no global stage for one parameter under
+  // kMeanEnergyLoss (eta-bar is monotone in the damping of every law here, so the squared
+  // misfit is unimodal), otherwise DIRECT-L with 12 evaluations per fitted parameter before the
+  // local polish (interval objectives of two-parameter, speed-dependent laws can have valleys).
+  MinimizerOptions minimizer = [] {
+    MinimizerOptions options;
+    options.global_evaluations = -1;
+    options.parameter_tolerance = 1e-5;
+    options.max_evaluations = 200;
+    return options;
+  }();
+  UncertaintyOptions uncertainty;
+  // Run the analytic check of AnalyticCheck (two extra drops).
+  bool analytic_check = true;
+};
+
+struct FittedParameter {
+  std::string name;
+  std::string unit;
+  double value = 0;
+  ParameterRange range;
+  bool at_bound = false;  // within 1e-3 of the range width of a bound: the range may be too tight
+  // Bootstrap percentile interval at UncertaintyOptions::confidence_level; empty when skipped.
+  std::optional<std::pair<double, double>> confidence_interval;
+  double bootstrap_std = 0;
+};
+
+// The paper's closed form eta = 2 gamma / (1 + gamma) (walton-braun only) beside the fit.
+struct AnalyticCheck {
+  bool applicable = false;
+  double energy_loss_mean = 0;  // measured eta-bar (first N), averaged over the recordings
+  double energy_loss_mean_uncertainty = 0;
+  double gamma_n_formula = 0;  // eta-bar / (2 - eta-bar)
+  double gamma_n_fitted = 0;
+  double difference = 0;  // fitted - formula
+  // Measured, not tabulated: the fitted parameters are simulated with the chosen integrator and
+  // step and with the exact (event-driven) integrator; the eta-bar difference, converted to
+  // gamma through d eta / d gamma = 2 / (1 + gamma)^2, is the time-step error. The exact drop
+  // against the formula gives the model error of the formula (gravity during contact, onsets vs
+  // the centre of the contact), converted the same way.
+  double energy_loss_mean_chosen_step = 0;
+  double energy_loss_mean_exact = 0;
+  double energy_loss_formula = 0;
+  double time_step_gamma_error = 0;
+  double model_gamma_error = 0;
+  double explained = 0;  // |time-step| + |model| + 2 sigma of gamma_n_formula
+  bool warning = false;
+  std::string message;  // one sentence
+};
+
+struct SequenceFit {
+  std::string source;
+  RestitutionAnalysis measured;
+  std::vector<double> simulated_onsets_s;  // at the fit, on the measured time axis
+  RestitutionAnalysis simulated;
+  double residual = 0;  // this recording's chi-square share
+};
+
+struct FitSummary {
+  dem::ContactLawConfig law;  // fixed + fitted values
+  std::vector<FittedParameter> parameters;
+  FitObjective objective = FitObjective::kMeanEnergyLoss;
+  double residual = 0;  // chi-square at the fit
+  int data_points = 0;
+  int degrees_of_freedom = 0;     // data_points - fitted parameters (may be <= 0)
+  double reduced_chi_square = 0;  // residual / dof when dof > 0, else 0
+  // Gaussian likelihood with the stated uncertainties: -2 ln L = chi^2 + const.
+  double aic = 0;  // chi^2 + 2 k
+  double bic = 0;  // chi^2 + k ln n
+  MinimizerStop stop = MinimizerStop::kFailure;
+  std::string stop_message;
+  int evaluations = 0;  // drop simulations in the main fit (each covers every recording)
+  double fit_time_s = 0;
+  double total_time_s = 0;  // fit + check + bootstrap
+  std::vector<SequenceFit> sequences;
+  AnalyticCheck check;
+  // Restitution and energy loss the fitted law implies for the first impact from the drop
+  // height (speed-dependent laws: at that speed), from the simulated drop.
+  double implied_restitution = 0;
+  double implied_energy_loss = 0;
+  std::string uncertainty_method;  // one sentence
+  int bootstrap_samples_used = 0;
+  int bootstrap_failures = 0;
+};
+
+// Fits the law's parameters so single-ball DEM drops (dem::SimulateDrop) reproduce the measured
+// sequences jointly. Throws ConfigError for bad options (named, with the valid range) and when a
+// sequence has too few impacts for the objective.
+FitSummary Fit(const std::vector<MeasuredSequence>& sequences, const FitOptions& options = {});
+
+// CompareLaws fits each law with the same options and ranks them.
+struct LawComparison {
+  std::vector<FitSummary> fits;  // sorted by BIC, best first
+};
+// Ranked by BIC (Schwarz 1978) rather than AIC: the question is which law generated the data
+// (is one constant gamma enough?), and BIC is consistent for that as the number of intervals
+// grows, while AIC (also reported) targets prediction and keeps over-parameterised laws. Laws
+// without dissipative parameters (hertz) are skipped. Runs the laws on options.uncertainty.threads.
+LawComparison CompareLaws(const std::vector<MeasuredSequence>& sequences,
+                          const std::vector<dem::ContactLawKind>& laws, const FitOptions& options);
+
+}  // namespace bouncecal::calibrate
+
+#endif  // BOUNCECAL_CALIBRATE_FIT_H_

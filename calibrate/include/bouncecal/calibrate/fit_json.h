@@ -1,0 +1,21 @@
+#ifndef BOUNCECAL_CALIBRATE_FIT_JSON_H_
+#define BOUNCECAL_CALIBRATE_FIT_JSON_H_
+
+#include <nlohmann/json.hpp>
+
+#include "bouncecal/calibrate/fit.h"
+
+namespace bouncecal::calibrate {
+
+// The full fit result for `bouncecal calibrate --json`: at least {"law", "parameters",
+// "confidence_interval", "analytic": {"energy_loss_mean", "gamma_n"}, "objective", "residual",
+// "evaluations", "stop_reason"} (issue 4), plus the check, the information criteria, timing and
+// per-recording measured and simulated sequences.
+nlohmann::json ToJson(const FitSummary& summary);
+
+// {"ranking": [fit, ...]} best first (by BIC), each fit as ToJson(FitSummary) plus "delta_bic".
+nlohmann::json ToJson(const LawComparison& comparison);
+
+}  // namespace bouncecal::calibrate
+
+#endif  // BOUNCECAL_CALIBRATE_FIT_JSON_H_

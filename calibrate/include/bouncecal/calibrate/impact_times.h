@@ -1,0 +1,45 @@
+#ifndef BOUNCECAL_CALIBRATE_IMPACT_TIMES_H_
+#define BOUNCECAL_CALIBRATE_IMPACT_TIMES_H_
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bouncecal/calibrate/restitution.h"
+
+namespace bouncecal::calibrate {
+
+// One measured bounce sequence: the input of every fit. Onsets are seconds from any fixed origin
+// (a constant offset cancels in every interval).
+struct MeasuredSequence {
+  std::string source;  // file name, with "#k" (1-based sequence number) when a file holds several
+  std::filesystem::path path;  // the file it came from (hashed into material cards)
+  std::vector<TimedImpact> impacts;
+};
+
+struct ImpactTimesOptions {
+  // One-sigma onset uncertainty assumed where the file gives none: 10 us, the onset-timing
+  // target of the audio stage on clean 48 kHz recordings (half a sample).
+  double default_uncertainty_s = 10e-6;
+  // Sequences with fewer impacts carry no restitution and are skipped.
+  int min_impacts = 3;
+};
+
+// Reads impact times from
+//  - a CSV file: one impact per line, columns onset_s[,onset_uncertainty_s[,sequence]]; an
+//    optional header line, '#' comments and blank lines are skipped; rows with the same sequence
+//    number (any integer) form one sequence, otherwise the whole file is one sequence;
+//  - the JSON `bouncecal analyze --json` writes: one object, or an array of them, with
+//    "sequences": [{"onsets_s": [...]}, ...] and "impacts": [{"onset_s", "onset_uncertainty_s"}]
+//    giving each onset's uncertainty.
+// The format is chosen by the extension (.csv / .json). Throws InputError naming the file and the
+// line or key for unreadable or malformed content, or when no sequence has min_impacts impacts.
+std::vector<MeasuredSequence> ReadImpactTimes(const std::filesystem::path& path,
+                                              const ImpactTimesOptions& options = {});
+
+// True when ReadImpactTimes understands the file's extension.
+bool IsImpactTimesFile(const std::filesystem::path& path);
+
+}  // namespace bouncecal::calibrate
+
+#endif  // BOUNCECAL_CALIBRATE_IMPACT_TIMES_H_

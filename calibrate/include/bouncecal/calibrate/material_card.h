@@ -1,0 +1,84 @@
+#ifndef BOUNCECAL_CALIBRATE_MATERIAL_CARD_H_
+#define BOUNCECAL_CALIBRATE_MATERIAL_CARD_H_
+
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bouncecal/calibrate/fit.h"
+#include "bouncecal/dem/contact_law.h"
+#include "bouncecal/dem/drop.h"
+
+namespace bouncecal::calibrate {
+
+inline constexpr std::string_view kMaterialCardFormat = "bouncecal-material/1";
+
+// A recording a card was fitted to, identified by name and content (FileContentHash).
+struct RecordingReference {
+  std::string file;
+  std::string content_hash;  // "fnv1a64:<16 hex digits>"
+};
+
+// How the card's parameters were obtained.
+struct FitRecord {
+  std::string objective;
+  int first_n = 3;
+  double residual = 0;  // chi-square
+  int data_points = 0;
+  int evaluations = 0;
+  std::string stop_reason;
+  std::optional<double> drop_height_m;
+  std::string integrator;
+  std::optional<double> time_step_s;
+  std::optional<double> steps_per_contact;
+  bool fixed_step_grid = false;
+  bool drag = false;
+  std::map<std::string, std::pair<double, double>, std::less<>> confidence_interval;
+  double confidence_level = 0.95;
+  std::string uncertainty_method;
+  std::optional<double> energy_loss_mean_measured;  // eta-bar, first N impacts
+  std::optional<double> gamma_n_formula;            // eta-bar / (2 - eta-bar), walton-braun
+};
+
+// The calibrated material (JSON, "format": "bouncecal-material/1"; dem_interfaces.md):
+// {"format", "contact_law": {"law", "parameters"}, "parameter_units": {name: unit},
+//  "ball": {"diameter_m", "density_kg_per_m3", "mass_kg"}, "implied": {"restitution",
+//  "energy_loss"}, "fit": {...}, "recordings": [{"file", "content_hash"}], "tool_version",
+//  "created_utc"}. Scenes that need only the law read "contact_law" with
+// dem::ContactLawConfigFromJson.
+struct MaterialCard {
+  dem::ContactLawConfig law;
+  dem::Ball ball;
+  double implied_restitution = 0;  // first impact from the drop height
+  double implied_energy_loss = 0;
+  FitRecord fit;
+  std::vector<RecordingReference> recordings;
+  std::string tool_version;
+  std::string created_utc;  // ISO 8601, e.g. 2026-11-21T18:20:00Z
+};
+
+// The card of a fit; hashes each recording file (InputError if one cannot be read) and stamps
+// the tool version and the current UTC time.
+MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& options,
+                              const std::vector<std::filesystem::path>& recordings);
+
+nlohmann::json ToJson(const MaterialCard& card);
+// Throws InputError naming `context` and the key for a wrong format or a malformed field; the
+// law is checked by dem::ContactLawConfigFromJson (ConfigError for bad parameter values).
+MaterialCard MaterialCardFromJson(const nlohmann::json& object, std::string_view context);
+
+// Written atomically (AtomicFile): OutputError when the file cannot be written.
+void WriteMaterialCard(const std::filesystem::path& path, const MaterialCard& card);
+// InputError when the file is missing, not JSON or not a material card.
+MaterialCard ReadMaterialCard(const std::filesystem::path& path);
+
+// Current UTC time as ISO 8601 with a Z suffix.
+std::string UtcTimestamp();
+
+}  // namespace bouncecal::calibrate
+
+#endif  // BOUNCECAL_CALIBRATE_MATERIAL_CARD_H_

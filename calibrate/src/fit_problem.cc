@@ -1,0 +1,199 @@
+#include "fit_problem.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "bouncecal/error.h"
+
+namespace bouncecal::calibrate::internal {
+namespace {
+
+// Interval sigmas below this (an uncertainty of 0 in a hand-written CSV) would make the weights
+// infinite; 0.1 us is far below any audio timing (one sample at 192 kHz is 5 us).
+constexpr double kMinSigmaS = 1e-7;
+
+}  // namespace
+
+SequencePlan MakePlan(const MeasuredSequence& sequence, const FitOptions& options,
+                      std::optional<double> drop_height_m) {
+  SequencePlan plan;
+  plan.source = sequence.source;
+  plan.impacts = sequence.impacts;
+  RestitutionOptions restitution;
+  restitution.gravity_mps2 = options.gravity_mps2;
+  restitution.first_n = options.first_n;
+  restitution.drop_height_m = drop_height_m;
+  plan.measured = AnalyzeRestitution(sequence.impacts, restitution);
+  if (plan.measured.intervals_s.empty()) {
+    throw ConfigError("recording " + sequence.source + " has fewer than two impacts; a fit needs " +
+                      "at least one flight interval");
+  }
+  plan.known_drop_height = drop_height_m.has_value();
+  if (plan.known_drop_height) {
+    plan.release_height_m = *drop_height_m;
+    plan.first_matched_impact = 0;
+  } else {
+    // The apex of the first measured flight is a release from rest for the rest of the sequence.
+    const double first = plan.measured.intervals_s.front();
+    plan.release_height_m = options.gravity_mps2 * first * first / 8.0;
+    plan.first_matched_impact = 1;
+  }
+  const int measured_impacts = static_cast<int>(sequence.impacts.size());
+  int intervals = measured_impacts - 1 - plan.first_matched_impact;
+  if (options.max_intervals > 0) intervals = std::min(intervals, options.max_intervals);
+  if (options.objective == FitObjective::kMeanEnergyLoss) {
+    if (static_cast<int>(plan.measured.energy_loss.size()) < options.first_n) {
+      throw ConfigError("recording " + sequence.source + " gives " +
+                        std::to_string(plan.measured.energy_loss.size()) +
+                        " energy losses but --first " + std::to_string(options.first_n) +
+                        " needs that many; lower --first or give the drop height");
+    }
+    plan.impacts_needed = options.first_n + 1;
+  } else {
+    if (intervals < 1) {
+      throw ConfigError("recording " + sequence.source + " has no flight interval to fit after " +
+                        "the first one; give the drop height or use a longer recording");
+    }
+    plan.impacts_needed = intervals + 1;
+  }
+  // Simulated time: the measured span it compares plus the first fall, with 50 % headroom for
+  // parameters that bounce longer than the measurement.
+  const double span = sequence.impacts.back().onset_s - sequence.impacts.front().onset_s;
+  plan.max_time_s =
+      1.5 * span + 2.0 * std::sqrt(2.0 * plan.release_height_m / options.gravity_mps2);
+  return plan;
+}
+
+ParameterMap::ParameterMap(const FitOptions& options) {
+  names_ = options.fitted_parameters.empty() ? DefaultFittedParameters(options.law.kind)
+                                             : options.fitted_parameters;
+  if (names_.empty()) {
+    throw ConfigError("law " + std::string(dem::ToString(options.law.kind)) +
+                      " has no dissipative parameter to fit; choose a damped law");
+  }
+  for (const auto& name : names_) {
+    ParameterRange range = DefaultParameterRange(options.law, name);
+    if (auto it = options.ranges.find(name); it != options.ranges.end()) range = it->second;
+    if (!(range.lower < range.upper) || !std::isfinite(range.lower) ||
+        !std::isfinite(range.upper) || (range.log_scale && !(range.lower > 0))) {
+      throw ConfigError("search range of " + name + " must be finite with lower < upper (and " +
+                        "lower > 0 in log scale), got [" + std::to_string(range.lower) + ", " +
+                        std::to_string(range.upper) + "]");
+    }
+    ranges_.push_back(range);
+  }
+}
+
+std::vector<double> ParameterMap::LowerBounds() const {
+  std::vector<double> bounds;
+  for (const auto& range : ranges_)
+    bounds.push_back(range.log_scale ? std::log(range.lower) : range.lower);
+  return bounds;
+}
+
+std::vector<double> ParameterMap::UpperBounds() const {
+  std::vector<double> bounds;
+  for (const auto& range : ranges_)
+    bounds.push_back(range.log_scale ? std::log(range.upper) : range.upper);
+  return bounds;
+}
+
+std::vector<double> ParameterMap::StartPoint(const dem::ContactLawConfig& law) const {
+  std::vector<double> x;
+  for (size_t i = 0; i < names_.size(); ++i) {
+    const double value = std::clamp(law.Get(names_[i]), ranges_[i].lower, ranges_[i].upper);
+    x.push_back(ranges_[i].log_scale ? std::log(value) : value);
+  }
+  return x;
+}
+
+double ParameterMap::Value(size_t i, double x) const {
+  const double value = ranges_[i].log_scale ? std::exp(x) : x;
+  return std::clamp(value, ranges_[i].lower, ranges_[i].upper);
+}
+
+dem::ContactLawConfig ParameterMap::Apply(const dem::ContactLawConfig& law,
+                                          std::span<const double> x) const {
+  dem::ContactLawConfig result = law;
+  for (size_t i = 0; i < names_.size(); ++i) result.parameters[names_[i]] = Value(i, x[i]);
+  return result;
+}
+
+double MeanOfFirst(const std::vector<double>& energy_loss, int n) {
+  double sum = 0;
+  for (int j = 0; j < n; ++j)
+    sum += j < static_cast<int>(energy_loss.size()) ? energy_loss[j] : 1.0;
+  return sum / n;
+}
+
+SimulatedSequence SimulateSequence(const dem::ContactLawConfig& law, const SequencePlan& plan,
+                                   const FitOptions& options,
+                                   std::optional<dem::Integrator> integrator_override) {
+  dem::DropOptions drop;
+  drop.law = law;
+  drop.ball = options.ball;
+  drop.drop_height_m = plan.release_height_m;
+  drop.gravity_mps2 = options.gravity_mps2;
+  drop.drag = options.drag;
+  drop.integrator = integrator_override.value_or(options.integrator);
+  drop.time_step_s = options.time_step_s;
+  if (options.steps_per_contact) drop.steps_per_contact = *options.steps_per_contact;
+  drop.fixed_step_grid = options.fixed_step_grid;
+  drop.max_impacts = plan.impacts_needed;
+  drop.max_time_s = plan.max_time_s;
+  const dem::DropResult result = dem::SimulateDrop(drop);
+
+  SimulatedSequence simulated;
+  for (const auto& impact : result.impacts) simulated.onsets_s.push_back(impact.time_s);
+  if (!result.impacts.empty()) simulated.first_restitution = result.impacts.front().restitution;
+  for (size_t j = 0; j + 1 < simulated.onsets_s.size(); ++j)
+    simulated.intervals_s.push_back(simulated.onsets_s[j + 1] - simulated.onsets_s[j]);
+  // The same estimator as the measurement (flight ratios, dt_0 from the release height), so
+  // contact duration and gravity during contact bias both sides alike.
+  double incoming = DropFlightTime(plan.release_height_m, options.gravity_mps2);
+  for (double outgoing : simulated.intervals_s) {
+    const double e = outgoing / incoming;
+    simulated.energy_loss.push_back(1.0 - e * e);
+    incoming = outgoing;
+  }
+  return simulated;
+}
+
+double SequenceResidual(const SequencePlan& plan, const SimulatedSequence& simulated,
+                        const FitOptions& options, int* data_points) {
+  const auto& measured = plan.measured;
+  if (options.objective == FitObjective::kMeanEnergyLoss) {
+    const double target = *measured.energy_loss_mean_first_n;
+    const double sigma =
+        std::max(*measured.energy_loss_mean_first_n_uncertainty, kMinSigmaS);  // dimensionless
+    const double residual = (MeanOfFirst(simulated.energy_loss, options.first_n) - target) / sigma;
+    if (data_points) *data_points = 1;
+    return residual * residual;
+  }
+  const int count = plan.impacts_needed - 1;
+  double chi_square = 0;
+  for (int j = 0; j < count; ++j) {
+    const size_t m = static_cast<size_t>(plan.first_matched_impact + j);
+    const double measured_interval = measured.intervals_s[m];
+    const double sigma = std::max(measured.interval_uncertainty_s[m], kMinSigmaS);
+    // A ball that came to rest early has flights of zero length left.
+    const double simulated_interval =
+        j < static_cast<int>(simulated.intervals_s.size()) ? simulated.intervals_s[j] : 0.0;
+    double residual = 0;
+    if (options.objective == FitObjective::kIntervals) {
+      residual = (simulated_interval - measured_interval) / sigma;
+    } else {
+      const double g = options.gravity_mps2;
+      const double height_sigma = g * measured_interval * sigma / 4.0;
+      residual = g *
+                 (simulated_interval * simulated_interval - measured_interval * measured_interval) /
+                 8.0 / std::max(height_sigma, 1e-12);
+    }
+    chi_square += residual * residual;
+  }
+  if (data_points) *data_points = count;
+  return chi_square;
+}
+
+}  // namespace bouncecal::calibrate::internal

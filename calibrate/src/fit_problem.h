@@ -1,0 +1,70 @@
+#ifndef BOUNCECAL_CALIBRATE_SRC_FIT_PROBLEM_H_
+#define BOUNCECAL_CALIBRATE_SRC_FIT_PROBLEM_H_
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include "bouncecal/calibrate/fit.h"
+
+namespace bouncecal::calibrate::internal {
+
+// How one measured sequence is simulated and compared: the release height of its drops and which
+// measured impact the first simulated impact stands for (0 with a known drop height, 1 when the
+// drop starts from the apex of the first measured flight).
+struct SequencePlan {
+  std::string source;
+  std::vector<TimedImpact> impacts;
+  RestitutionAnalysis measured;
+  double release_height_m = 0;
+  bool known_drop_height = true;
+  int first_matched_impact = 0;
+  int impacts_needed = 0;  // simulated impacts the objective compares
+  double max_time_s = 0;
+};
+
+// Builds the plan; throws ConfigError when the sequence is too short for the objective.
+SequencePlan MakePlan(const MeasuredSequence& sequence, const FitOptions& options,
+                      std::optional<double> drop_height_m);
+
+// The fitted parameters in the optimiser's coordinates (log where the range says so).
+class ParameterMap {
+ public:
+  ParameterMap(const FitOptions& options);
+  size_t size() const { return names_.size(); }
+  const std::vector<std::string>& names() const { return names_; }
+  const std::vector<ParameterRange>& ranges() const { return ranges_; }
+  std::vector<double> LowerBounds() const;
+  std::vector<double> UpperBounds() const;
+  std::vector<double> StartPoint(const dem::ContactLawConfig& law) const;
+  // The law with the fitted parameters set from optimiser coordinates.
+  dem::ContactLawConfig Apply(const dem::ContactLawConfig& law, std::span<const double> x) const;
+  double Value(size_t i, double x) const;
+
+ private:
+  std::vector<std::string> names_;
+  std::vector<ParameterRange> ranges_;
+};
+
+// One simulated sequence at a parameter set, reduced to what the objectives compare.
+struct SimulatedSequence {
+  std::vector<double> onsets_s;  // from the release
+  std::vector<double> intervals_s;
+  std::vector<double> energy_loss;  // aligned with the measured energy_loss entries
+  double first_restitution = 0;
+};
+
+SimulatedSequence SimulateSequence(const dem::ContactLawConfig& law, const SequencePlan& plan,
+                                   const FitOptions& options,
+                                   std::optional<dem::Integrator> integrator_override = {});
+
+// The chi-square share and the number of data it compares.
+double SequenceResidual(const SequencePlan& plan, const SimulatedSequence& simulated,
+                        const FitOptions& options, int* data_points = nullptr);
+
+// eta-bar of the first n entries, padding with 1 (all energy lost) when the ball came to rest.
+double MeanOfFirst(const std::vector<double>& energy_loss, int n);
+
+}  // namespace bouncecal::calibrate::internal
+
+#endif  // BOUNCECAL_CALIBRATE_SRC_FIT_PROBLEM_H_

@@ -1,0 +1,81 @@
+#include "bouncecal/calibrate/impact_times.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "bouncecal/error.h"
+
+namespace bouncecal::calibrate {
+namespace {
+
+std::filesystem::path WriteTemp(const std::string& name, const std::string& content) {
+  const auto path = std::filesystem::temp_directory_path() / ("bouncecal_impact_times_" + name);
+  std::ofstream(path) << content;
+  return path;
+}
+
+TEST(ImpactTimesOptions, DefaultsAreValid) {
+  const ImpactTimesOptions options;
+  EXPECT_GT(options.default_uncertainty_s, 0);
+  EXPECT_GE(options.min_impacts, 2);
+}
+
+TEST(ReadImpactTimes, CsvWithHeaderUncertaintiesAndTwoSequences) {
+  const auto path = WriteTemp("two.csv",
+                              "# two drops\nonset_s,onset_uncertainty_s,sequence\n"
+                              "0.202,1e-5,1\n0.55,2e-5,1\n0.80,1e-5,1\n"
+                              "5.1,,2\n5.4,,2\n5.6,,2\n5.7,,2\n");
+  const auto sequences = ReadImpactTimes(path);
+  ASSERT_EQ(sequences.size(), 2u);
+  EXPECT_EQ(sequences[0].impacts.size(), 3u);
+  EXPECT_DOUBLE_EQ(sequences[0].impacts[1].uncertainty_s, 2e-5);
+  EXPECT_EQ(sequences[1].impacts.size(), 4u);
+  EXPECT_DOUBLE_EQ(sequences[1].impacts[0].uncertainty_s,
+                   ImpactTimesOptions{}.default_uncertainty_s);
+  std::filesystem::remove(path);
+}
+
+TEST(ReadImpactTimes, AnalyzeJsonTakesUncertaintiesFromTheImpactList) {
+  const auto path = WriteTemp("analyze.json", R"({"file": "/x/drop.wav", "sample_rate_hz": 48000,
+    "channel": 0,
+    "impacts": [{"onset_s": 0.1, "onset_uncertainty_s": 3e-6, "peak_dbfs": -3, "sequence": 0},
+                {"onset_s": 0.4, "onset_uncertainty_s": 4e-6, "peak_dbfs": -6, "sequence": 0},
+                {"onset_s": 0.6, "onset_uncertainty_s": 5e-6, "peak_dbfs": -9, "sequence": 0},
+                {"onset_s": 2.0, "onset_uncertainty_s": 5e-6, "peak_dbfs": -9, "sequence": null}],
+    "rejected_events": [],
+    "sequences": [{"onsets_s": [0.1, 0.4, 0.6], "intervals_s": [0.3, 0.2]}]})");
+  const auto sequences = ReadImpactTimes(path);
+  ASSERT_EQ(sequences.size(), 1u);
+  EXPECT_EQ(sequences[0].source, "drop.wav#1");
+  ASSERT_EQ(sequences[0].impacts.size(), 3u);
+  EXPECT_DOUBLE_EQ(sequences[0].impacts[2].uncertainty_s, 5e-6);
+  std::filesystem::remove(path);
+}
+
+TEST(ReadImpactTimes, MalformedRowNamesTheLine) {
+  const auto path = WriteTemp("bad.csv", "0.1\n0.4\nfoo bar\n0.6\n");
+  try {
+    ReadImpactTimes(path);
+    FAIL() << "expected InputError";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("line 3"), std::string::npos) << error.what();
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(ReadImpactTimes, TooFewImpactsIsAnInputError) {
+  const auto path = WriteTemp("short.csv", "0.1\n0.4\n");
+  EXPECT_THROW(ReadImpactTimes(path), InputError);
+  std::filesystem::remove(path);
+}
+
+TEST(ReadImpactTimes, JsonWithoutSequencesIsAnInputError) {
+  const auto path = WriteTemp("other.json", R"({"law": "walton-braun"})");
+  EXPECT_THROW(ReadImpactTimes(path), InputError);
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace bouncecal::calibrate
