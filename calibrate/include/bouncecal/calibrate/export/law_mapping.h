@@ -1,0 +1,50 @@
+#ifndef BOUNCECAL_CALIBRATE_EXPORT_LAW_MAPPING_H_
+#define BOUNCECAL_CALIBRATE_EXPORT_LAW_MAPPING_H_
+
+#include <string>
+#include <vector>
+
+#include "bouncecal/calibrate/export/engine.h"
+#include "bouncecal/calibrate/export/spring_dashpot.h"
+
+namespace bouncecal::calibrate {
+
+// How a material card's contact law is expressed with the linear spring-dashpot that both target
+// engines offer (LAMMPS gran/hooke/history + fix wall/gran, LIGGGHTS hooke/stiffness).
+//
+// Wall and pair contacts get separate coefficients because the engines scale the damping by the
+// contact's effective mass: a sphere on a wall has m_eff = m, two equal spheres m/2, and one
+// gamma_n cannot give both the right restitution (the LAMMPS user trap of PHYSICS.md section 4).
+struct LawMapping {
+  std::string source_law;          // the card's law name, e.g. "walton-braun"
+  std::string source_description;  // name and parameters, for deck headers
+  bool exact = false;              // the engine integrates the card's law itself
+  SpringDashpot wall;              // sphere on a plane: m_eff = m
+  SpringDashpot pair;              // two equal spheres: m_eff = m / 2
+  // The card's law, closed form, gravity neglected.
+  double restitution = 0;
+  double wall_contact_duration_s = 0;
+  double pair_contact_duration_s = 0;
+  // Sentences for the deck header and the command's output: what was matched, what differs.
+  std::vector<std::string> notes;
+};
+
+// The paper's hysteretic law (Walton & Braun 1986 style, PHYSICS.md section 2): loading
+// stiffness (1+gamma_n) k, unloading (1-gamma_n) k, so e = sqrt((1-gamma_n)/(1+gamma_n)) and
+// t_c = (pi/2) sqrt(m_eff/k) (1/sqrt(1+gamma_n) + 1/sqrt(1-gamma_n)), both independent of the
+// impact speed. Neither engine has it (LIGGGHTS' hooke/hysteresis is Luding's variant, whose e
+// depends on the impact speed), so it maps to the spring-dashpot with equal e and equal t_c, for
+// wall contacts (m_eff = m) and for equal-sphere pairs (m_eff = m/2) separately; the notes say what
+// still differs. Throws ConfigError for k <= 0, gamma_n outside [0, 1) or mass <= 0.
+LawMapping MapWaltonBraun(double stiffness_n_per_m, double gamma_n, double ball_mass_kg,
+                          Engine engine);
+
+// The Cundall-Strack spring-dashpot with damping coefficient 2 zeta sqrt(m_eff k): the engines'
+// own law, so the mapping is exact (gamma_n = 2 zeta sqrt(k / m_eff) per contact kind). Throws
+// ConfigError for k <= 0, zeta outside [0, 1) (zeta >= 1 never rebounds) or mass <= 0.
+LawMapping MapLinearDashpot(double stiffness_n_per_m, double damping_ratio, double ball_mass_kg,
+                            Engine engine);
+
+}  // namespace bouncecal::calibrate
+
+#endif  // BOUNCECAL_CALIBRATE_EXPORT_LAW_MAPPING_H_
