@@ -340,4 +340,15 @@ Deck MakeDropDeck(const LawMapping& mapping, const DeckBall& ball, const DropDec
   return deck;
 }
 
+Deck ExportDropDeck(const ExportMaterial& material, const DropDeckOptions& options) {
+  RequirePositive(options.drop_height_m, "drop height", "metres");
+  RequirePositive(options.gravity_mps2, "gravity", "m/s^2");
+  const double impact_speed = std::sqrt(2 * options.gravity_mps2 * options.drop_height_m);
+  const LawMapping mapping = MapContactLaw(material.law, material.mass_kg,
+                                           0.5 * material.diameter_m, impact_speed, options.engine);
+  DropDeckOptions with_source = options;
+  with_source.material_source = material.source;
+  return MakeDropDeck(mapping, {material.diameter_m, material.mass_kg}, with_source);
+}
+
 }  // namespace bouncecal::calibrate

@@ -136,5 +136,19 @@ TEST(MakeDropDeck, BadOptionsAreConfigErrors) {
   EXPECT_THROW(MakeDropDeck(mapping, {0.0, kSteelBallMassKg}, {}), ConfigError);
 }
 
+TEST(ExportDropDeck, NamesTheCardAndMapsItsLawAtTheDropSpeed) {
+  ExportMaterial material;
+  material.law.kind = dem::ContactLawKind::kWaltonBraun;
+  material.law.parameters = {{"stiffness_n_per_m", 1e7}, {"gamma_n", 0.5}};
+  material.diameter_m = 0.01;
+  material.mass_kg = kSteelBallMassKg;
+  material.source = "lab/steel-on-copper.json";
+  const auto deck = ExportDropDeck(material, {});
+  EXPECT_TRUE(Contains(deck.files[0].content, "material card: lab/steel-on-copper.json"));
+  EXPECT_NEAR(deck.expected_restitution, std::sqrt(1.0 / 3.0), 1e-12);
+  material.law.parameters["gamma_n"] = 1.0;  // sticks: no spring-dashpot can match it
+  EXPECT_THROW(ExportDropDeck(material, {}), ConfigError);
+}
+
 }  // namespace
 }  // namespace bouncecal::calibrate

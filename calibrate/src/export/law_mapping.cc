@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
 
 namespace bouncecal::calibrate {
@@ -136,6 +137,89 @@ LawMapping MapLinearDashpot(double stiffness_n_per_m, double damping_ratio, doub
                   "different damping ratio than the card's, since one gamma_n serves every pair.",
                   ball_mass_kg, mapping.wall.damping_rate_per_s, mapping.pair.damping_rate_per_s),
   };
+  return mapping;
+}
+
+LawMapping MapContactLaw(const dem::ContactLawConfig& law, double ball_mass_kg,
+                         double ball_radius_m, double reference_impact_speed_mps, Engine engine) {
+  RequirePositive(ball_mass_kg, "ball mass", "kilograms");
+  RequirePositive(ball_radius_m, "ball radius", "metres");
+  RequirePositive(reference_impact_speed_mps, "reference impact speed", "m/s");
+  const dem::ContactLaw built = dem::MakeContactLaw(law);  // validates, ConfigError if bad
+  switch (law.kind) {
+    case dem::ContactLawKind::kWaltonBraun:
+      return MapWaltonBraun(law.Get("stiffness_n_per_m"), law.Get("gamma_n"), ball_mass_kg, engine);
+    case dem::ContactLawKind::kLinearDashpot:
+      return MapLinearDashpot(law.Get("stiffness_n_per_m"), law.Get("damping_ratio"), ball_mass_kg,
+                              engine);
+    default:
+      break;
+  }
+  const std::string name(dem::ToString(law.kind));
+  auto closed_forms = [&](double m_eff, double r_eff, double speed) {
+    return std::visit(
+        [&](const auto& l) {
+          return std::pair{l.ClosedFormRestitution(m_eff, r_eff, speed),
+                           l.ClosedFormContactDuration(m_eff, r_eff, speed)};
+        },
+        built);
+  };
+  const double v = reference_impact_speed_mps;
+  const auto [wall_e, wall_t] = closed_forms(ball_mass_kg, ball_radius_m, v);
+  const auto [pair_e, pair_t] = closed_forms(0.5 * ball_mass_kg, 0.5 * ball_radius_m, v);
+  if (!wall_e || !wall_t || !pair_e || !pair_t) {
+    throw ConfigError(fmt::format(
+        "contact law '{}' has no closed-form restitution and contact duration, so it cannot be "
+        "mapped to {} with equal e and t_c; laws that can be exported: walton-braun, "
+        "linear-dashpot, walton-braun-plastic, hertz",
+        name, EngineName(engine)));
+  }
+  LawMapping mapping;
+  mapping.source_law = name;
+  std::string parameters;
+  for (const auto& spec : dem::ParameterSpecs(law.kind)) {
+    parameters +=
+        fmt::format("{}{} = {:.6g}", parameters.empty() ? "" : ", ", spec.name, law.Get(spec.name));
+  }
+  mapping.source_description = fmt::format("{} ({})", name, parameters);
+  mapping.exact = false;
+  mapping.restitution = *wall_e;
+  mapping.wall_contact_duration_s = *wall_t;
+  mapping.pair_contact_duration_s = *pair_t;
+  mapping.wall = MatchRestitutionAndDuration(*wall_e, *wall_t, ball_mass_kg);
+  mapping.pair = MatchRestitutionAndDuration(*pair_e, *pair_t, 0.5 * ball_mass_kg);
+
+  const auto slow = closed_forms(ball_mass_kg, ball_radius_m, 0.25 * v);
+  const auto fast = closed_forms(ball_mass_kg, ball_radius_m, 4 * v);
+  const bool speed_independent =
+      slow.first && fast.first && slow.second && fast.second &&
+      std::abs(*slow.first - *wall_e) < 1e-9 && std::abs(*fast.first - *wall_e) < 1e-9 &&
+      std::abs(*slow.second / *wall_t - 1) < 1e-9 && std::abs(*fast.second / *wall_t - 1) < 1e-9;
+  mapping.notes.push_back(fmt::format(
+      "MAPPED LAW: {} has no '{}' law, so this deck uses the linear spring-dashpot with the SAME "
+      "restitution e = {:.6f} and the SAME contact duration (wall {:.4g} s, equal-sphere pair "
+      "{:.4g} s) at the reference impact speed {:.4g} m/s.",
+      EngineName(engine), name, *wall_e, *wall_t, *pair_t, v));
+  if (speed_independent) {
+    mapping.notes.push_back(
+        "The card's law has a speed-independent e and t_c, like the spring-dashpot, so they match "
+        "at every impact speed.");
+  } else {
+    mapping.notes.push_back(fmt::format(
+        "DEVIATION: the card's law depends on the impact speed (wall e = {} at {:.3g} m/s and {} "
+        "at {:.3g} m/s; t_c = {} and {} s) while the spring-dashpot keeps e = {:.4f} and t_c = "
+        "{:.4g} s at every speed.",
+        slow.first ? fmt::format("{:.4f}", *slow.first) : "?", 0.25 * v,
+        fast.first ? fmt::format("{:.4f}", *fast.first) : "?", 4 * v,
+        slow.second ? fmt::format("{:.4g}", *slow.second) : "?",
+        fast.second ? fmt::format("{:.4g}", *fast.second) : "?", *wall_e, *wall_t));
+  }
+  mapping.notes.push_back(fmt::format(
+      "Wall contacts (m_eff = m = {:.6g} kg): kn = {:.6g} N/m, gamma_n = {:.6g} 1/s. Pair "
+      "contacts (m_eff = m/2): kn = {:.6g} N/m, gamma_n = {:.6g} 1/s. Pairs of unequal spheres get "
+      "neither coefficient set exactly right.",
+      ball_mass_kg, mapping.wall.stiffness_n_per_m, mapping.wall.damping_rate_per_s,
+      mapping.pair.stiffness_n_per_m, mapping.pair.damping_rate_per_s));
   return mapping;
 }
 

@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <string>
 
+#include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
 
 namespace bouncecal::calibrate {
@@ -96,6 +98,68 @@ TEST(MapLinearDashpot, IsExactAndGivesTheCundallStrackRestitution) {
   EXPECT_NEAR(mapping.restitution, expected, 1e-12);
   EXPECT_NEAR(Restitution(mapping.pair), expected, 1e-12);
   EXPECT_THROW(MapLinearDashpot(1e7, 1.0, kSteelBallMassKg, Engine::kLammps), ConfigError);
+}
+
+}  // namespace
+}  // namespace bouncecal::calibrate
+
+namespace bouncecal::calibrate {
+namespace {
+
+dem::ContactLawConfig Law(dem::ContactLawKind kind,
+                          std::map<std::string, double, std::less<>> parameters) {
+  dem::ContactLawConfig config;
+  config.kind = kind;
+  config.parameters = std::move(parameters);
+  return config;
+}
+
+TEST(MapContactLaw, WaltonBraunAgreesWithTheDemClosedForms) {
+  const auto config =
+      Law(dem::ContactLawKind::kWaltonBraun, {{"stiffness_n_per_m", 2e7}, {"gamma_n", 0.4}});
+  const auto mapping = MapContactLaw(config, kSteelBallMassKg, 0.005, 1.98, Engine::kLammps);
+  const dem::WaltonBraun law({.stiffness_n_per_m = 2e7, .gamma_n = 0.4});
+  // Two implementations of the same closed forms: equal to rounding.
+  EXPECT_NEAR(mapping.restitution, *law.ClosedFormRestitution(kSteelBallMassKg, 0.005, 1.98),
+              1e-12);
+  EXPECT_NEAR(mapping.wall_contact_duration_s /
+                  *law.ClosedFormContactDuration(kSteelBallMassKg, 0.005, 1.98),
+              1.0, 1e-12);
+  EXPECT_NEAR(mapping.pair_contact_duration_s /
+                  *law.ClosedFormContactDuration(0.5 * kSteelBallMassKg, 0.0025, 1.98),
+              1.0, 1e-12);
+}
+
+TEST(MapContactLaw, PlasticWaltonBraunMapsAtEverySpeedAndSaysSo) {
+  const auto config = Law(dem::ContactLawKind::kWaltonBraunPlastic,
+                          {{"stiffness_n_per_m", 1e7}, {"unloading_stiffness_n_per_m", 4e7}});
+  const auto mapping = MapContactLaw(config, kSteelBallMassKg, 0.005, 1.98, Engine::kLiggghts);
+  EXPECT_NEAR(Restitution(mapping.wall), 0.5, 1e-12);  // sqrt(k1/k2)
+  EXPECT_FALSE(mapping.exact);
+  EXPECT_NE(mapping.notes.at(1).find("speed-independent"), std::string::npos)
+      << mapping.notes.at(1);
+}
+
+TEST(MapContactLaw, HertzMapsAtTheReferenceSpeedAndStatesTheSpeedDependence) {
+  const auto config = Law(dem::ContactLawKind::kHertz, {{"effective_modulus_pa", 1.1e11}});
+  const auto mapping = MapContactLaw(config, kSteelBallMassKg, 0.005, 1.98, Engine::kLammps);
+  EXPECT_EQ(mapping.wall.damping_rate_per_s, 0.0);  // elastic: e = 1
+  const dem::Hertz law({.effective_modulus_pa = 1.1e11});
+  EXPECT_NEAR(ContactDurationS(mapping.wall) /
+                  *law.ClosedFormContactDuration(kSteelBallMassKg, 0.005, 1.98),
+              1.0, 1e-12);
+  EXPECT_NE(mapping.notes.at(1).find("DEVIATION"), std::string::npos) << mapping.notes.at(1);
+}
+
+TEST(MapContactLaw, LawWithoutClosedFormsIsAConfigErrorNamingIt) {
+  const auto config = Law(dem::ContactLawKind::kHertzViscoelastic, {});
+  try {
+    MapContactLaw(config, kSteelBallMassKg, 0.005, 1.98, Engine::kLammps);
+    FAIL() << "no ConfigError";
+  } catch (const ConfigError& error) {
+    EXPECT_NE(std::string(error.what()).find("hertz-viscoelastic"), std::string::npos)
+        << error.what();
+  }
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "bouncecal/calibrate/export/engine.h"
+#include "bouncecal/calibrate/export/export_material.h"
 #include "bouncecal/calibrate/export/law_mapping.h"
 
 namespace bouncecal::calibrate {
@@ -68,6 +69,10 @@ struct Deck {
 // function of its inputs, so decks are unit-testable; the caller writes the files. Throws
 // ConfigError naming the option and its valid range.
 Deck MakeDropDeck(const LawMapping& mapping, const DeckBall& ball, const DropDeckOptions& options);
+
+// The whole export of a card's single-drop check: MapContactLaw at the drop's first impact speed
+// sqrt(2 g h), then MakeDropDeck. options.material_source is taken from material.source.
+Deck ExportDropDeck(const ExportMaterial& material, const DropDeckOptions& options);
 
 }  // namespace bouncecal::calibrate
 

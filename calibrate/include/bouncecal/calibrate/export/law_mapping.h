@@ -6,6 +6,7 @@
 
 #include "bouncecal/calibrate/export/engine.h"
 #include "bouncecal/calibrate/export/spring_dashpot.h"
+#include "bouncecal/dem/contact_law.h"
 
 namespace bouncecal::calibrate {
 
@@ -44,6 +45,15 @@ LawMapping MapWaltonBraun(double stiffness_n_per_m, double gamma_n, double ball_
 // ConfigError for k <= 0, zeta outside [0, 1) (zeta >= 1 never rebounds) or mass <= 0.
 LawMapping MapLinearDashpot(double stiffness_n_per_m, double damping_ratio, double ball_mass_kg,
                             Engine engine);
+
+// Any law of the card, for an engine: linear-dashpot exactly, walton-braun by MapWaltonBraun, and
+// every other law with closed-form restitution and contact duration (dem ClosedForm*) by the
+// spring-dashpot with equal e and t_c at the reference impact speed, for wall (m, R) and pair
+// (m/2, R/2) contacts; the notes say whether the card's law depends on the impact speed and by how
+// much e changes over a factor of 4 in speed. Throws ConfigError for a law without those closed
+// forms (naming it and the laws that can be exported) or for bad parameters.
+LawMapping MapContactLaw(const dem::ContactLawConfig& law, double ball_mass_kg,
+                         double ball_radius_m, double reference_impact_speed_mps, Engine engine);
 
 }  // namespace bouncecal::calibrate
 
