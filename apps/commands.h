@@ -9,6 +9,7 @@ namespace bouncecal::apps {
 // does the work and throws bouncecal::Error subclasses for problems the user can fix; main()
 // turns them into one-line messages and exit statuses.
 void AddVersionCommand(CLI::App& app);
+void AddExportCommand(CLI::App& app);
 
 }  // namespace bouncecal::apps
 

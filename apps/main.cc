@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
       "All quantities are SI (m, s, kg, N/m) unless an option name says otherwise."};
   app.require_subcommand(1);
   apps::AddVersionCommand(app);
+  apps::AddExportCommand(app);
 
   try {
     app.parse(argc, argv);
