@@ -12,6 +12,8 @@
 #include <sstream>
 #include <string>
 
+#include "bouncecal/atomic_file.h"
+#include "bouncecal/calibrate/export/packing_deck.h"
 #include "bouncecal/calibrate/export/trajectory_bounces.h"
 #include "bouncecal/dem/laws/walton_braun.h"
 #include "cli_runner.h"
@@ -131,6 +133,50 @@ TEST_F(ExportedDeck, LiggghtsReproducesTheCardsRestitutionWithinOnePercent) {
                     "scripts/install_deps.sh installs it";
   }
   ExportRunAndCheck("liggghts", "liggghts");
+}
+
+TEST_F(ExportedDeck, PackingDeckRunsOnTwoMpiProcesses) {
+  if (!OnPath("lmp") || !OnPath("mpirun")) {
+    GTEST_SKIP() << "LAMMPS (lmp) or mpirun is not installed; scripts/install_deps.sh installs "
+                    "lammps, which brings Open MPI";
+  }
+  // A small, short pour (150 spheres, 0.03 s) of the paper's material: enough to insert every
+  // particle, build contacts with both walls and between particles, and cross the boundary
+  // between the two ranks' sub-domains (the box is split along z).
+  const auto material = calibrate::ReadExportMaterial(folder_ / "card.json");
+  calibrate::PackingDeckSpec spec;
+  spec.name = "mpi-smoke";
+  spec.particle_count = 150;
+  spec.container_radius_m = 0.05;
+  spec.insert_z_min_m = 0.02;
+  spec.insert_z_max_m = 0.25;
+  spec.duration_s = 0.03;
+  spec.snapshot_interval_s = 0.01;
+  const auto deck = calibrate::MakePackingDeck(material, spec, {});
+  const fs::path folder = folder_ / "pack";
+  fs::create_directories(folder);
+  for (const auto& file : deck.files) WriteFileAtomically(folder / file.name, file.content);
+  ASSERT_EQ(deck.run_command, "mpirun -np 2 lmp -in in.pack -log log.lammps");
+
+  // Open MPI refuses to start as root (CI) unless told twice; --oversubscribe lets two ranks run
+  // on a machine that reports a single slot.
+  const std::string command = "cd " + folder.string() +
+                              " && OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+                              "mpirun --oversubscribe -np 2 lmp -in in.pack -log log.lammps "
+                              "> run.out 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0) << "end of the output:\n" << Tail(folder / "run.out");
+  std::ifstream log(folder / "run.out");
+  std::stringstream text;
+  text << log.rdbuf();
+  EXPECT_NE(text.str().find("1 by 1 by 2 MPI processor grid"), std::string::npos) << text.str();
+  EXPECT_NE(
+      text.str().find("on 2 procs for " + std::to_string(deck.steps) + " steps with 150 atoms"),
+      std::string::npos)
+      << Tail(folder / "run.out");
+  std::ifstream data(folder / "final.data");
+  std::stringstream data_text;
+  data_text << data.rdbuf();
+  EXPECT_NE(data_text.str().find("150 atoms"), std::string::npos) << "final.data";
 }
 
 }  // namespace

@@ -8,20 +8,14 @@
 
 #include "bouncecal/error.h"
 #include "bouncecal/version.h"
+#include "deck_text.h"
 
 namespace bouncecal::calibrate {
 namespace {
 
-// Enough digits that the engine reproduces the closed forms to far better than the 1e-3 the
-// verification needs, few enough to stay readable.
-std::string Number(double value) { return fmt::format("{:.12g}", value); }
-
-void RequirePositive(double value, std::string_view name, std::string_view unit) {
-  if (!std::isfinite(value) || !(value > 0)) {
-    throw ConfigError(
-        fmt::format("{} must be a positive finite number of {}, got {}", name, unit, value));
-  }
-}
+using deck_text::CommentBlock;
+using deck_text::Number;
+using deck_text::RequirePositive;
 
 void Validate(const LawMapping& mapping, const DeckBall& ball, const DropDeckOptions& options) {
   RequirePositive(options.drop_height_m, "drop height", "metres");
@@ -62,31 +56,6 @@ double RoundDownToThreeDigits(double value) {
 std::string TrajectoryTitle(double diameter_m) {
   return fmt::format("# time_s z_m vz_mps (ball centre; wall at z = 0; radius_m = {})",
                      Number(0.5 * diameter_m));
-}
-
-// Comment lines wrapped at about 96 columns so the header reads well in any editor.
-std::string CommentBlock(const std::vector<std::string>& lines) {
-  constexpr size_t kWidth = 96;
-  std::string text;
-  for (const auto& line : lines) {
-    std::string current = "#";
-    size_t start = 0;
-    bool first_word = true;
-    while (start < line.size()) {
-      size_t end = line.find(' ', start);
-      if (end == std::string::npos) end = line.size();
-      const std::string word = line.substr(start, end - start);
-      if (!first_word && current.size() + 1 + word.size() > kWidth) {
-        text += current + "\n";
-        current = "#  ";
-      }
-      current += " " + word;
-      first_word = false;
-      start = end + 1;
-    }
-    text += current + "\n";
-  }
-  return text;
 }
 
 struct Timeline {
