@@ -135,15 +135,12 @@ TEST_F(ExportedDeck, LiggghtsReproducesTheCardsRestitutionWithinOnePercent) {
   ExportRunAndCheck("liggghts", "liggghts");
 }
 
-TEST_F(ExportedDeck, PackingDeckRunsOnTwoMpiProcesses) {
-  if (!OnPath("lmp") || !OnPath("mpirun")) {
-    GTEST_SKIP() << "LAMMPS (lmp) or mpirun is not installed; scripts/install_deps.sh installs "
-                    "lammps, which brings Open MPI";
-  }
-  // A small, short pour (150 spheres, 0.03 s) of the paper's material: enough to insert every
-  // particle, build contacts with both walls and between particles, and cross the boundary
-  // between the two ranks' sub-domains (the box is split along z).
-  const auto material = calibrate::ReadExportMaterial(folder_ / "card.json");
+// A small, short pour (150 spheres, 0.03 s) of the paper's material: enough to insert every
+// particle, build contacts with both walls and between particles, and cross the boundary between
+// the two ranks' sub-domains (the box is split along z).
+void RunPackingDeckOnTwoProcesses(const fs::path& card, const fs::path& folder,
+                                  calibrate::Engine engine) {
+  const auto material = calibrate::ReadExportMaterial(card);
   calibrate::PackingDeckSpec spec;
   spec.name = "mpi-smoke";
   spec.particle_count = 150;
@@ -152,18 +149,18 @@ TEST_F(ExportedDeck, PackingDeckRunsOnTwoMpiProcesses) {
   spec.insert_z_max_m = 0.25;
   spec.duration_s = 0.03;
   spec.snapshot_interval_s = 0.01;
-  const auto deck = calibrate::MakePackingDeck(material, spec, {});
-  const fs::path folder = folder_ / "pack";
+  calibrate::PackingDeckOptions options;
+  options.engine = engine;
+  const auto deck = calibrate::MakePackingDeck(material, spec, options);
   fs::create_directories(folder);
   for (const auto& file : deck.files) WriteFileAtomically(folder / file.name, file.content);
-  ASSERT_EQ(deck.run_command, "mpirun -np 2 lmp -in in.pack -log log.lammps");
+  ASSERT_EQ(deck.run_command.rfind("mpirun -np 2 ", 0), 0u) << deck.run_command;
 
   // Open MPI refuses to start as root (CI) unless told twice; --oversubscribe lets two ranks run
   // on a machine that reports a single slot.
-  const std::string command = "cd " + folder.string() +
-                              " && OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
-                              "mpirun --oversubscribe -np 2 lmp -in in.pack -log log.lammps "
-                              "> run.out 2>&1";
+  const std::string command =
+      "cd " + folder.string() + " && OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " +
+      "mpirun --oversubscribe " + deck.run_command.substr(7) + " > run.out 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << "end of the output:\n" << Tail(folder / "run.out");
   std::ifstream log(folder / "run.out");
   std::stringstream text;
@@ -177,6 +174,24 @@ TEST_F(ExportedDeck, PackingDeckRunsOnTwoMpiProcesses) {
   std::stringstream data_text;
   data_text << data.rdbuf();
   EXPECT_NE(data_text.str().find("150 atoms"), std::string::npos) << "final.data";
+}
+
+TEST_F(ExportedDeck, LammpsPackingDeckRunsOnTwoMpiProcesses) {
+  if (!OnPath("lmp") || !OnPath("mpirun")) {
+    GTEST_SKIP() << "LAMMPS (lmp) or mpirun is not installed; scripts/install_deps.sh installs "
+                    "lammps, which brings Open MPI";
+  }
+  RunPackingDeckOnTwoProcesses(folder_ / "card.json", folder_ / "pack-lammps",
+                               calibrate::Engine::kLammps);
+}
+
+TEST_F(ExportedDeck, LiggghtsPackingDeckRunsOnTwoMpiProcesses) {
+  if (!OnPath("liggghts") || !OnPath("mpirun")) {
+    GTEST_SKIP() << "LIGGGHTS (liggghts) or mpirun is not installed; scripts/install_deps.sh "
+                    "installs liggghts, which brings Open MPI";
+  }
+  RunPackingDeckOnTwoProcesses(folder_ / "card.json", folder_ / "pack-liggghts",
+                               calibrate::Engine::kLiggghts);
 }
 
 }  // namespace

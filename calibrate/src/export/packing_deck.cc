@@ -24,11 +24,6 @@ void RequireNonNegative(double value, std::string_view name) {
 }
 
 void Validate(const PackingDeckSpec& spec, const PackingDeckOptions& options) {
-  if (options.engine != Engine::kLammps) {
-    throw ConfigError(
-        "the packing-scene deck is written for lammps only so far (LIGGGHTS needs its own "
-        "insertion and wall commands); use --engine lammps, or export the single-drop deck");
-  }
   if (options.processes < 1 || options.processes > 4096) {
     throw ConfigError(
         fmt::format("MPI process count must be in [1, 4096], got {}", options.processes));
@@ -61,6 +56,140 @@ void Validate(const PackingDeckSpec& spec, const PackingDeckOptions& options) {
   RequirePositive(spec.gravity_mps2, "scene gravity", "m/s^2");
   RequireNonNegative(spec.snapshot_interval_s, "scene snapshot interval (s)");
   if (spec.seed == 0) throw ConfigError("scene seed must be a positive integer for fix pour");
+}
+
+// LIGGGHTS wants prime seeds above 10000 for its random generators.
+std::uint32_t PrimeSeed(std::uint32_t seed) {
+  auto is_prime = [](std::uint32_t n) {
+    for (std::uint32_t f = 2; f * f <= n; ++f) {
+      if (n % f == 0) return false;
+    }
+    return n > 1;
+  };
+  std::uint32_t candidate = 10007 + seed % 1'000'000;
+  while (!is_prime(candidate)) ++candidate;
+  return candidate;
+}
+
+// LIGGGHTS' insert/rate/region pours in batches like LAMMPS' fix pour: a batch fills the band to
+// a quarter of its volume, and the next one comes once it has fallen through the band.
+struct LiggghtsBatches {
+  std::int64_t every_steps;
+  std::int64_t per_batch;
+  double rate_per_s;
+};
+
+LiggghtsBatches PlanBatches(const PackingDeckSpec& spec) {
+  const double band = spec.insert_z_max_m - spec.insert_z_min_m;
+  const double section =
+      spec.container == PackingContainer::kCylinder
+          ? std::numbers::pi * std::pow(spec.container_radius_m - spec.diameter_m, 2)
+          : 4 * (spec.box_half_x_m - spec.diameter_m) * (spec.box_half_y_m - spec.diameter_m);
+  const double particle_volume = std::numbers::pi * std::pow(spec.diameter_m, 3) / 6;
+  LiggghtsBatches batches;
+  batches.every_steps = std::max<std::int64_t>(
+      1, std::llround(std::sqrt(2 * band / spec.gravity_mps2) / spec.time_step_s));
+  batches.per_batch = std::clamp<std::int64_t>(
+      static_cast<std::int64_t>(0.25 * section * band / particle_volume), 1, spec.particle_count);
+  batches.rate_per_s =
+      static_cast<double>(batches.per_batch) / (batches.every_steps * spec.time_step_s);
+  return batches;
+}
+
+// Type 1 is the particle, type 2 the walls; property/global matrices are ordered 11 12 21 22.
+std::string LiggghtsPackingScript(const PackingDeckSpec& spec, const LawMapping& mapping,
+                                  const LiggghtsBatches& batches, const Deck& deck) {
+  const double d = spec.diameter_m;
+  auto per_type_pair = [](double particle, double wall) {
+    return fmt::format("{0} {1} {1} {1}", Number(particle), Number(wall));
+  };
+  const double top = std::max(spec.container_height_m, spec.insert_z_max_m) + d;
+  std::string box_region, walls, insert_region;
+  const std::string wall_model =
+      "wall/gran model hooke/stiffness tangential history primitive type 2";
+  if (spec.container == PackingContainer::kCylinder) {
+    const double r = spec.container_radius_m;
+    box_region = fmt::format("block {} {} {} {} {} {}", Number(-r - d), Number(r + d),
+                             Number(-r - d), Number(r + d), Number(-d), Number(top));
+    walls = fmt::format("fix             side all {} zcylinder {} 0 0\n", wall_model, Number(r));
+    insert_region = fmt::format("cylinder z 0 0 {} {} {}", Number(r - d),
+                                Number(spec.insert_z_min_m), Number(spec.insert_z_max_m));
+  } else {
+    const double x = spec.box_half_x_m, y = spec.box_half_y_m;
+    box_region = fmt::format("block {} {} {} {} {} {}", Number(-x - d), Number(x + d),
+                             Number(-y - d), Number(y + d), Number(-d), Number(top));
+    walls = fmt::format(
+        "fix             side_xlo all {0} xplane {1}\n"
+        "fix             side_xhi all {0} xplane {2}\n"
+        "fix             side_ylo all {0} yplane {3}\n"
+        "fix             side_yhi all {0} yplane {4}\n",
+        wall_model, Number(-x), Number(x), Number(-y), Number(y));
+    insert_region =
+        fmt::format("block {} {} {} {} {} {}", Number(-x + d), Number(x - d), Number(-y + d),
+                    Number(y - d), Number(spec.insert_z_min_m), Number(spec.insert_z_max_m));
+  }
+  return fmt::format(
+      R"(
+atom_style      granular
+atom_modify     map array
+boundary        f f f
+newton          off
+communicate     single vel yes
+units           si
+
+region          box {box} units box
+create_box      2 box
+neighbor        {skin} bin
+neigh_modify    delay 0
+
+# model hooke/stiffness (absolute_damping off): F = kn xi + m_eff gamman dxi/dt; tangential
+# history: Cundall-Strack spring kt capped by coefficientFriction, no tangential damping.
+fix             m1 all property/global kn peratomtypepair 2 {kn}
+fix             m2 all property/global kt peratomtypepair 2 {kt}
+fix             m3 all property/global gamman peratomtypepair 2 {gn}
+fix             m4 all property/global gammat peratomtypepair 2 0 0 0 0
+fix             m5 all property/global coefficientFriction peratomtypepair 2 {mu}
+
+pair_style      gran model hooke/stiffness tangential history
+pair_coeff      * *
+timestep        {dt}
+
+fix             gravity all gravity {g} vector 0.0 0.0 -1.0
+fix             floor all {wall_model} zplane 0.0
+{walls}
+fix             template all particletemplate/sphere 15485863 atom_type 1 density constant {rho} radius constant {r}
+fix             distribution all particledistribution/discrete 32452843 1 template 1.0
+region          insert {insert} units box
+fix             pour all insert/rate/region seed {seed} distributiontemplate distribution nparticles {count} particlerate {rate} insert_every {every} overlapcheck yes all_in yes vel constant 0 0 0 region insert
+
+fix             integrate all nve/sphere
+compute         rotation all erotate/sphere
+thermo_style    custom step time atoms ke c_rotation
+thermo          {thermo}
+{dump}run             {steps}
+write_data      final.data
+)",
+      fmt::arg("box", box_region), fmt::arg("skin", Number(0.2 * d)),
+      fmt::arg("kn", per_type_pair(mapping.pair.stiffness_n_per_m, mapping.wall.stiffness_n_per_m)),
+      fmt::arg("kt",
+               per_type_pair(spec.tangential_stiffness_n_per_m, spec.tangential_stiffness_n_per_m)),
+      fmt::arg("gn",
+               per_type_pair(mapping.pair.damping_rate_per_s, mapping.wall.damping_rate_per_s)),
+      fmt::arg("mu", per_type_pair(spec.friction, spec.wall_friction)),
+      fmt::arg("dt", Number(spec.time_step_s)), fmt::arg("g", Number(spec.gravity_mps2)),
+      fmt::arg("wall_model", wall_model), fmt::arg("walls", walls),
+      fmt::arg("rho", Number(spec.density_kg_per_m3)), fmt::arg("r", Number(0.5 * d)),
+      fmt::arg("insert", insert_region), fmt::arg("seed", PrimeSeed(spec.seed)),
+      fmt::arg("count", spec.particle_count), fmt::arg("rate", Number(batches.rate_per_s)),
+      fmt::arg("every", batches.every_steps),
+      fmt::arg("thermo", std::max<std::int64_t>(1, deck.steps / 20)),
+      fmt::arg("dump",
+               deck.output_every_steps > 0
+                   ? fmt::format("dump            snapshots all custom {} dump.pack id type "
+                                 "radius x y z vx vy vz\n",
+                                 deck.output_every_steps)
+                   : std::string()),
+      fmt::arg("steps", deck.steps));
 }
 
 }  // namespace
@@ -118,25 +247,36 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
       "(walls), no tangential damping; nve/sphere integrates rotation.",
       Number(spec.tangential_stiffness_n_per_m), Number(spec.friction),
       Number(spec.wall_friction)));
-  if (options.engine == Engine::kLammps) {
+  const bool lammps = options.engine == Engine::kLammps;
+  const LiggghtsBatches batches = PlanBatches(spec);
+  if (lammps) {
     deck.notes.push_back(
         "Insertion uses fix pour (LAMMPS 29Sep2021's create_atoms cannot avoid overlaps): "
         "particles appear without overlap in the insertion band and fall; later batches follow "
         "when the band has emptied, so a large count may need a longer run than the scene's "
         "duration to be fully inserted (thermo prints the atom count).");
+  } else {
+    deck.notes.push_back(fmt::format(
+        "Insertion uses insert/rate/region: up to {} particles (a quarter of the band's volume) "
+        "every {} steps, the time they take to fall through the band, until all {} are in; a "
+        "large count may need a longer run than the scene's duration (thermo prints the atom "
+        "count). The wall is atom type 2, so wall (1-2) and pair (1-1) contacts keep their own "
+        "coefficients.",
+        batches.per_batch, batches.every_steps, spec.particle_count));
   }
 
   const std::string executable(EngineExecutable(options.engine));
+  const std::string log_name = fmt::format("log.{}", ToString(options.engine));
   deck.run_command =
       options.processes > 1
-          ? fmt::format("mpirun -np {} {} -in {} -log log.lammps", options.processes, executable,
-                        deck.input_file_name)
-          : fmt::format("{} -in {} -log log.lammps", executable, deck.input_file_name);
+          ? fmt::format("mpirun -np {} {} -in {} -log {}", options.processes, executable,
+                        deck.input_file_name, log_name)
+          : fmt::format("{} -in {} -log {}", executable, deck.input_file_name, log_name);
 
   std::vector<std::string> header = {
-      fmt::format("bouncecal packing-scene deck '{}' for lammps (LAMMPS 29Sep2021 or later, "
-                  "GRANULAR package)",
-                  spec.name),
+      fmt::format("bouncecal packing-scene deck '{}' for {} ({})", spec.name,
+                  ToString(options.engine),
+                  lammps ? "LAMMPS 29Sep2021 or later, GRANULAR package" : "LIGGGHTS-PUBLIC 3.x"),
       fmt::format("Written by bouncecal {} from material card: {}", Version(), material.source),
       fmt::format("Scene: {}", options.scene_source),
       fmt::format("Card's contact law: {}", mapping.source_description),
@@ -149,13 +289,20 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
   for (const auto& note : deck.notes) header.push_back(note);
   header.push_back("");
   header.push_back(
-      fmt::format("Outputs: log.lammps (thermo: atoms, kinetic energy), {}final.data "
+      fmt::format("Outputs: {} (thermo: atoms, kinetic energy), {}final.data "
                   "(write_data of the final packing).",
+                  log_name,
                   deck.output_every_steps > 0
                       ? fmt::format("dump.pack (every {} s), ", Number(deck.output_interval_s))
                       : ""));
   header.push_back(fmt::format("Run in this folder: {}", deck.run_command));
 
+  std::string script = CommentBlock(header);
+  if (!lammps) {
+    script += LiggghtsPackingScript(spec, mapping, batches, deck);
+    deck.files.push_back({deck.input_file_name, script});
+    return deck;
+  }
   const double top = std::max(spec.container_height_m, spec.insert_z_max_m) + d;
   std::string box_region, wall_sides, insert_region;
   const std::string wall_law =
@@ -183,7 +330,6 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
                     Number(y - d), Number(spec.insert_z_min_m), Number(spec.insert_z_max_m));
   }
 
-  std::string script = CommentBlock(header);
   script += fmt::format(
       R"(
 units           si

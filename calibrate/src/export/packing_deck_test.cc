@@ -60,6 +60,26 @@ TEST(MakePackingDeck, CoarseStepIsStatedNotHidden) {
   EXPECT_TRUE(Contains(deck.files[0].content, "in 5.0 steps")) << deck.files[0].content;
 }
 
+TEST(MakePackingDeck, LiggghtsDeckGivesWallsTheirOwnTypeAndPoursInBatches) {
+  PackingDeckOptions options;
+  options.engine = Engine::kLiggghts;
+  const auto deck = MakePackingDeck(PaperMaterial(), {}, options);
+  const std::string& script = deck.files.at(0).content;
+  const double mass = 7800 * std::numbers::pi * 1e-6 / 6;
+  const auto mapping = MapWaltonBraun(1e7, 0.5, mass, Engine::kLiggghts);
+  char gamma[160];
+  std::snprintf(gamma, sizeof gamma, "gamman peratomtypepair 2 %.12g %.12g %.12g %.12g",
+                mapping.pair.damping_rate_per_s, mapping.wall.damping_rate_per_s,
+                mapping.wall.damping_rate_per_s, mapping.wall.damping_rate_per_s);
+  EXPECT_TRUE(Contains(script, gamma)) << gamma << "\n" << script;
+  EXPECT_TRUE(Contains(script, "coefficientFriction peratomtypepair 2 0.3 0.3 0.3 0.3"));
+  EXPECT_TRUE(Contains(script, "primitive type 2 zcylinder 0.1 0 0"));
+  // Batches fall through the 10 cm band in sqrt(2 h / g) = 0.143 s = 14278 steps of 10 us.
+  EXPECT_TRUE(Contains(script, "nparticles 2000")) << script;
+  EXPECT_TRUE(Contains(script, "insert_every 14278")) << script;
+  EXPECT_EQ(deck.run_command, "mpirun -np 2 liggghts -in in.pack -log log.liggghts");
+}
+
 TEST(MakePackingDeck, BoxContainerGetsFourSideWalls) {
   PackingDeckSpec spec;
   spec.container = PackingContainer::kBox;
@@ -81,7 +101,7 @@ TEST(MakePackingDeck, UnstableStepAndBadSpecsAreConfigErrors) {
   spec.particle_count = 0;
   EXPECT_THROW(MakePackingDeck(PaperMaterial(), spec, {}), ConfigError);
   PackingDeckOptions options;
-  options.engine = Engine::kLiggghts;
+  options.processes = 0;
   EXPECT_THROW(MakePackingDeck(PaperMaterial(), {}, options), ConfigError);
 }
 

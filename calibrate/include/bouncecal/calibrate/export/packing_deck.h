@@ -48,13 +48,14 @@ struct PackingDeckOptions {
   std::string scene_source = "(scene given in memory)";
 };
 
-// The packing scene deck: gran/hooke/history between particles with the card law's pair
-// coefficients (m_eff = m/2), fix wall/gran with its wall coefficients (m_eff = m), Coulomb
-// friction through the tangential history, fix pour insertion, nve/sphere with rotation, thermo
-// (atoms, kinetic energies), dump snapshots and write_data of the final packing. The header
-// states the mapping and what the scene's time step costs in accuracy. LAMMPS only for now:
-// ConfigError for LIGGGHTS (its insertion and mesh walls need their own writer) and for a
-// spec outside its ranges (naming the field).
+// The packing scene deck. LAMMPS: gran/hooke/history between particles with the card law's pair
+// coefficients (m_eff = m/2), fix wall/gran with its wall coefficients (m_eff = m), insertion by
+// fix pour. LIGGGHTS: model hooke/stiffness with per-type-pair coefficients (the walls are atom
+// type 2), insertion by insert/rate/region in batches. Both: Cundall-Strack tangential history
+// with Coulomb friction, nve/sphere with rotation, thermo (atoms, kinetic energies), dump
+// snapshots, write_data of the final packing. The header states the mapping and what the
+// scene's time step costs in accuracy. Throws ConfigError for a spec outside its ranges (naming
+// the field) or a step that is unstable for the mapped pair contact.
 Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec,
                      const PackingDeckOptions& options);
 
