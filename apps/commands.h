@@ -10,6 +10,7 @@ namespace bouncecal::apps {
 // turns them into one-line messages and exit statuses.
 void AddVersionCommand(CLI::App& app);
 void AddExportCommand(CLI::App& app);
+void AddExportCheckCommand(CLI::App& app);
 
 }  // namespace bouncecal::apps
 

@@ -74,6 +74,8 @@ void RunExport(const ExportArguments& arguments) {
   fmt::print("Run it (writes {} there, one 'time_s z_m vz_mps' line every {:.4g} s):\n",
              (folder / deck.trajectory_file_name).string(), deck.output_interval_s);
   fmt::print("  cd {} && {}\n", ShellQuoted(folder.string()), deck.run_command);
+  fmt::print("Then compare every bounce with the expectation:\n  bouncecal export-check {}\n",
+             ShellQuoted(folder.string()));
 }
 
 }  // namespace

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   apps::AddVersionCommand(app);
   apps::AddExportCommand(app);
+  apps::AddExportCheckCommand(app);
 
   try {
     app.parse(argc, argv);

@@ -62,6 +62,13 @@ TEST_F(ExportCli, HelpShowsAnExample) {
   EXPECT_NE(result.output.find("--engine lammps"), std::string::npos) << result.output;
 }
 
+TEST_F(ExportCli, ExportCheckOfAFolderWithoutDeckRecordIsAnInputFileError) {
+  const auto result = RunBouncecal("export-check " + folder_.string());
+  EXPECT_EQ(result.exit_status, 2) << result.output;
+  EXPECT_NE(result.output.find("deck.json"), std::string::npos) << result.output;
+  EXPECT_NE(RunBouncecal("export-check --help").output.find("Example:"), std::string::npos);
+}
+
 TEST_F(ExportCli, MissingCardIsAnInputFileError) {
   const auto result = RunBouncecal("export --material " + (folder_ / "none.json").string() +
                                    " --engine lammps -o " + (folder_ / "deck").string());

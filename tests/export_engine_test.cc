@@ -114,6 +114,11 @@ class ExportedDeck : public ::testing::Test {
     EXPECT_GE(checked, 4) << "too few fast bounces in the trajectory: " << found.bounces.size()
                           << " found";
     EXPECT_EQ(found.unresolved_contacts, 0);
+
+    // The user's route to the same verdict: export-check reads deck.json and the trajectory.
+    const auto verdict = RunBouncecal("export-check " + deck.string());
+    EXPECT_EQ(verdict.exit_status, 0) << verdict.output;
+    EXPECT_NE(verdict.output.find("PASSED"), std::string::npos) << verdict.output;
   }
 
   fs::path folder_;

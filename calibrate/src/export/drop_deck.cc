@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "bouncecal/calibrate/export/drop_deck_check.h"
 #include "bouncecal/error.h"
 #include "bouncecal/version.h"
 #include "deck_text.h"
@@ -300,12 +301,27 @@ Deck MakeDropDeck(const LawMapping& mapping, const DeckBall& ball, const DropDec
       deck.trajectory_file_name, deck.output_every_steps, Number(deck.output_interval_s)));
   header.push_back(fmt::format("Run in this folder: {}", deck.run_command));
   header.push_back(
-      "Check: bouncecal's FindTrajectoryBounces (or v = sqrt(vz^2 + 2 g (z - r)) before and after "
-      "each contact) gives e per bounce.");
+      "Check: 'bouncecal export-check <this folder>' after the run compares every bounce with "
+      "deck.json; or by hand, v = sqrt(vz^2 + 2 g (z - r)) before and after each contact.");
 
   const std::string script = options.engine == Engine::kLammps ? LammpsScript(values, header)
                                                                : LiggghtsScript(values, header);
   deck.files.push_back({deck.input_file_name, script});
+
+  DropDeckRecord record;
+  record.engine = std::string(ToString(options.engine));
+  record.tool_version = std::string(Version());
+  record.material_source = options.material_source;
+  record.trajectory_file_name = deck.trajectory_file_name;
+  record.run_command = deck.run_command;
+  record.ball_radius_m = radius;
+  record.wall_z_m = 0;
+  record.gravity_mps2 = options.gravity_mps2;
+  record.time_step_s = deck.time_step_s;
+  record.expected_restitution = restitution;
+  record.expected_contact_duration_s = contact_s;
+  record.time_step_error_bound = deck.time_step_error_bound;
+  deck.files.push_back({std::string(kDropDeckRecordFileName), ToJson(record).dump(2) + "\n"});
   return deck;
 }
 

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <string>
 
+#include "bouncecal/calibrate/export/drop_deck_check.h"
 #include "bouncecal/error.h"
 #include "bouncecal/version.h"
 
@@ -28,8 +29,9 @@ std::string Format12(double value) {
 
 TEST(MakeDropDeck, DefaultOptionsAreValid) {
   const auto deck = MakeDropDeck(PaperLaw(Engine::kLammps), {0.01, kSteelBallMassKg}, {});
-  ASSERT_EQ(deck.files.size(), 1u);
+  ASSERT_EQ(deck.files.size(), 2u);
   EXPECT_EQ(deck.files[0].name, "in.drop");
+  EXPECT_EQ(deck.files[1].name, "deck.json");
   EXPECT_EQ(deck.run_command, "lmp -in in.drop -log log.lammps");
 }
 
@@ -92,6 +94,25 @@ TEST(MakeDropDeck, DefaultStepKeepsTheRestitutionBoundAndResolvesTheContact) {
   EXPECT_NEAR(deck.expected_restitution, mapping.restitution, 1e-12);
   // Output lines come at most every half contact, so both sides of a contact are sampled.
   EXPECT_LE(deck.output_interval_s, 0.5 * mapping.wall_contact_duration_s);
+}
+
+TEST(MakeDropDeck, DeckRecordStatesWhatTheRunMustShow) {
+  const auto mapping = PaperLaw(Engine::kLiggghts);
+  DropDeckOptions options;
+  options.engine = Engine::kLiggghts;
+  options.material_source = "card.json";
+  const auto deck = MakeDropDeck(mapping, {0.01, kSteelBallMassKg}, options);
+  const auto record =
+      DropDeckRecordFromJson(nlohmann::json::parse(deck.files.at(1).content), "deck.json");
+  EXPECT_EQ(record.engine, "liggghts");
+  EXPECT_EQ(record.material_source, "card.json");
+  EXPECT_EQ(record.run_command, deck.run_command);
+  EXPECT_DOUBLE_EQ(record.ball_radius_m, 0.005);
+  EXPECT_DOUBLE_EQ(record.expected_restitution, mapping.restitution);
+  EXPECT_DOUBLE_EQ(record.expected_contact_duration_s, mapping.wall_contact_duration_s);
+  EXPECT_DOUBLE_EQ(record.time_step_error_bound, deck.time_step_error_bound);
+  EXPECT_THROW(DropDeckRecordFromJson(nlohmann::json::parse(R"({"format": "x"})"), "deck.json"),
+               InputError);
 }
 
 TEST(MakeDropDeck, RunCoversTheRequestedBounces) {

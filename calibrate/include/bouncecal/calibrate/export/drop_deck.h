@@ -46,7 +46,7 @@ struct DropDeckOptions {
 inline constexpr double kMinStepsPerContact = 100;
 
 struct Deck {
-  std::vector<DeckFile> files;  // the input script first
+  std::vector<DeckFile> files;  // the input script first (single drop: then deck.json)
   std::string input_file_name;  // "in.drop"
   std::string run_command;      // to run inside the deck folder, e.g. "lmp -in in.drop ..."
   std::string trajectory_file_name = "trajectory.txt";
