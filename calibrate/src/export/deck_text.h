@@ -49,6 +49,14 @@ inline std::string CommentBlock(const std::vector<std::string>& lines) {
   return text;
 }
 
+// Both engines can clip the dashpot's pull at the end of a contact; the decks must not.
+inline std::string AttractiveTailNote(bool lammps) {
+  return fmt::format(
+      "{} is left off on purpose: the matched closed forms count the dashpot's attractive pull "
+      "just before separation; switching it on raises e (PHYSICS.md section 4: 0.64 -> 0.66).",
+      lammps ? "limit_damping" : "limitForce");
+}
+
 }  // namespace bouncecal::calibrate::deck_text
 
 #endif  // BOUNCECAL_CALIBRATE_SRC_EXPORT_DECK_TEXT_H_

@@ -235,6 +235,14 @@ Deck MakeDropDeck(const LawMapping& mapping, const DeckBall& ball, const DropDec
     deck.time_step_s = RoundDownToThreeDigits(std::min(by_error, contact_s / kMinStepsPerContact));
   }
   deck.time_step_error_bound = 2 * log_e * deck.time_step_s / contact_s;
+  // Velocity Verlet (both engines) is stable for omega dt < 2; a step near it is useless here.
+  const double omega = std::sqrt(mapping.wall.stiffness_n_per_m / mapping.wall.effective_mass_kg);
+  if (omega * deck.time_step_s >= 2) {
+    throw ConfigError(fmt::format(
+        "time step {} s is unstable for the mapped wall contact (omega dt = {:.3g} >= 2, t_c = "
+        "{:.3g} s); give a step below {:.3g} s, or none to get one from --max-step-error",
+        deck.time_step_s, omega * deck.time_step_s, contact_s, contact_s / kMinStepsPerContact));
+  }
 
   const double radius = 0.5 * ball.diameter_m;
   const Timeline timeline = PlanTimeline(restitution, contact_s, radius, options);
@@ -259,6 +267,7 @@ Deck MakeDropDeck(const LawMapping& mapping, const DeckBall& ball, const DropDec
       "the restitution the engine produces may deviate by up to 2|ln e| dt / t_c = {:.2f} %.",
       Number(deck.time_step_s), contact_s / deck.time_step_s, contact_s,
       100 * deck.time_step_error_bound));
+  deck.notes.push_back(deck_text::AttractiveTailNote(options.engine == Engine::kLammps));
   deck.notes.push_back(fmt::format(
       "Gravity also acts during each contact, which no closed form includes: about g t_c / v = "
       "{:.3f} % at the first impact ({:.3g} m/s), {:.2f} % at bounce {} ({:.3g} m/s).",

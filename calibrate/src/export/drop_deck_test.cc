@@ -149,6 +149,9 @@ TEST(MakeDropDeck, BadOptionsAreConfigErrors) {
   options.time_step_s = 0.0;
   EXPECT_THROW(MakeDropDeck(mapping, ball, options), ConfigError);
   options = {};
+  options.time_step_s = 5e-5;  // omega dt = 2.2 for the 71 us wall contact
+  EXPECT_THROW(MakeDropDeck(mapping, ball, options), ConfigError);
+  options = {};
   options.bounces = 0;
   EXPECT_THROW(MakeDropDeck(mapping, ball, options), ConfigError);
   options = {};

@@ -242,6 +242,7 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
             "section 4: 0.47-0.58 for 0.577 at 10 us), which matters for dynamics more than for "
             "the final packing"
           : ""));
+  deck.notes.push_back(deck_text::AttractiveTailNote(options.engine == Engine::kLammps));
   deck.notes.push_back(fmt::format(
       "Tangential: Cundall-Strack spring kt = {} N/m with Coulomb friction {} (particles) and {} "
       "(walls), no tangential damping; nve/sphere integrates rotation.",
