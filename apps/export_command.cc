@@ -21,6 +21,7 @@ struct ExportArguments {
   std::string output_dir;
   calibrate::DropDeckOptions drop;
   std::optional<double> time_step_s;
+  bool drop_height_given = false;
 };
 
 // Single quotes keep any folder name intact when the user pastes the printed command.
@@ -40,6 +41,10 @@ void RunExport(const ExportArguments& arguments) {
   options.engine = calibrate::EngineFromString(arguments.engine);
   options.time_step_s = arguments.time_step_s;
   const auto material = calibrate::ReadExportMaterial(arguments.material);
+  // The card's own drop height unless the user chose one.
+  if (!arguments.drop_height_given && material.drop_height_m) {
+    options.drop_height_m = *material.drop_height_m;
+  }
   const calibrate::Deck deck = calibrate::ExportDropDeck(material, options);
 
   const std::filesystem::path folder = arguments.output_dir;
@@ -53,8 +58,12 @@ void RunExport(const ExportArguments& arguments) {
   }
   for (const auto& file : deck.files) WriteFileAtomically(folder / file.name, file.content);
 
-  fmt::print("bouncecal export: {} single-drop check deck for material card {}\n",
-             calibrate::ToString(options.engine), material.source);
+  fmt::print(
+      "bouncecal export: {} single-drop check deck for material card {} (drop from {} m{})\n",
+      calibrate::ToString(options.engine), material.source, options.drop_height_m,
+      arguments.drop_height_given ? ""
+      : material.drop_height_m    ? ", the card's fit height"
+                                  : ", default");
   for (const auto& file : deck.files) fmt::print("  wrote {}\n", (folder / file.name).string());
   fmt::print("Mapping and expected deviation:\n");
   for (const auto& note : deck.notes) fmt::print("  - {}\n", note);
@@ -97,8 +106,10 @@ void AddExportCommand(CLI::App& app) {
                    "Folder for the deck (created if missing; files replaced atomically)")
       ->required();
   command
-      ->add_option("--drop-height-m", arguments->drop.drop_height_m,
-                   "Release gap between the ball's lowest point and the wall, m (> 0)")
+      ->add_option(
+          "--drop-height-m", arguments->drop.drop_height_m,
+          "Release gap between the ball's lowest point and the wall, m (> 0; default: the card's "
+          "fit.drop_height_m, else 0.2)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   command
@@ -126,7 +137,11 @@ void AddExportCommand(CLI::App& app) {
       "Example:\n"
       "  bouncecal export --material steel.json --engine lammps -o deck-lammps\n"
       "  cd deck-lammps && lmp -in in.drop -log log.lammps");
-  command->callback([arguments] { RunExport(*arguments); });
+  auto* drop_height = command->get_option("--drop-height-m");
+  command->callback([arguments, drop_height] {
+    arguments->drop_height_given = drop_height->count() > 0;
+    RunExport(*arguments);
+  });
 }
 
 }  // namespace bouncecal::apps

@@ -86,6 +86,11 @@ ExportMaterial ExportMaterialFromJson(const nlohmann::json& card, std::string_vi
       material.implied_restitution = e->get<double>();
     }
   }
+  const auto fit = card.find("fit");
+  if (fit != card.end() && fit->is_object()) {
+    material.drop_height_m =
+        OptionalPositive(*fit, "drop_height_m", fmt::format("{}: fit", context), "metres");
+  }
   return material;
 }
 

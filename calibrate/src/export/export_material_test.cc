@@ -20,6 +20,7 @@ nlohmann::json PaperCard() {
                     "parameters": {"stiffness_n_per_m": 1e7, "gamma_n": 0.5}},
     "ball": {"diameter_m": 0.01, "density_kg_per_m3": 7800, "mass_kg": null},
     "implied": {"restitution": 0.5773502691896257, "energy_loss": 0.6666666666666667},
+    "fit": {"objective": "mean-energy-loss", "drop_height_m": 0.2},
     "tool_version": "0.1.0"
   })");
 }
@@ -45,6 +46,7 @@ TEST(ExportMaterialFromJson, ReadsLawBallAndImpliedRestitution) {
   ASSERT_TRUE(material.implied_restitution.has_value());
   EXPECT_NEAR(*material.implied_restitution, std::sqrt(1.0 / 3.0), 1e-12);
   EXPECT_EQ(material.source, "card.json");
+  EXPECT_EQ(material.drop_height_m, 0.2);
 }
 
 TEST(ExportMaterialFromJson, ExplicitMassOverridesTheDensity) {

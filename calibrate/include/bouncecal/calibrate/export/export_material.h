@@ -14,14 +14,17 @@ namespace bouncecal::calibrate {
 // What an export needs from a material card ("format": "bouncecal-material/1"): the contact law,
 // the ball it was calibrated with, and the card's implied restitution when it states one.
 //
-// This reads only the "format", "contact_law", "ball" and "implied" keys, so it accepts any card
-// the calibration writes; it stands in for calibrate's ReadMaterialCard until both land on main,
-// and can then be replaced by a conversion from MaterialCard.
+// This reads only the "format", "contact_law", "ball", "implied" and "fit.drop_height_m" keys, so
+// it accepts any card the calibration writes; it stands in for calibrate's ReadMaterialCard until
+// both land on main, and can then be replaced by a conversion from MaterialCard.
 struct ExportMaterial {
   dem::ContactLawConfig law;
   double diameter_m = 0.01;
   double mass_kg = 0;
   std::optional<double> implied_restitution;
+  // The drop height the card was fitted at ("fit": {"drop_height_m"}), when it states one: the
+  // natural height for the check deck.
+  std::optional<double> drop_height_m;
   std::string source = "(in memory)";  // the card's path, for deck headers
 };
 
