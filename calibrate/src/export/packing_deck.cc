@@ -48,6 +48,19 @@ void Validate(const PackingDeckSpec& spec, const PackingDeckOptions& options) {
                   "scene insertion bottom above the floor (minus a radius)", "metres");
   RequirePositive(spec.insert_z_max_m - spec.insert_z_min_m - spec.diameter_m,
                   "scene insertion band height minus one diameter", "metres");
+  // The insertion region must hold a particle and stay inside the container's walls.
+  auto check_inside = [&](const std::optional<double>& value, double wall, std::string_view name) {
+    if (!value) return;
+    RequirePositive(*value - 0.5 * spec.diameter_m, fmt::format("{} minus a radius", name),
+                    "metres");
+    RequirePositive(wall - *value, fmt::format("container size minus {}", name), "metres");
+  };
+  check_inside(spec.insert_radius_m, spec.container_radius_m, "scene insertion radius");
+  check_inside(spec.insert_half_x_m, spec.box_half_x_m, "scene insertion half-width x");
+  check_inside(spec.insert_half_y_m, spec.box_half_y_m, "scene insertion half-width y");
+  if (spec.batch_interval_s) {
+    RequirePositive(*spec.batch_interval_s, "scene batch interval", "seconds");
+  }
   RequireNonNegative(spec.tangential_stiffness_n_per_m, "scene tangential stiffness (N/m)");
   RequireNonNegative(spec.friction, "scene friction");
   RequireNonNegative(spec.wall_friction, "scene wall friction");
@@ -81,19 +94,53 @@ struct LiggghtsBatches {
 
 LiggghtsBatches PlanBatches(const PackingDeckSpec& spec) {
   const double band = spec.insert_z_max_m - spec.insert_z_min_m;
+  const double d = spec.diameter_m;
   const double section =
       spec.container == PackingContainer::kCylinder
-          ? std::numbers::pi * std::pow(spec.container_radius_m - spec.diameter_m, 2)
-          : 4 * (spec.box_half_x_m - spec.diameter_m) * (spec.box_half_y_m - spec.diameter_m);
+          ? std::numbers::pi *
+                std::pow(spec.insert_radius_m.value_or(spec.container_radius_m - d), 2)
+          : 4 * spec.insert_half_x_m.value_or(spec.box_half_x_m - d) *
+                spec.insert_half_y_m.value_or(spec.box_half_y_m - d);
   const double particle_volume = std::numbers::pi * std::pow(spec.diameter_m, 3) / 6;
   LiggghtsBatches batches;
-  batches.every_steps = std::max<std::int64_t>(
-      1, std::llround(std::sqrt(2 * band / spec.gravity_mps2) / spec.time_step_s));
+  const double interval_s = spec.batch_interval_s.value_or(std::sqrt(2 * band / spec.gravity_mps2));
+  batches.every_steps = std::max<std::int64_t>(1, std::llround(interval_s / spec.time_step_s));
   batches.per_batch = std::clamp<std::int64_t>(
       static_cast<std::int64_t>(0.25 * section * band / particle_volume), 1, spec.particle_count);
   batches.rate_per_s =
       static_cast<double>(batches.per_batch) / (batches.every_steps * spec.time_step_s);
   return batches;
+}
+
+// The simulation box (the container plus one diameter of margin, up to the top of the pour) and
+// the insertion region, in LAMMPS/LIGGGHTS region syntax (both accept the same).
+struct Regions {
+  std::string box;
+  std::string insert;
+};
+
+Regions MakeRegions(const PackingDeckSpec& spec) {
+  const double d = spec.diameter_m;
+  const double top = std::max(spec.container_height_m, spec.insert_z_max_m) + d;
+  const std::string z_band =
+      fmt::format("{} {}", Number(spec.insert_z_min_m), Number(spec.insert_z_max_m));
+  Regions regions;
+  if (spec.container == PackingContainer::kCylinder) {
+    const double r = spec.container_radius_m;
+    regions.box = fmt::format("block {0} {1} {0} {1} {2} {3}", Number(-r - d), Number(r + d),
+                              Number(-d), Number(top));
+    regions.insert =
+        fmt::format("cylinder z 0 0 {} {}", Number(spec.insert_radius_m.value_or(r - d)), z_band);
+  } else {
+    const double x = spec.box_half_x_m, y = spec.box_half_y_m;
+    const double ix = spec.insert_half_x_m.value_or(x - d);
+    const double iy = spec.insert_half_y_m.value_or(y - d);
+    regions.box = fmt::format("block {} {} {} {} {} {}", Number(-x - d), Number(x + d),
+                              Number(-y - d), Number(y + d), Number(-d), Number(top));
+    regions.insert = fmt::format("block {} {} {} {} {}", Number(-ix), Number(ix), Number(-iy),
+                                 Number(iy), z_band);
+  }
+  return regions;
 }
 
 // Type 1 is the particle, type 2 the walls; property/global matrices are ordered 11 12 21 22.
@@ -103,30 +150,21 @@ std::string LiggghtsPackingScript(const PackingDeckSpec& spec, const LawMapping&
   auto per_type_pair = [](double particle, double wall) {
     return fmt::format("{0} {1} {1} {1}", Number(particle), Number(wall));
   };
-  const double top = std::max(spec.container_height_m, spec.insert_z_max_m) + d;
-  std::string box_region, walls, insert_region;
+  const Regions regions = MakeRegions(spec);
   const std::string wall_model =
       "wall/gran model hooke/stiffness tangential history primitive type 2";
+  std::string walls;
   if (spec.container == PackingContainer::kCylinder) {
-    const double r = spec.container_radius_m;
-    box_region = fmt::format("block {} {} {} {} {} {}", Number(-r - d), Number(r + d),
-                             Number(-r - d), Number(r + d), Number(-d), Number(top));
-    walls = fmt::format("fix             side all {} zcylinder {} 0 0\n", wall_model, Number(r));
-    insert_region = fmt::format("cylinder z 0 0 {} {} {}", Number(r - d),
-                                Number(spec.insert_z_min_m), Number(spec.insert_z_max_m));
+    walls = fmt::format("fix             side all {} zcylinder {} 0 0\n", wall_model,
+                        Number(spec.container_radius_m));
   } else {
     const double x = spec.box_half_x_m, y = spec.box_half_y_m;
-    box_region = fmt::format("block {} {} {} {} {} {}", Number(-x - d), Number(x + d),
-                             Number(-y - d), Number(y + d), Number(-d), Number(top));
     walls = fmt::format(
         "fix             side_xlo all {0} xplane {1}\n"
         "fix             side_xhi all {0} xplane {2}\n"
         "fix             side_ylo all {0} yplane {3}\n"
         "fix             side_yhi all {0} yplane {4}\n",
         wall_model, Number(-x), Number(x), Number(-y), Number(y));
-    insert_region =
-        fmt::format("block {} {} {} {} {} {}", Number(-x + d), Number(x - d), Number(-y + d),
-                    Number(y - d), Number(spec.insert_z_min_m), Number(spec.insert_z_max_m));
   }
   return fmt::format(
       R"(
@@ -169,7 +207,7 @@ thermo          {thermo}
 {dump}run             {steps}
 write_data      final.data
 )",
-      fmt::arg("box", box_region), fmt::arg("skin", Number(0.2 * d)),
+      fmt::arg("box", regions.box), fmt::arg("skin", Number(0.2 * d)),
       fmt::arg("kn", per_type_pair(mapping.pair.stiffness_n_per_m, mapping.wall.stiffness_n_per_m)),
       fmt::arg("kt",
                per_type_pair(spec.tangential_stiffness_n_per_m, spec.tangential_stiffness_n_per_m)),
@@ -179,7 +217,7 @@ write_data      final.data
       fmt::arg("dt", Number(spec.time_step_s)), fmt::arg("g", Number(spec.gravity_mps2)),
       fmt::arg("wall_model", wall_model), fmt::arg("walls", walls),
       fmt::arg("rho", Number(spec.density_kg_per_m3)), fmt::arg("r", Number(0.5 * d)),
-      fmt::arg("insert", insert_region), fmt::arg("seed", PrimeSeed(spec.seed)),
+      fmt::arg("insert", regions.insert), fmt::arg("seed", PrimeSeed(spec.seed)),
       fmt::arg("count", spec.particle_count), fmt::arg("rate", Number(batches.rate_per_s)),
       fmt::arg("every", batches.every_steps),
       fmt::arg("thermo", std::max<std::int64_t>(1, deck.steps / 20)),
@@ -304,31 +342,21 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
     deck.files.push_back({deck.input_file_name, script});
     return deck;
   }
-  const double top = std::max(spec.container_height_m, spec.insert_z_max_m) + d;
-  std::string box_region, wall_sides, insert_region;
+  const Regions regions = MakeRegions(spec);
   const std::string wall_law =
       fmt::format("hooke/history {} {} {} 0 {} 0", Number(mapping.wall.stiffness_n_per_m),
                   Number(spec.tangential_stiffness_n_per_m),
                   Number(mapping.wall.damping_rate_per_s), Number(spec.wall_friction));
+  std::string wall_sides;
   if (spec.container == PackingContainer::kCylinder) {
-    const double r = spec.container_radius_m;
-    box_region = fmt::format("block {} {} {} {} {} {}", Number(-r - d), Number(r + d),
-                             Number(-r - d), Number(r + d), Number(-d), Number(top));
-    wall_sides =
-        fmt::format("fix             side all wall/gran {} zcylinder {}\n", wall_law, Number(r));
-    insert_region = fmt::format("cylinder z 0 0 {} {} {}", Number(r - d),
-                                Number(spec.insert_z_min_m), Number(spec.insert_z_max_m));
+    wall_sides = fmt::format("fix             side all wall/gran {} zcylinder {}\n", wall_law,
+                             Number(spec.container_radius_m));
   } else {
-    const double x = spec.box_half_x_m, y = spec.box_half_y_m;
-    box_region = fmt::format("block {} {} {} {} {} {}", Number(-x - d), Number(x + d),
-                             Number(-y - d), Number(y + d), Number(-d), Number(top));
     wall_sides = fmt::format(
         "fix             side_x all wall/gran {0} xplane {1} {2}\n"
         "fix             side_y all wall/gran {0} yplane {3} {4}\n",
-        wall_law, Number(-x), Number(x), Number(-y), Number(y));
-    insert_region =
-        fmt::format("block {} {} {} {} {} {}", Number(-x + d), Number(x - d), Number(-y + d),
-                    Number(y - d), Number(spec.insert_z_min_m), Number(spec.insert_z_max_m));
+        wall_law, Number(-spec.box_half_x_m), Number(spec.box_half_x_m), Number(-spec.box_half_y_m),
+        Number(spec.box_half_y_m));
   }
 
   script += fmt::format(
@@ -364,12 +392,12 @@ thermo          {thermo}
 {dump}run             {steps}
 write_data      final.data
 )",
-      fmt::arg("box", box_region), fmt::arg("kn", Number(pair.stiffness_n_per_m)),
+      fmt::arg("box", regions.box), fmt::arg("kn", Number(pair.stiffness_n_per_m)),
       fmt::arg("kt", Number(spec.tangential_stiffness_n_per_m)),
       fmt::arg("gn", Number(pair.damping_rate_per_s)), fmt::arg("mu", Number(spec.friction)),
       fmt::arg("skin", Number(0.2 * d)), fmt::arg("dt", Number(spec.time_step_s)),
       fmt::arg("g", Number(spec.gravity_mps2)), fmt::arg("wall", wall_law),
-      fmt::arg("sides", wall_sides), fmt::arg("insert", insert_region),
+      fmt::arg("sides", wall_sides), fmt::arg("insert", regions.insert),
       fmt::arg("count", spec.particle_count), fmt::arg("seed", spec.seed), fmt::arg("d", Number(d)),
       fmt::arg("rho", Number(spec.density_kg_per_m3)),
       fmt::arg("thermo", std::max<std::int64_t>(1, deck.steps / 20)),

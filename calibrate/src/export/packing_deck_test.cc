@@ -80,6 +80,23 @@ TEST(MakePackingDeck, LiggghtsDeckGivesWallsTheirOwnTypeAndPoursInBatches) {
   EXPECT_EQ(deck.run_command, "mpirun -np 2 liggghts -in in.pack -log log.liggghts");
 }
 
+TEST(MakePackingDeck, ExplicitInsertionRegionAndBatchIntervalAreUsed) {
+  PackingDeckSpec spec;
+  spec.insert_radius_m = 0.095;  // the paper's funnel-less pour from 20-30 cm
+  spec.insert_z_min_m = 0.2;
+  spec.insert_z_max_m = 0.3;
+  spec.batch_interval_s = 0.1;
+  PackingDeckOptions options;
+  options.engine = Engine::kLiggghts;
+  const auto deck = MakePackingDeck(PaperMaterial(), spec, options);
+  EXPECT_TRUE(
+      Contains(deck.files[0].content, "region          insert cylinder z 0 0 0.095 0.2 0.3"))
+      << deck.files[0].content;
+  EXPECT_TRUE(Contains(deck.files[0].content, "insert_every 10000"));  // 0.1 s of 10 us
+  spec.insert_radius_m = 0.12;                                         // outside the 0.1 m cylinder
+  EXPECT_THROW(MakePackingDeck(PaperMaterial(), spec, options), ConfigError);
+}
+
 TEST(MakePackingDeck, BoxContainerGetsFourSideWalls) {
   PackingDeckSpec spec;
   spec.container = PackingContainer::kBox;

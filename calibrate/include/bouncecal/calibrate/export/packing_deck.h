@@ -2,6 +2,7 @@
 #define BOUNCECAL_CALIBRATE_EXPORT_PACKING_DECK_H_
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "bouncecal/calibrate/export/drop_deck.h"
@@ -28,10 +29,16 @@ struct PackingDeckSpec {
   double box_half_x_m = 0.1;        // kBox
   double box_half_y_m = 0.1;
   double container_height_m = 0.2;  // walls (and the simulation box) reach this high at least
-  // Particles are poured (LAMMPS fix pour) from this height band, over the container's section
-  // less one diameter; batches follow as earlier ones fall out of the band.
+  // Particles are poured from this height band, over the container's section less one diameter
+  // unless given; batches follow as earlier ones fall out of the band (LAMMPS fix pour decides
+  // the batch size and interval itself; LIGGGHTS takes batch_interval_s, default: the time to
+  // fall through the band).
   double insert_z_min_m = 0.15;
   double insert_z_max_m = 0.25;
+  std::optional<double> insert_radius_m;  // kCylinder
+  std::optional<double> insert_half_x_m;  // kBox
+  std::optional<double> insert_half_y_m;
+  std::optional<double> batch_interval_s;
   double tangential_stiffness_n_per_m = 1e7;
   double friction = 0.3;       // particle-particle Coulomb coefficient
   double wall_friction = 0.3;  // particle-wall
