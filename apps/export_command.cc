@@ -76,8 +76,8 @@ void RunExport(const ExportArguments& arguments) {
       std::abs(*material.implied_restitution - deck.expected_restitution) > 1e-6) {
     fmt::print(
         "  Note: the card states implied restitution {:.6f}; the deck reproduces the "
-        "law's closed form {:.6f} (gravity-free), which the card's figure may include "
-        "gravity or drag effects on.\n",
+        "law's gravity-free closed form {:.6f} (the card's figure may include gravity, drag or "
+        "time-step effects of the fit's simulation).\n",
         *material.implied_restitution, deck.expected_restitution);
   }
   fmt::print("Run it (writes {} there, one 'time_s z_m vz_mps' line every {:.4g} s):\n",
