@@ -225,7 +225,7 @@ Deck MakeDropDeck(const LawMapping& mapping, const DeckBall& ball, const DropDec
   Deck deck;
   const double restitution = Restitution(mapping.wall);
   const double contact_s = ContactDurationS(mapping.wall);
-  const double log_e = -std::log(restitution);
+  const double log_e = std::max(0.0, -std::log(restitution));  // 0, not -0, for e = 1
 
   if (options.time_step_s) {
     deck.time_step_s = *options.time_step_s;

@@ -196,9 +196,9 @@ LawMapping MapContactLaw(const dem::ContactLawConfig& law, double ball_mass_kg,
       std::abs(*slow.first - *wall_e) < 1e-9 && std::abs(*fast.first - *wall_e) < 1e-9 &&
       std::abs(*slow.second / *wall_t - 1) < 1e-9 && std::abs(*fast.second / *wall_t - 1) < 1e-9;
   mapping.notes.push_back(fmt::format(
-      "MAPPED LAW: {} has no '{}' law, so this deck uses the linear spring-dashpot with the SAME "
-      "restitution e = {:.6f} and the SAME contact duration (wall {:.4g} s, equal-sphere pair "
-      "{:.4g} s) at the reference impact speed {:.4g} m/s.",
+      "MAPPED LAW: bouncecal has no exact {} form of '{}' (yet), so this deck uses the linear "
+      "spring-dashpot with the SAME restitution e = {:.6f} and the SAME contact duration (wall "
+      "{:.4g} s, equal-sphere pair {:.4g} s) at the reference impact speed {:.4g} m/s.",
       EngineName(engine), name, *wall_e, *wall_t, *pair_t, v));
   if (speed_independent) {
     mapping.notes.push_back(
