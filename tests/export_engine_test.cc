@@ -140,6 +140,34 @@ TEST_F(ExportedDeck, LiggghtsReproducesTheCardsRestitutionWithinOnePercent) {
   ExportRunAndCheck("liggghts", "liggghts");
 }
 
+TEST_F(ExportedDeck, LammpsRunsTheLinearDashpotCardExactly) {
+  if (!OnPath("lmp")) {
+    GTEST_SKIP() << "LAMMPS (lmp, Debian package lammps) is not installed; "
+                    "scripts/install_deps.sh installs it";
+  }
+  // The engines' own law: no mapping, so the engine must give the card's e = exp(-pi zeta /
+  // sqrt(1 - zeta^2)) = 0.3723 within export-check's allowance (0.2 % step bound + g t_c / v).
+  std::ofstream(folder_ / "linear.json") << R"({
+      "format": "bouncecal-material/1",
+      "contact_law": {"law": "linear-dashpot",
+                      "parameters": {"stiffness_n_per_m": 2e7, "damping_ratio": 0.3}},
+      "ball": {"diameter_m": 0.01, "density_kg_per_m3": 7800}
+    })";
+  const fs::path deck = folder_ / "deck-linear";
+  const auto exported = RunBouncecal("export --material " + (folder_ / "linear.json").string() +
+                                     " --engine lammps --bounces 4 -o " + deck.string());
+  ASSERT_EQ(exported.exit_status, 0) << exported.output;
+  EXPECT_NE(exported.output.find("EXACT LAW"), std::string::npos) << exported.output;
+  ASSERT_EQ(std::system(("cd " + deck.string() +
+                         " && lmp -in in.drop -log log.lammps > run.out "
+                         "2>&1")
+                            .c_str()),
+            0)
+      << Tail(deck / "run.out");
+  const auto verdict = RunBouncecal("export-check " + deck.string());
+  EXPECT_NE(verdict.output.find("PASSED: 4 of 4"), std::string::npos) << verdict.output;
+}
+
 // A small, short pour (150 spheres, 0.03 s) of the paper's material: enough to insert every
 // particle, build contacts with both walls and between particles, and cross the boundary between
 // the two ranks' sub-domains (the box is split along z).
