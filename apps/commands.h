@@ -16,6 +16,8 @@ void AddSweepCommand(CLI::App& app);
 void AddCompareCommand(CLI::App& app);
 void AddSynthCommand(CLI::App& app);
 void AddAnalyzeCommand(CLI::App& app);
+void AddExportCommand(CLI::App& app);
+void AddExportCheckCommand(CLI::App& app);
 
 }  // namespace bouncecal::apps
 

@@ -28,6 +28,8 @@ int main(int argc, char** argv) {
   apps::AddCompareCommand(app);
   apps::AddSynthCommand(app);
   apps::AddAnalyzeCommand(app);
+  apps::AddExportCommand(app);
+  apps::AddExportCheckCommand(app);
 
   try {
     app.parse(argc, argv);

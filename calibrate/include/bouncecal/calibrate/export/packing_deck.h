@@ -1,0 +1,71 @@
+#ifndef BOUNCECAL_CALIBRATE_EXPORT_PACKING_DECK_H_
+#define BOUNCECAL_CALIBRATE_EXPORT_PACKING_DECK_H_
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "bouncecal/calibrate/export/drop_deck.h"
+#include "bouncecal/calibrate/export/export_material.h"
+
+namespace bouncecal::calibrate {
+
+// What an exported packing deck needs of a 3D pour scene, engine-neutral and SI. The defaults
+// are the paper's scene (PHYSICS.md section 3): 2000 spheres of 1 cm poured from 20 cm into a
+// cylinder of R = 10 cm, k_s = 1e7 N/m, mu = 0.3, dt = 10 us, 3 s. dem::Scene (branch dem-pack)
+// converts to it in a few lines once it lands.
+enum class PackingContainer {
+  kCylinder,  // floor z = 0 and the inside of a vertical cylinder about the z axis
+  kBox,       // floor z = 0 and four side walls at x = +-half_x, y = +-half_y
+};
+
+struct PackingDeckSpec {
+  std::string name = "packing";
+  std::int64_t particle_count = 2000;
+  double diameter_m = 0.01;
+  double density_kg_per_m3 = 7800;
+  PackingContainer container = PackingContainer::kCylinder;
+  double container_radius_m = 0.1;  // kCylinder
+  double box_half_x_m = 0.1;        // kBox
+  double box_half_y_m = 0.1;
+  double container_height_m = 0.2;  // walls (and the simulation box) reach this high at least
+  // Particles are poured from this height band, over the container's section less one diameter
+  // unless given; batches follow as earlier ones fall out of the band (LAMMPS fix pour decides
+  // the batch size and interval itself; LIGGGHTS takes batch_interval_s, default: the time to
+  // fall through the band).
+  double insert_z_min_m = 0.15;
+  double insert_z_max_m = 0.25;
+  std::optional<double> insert_radius_m;  // kCylinder
+  std::optional<double> insert_half_x_m;  // kBox
+  std::optional<double> insert_half_y_m;
+  std::optional<double> batch_interval_s;
+  double tangential_stiffness_n_per_m = 1e7;
+  double friction = 0.3;       // particle-particle Coulomb coefficient
+  double wall_friction = 0.3;  // particle-wall
+  double time_step_s = 1e-5;
+  double duration_s = 3;
+  double gravity_mps2 = 9.81;
+  std::uint32_t seed = 12345;        // positive, for fix pour
+  double snapshot_interval_s = 0.1;  // LAMMPS dump every this long; 0: none
+};
+
+struct PackingDeckOptions {
+  Engine engine = Engine::kLammps;
+  int processes = 2;  // MPI ranks in the printed run command; 1: a serial command
+  std::string scene_source = "(scene given in memory)";
+};
+
+// The packing scene deck. LAMMPS: gran/hooke/history between particles with the card law's pair
+// coefficients (m_eff = m/2), fix wall/gran with its wall coefficients (m_eff = m), insertion by
+// fix pour. LIGGGHTS: model hooke/stiffness with per-type-pair coefficients (the walls are atom
+// type 2), insertion by insert/rate/region in batches. Both: Cundall-Strack tangential history
+// with Coulomb friction, nve/sphere with rotation, thermo (atoms, kinetic energies), dump
+// snapshots, write_data of the final packing. The header states the mapping and what the
+// scene's time step costs in accuracy. Throws ConfigError for a spec outside its ranges (naming
+// the field) or a step that is unstable for the mapped pair contact.
+Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec,
+                     const PackingDeckOptions& options);
+
+}  // namespace bouncecal::calibrate
+
+#endif  // BOUNCECAL_CALIBRATE_EXPORT_PACKING_DECK_H_

@@ -1,0 +1,415 @@
+#include "bouncecal/calibrate/export/packing_deck.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "bouncecal/error.h"
+#include "bouncecal/version.h"
+#include "deck_text.h"
+
+namespace bouncecal::calibrate {
+namespace {
+
+using deck_text::CommentBlock;
+using deck_text::Number;
+using deck_text::RequirePositive;
+
+void RequireNonNegative(double value, std::string_view name) {
+  if (!std::isfinite(value) || value < 0) {
+    throw ConfigError(fmt::format("{} must be a finite number >= 0, got {}", name, value));
+  }
+}
+
+void Validate(const PackingDeckSpec& spec, const PackingDeckOptions& options) {
+  if (options.processes < 1 || options.processes > 4096) {
+    throw ConfigError(
+        fmt::format("MPI process count must be in [1, 4096], got {}", options.processes));
+  }
+  if (spec.particle_count < 1 || spec.particle_count > 1'000'000'000) {
+    throw ConfigError(
+        fmt::format("scene particle count must be in [1, 1e9], got {}", spec.particle_count));
+  }
+  RequirePositive(spec.diameter_m, "scene particle diameter", "metres");
+  RequirePositive(spec.density_kg_per_m3, "scene particle density", "kg/m^3");
+  RequirePositive(spec.container_height_m, "scene container height", "metres");
+  if (spec.container == PackingContainer::kCylinder) {
+    RequirePositive(spec.container_radius_m - spec.diameter_m,
+                    "scene container radius minus one diameter", "metres");
+  } else {
+    RequirePositive(spec.box_half_x_m - spec.diameter_m,
+                    "scene box half-width x minus one diameter", "metres");
+    RequirePositive(spec.box_half_y_m - spec.diameter_m,
+                    "scene box half-width y minus one diameter", "metres");
+  }
+  RequirePositive(spec.insert_z_min_m - 0.5 * spec.diameter_m,
+                  "scene insertion bottom above the floor (minus a radius)", "metres");
+  RequirePositive(spec.insert_z_max_m - spec.insert_z_min_m - spec.diameter_m,
+                  "scene insertion band height minus one diameter", "metres");
+  // The insertion region must hold a particle and stay inside the container's walls.
+  auto check_inside = [&](const std::optional<double>& value, double wall, std::string_view name) {
+    if (!value) return;
+    RequirePositive(*value - 0.5 * spec.diameter_m, fmt::format("{} minus a radius", name),
+                    "metres");
+    RequirePositive(wall - *value, fmt::format("container size minus {}", name), "metres");
+  };
+  check_inside(spec.insert_radius_m, spec.container_radius_m, "scene insertion radius");
+  check_inside(spec.insert_half_x_m, spec.box_half_x_m, "scene insertion half-width x");
+  check_inside(spec.insert_half_y_m, spec.box_half_y_m, "scene insertion half-width y");
+  if (spec.batch_interval_s) {
+    RequirePositive(*spec.batch_interval_s, "scene batch interval", "seconds");
+  }
+  RequireNonNegative(spec.tangential_stiffness_n_per_m, "scene tangential stiffness (N/m)");
+  RequireNonNegative(spec.friction, "scene friction");
+  RequireNonNegative(spec.wall_friction, "scene wall friction");
+  RequirePositive(spec.time_step_s, "scene time step", "seconds");
+  RequirePositive(spec.duration_s, "scene duration", "seconds");
+  RequirePositive(spec.gravity_mps2, "scene gravity", "m/s^2");
+  RequireNonNegative(spec.snapshot_interval_s, "scene snapshot interval (s)");
+  if (spec.seed == 0) throw ConfigError("scene seed must be a positive integer for fix pour");
+}
+
+// LIGGGHTS wants prime seeds above 10000 for its random generators.
+std::uint32_t PrimeSeed(std::uint32_t seed) {
+  auto is_prime = [](std::uint32_t n) {
+    for (std::uint32_t f = 2; f * f <= n; ++f) {
+      if (n % f == 0) return false;
+    }
+    return n > 1;
+  };
+  std::uint32_t candidate = 10007 + seed % 1'000'000;
+  while (!is_prime(candidate)) ++candidate;
+  return candidate;
+}
+
+// LIGGGHTS' insert/rate/region pours in batches like LAMMPS' fix pour: a batch fills the band to
+// a quarter of its volume, and the next one comes once it has fallen through the band.
+struct LiggghtsBatches {
+  std::int64_t every_steps;
+  std::int64_t per_batch;
+  double rate_per_s;
+};
+
+LiggghtsBatches PlanBatches(const PackingDeckSpec& spec) {
+  const double band = spec.insert_z_max_m - spec.insert_z_min_m;
+  const double d = spec.diameter_m;
+  const double section =
+      spec.container == PackingContainer::kCylinder
+          ? std::numbers::pi *
+                std::pow(spec.insert_radius_m.value_or(spec.container_radius_m - d), 2)
+          : 4 * spec.insert_half_x_m.value_or(spec.box_half_x_m - d) *
+                spec.insert_half_y_m.value_or(spec.box_half_y_m - d);
+  const double particle_volume = std::numbers::pi * std::pow(spec.diameter_m, 3) / 6;
+  LiggghtsBatches batches;
+  const double interval_s = spec.batch_interval_s.value_or(std::sqrt(2 * band / spec.gravity_mps2));
+  batches.every_steps = std::max<std::int64_t>(1, std::llround(interval_s / spec.time_step_s));
+  batches.per_batch = std::clamp<std::int64_t>(
+      static_cast<std::int64_t>(0.25 * section * band / particle_volume), 1, spec.particle_count);
+  batches.rate_per_s =
+      static_cast<double>(batches.per_batch) / (batches.every_steps * spec.time_step_s);
+  return batches;
+}
+
+// The simulation box (the container plus one diameter of margin, up to the top of the pour) and
+// the insertion region, in LAMMPS/LIGGGHTS region syntax (both accept the same).
+struct Regions {
+  std::string box;
+  std::string insert;
+};
+
+Regions MakeRegions(const PackingDeckSpec& spec) {
+  const double d = spec.diameter_m;
+  const double top = std::max(spec.container_height_m, spec.insert_z_max_m) + d;
+  const std::string z_band =
+      fmt::format("{} {}", Number(spec.insert_z_min_m), Number(spec.insert_z_max_m));
+  Regions regions;
+  if (spec.container == PackingContainer::kCylinder) {
+    const double r = spec.container_radius_m;
+    regions.box = fmt::format("block {0} {1} {0} {1} {2} {3}", Number(-r - d), Number(r + d),
+                              Number(-d), Number(top));
+    regions.insert =
+        fmt::format("cylinder z 0 0 {} {}", Number(spec.insert_radius_m.value_or(r - d)), z_band);
+  } else {
+    const double x = spec.box_half_x_m, y = spec.box_half_y_m;
+    const double ix = spec.insert_half_x_m.value_or(x - d);
+    const double iy = spec.insert_half_y_m.value_or(y - d);
+    regions.box = fmt::format("block {} {} {} {} {} {}", Number(-x - d), Number(x + d),
+                              Number(-y - d), Number(y + d), Number(-d), Number(top));
+    regions.insert = fmt::format("block {} {} {} {} {}", Number(-ix), Number(ix), Number(-iy),
+                                 Number(iy), z_band);
+  }
+  return regions;
+}
+
+// Type 1 is the particle, type 2 the walls; property/global matrices are ordered 11 12 21 22.
+std::string LiggghtsPackingScript(const PackingDeckSpec& spec, const LawMapping& mapping,
+                                  const LiggghtsBatches& batches, const Deck& deck) {
+  const double d = spec.diameter_m;
+  auto per_type_pair = [](double particle, double wall) {
+    return fmt::format("{0} {1} {1} {1}", Number(particle), Number(wall));
+  };
+  const Regions regions = MakeRegions(spec);
+  const std::string wall_model =
+      "wall/gran model hooke/stiffness tangential history primitive type 2";
+  std::string walls;
+  if (spec.container == PackingContainer::kCylinder) {
+    walls = fmt::format("fix             side all {} zcylinder {} 0 0\n", wall_model,
+                        Number(spec.container_radius_m));
+  } else {
+    const double x = spec.box_half_x_m, y = spec.box_half_y_m;
+    walls = fmt::format(
+        "fix             side_xlo all {0} xplane {1}\n"
+        "fix             side_xhi all {0} xplane {2}\n"
+        "fix             side_ylo all {0} yplane {3}\n"
+        "fix             side_yhi all {0} yplane {4}\n",
+        wall_model, Number(-x), Number(x), Number(-y), Number(y));
+  }
+  return fmt::format(
+      R"(
+atom_style      granular
+atom_modify     map array
+boundary        f f f
+newton          off
+communicate     single vel yes
+units           si
+
+region          box {box} units box
+create_box      2 box
+neighbor        {skin} bin
+neigh_modify    delay 0
+
+# model hooke/stiffness (absolute_damping off): F = kn xi + m_eff gamman dxi/dt; tangential
+# history: Cundall-Strack spring kt capped by coefficientFriction, no tangential damping.
+fix             m1 all property/global kn peratomtypepair 2 {kn}
+fix             m2 all property/global kt peratomtypepair 2 {kt}
+fix             m3 all property/global gamman peratomtypepair 2 {gn}
+fix             m4 all property/global gammat peratomtypepair 2 0 0 0 0
+fix             m5 all property/global coefficientFriction peratomtypepair 2 {mu}
+
+pair_style      gran model hooke/stiffness tangential history
+pair_coeff      * *
+timestep        {dt}
+
+fix             gravity all gravity {g} vector 0.0 0.0 -1.0
+fix             floor all {wall_model} zplane 0.0
+{walls}
+fix             template all particletemplate/sphere 15485863 atom_type 1 density constant {rho} radius constant {r}
+fix             distribution all particledistribution/discrete 32452843 1 template 1.0
+region          insert {insert} units box
+fix             pour all insert/rate/region seed {seed} distributiontemplate distribution nparticles {count} particlerate {rate} insert_every {every} overlapcheck yes all_in yes vel constant 0 0 0 region insert
+
+fix             integrate all nve/sphere
+compute         rotation all erotate/sphere
+thermo_style    custom step time atoms ke c_rotation
+thermo          {thermo}
+{dump}run             {steps}
+write_data      final.data
+)",
+      fmt::arg("box", regions.box), fmt::arg("skin", Number(0.2 * d)),
+      fmt::arg("kn", per_type_pair(mapping.pair.stiffness_n_per_m, mapping.wall.stiffness_n_per_m)),
+      fmt::arg("kt",
+               per_type_pair(spec.tangential_stiffness_n_per_m, spec.tangential_stiffness_n_per_m)),
+      fmt::arg("gn",
+               per_type_pair(mapping.pair.damping_rate_per_s, mapping.wall.damping_rate_per_s)),
+      fmt::arg("mu", per_type_pair(spec.friction, spec.wall_friction)),
+      fmt::arg("dt", Number(spec.time_step_s)), fmt::arg("g", Number(spec.gravity_mps2)),
+      fmt::arg("wall_model", wall_model), fmt::arg("walls", walls),
+      fmt::arg("rho", Number(spec.density_kg_per_m3)), fmt::arg("r", Number(0.5 * d)),
+      fmt::arg("insert", regions.insert), fmt::arg("seed", PrimeSeed(spec.seed)),
+      fmt::arg("count", spec.particle_count), fmt::arg("rate", Number(batches.rate_per_s)),
+      fmt::arg("every", batches.every_steps),
+      fmt::arg("thermo", std::max<std::int64_t>(1, deck.steps / 20)),
+      fmt::arg("dump",
+               deck.output_every_steps > 0
+                   ? fmt::format("dump            snapshots all custom {} dump.pack id type "
+                                 "radius x y z vx vy vz\n",
+                                 deck.output_every_steps)
+                   : std::string()),
+      fmt::arg("steps", deck.steps));
+}
+
+}  // namespace
+
+Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec,
+                     const PackingDeckOptions& options) {
+  Validate(spec, options);
+  const double d = spec.diameter_m;
+  const double mass = spec.density_kg_per_m3 * std::numbers::pi * d * d * d / 6;
+  // The pour's typical first impact: a fall from the middle of the insertion band.
+  const double impact_speed =
+      std::sqrt(2 * spec.gravity_mps2 * 0.5 * (spec.insert_z_min_m + spec.insert_z_max_m));
+  const LawMapping mapping =
+      MapContactLaw(material.law, mass, 0.5 * d, impact_speed, options.engine);
+
+  Deck deck;
+  deck.input_file_name = "in.pack";
+  deck.time_step_s = spec.time_step_s;
+  deck.duration_s = spec.duration_s;
+  deck.steps = static_cast<std::int64_t>(std::ceil(spec.duration_s / spec.time_step_s));
+  deck.trajectory_file_name = "final.data";
+  deck.expected_restitution = mapping.restitution;
+  const SpringDashpot& pair = mapping.pair;
+  const double pair_contact_s = ContactDurationS(pair);
+  // The shortest contact (pairs) sets both the discretisation error and the stability limit.
+  deck.time_step_error_bound = pair.damping_rate_per_s * spec.time_step_s;
+  const double omega_dt =
+      std::sqrt(pair.stiffness_n_per_m / pair.effective_mass_kg) * spec.time_step_s;
+  if (omega_dt >= 2) {
+    throw ConfigError(fmt::format(
+        "scene time step {} s is unstable for the mapped pair contact (omega dt = {:.3g} >= 2, "
+        "t_c = {:.3g} s); use a step below {:.3g} s",
+        spec.time_step_s, omega_dt, pair_contact_s, pair_contact_s / 20));
+  }
+  deck.output_every_steps =
+      spec.snapshot_interval_s > 0
+          ? std::max(1, static_cast<int>(std::lround(spec.snapshot_interval_s / spec.time_step_s)))
+          : 0;
+  deck.output_interval_s = deck.output_every_steps * spec.time_step_s;
+
+  deck.notes = mapping.notes;
+  deck.notes.push_back(fmt::format(
+      "Time step {} s resolves a pair contact (t_c = {:.4g} s) in {:.1f} steps and a wall contact "
+      "in {:.1f}: the restitution of single contacts may deviate by up to gamma_n dt = {:.1f} % "
+      "(pairs){}.",
+      Number(spec.time_step_s), pair_contact_s, pair_contact_s / spec.time_step_s,
+      ContactDurationS(mapping.wall) / spec.time_step_s, 100 * deck.time_step_error_bound,
+      deck.time_step_error_bound > 0.05
+          ? "; with so few steps per contact e scatters from bounce to bounce (PHYSICS.md "
+            "section 4: 0.47-0.58 for 0.577 at 10 us), which matters for dynamics more than for "
+            "the final packing"
+          : ""));
+  deck.notes.push_back(deck_text::AttractiveTailNote(options.engine == Engine::kLammps));
+  deck.notes.push_back(fmt::format(
+      "Tangential: Cundall-Strack spring kt = {} N/m with Coulomb friction {} (particles) and {} "
+      "(walls), no tangential damping; nve/sphere integrates rotation.",
+      Number(spec.tangential_stiffness_n_per_m), Number(spec.friction),
+      Number(spec.wall_friction)));
+  const bool lammps = options.engine == Engine::kLammps;
+  const LiggghtsBatches batches = PlanBatches(spec);
+  if (lammps) {
+    deck.notes.push_back(
+        "Insertion uses fix pour (LAMMPS 29Sep2021's create_atoms cannot avoid overlaps): "
+        "particles appear without overlap in the insertion band and fall; later batches follow "
+        "when the band has emptied, so a large count may need a longer run than the scene's "
+        "duration to be fully inserted (thermo prints the atom count).");
+  } else {
+    deck.notes.push_back(fmt::format(
+        "Insertion uses insert/rate/region: up to {} particles (a quarter of the band's volume) "
+        "every {} steps, the time they take to fall through the band, until all {} are in; a "
+        "large count may need a longer run than the scene's duration (thermo prints the atom "
+        "count). The wall is atom type 2, so wall (1-2) and pair (1-1) contacts keep their own "
+        "coefficients.",
+        batches.per_batch, batches.every_steps, spec.particle_count));
+  }
+
+  const std::string executable(EngineExecutable(options.engine));
+  const std::string log_name = fmt::format("log.{}", ToString(options.engine));
+  deck.run_command =
+      options.processes > 1
+          ? fmt::format("mpirun -np {} {} -in {} -log {}", options.processes, executable,
+                        deck.input_file_name, log_name)
+          : fmt::format("{} -in {} -log {}", executable, deck.input_file_name, log_name);
+
+  std::vector<std::string> header = {
+      fmt::format("bouncecal packing-scene deck '{}' for {} ({})", spec.name,
+                  ToString(options.engine),
+                  lammps ? "LAMMPS 29Sep2021 or later, GRANULAR package" : "LIGGGHTS-PUBLIC 3.x"),
+      fmt::format("Written by bouncecal {} from material card: {}", Version(), material.source),
+      fmt::format("Scene: {}", options.scene_source),
+      fmt::format("Card's contact law: {}", mapping.source_description),
+      fmt::format("Particles: {} spheres of {} m, {} kg/m^3 ({} kg each); {} s of {} s steps "
+                  "({} steps); g = {} m/s^2.",
+                  spec.particle_count, Number(d), Number(spec.density_kg_per_m3), Number(mass),
+                  Number(spec.duration_s), Number(spec.time_step_s), deck.steps,
+                  Number(spec.gravity_mps2)),
+      ""};
+  for (const auto& note : deck.notes) header.push_back(note);
+  header.push_back("");
+  header.push_back(
+      fmt::format("Outputs: {} (thermo: atoms, kinetic energy), {}final.data "
+                  "(write_data of the final packing).",
+                  log_name,
+                  deck.output_every_steps > 0
+                      ? fmt::format("dump.pack (every {} s), ", Number(deck.output_interval_s))
+                      : ""));
+  header.push_back(fmt::format("Run in this folder: {}", deck.run_command));
+
+  std::string script = CommentBlock(header);
+  if (!lammps) {
+    script += LiggghtsPackingScript(spec, mapping, batches, deck);
+    deck.files.push_back({deck.input_file_name, script});
+    return deck;
+  }
+  const Regions regions = MakeRegions(spec);
+  const std::string wall_law =
+      fmt::format("hooke/history {} {} {} 0 {} 0", Number(mapping.wall.stiffness_n_per_m),
+                  Number(spec.tangential_stiffness_n_per_m),
+                  Number(mapping.wall.damping_rate_per_s), Number(spec.wall_friction));
+  std::string wall_sides;
+  if (spec.container == PackingContainer::kCylinder) {
+    wall_sides = fmt::format("fix             side all wall/gran {} zcylinder {}\n", wall_law,
+                             Number(spec.container_radius_m));
+  } else {
+    wall_sides = fmt::format(
+        "fix             side_x all wall/gran {0} xplane {1} {2}\n"
+        "fix             side_y all wall/gran {0} yplane {3} {4}\n",
+        wall_law, Number(-spec.box_half_x_m), Number(spec.box_half_x_m), Number(-spec.box_half_y_m),
+        Number(spec.box_half_y_m));
+  }
+
+  script += fmt::format(
+      R"(
+units           si
+atom_style      sphere
+dimension       3
+boundary        f f f
+newton          off
+comm_modify     vel yes
+
+region          box {box} units box
+create_box      1 box
+
+# Pair contacts (equal spheres, m_eff = m/2): Kn Kt gamma_n gamma_t xmu dampflag.
+pair_style      gran/hooke/history {kn} {kt} {gn} 0 {mu} 0
+pair_coeff      * *
+neighbor        {skin} bin
+neigh_modify    delay 0
+
+timestep        {dt}
+fix             integrate all nve/sphere
+fix             gravity all gravity {g} vector 0 0 -1
+# Wall contacts (sphere on wall, m_eff = m): the contact the drop calibration measured.
+fix             floor all wall/gran {wall} zplane 0.0 NULL
+{sides}
+region          insert {insert} units box
+fix             pour all pour {count} 1 {seed} region insert diam one {d} dens {rho} {rho}
+
+compute         rotation all erotate/sphere
+thermo_style    custom step time atoms ke c_rotation
+thermo          {thermo}
+{dump}run             {steps}
+write_data      final.data
+)",
+      fmt::arg("box", regions.box), fmt::arg("kn", Number(pair.stiffness_n_per_m)),
+      fmt::arg("kt", Number(spec.tangential_stiffness_n_per_m)),
+      fmt::arg("gn", Number(pair.damping_rate_per_s)), fmt::arg("mu", Number(spec.friction)),
+      fmt::arg("skin", Number(0.2 * d)), fmt::arg("dt", Number(spec.time_step_s)),
+      fmt::arg("g", Number(spec.gravity_mps2)), fmt::arg("wall", wall_law),
+      fmt::arg("sides", wall_sides), fmt::arg("insert", regions.insert),
+      fmt::arg("count", spec.particle_count), fmt::arg("seed", spec.seed), fmt::arg("d", Number(d)),
+      fmt::arg("rho", Number(spec.density_kg_per_m3)),
+      fmt::arg("thermo", std::max<std::int64_t>(1, deck.steps / 20)),
+      fmt::arg("dump",
+               deck.output_every_steps > 0
+                   ? fmt::format("dump            snapshots all custom {} dump.pack id type "
+                                 "radius x y z vx vy vz\n",
+                                 deck.output_every_steps)
+                   : std::string()),
+      fmt::arg("steps", deck.steps));
+  deck.files.push_back({deck.input_file_name, script});
+  return deck;
+}
+
+}  // namespace bouncecal::calibrate

@@ -1,0 +1,126 @@
+#include "bouncecal/calibrate/export/packing_deck.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "bouncecal/error.h"
+#include "bouncecal/version.h"
+
+namespace bouncecal::calibrate {
+namespace {
+
+ExportMaterial PaperMaterial() {
+  ExportMaterial material;
+  material.law.kind = dem::ContactLawKind::kWaltonBraun;
+  material.law.parameters = {{"stiffness_n_per_m", 1e7}, {"gamma_n", 0.5}};
+  material.source = "steel.json";
+  return material;
+}
+
+bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+TEST(MakePackingDeck, DefaultSpecIsThePapersPourAndIsValid) {
+  const PackingDeckSpec spec;
+  const auto deck = MakePackingDeck(PaperMaterial(), spec, {});
+  const std::string& script = deck.files.at(0).content;
+  EXPECT_TRUE(Contains(script, "fix             pour all pour 2000 1 12345")) << script;
+  EXPECT_TRUE(Contains(script, "zcylinder 0.1")) << script;
+  EXPECT_TRUE(Contains(script, "timestep        1e-05"));
+  EXPECT_EQ(deck.steps, 300000);  // 3 s of 10 us
+  EXPECT_EQ(deck.run_command, "mpirun -np 2 lmp -in in.pack -log log.lammps");
+  EXPECT_TRUE(Contains(script, "bouncecal " + std::string(Version())));
+  EXPECT_TRUE(Contains(script, "steel.json"));
+}
+
+TEST(MakePackingDeck, PairsAndWallsGetTheirOwnMappedCoefficients) {
+  const PackingDeckSpec spec;
+  const auto deck = MakePackingDeck(PaperMaterial(), spec, {});
+  const std::string& script = deck.files.at(0).content;
+  // Particle mass from the scene (1 cm steel): the mapping must use it, not the card's ball.
+  const double mass = 7800 * std::numbers::pi * 1e-6 / 6;
+  const auto mapping = MapWaltonBraun(1e7, 0.5, mass, Engine::kLammps);
+  char pair[128], wall[128];
+  std::snprintf(pair, sizeof pair, "gran/hooke/history %.12g 10000000 %.12g 0 0.3 0",
+                mapping.pair.stiffness_n_per_m, mapping.pair.damping_rate_per_s);
+  std::snprintf(wall, sizeof wall, "wall/gran hooke/history %.12g 10000000 %.12g 0 0.3 0 zplane",
+                mapping.wall.stiffness_n_per_m, mapping.wall.damping_rate_per_s);
+  EXPECT_TRUE(Contains(script, pair)) << pair << "\n" << script;
+  EXPECT_TRUE(Contains(script, wall)) << wall << "\n" << script;
+}
+
+TEST(MakePackingDeck, CoarseStepIsStatedNotHidden) {
+  const auto deck = MakePackingDeck(PaperMaterial(), {}, {});
+  // gamma_n(pair) dt = 21940 1/s x 1e-5 s: the header must say the contacts are barely resolved.
+  EXPECT_NEAR(deck.time_step_error_bound, 0.219, 0.001);
+  EXPECT_TRUE(Contains(deck.files[0].content, "in 5.0 steps")) << deck.files[0].content;
+}
+
+TEST(MakePackingDeck, LiggghtsDeckGivesWallsTheirOwnTypeAndPoursInBatches) {
+  PackingDeckOptions options;
+  options.engine = Engine::kLiggghts;
+  const auto deck = MakePackingDeck(PaperMaterial(), {}, options);
+  const std::string& script = deck.files.at(0).content;
+  const double mass = 7800 * std::numbers::pi * 1e-6 / 6;
+  const auto mapping = MapWaltonBraun(1e7, 0.5, mass, Engine::kLiggghts);
+  char gamma[160];
+  std::snprintf(gamma, sizeof gamma, "gamman peratomtypepair 2 %.12g %.12g %.12g %.12g",
+                mapping.pair.damping_rate_per_s, mapping.wall.damping_rate_per_s,
+                mapping.wall.damping_rate_per_s, mapping.wall.damping_rate_per_s);
+  EXPECT_TRUE(Contains(script, gamma)) << gamma << "\n" << script;
+  EXPECT_TRUE(Contains(script, "coefficientFriction peratomtypepair 2 0.3 0.3 0.3 0.3"));
+  EXPECT_TRUE(Contains(script, "primitive type 2 zcylinder 0.1 0 0"));
+  // Batches fall through the 10 cm band in sqrt(2 h / g) = 0.143 s = 14278 steps of 10 us.
+  EXPECT_TRUE(Contains(script, "nparticles 2000")) << script;
+  EXPECT_TRUE(Contains(script, "insert_every 14278")) << script;
+  EXPECT_EQ(deck.run_command, "mpirun -np 2 liggghts -in in.pack -log log.liggghts");
+}
+
+TEST(MakePackingDeck, ExplicitInsertionRegionAndBatchIntervalAreUsed) {
+  PackingDeckSpec spec;
+  spec.insert_radius_m = 0.095;  // the paper's funnel-less pour from 20-30 cm
+  spec.insert_z_min_m = 0.2;
+  spec.insert_z_max_m = 0.3;
+  spec.batch_interval_s = 0.1;
+  PackingDeckOptions options;
+  options.engine = Engine::kLiggghts;
+  const auto deck = MakePackingDeck(PaperMaterial(), spec, options);
+  EXPECT_TRUE(
+      Contains(deck.files[0].content, "region          insert cylinder z 0 0 0.095 0.2 0.3"))
+      << deck.files[0].content;
+  EXPECT_TRUE(Contains(deck.files[0].content, "insert_every 10000"));  // 0.1 s of 10 us
+  spec.insert_radius_m = 0.12;                                         // outside the 0.1 m cylinder
+  EXPECT_THROW(MakePackingDeck(PaperMaterial(), spec, options), ConfigError);
+}
+
+TEST(MakePackingDeck, BoxContainerGetsFourSideWalls) {
+  PackingDeckSpec spec;
+  spec.container = PackingContainer::kBox;
+  spec.box_half_x_m = 0.05;
+  spec.box_half_y_m = 0.03;
+  const auto deck = MakePackingDeck(PaperMaterial(), spec, {});
+  EXPECT_TRUE(Contains(deck.files[0].content, "xplane -0.05 0.05")) << deck.files[0].content;
+  EXPECT_TRUE(Contains(deck.files[0].content, "yplane -0.03 0.03"));
+}
+
+TEST(MakePackingDeck, UnstableStepAndBadSpecsAreConfigErrors) {
+  PackingDeckSpec spec;
+  spec.time_step_s = 1e-4;  // omega dt = 6.4 for the pair contact
+  EXPECT_THROW(MakePackingDeck(PaperMaterial(), spec, {}), ConfigError);
+  spec = {};
+  spec.insert_z_max_m = spec.insert_z_min_m;
+  EXPECT_THROW(MakePackingDeck(PaperMaterial(), spec, {}), ConfigError);
+  spec = {};
+  spec.particle_count = 0;
+  EXPECT_THROW(MakePackingDeck(PaperMaterial(), spec, {}), ConfigError);
+  PackingDeckOptions options;
+  options.processes = 0;
+  EXPECT_THROW(MakePackingDeck(PaperMaterial(), {}, options), ConfigError);
+}
+
+}  // namespace
+}  // namespace bouncecal::calibrate

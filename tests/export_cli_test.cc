@@ -1,0 +1,103 @@
+// The export subcommand's command-line contract: what it writes and prints, and its exit
+// statuses for bad input (2), bad options (3) and unwritable output (4). No engine is needed.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cli_runner.h"
+
+namespace bouncecal::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+class ExportCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = fs::temp_directory_path() /
+              ("bouncecal_export_cli_" + std::to_string(::getpid()) + "_" +
+               ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+    WriteCard(
+        R"({"law": "walton-braun", "parameters": {"stiffness_n_per_m": 1e7, "gamma_n": 0.5}})");
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+
+  void WriteCard(const std::string& contact_law) {
+    std::ofstream(folder_ / "card.json")
+        << R"({"format": "bouncecal-material/1", "contact_law": )" << contact_law
+        << R"(, "ball": {"diameter_m": 0.01, "density_kg_per_m3": 7800}})";
+  }
+  std::string Card() const { return (folder_ / "card.json").string(); }
+
+  fs::path folder_;
+};
+
+TEST_F(ExportCli, WritesTheDeckAndPrintsMappingDeviationAndRunCommand) {
+  const fs::path deck = folder_ / "deck";
+  const auto result =
+      RunBouncecal("export --material " + Card() + " --engine liggghts -o " + deck.string());
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  ASSERT_TRUE(fs::exists(deck / "in.drop"));
+  EXPECT_NE(result.output.find("MAPPED LAW: LIGGGHTS has no Walton-Braun"), std::string::npos)
+      << result.output;
+  EXPECT_NE(result.output.find("within +-0.20 %"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("cd " + deck.string() + " && liggghts -in in.drop"),
+            std::string::npos)
+      << result.output;
+  // Nothing half-written is left beside the deck.
+  for (const auto& entry : fs::directory_iterator(deck)) {
+    EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << entry.path();
+  }
+}
+
+TEST_F(ExportCli, HelpShowsAnExample) {
+  const auto result = RunBouncecal("export --help");
+  EXPECT_EQ(result.exit_status, 0);
+  EXPECT_NE(result.output.find("Example:"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("--engine lammps"), std::string::npos) << result.output;
+}
+
+TEST_F(ExportCli, ExportCheckOfAFolderWithoutDeckRecordIsAnInputFileError) {
+  const auto result = RunBouncecal("export-check " + folder_.string());
+  EXPECT_EQ(result.exit_status, 2) << result.output;
+  EXPECT_NE(result.output.find("deck.json"), std::string::npos) << result.output;
+  EXPECT_NE(RunBouncecal("export-check --help").output.find("Example:"), std::string::npos);
+}
+
+TEST_F(ExportCli, MissingCardIsAnInputFileError) {
+  const auto result = RunBouncecal("export --material " + (folder_ / "none.json").string() +
+                                   " --engine lammps -o " + (folder_ / "deck").string());
+  EXPECT_EQ(result.exit_status, 2) << result.output;
+  EXPECT_NE(result.output.find("none.json"), std::string::npos) << result.output;
+}
+
+TEST_F(ExportCli, OutOfRangeLawParameterIsABadOptionNamingFileAndKey) {
+  WriteCard(R"({"law": "walton-braun", "parameters": {"gamma_n": 2}})");
+  const auto result = RunBouncecal("export --material " + Card() + " --engine lammps -o " +
+                                   (folder_ / "d").string());
+  EXPECT_EQ(result.exit_status, 3) << result.output;
+  EXPECT_NE(result.output.find("card.json: contact_law"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("gamma_n"), std::string::npos) << result.output;
+}
+
+TEST_F(ExportCli, UnknownEngineAndOutOfRangeOptionsAreUsageErrors) {
+  const std::string base = "export --material " + Card() + " -o " + (folder_ / "d").string();
+  EXPECT_EQ(RunBouncecal(base + " --engine gromacs").exit_status, 3);
+  EXPECT_EQ(RunBouncecal(base + " --engine lammps --bounces 0").exit_status, 3);
+  EXPECT_EQ(RunBouncecal(base + " --engine lammps --drop-height-m -1").exit_status, 3);
+}
+
+TEST_F(ExportCli, UnwritableOutputIsAnOutputError) {
+  std::ofstream(folder_ / "a_file") << "x";
+  const auto result = RunBouncecal("export --material " + Card() + " --engine lammps -o " +
+                                   (folder_ / "a_file" / "deck").string());
+  EXPECT_EQ(result.exit_status, 4) << result.output;
+}
+
+}  // namespace
+}  // namespace bouncecal::testing
