@@ -6,6 +6,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "band_limit.h"
 #include "bouncecal/error.h"
 #include "extra_event_sound.h"
 #include "modal_impact.h"
@@ -381,6 +382,10 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
           ++clipped;
         }
       }
+    }
+    if (options.band_limit_hz) {
+      BandLimit(*options.band_limit_hz, 0.1 * *options.band_limit_hz, rate_hz, out);
+      std::fill(out.begin(), out.begin() + silence_frames, 0.0f);
     }
     result.channels.push_back(std::move(recording));
     result.noise_rms.push_back(noise_rms);

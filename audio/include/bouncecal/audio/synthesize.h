@@ -224,8 +224,12 @@ struct SynthesisOptions {
   std::optional<NoiseOptions> noise;
   std::optional<HumOptions> hum;
   std::vector<ExtraEvent> extra_events;
-  double dc_offset = 0.0;                  // added to every sample, full-scale units
-  std::optional<double> clip_level;        // hard clip at +-clip_level (0 < level <= 1) when set
+  double dc_offset = 0.0;            // added to every sample, full-scale units
+  std::optional<double> clip_level;  // hard clip at +-clip_level (0 < level <= 1) when set
+  // Band limit of a lossy codec or phone path (the last step before the digital silence): a
+  // zero-phase low-pass with a 10 % transition band, -74 dB above it. Like real codecs it rings
+  // on both sides of a sharp onset, so the signal is then no longer exactly zero before it.
+  std::optional<double> band_limit_hz;
   double leading_digital_silence_s = 0.0;  // exact zeros (no noise, hum or DC) at the start
 
   std::vector<ChannelOptions> channels = {ChannelOptions{}};
