@@ -161,8 +161,9 @@ void AddSynthCommand(CLI::App& app) {
 
   command->add_option("-o,--output", args->output, "Audio file to write (.wav, or .flac)")
       ->required();
-  command->add_option("--truth", args->truth,
-                      "Write the ground truth CSV (onset_s,impact_speed_mps,kind,drop) here");
+  command->add_option(
+      "--truth", args->truth,
+      "Write the ground truth CSV (onset_s,impact_speed_mps,kind,drop,peak_amplitude) here");
   auto* impacts = command->add_option(
       "--impact-times", args->impact_times,
       "CSV of explicit impacts 'onset_s,impact_speed_mps' (s, m/s) instead of a ballistic drop");

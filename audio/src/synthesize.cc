@@ -241,16 +241,29 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
         "modes with non-zero gain below 0.45 x sample_rate_hz");
   }
 
+  // Per-impact level jitter is a property of the impact, shared by every channel.
+  std::vector<double> jitter(ball_impacts.size(), 1.0);
+  if (options.level_jitter_db > 0.0) {
+    RandomStream random(options.seed, kLevelJitterStream);
+    for (double& value : jitter) value = DbToGain(options.level_jitter_db * random.Gaussian());
+  }
   // Every event of the truth, before truncation to the file length.
-  std::vector<SynthesizedEvent> events = ball_impacts;
-  if (options.precursor) {
-    for (const SynthesizedEvent& impact : ball_impacts) {
+  std::vector<SynthesizedEvent> events;
+  for (size_t k = 0; k < ball_impacts.size(); ++k) {
+    SynthesizedEvent impact = ball_impacts[k];
+    impact.peak_amplitude = options.peak_amplitude *
+                            std::pow(impact.impact_speed_mps / options.reference_speed_mps,
+                                     options.amplitude_speed_exponent) *
+                            jitter[k];
+    events.push_back(impact);
+    if (options.precursor) {
       events.push_back({impact.onset_s - options.precursor->lead_s, SoundEventKind::kPrecursor,
-                        impact.impact_speed_mps, impact.drop_index});
+                        impact.impact_speed_mps, impact.drop_index,
+                        impact.peak_amplitude * DbToGain(options.precursor->gain_db)});
     }
   }
   for (const ExtraEvent& extra : options.extra_events) {
-    events.push_back({extra.onset_s, extra.kind, 0.0, -1});
+    events.push_back({extra.onset_s, extra.kind, 0.0, -1, extra.peak_amplitude});
   }
   std::stable_sort(events.begin(), events.end(),
                    [](const auto& a, const auto& b) { return a.onset_s < b.onset_s; });
@@ -283,12 +296,6 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
     }
   }
 
-  // Per-impact level jitter is a property of the impact, shared by every channel.
-  std::vector<double> jitter(ball_impacts.size(), 1.0);
-  if (options.level_jitter_db > 0.0) {
-    RandomStream random(options.seed, kLevelJitterStream);
-    for (double& value : jitter) value = DbToGain(options.level_jitter_db * random.Gaussian());
-  }
   std::vector<double> echo_delays_s = {0.0};
   std::vector<double> echo_gains = {1.0};
   if (options.reverb) {
@@ -390,6 +397,7 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
     result.channels.push_back(std::move(recording));
     result.noise_rms.push_back(noise_rms);
     result.clipped_sample_count.push_back(clipped);
+    result.channel_delay_s.push_back(channel.delay_s);
   }
   result.events = std::move(events);
   return result;
@@ -397,13 +405,14 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
 
 std::string TruthCsv(const SynthesizedRecording& recording) {
   std::ostringstream out;
-  out << "onset_s,impact_speed_mps,kind,drop\n";
+  out << "onset_s,impact_speed_mps,kind,drop,peak_amplitude\n";
   out.setf(std::ios::fixed);
   for (const SynthesizedEvent& event : recording.events) {
     out.precision(9);
     out << event.onset_s << ',';
     out.precision(6);
-    out << event.impact_speed_mps << ',' << ToString(event.kind) << ',' << event.drop_index << '\n';
+    out << event.impact_speed_mps << ',' << ToString(event.kind) << ',' << event.drop_index << ','
+        << event.peak_amplitude << '\n';
   }
   return out.str();
 }

@@ -198,6 +198,7 @@ TEST(SynthesizeBounces, ReferenceSpeedImpactPeaksAtTheRequestedAmplitude) {
   options.peak_amplitude = 0.3;
   const auto recording = SynthesizeBounces(options);
   EXPECT_NEAR(PeakIn(recording.channels[0], 0.1, 0.15), 0.3, 1e-6);  // float rounding
+  EXPECT_DOUBLE_EQ(recording.events[0].peak_amplitude, 0.3);         // and the truth says so
   // Twice the speed, twice the peak for a rigid (speed-independent) contact duration.
   options.impacts[0].impact_speed_mps = 2 * 1.98;
   options.contact_duration_speed_exponent = 0.0;
@@ -261,6 +262,7 @@ TEST(SynthesizeBounces, SecondChannelIsADelayedScaledCopyWithItsOwnNoise) {
   options.channels = {ChannelOptions{}, ChannelOptions{.delay_s = 0.00025, .gain_db = -6.0}};
   const auto recording = SynthesizeBounces(options);
   ASSERT_EQ(recording.channels.size(), 2u);
+  EXPECT_EQ(recording.channel_delay_s, (std::vector<double>{0.0, 0.00025}));
   const auto& left = recording.channels[0].samples;
   const auto& right = recording.channels[1].samples;
   // 0.25 ms is exactly 12 samples at 48 kHz; -6 dB is a factor 0.50119. Float rounding 1e-6.
@@ -323,8 +325,8 @@ TEST(SynthesizeBounces, TruthListsPrecursorsAndNonBallEventsWithTheirKinds) {
   // The knock really sounds, near its requested peak (sampled peak of the analytic shape).
   EXPECT_NEAR(PeakIn(recording.channels[0], 0.05, 0.1), 0.3, 0.03);
   const std::string csv = TruthCsv(recording);
-  EXPECT_EQ(csv.rfind("onset_s,impact_speed_mps,kind,drop\n", 0), 0u);
-  EXPECT_NE(csv.find(",knock,-1\n"), std::string::npos);
+  EXPECT_EQ(csv.rfind("onset_s,impact_speed_mps,kind,drop,peak_amplitude\n", 0), 0u);
+  EXPECT_NE(csv.find(",knock,-1,0.300000\n"), std::string::npos) << csv;
 }
 
 // RMS frequency of x[from, to): for a sinusoid at f the first difference has (2 sin(pi f / rate))^2

@@ -243,6 +243,10 @@ struct SynthesizedEvent {
   SoundEventKind kind = SoundEventKind::kBallImpact;
   double impact_speed_mps = 0.0;  // ball impacts (and their precursors); 0 otherwise
   int drop_index = -1;            // 0-based drop of a ball impact/precursor; -1 otherwise
+  // Peak of the event's direct sound at 0 dB channel gain (full scale): for ball impacts
+  // peak_amplitude (v / v_ref)^amplitude_speed_exponent times the level jitter (the sampled peak
+  // exactly for a speed-independent contact duration, within a few % otherwise).
+  double peak_amplitude = 0.0;
 };
 
 struct SynthesizedRecording {
@@ -250,6 +254,7 @@ struct SynthesizedRecording {
   std::vector<SynthesizedEvent> events;   // every event, sorted by onset_s
   std::vector<double> noise_rms;          // per channel; 0 without noise
   std::vector<int> clipped_sample_count;  // per channel
+  std::vector<double> channel_delay_s;    // per channel: it hears an event at onset_s + this
 
   // Onsets of the ball impacts only, sorted; optionally of one drop.
   std::vector<double> BallImpactOnsetsS(std::optional<int> drop_index = std::nullopt) const;
@@ -265,8 +270,8 @@ std::vector<SynthesizedEvent> PlanBallImpacts(const SynthesisOptions& options);
 // Renders the recording. Deterministic for a given options.seed.
 SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options);
 
-// CSV of the truth: header "onset_s,impact_speed_mps,kind,drop" and one line per event, times
-// with 9 decimals (ns).
+// CSV of the truth: header "onset_s,impact_speed_mps,kind,drop,peak_amplitude" and one line per
+// event, times with 9 decimals (ns).
 std::string TruthCsv(const SynthesizedRecording& recording);
 
 }  // namespace bouncecal::audio
