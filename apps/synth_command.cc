@@ -191,11 +191,14 @@ void AddSynthCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--release-s", o.drop.release_s, "Time the first drop is released (s)")
       ->capture_default_str();
+  auto* drag = command->add_option(
+      "--terminal-speed-mps", o.drop.terminal_speed_mps,
+      "Add quadratic air drag with this terminal speed (m/s): ~9 ping-pong, ~50 steel ball");
   command
       ->add_option("--min-flight-s", o.drop.min_flight_s,
                    "A drop ends when the next flight would be shorter than this (s)")
       ->capture_default_str();
-  for (auto* option : {height, restitution, slope, drops}) impacts->excludes(option);
+  for (auto* option : {height, restitution, slope, drops, drag}) impacts->excludes(option);
 
   command->add_option("--sample-rate-hz", o.sample_rate_hz, "Sample rate (Hz)")
       ->capture_default_str();

@@ -107,6 +107,32 @@ void AddSine(double amplitude, double omega, double phase, std::int64_t first_sa
   }
 }
 
+// A fall from rest through height_m, ballistic or with quadratic drag (see DropSpec).
+struct Fall {
+  double duration_s;
+  double landing_speed_mps;
+};
+Fall FallFrom(double height_m, double g, std::optional<double> terminal_speed_mps) {
+  if (!terminal_speed_mps) return {std::sqrt(2.0 * height_m / g), std::sqrt(2.0 * g * height_m)};
+  const double vt = *terminal_speed_mps;
+  const double x = g * height_m / (vt * vt);
+  // acosh(e^x) = x + ln(1 + sqrt(1 - e^-2x)), written so a high terminal speed (x -> 0) keeps
+  // full precision instead of cancelling in acosh(1 + tiny).
+  const double root = std::sqrt(-std::expm1(-2.0 * x));
+  return {vt / g * (x + std::log1p(root)), vt * root};
+}
+
+// A flight launched upwards at launch_mps, back down to the floor.
+using Flight = Fall;
+Flight FlightFrom(double launch_mps, double g, std::optional<double> terminal_speed_mps) {
+  if (!terminal_speed_mps) return {2.0 * launch_mps / g, launch_mps};
+  const double vt = *terminal_speed_mps;
+  const double rise_s = vt / g * std::atan(launch_mps / vt);
+  const double apex_m = vt * vt / (2.0 * g) * std::log1p(launch_mps * launch_mps / (vt * vt));
+  const Fall fall = FallFrom(apex_m, g, terminal_speed_mps);
+  return {rise_s + fall.duration_s, fall.landing_speed_mps};
+}
+
 }  // namespace
 
 std::vector<PlateMode> RectangularPlateModes(const RectangularPlate& plate) {
@@ -208,8 +234,9 @@ std::vector<SynthesizedEvent> PlanBallImpacts(const SynthesisOptions& options) {
   const double g = options.gravity_mps2;
   double release_s = drop.release_s;
   for (int d = 0; d < drop.drop_count; ++d) {
-    double onset_s = release_s + std::sqrt(2.0 * drop.drop_height_m / g);
-    double speed_mps = std::sqrt(2.0 * g * drop.drop_height_m);
+    const Fall first = FallFrom(drop.drop_height_m, g, drop.terminal_speed_mps);
+    double onset_s = release_s + first.duration_s;
+    double speed_mps = first.landing_speed_mps;
     for (int k = 0; k < drop.max_impacts_per_drop; ++k) {
       impacts.push_back({onset_s, SoundEventKind::kBallImpact, speed_mps, d});
       const double e = drop.restitution.Evaluate(speed_mps);
@@ -218,10 +245,10 @@ std::vector<SynthesizedEvent> PlanBallImpacts(const SynthesisOptions& options) {
                           " at impact speed " + Number(speed_mps) +
                           " m/s; the law must stay inside (0, 1) for every impact speed");
       }
-      speed_mps *= e;
-      const double flight_s = 2.0 * speed_mps / g;
-      if (flight_s < drop.min_flight_s) break;
-      onset_s += flight_s;
+      const Flight flight = FlightFrom(e * speed_mps, g, drop.terminal_speed_mps);
+      if (flight.duration_s < drop.min_flight_s) break;
+      onset_s += flight.duration_s;
+      speed_mps = flight.landing_speed_mps;
     }
     release_s = impacts.back().onset_s + drop.gap_between_drops_s;
   }

@@ -92,6 +92,42 @@ TEST(SynthesizeBounces, SpeedDependentRestitutionIsEvaluatedAtEachImpactSpeed) {
   EXPECT_NEAR(halves[1].impact_speed_mps, 0.5 * halves[0].impact_speed_mps, 1e-12);
 }
 
+TEST(SynthesizeBounces, AirDragShortensFlightsAndVanishesForAFastTerminalSpeed) {
+  SynthesisOptions options;
+  options.drop.drop_height_m = 1.0;
+  options.drop.restitution.constant = 0.85;
+  const auto vacuum = PlanBallImpacts(options);
+  options.drop.terminal_speed_mps = 9.0;  // a ping-pong ball
+  const auto air = PlanBallImpacts(options);
+  // The first fall: t = (v_t / g) acosh(exp(g h / v_t^2)), v = v_t sqrt(1 - exp(-2 g h / v_t^2))
+  // (closed form for quadratic drag), slower and later than in vacuum.
+  const double x = kG * 1.0 / 81.0;
+  EXPECT_NEAR(air[0].onset_s - 0.3, 9.0 / kG * std::acosh(std::exp(x)), 1e-12);
+  EXPECT_NEAR(air[0].impact_speed_mps, 9.0 * std::sqrt(1 - std::exp(-2 * x)), 1e-12);
+  EXPECT_GT(air[0].onset_s, vacuum[0].onset_s);
+  // Every flight is shorter than the ballistic 2 u / g of its launch speed, and the ball lands
+  // slower than it left (drag takes energy on the way up and down).
+  for (size_t k = 0; k + 1 < air.size(); ++k) {
+    const double launch = 0.85 * air[k].impact_speed_mps;
+    EXPECT_LT(air[k + 1].onset_s - air[k].onset_s, 2 * launch / kG);
+    EXPECT_LT(air[k + 1].impact_speed_mps, launch);
+  }
+  // For a fast terminal speed the drag correction is second order, ~1 / v_t^2: ten times v_t
+  // must shrink every time shift a hundredfold (1 % allows the next order, (v / v_t)^4). This
+  // also fails if the closed form loses precision as v_t grows.
+  options.drop.terminal_speed_mps = 1e4;
+  const auto fast = PlanBallImpacts(options);
+  options.drop.terminal_speed_mps = 1e5;
+  const auto faster = PlanBallImpacts(options);
+  ASSERT_EQ(fast.size(), vacuum.size());
+  ASSERT_EQ(faster.size(), vacuum.size());
+  for (size_t k = 0; k < fast.size(); ++k) {
+    const double ratio =
+        (vacuum[k].onset_s - fast[k].onset_s) / (vacuum[k].onset_s - faster[k].onset_s);
+    EXPECT_NEAR(ratio, 100.0, 1.0) << "impact " << k;
+  }
+}
+
 TEST(SynthesizeBounces, SeveralDropsAreSeparatedBySilence) {
   SynthesisOptions options;
   options.drop.drop_count = 3;

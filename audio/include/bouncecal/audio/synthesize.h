@@ -95,6 +95,13 @@ struct ImpactSpec {
 // e(v_k) v_k and flies dt_k = 2 e(v_k) v_k / g (drag and contact time neglected, as in
 // ../shared/PHYSICS.md section 1). A drop ends when the next flight would be shorter than
 // min_flight_s (the ball then chatters and rolls) or after max_impacts_per_drop impacts.
+//
+// With terminal_speed_mps set, flights follow quadratic air drag (m dv/dt = -m g -+ m g v|v| /
+// v_t^2) in closed form: rising from u the ball stops after (v_t / g) atan(u / v_t) at
+// H = (v_t^2 / 2g) ln(1 + u^2 / v_t^2), then falls for (v_t / g) acosh(exp(g H / v_t^2)) and
+// lands at v_t sqrt(1 - exp(-2 g H / v_t^2)). Drag shortens flights, so an analysis that
+// assumes ballistic flights reads a lower e (what the Fr4nci authors blame for their h0 fit).
+// A ping-pong ball has v_t ~ 9 m/s, a 1 cm steel ball ~ 50 m/s.
 struct DropSpec {
   double drop_height_m = 0.20;
   double release_s = 0.3;
@@ -104,6 +111,7 @@ struct DropSpec {
   double min_flight_s = 0.005;
   int max_impacts_per_drop = 100;
   RestitutionLaw restitution;
+  std::optional<double> terminal_speed_mps;  // unset: no drag
 };
 
 // Discrete room echo (an image source): a copy of every sound delayed by delay_s at gain_db.
