@@ -139,8 +139,13 @@ void RunSynth(const SynthArguments& args) {
   }
   int clipped = 0;
   for (int count : recording.clipped_sample_count) clipped += count;
-  if (clipped > 0 || summary.clipped_samples > 0) {
-    fmt::print(stderr, "note: {} samples clipped by --clip-level, {} beyond full scale\n", clipped,
+  if (clipped > 0) {
+    fmt::print(stderr, "note: {} samples clipped at --clip-level {}\n", clipped, *args.clip_level);
+  }
+  if (summary.clipped_samples > 0) {
+    fmt::print(stderr,
+               "note: {} samples exceeded full scale and were clipped in the file; lower "
+               "--peak-amplitude to avoid it, or write --format float\n",
                summary.clipped_samples);
   }
   if (truth) fmt::print("truth: {}\n", args.truth);
