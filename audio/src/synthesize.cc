@@ -136,6 +136,28 @@ Flight FlightFrom(double launch_mps, double g, std::optional<double> terminal_sp
 }  // namespace
 
 std::vector<PlateMode> RectangularPlateModes(const RectangularPlate& plate) {
+  const auto require = [](std::string_view name, double value, double lower, double upper) {
+    if (std::isfinite(value) && value > lower && value <= upper) return;
+    throw ConfigError("plate option " + std::string(name) + " = " + Number(value) +
+                      " is outside (" + Number(lower) + ", " + Number(upper) +
+                      "]; choose a value in range");
+  };
+  require("length_m", plate.length_m, 0.0, 100.0);
+  require("width_m", plate.width_m, 0.0, 100.0);
+  require("thickness_m", plate.thickness_m, 0.0, 1.0);
+  require("youngs_modulus_pa", plate.youngs_modulus_pa, 0.0, 1e13);
+  require("density_kg_per_m3", plate.density_kg_per_m3, 0.0, 1e5);
+  require("poisson_ratio", plate.poisson_ratio, -1.0, 0.5);
+  require("loss_factor", plate.loss_factor, 0.0, 1.0);
+  for (double fraction : {plate.impact_x_fraction, plate.impact_y_fraction, plate.pickup_x_fraction,
+                          plate.pickup_y_fraction}) {
+    require("impact/pickup fraction", fraction, 0.0, 1.0);
+  }
+  require("min_frequency_hz", plate.min_frequency_hz, -1.0, 1e6);
+  require("max_frequency_hz", plate.max_frequency_hz, plate.min_frequency_hz, 1e6);
+  // Modal density is area / (4 pi) sqrt(rho h / D) per rad/s; refuse plates that would need
+  // more modes than any rendering can afford.
+  constexpr size_t kMaxModes = 5000;
   const double rigidity = plate.youngs_modulus_pa * std::pow(plate.thickness_m, 3) /
                           (12.0 * (1.0 - plate.poisson_ratio * plate.poisson_ratio));
   const double wave_factor =
@@ -156,6 +178,11 @@ std::vector<PlateMode> RectangularPlateModes(const RectangularPlate& plate) {
                           shape(m, n, plate.pickup_x_fraction, plate.pickup_y_fraction);
       modes.push_back(
           {frequency_hz, 1.0 / (std::numbers::pi * plate.loss_factor * frequency_hz), gain});
+      if (modes.size() > kMaxModes) {
+        throw ConfigError("plate options give more than " + std::to_string(kMaxModes) +
+                          " modes below max_frequency_hz; use a smaller or thicker plate or a "
+                          "lower max_frequency_hz");
+      }
       largest = std::max(largest, std::abs(gain));
     }
   }

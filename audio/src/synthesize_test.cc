@@ -48,6 +48,28 @@ TEST(SynthesizeBounces, DefaultOptionsAreValid) {
   EXPECT_GT(recording.BallImpactOnsetsS().size(), 5u);
 }
 
+TEST(RectangularPlateModes, FrequenciesFollowKirchhoffTheoryAndDecaysTheLossFactor) {
+  RectangularPlate plate;
+  plate.min_frequency_hz = 0.0;
+  const auto modes = RectangularPlateModes(plate);
+  ASSERT_FALSE(modes.empty());
+  // Fundamental (1, 1) of a simply supported 0.15 x 0.10 x 0.001 m steel plate:
+  // D = 200e9 * 1e-9 / (12 (1 - 0.29^2)) = 18.20 N m, sqrt(D / rho h) = 1.5276 m^2/s,
+  // f_11 = pi / 2 * 1.5276 * (1 / 0.15^2 + 1 / 0.10^2) = 346.6 Hz.
+  const double d = 200e9 * 1e-9 / (12 * (1 - 0.29 * 0.29));
+  const double f11 = std::numbers::pi / 2 * std::sqrt(d / 7.8) * (1 / 0.0225 + 1 / 0.01);
+  EXPECT_NEAR(modes.front().frequency_hz, f11, 1e-9 * f11);
+  for (const PlateMode& mode : modes) {
+    EXPECT_NEAR(mode.decay_s, 1 / (std::numbers::pi * 1e-3 * mode.frequency_hz), 1e-12);
+    EXPECT_LE(std::abs(mode.gain), 1.0);
+  }
+  // Asymptotic modal density of a thin plate: area / 2 * sqrt(rho h / D) modes per Hz
+  // (Cremer & Heckl, "Structure-Borne Sound"); simply supported edges lose ~ a perimeter term,
+  // so allow 15 % below 15 kHz.
+  const double density = 0.015 / 2 * std::sqrt(7.8 / d);
+  EXPECT_NEAR(static_cast<double>(modes.size()), density * 15000, 0.15 * density * 15000);
+}
+
 TEST(SynthesizeBounces, BallisticImpactTimesFollowTheAnalyticSeries) {
   SynthesisOptions options;
   options.drop.drop_height_m = 0.20;
@@ -500,6 +522,12 @@ TEST(SynthesizeBounces, InvalidOptionsGiveOneLineErrorsNamingTheOption) {
   options = {};
   options.leading_digital_silence_s = 1.0;
   ExpectConfigErrorNaming(options, "leading_digital_silence_s");
+  RectangularPlate plate;
+  plate.thickness_m = std::nan("");
+  EXPECT_THROW(RectangularPlateModes(plate), ConfigError);
+  plate = {};
+  plate.thickness_m = 1e-6;  // a foil: millions of modes
+  EXPECT_THROW(RectangularPlateModes(plate), ConfigError);
   options = {};
   options.band_limit_hz = 30000.0;
   ExpectConfigErrorNaming(options, "band_limit_hz");
