@@ -60,11 +60,11 @@ struct RectangularPlate {
 std::vector<PlateMode> RectangularPlateModes(const RectangularPlate& plate);
 
 // RectangularPlateModes of the default RectangularPlate: a 15 x 10 cm, 1 mm steel plate
-// (about 70 modes from 1 to 15 kHz, 20-320 ms decays), the default of SynthesisOptions.
+// (61 modes from 1.07 to 14.6 kHz, 22-300 ms decays), the default of SynthesisOptions.
 std::vector<PlateMode> SteelPlateModes();
 // A ping-pong ball on a kitchen counter, modelled on eeps-pingpong/pingpong.wav: dense modes
-// from 1.1 to 18 kHz ringing 20-360 ms, long enough to overlap the next bounce (a 20 x 13 cm,
-// 1.2 mm plate with loss factor 8e-4). The recorded bandwidth (up to 18 kHz) implies an
+// from 1.3 to 17.7 kHz (109 of them) ringing 22-300 ms, long enough to overlap the next bounce (a
+// 20 x 13 cm, 1.2 mm plate with loss factor 8e-4). The recorded bandwidth (up to 18 kHz) implies an
 // excitation much sharper than the ~1 ms ball contact: a half-sine's spectrum has its first
 // zero at 1.5 / tau, so use a contact_duration_s of ~50 us to reproduce it.
 std::vector<PlateMode> CounterTopModes();
