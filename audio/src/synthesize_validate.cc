@@ -60,6 +60,9 @@ void ValidateSynthesisOptions(const SynthesisOptions& options) {
     RequireRange("drop.gap_between_drops_s", drop.gap_between_drops_s, 0.0, 3600.0, "s");
     RequireAbove("drop.min_flight_s", drop.min_flight_s, 0.0, 10.0, "s");
     RequireRange("drop.max_impacts_per_drop", drop.max_impacts_per_drop, 1, 100000, "");
+    if (drop.terminal_speed_mps) {
+      RequireAbove("drop.terminal_speed_mps", *drop.terminal_speed_mps, 0.1, 1e4, "m/s");
+    }
     if (!drop.restitution.callback) {
       RequireAbove("drop.restitution.constant", drop.restitution.constant, 0.0, 1.0, "");
       RequireRange("drop.restitution.slope_per_mps", drop.restitution.slope_per_mps, -10.0, 10.0,
@@ -137,6 +140,10 @@ void ValidateSynthesisOptions(const SynthesisOptions& options) {
   }
   RequireRange("dc_offset", options.dc_offset, -1.0, 1.0, "full scale");
   if (options.clip_level) RequireAbove("clip_level", *options.clip_level, 0.0, 1.0, "full scale");
+  if (options.band_limit_hz) {
+    RequireRange("band_limit_hz", *options.band_limit_hz, 500.0, 0.45 * options.sample_rate_hz,
+                 "Hz");
+  }
   RequireRange("leading_digital_silence_s", options.leading_digital_silence_s, 0.0, 3600.0, "s");
 
   if (options.channels.empty() || options.channels.size() > 64) {
