@@ -11,6 +11,8 @@ namespace bouncecal::apps {
 void AddVersionCommand(CLI::App& app);
 // simulate drop: the DEM single-ball drop (apps/simulate_command.cc).
 void AddSimulateCommand(CLI::App& app);
+// pack: multi-particle packing scenes (apps/pack_command.cc).
+void AddPackCommand(CLI::App& app);
 
 }  // namespace bouncecal::apps
 

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   apps::AddVersionCommand(app);
   apps::AddSimulateCommand(app);
+  apps::AddPackCommand(app);
 
   try {
     app.parse(argc, argv);
