@@ -192,9 +192,8 @@ void AddPackCommand(CLI::App& app) {
       "packing density, density profile, coordination and kinetic energy.\n"
       "Example: bouncecal pack samples/scenes/paper000_cylinder_pour.json --threads 2 "
       "--json result.json --plot");
-  command->add_option("scene", args->scene, "Scene file (JSON)")
-      ->required()
-      ->check(CLI::ExistingFile);
+  // No ExistingFile check: a missing scene is an input-file error (status 2), not a usage one.
+  command->add_option("scene", args->scene, "Scene file (JSON)")->required();
   command
       ->add_option("--threads", args->threads,
                    "OpenMP threads (count, >= 1); results do not depend on it")

@@ -192,14 +192,16 @@ TEST(PackingEngine, ElasticFrictionlessGasConservesEnergy) {
 }
 
 TEST(PackingEngine, ResultsDoNotDependOnTheThreadCount) {
+  // 1500 particles: enough pairs and particles that the pool really splits both loops.
   auto one =
-      MakeEngine<3>(Settings(false, 1), BoxWalls(0.05), WaltonBraunLaw(1e6, 0.4), AllPhysics(true));
+      MakeEngine<3>(Settings(false, 1), BoxWalls(0.1), WaltonBraunLaw(1e6, 0.4), AllPhysics(true));
   auto two =
-      MakeEngine<3>(Settings(false, 2), BoxWalls(0.05), WaltonBraunLaw(1e6, 0.4), AllPhysics(true));
-  FillRandomCloud(*one, 200, 0.05, 0.0035, 9);
-  FillRandomCloud(*two, 200, 0.05, 0.0035, 9);
-  one->Advance(200);
-  two->Advance(200);
+      MakeEngine<3>(Settings(false, 2), BoxWalls(0.1), WaltonBraunLaw(1e6, 0.4), AllPhysics(true));
+  FillRandomCloud(*one, 1500, 0.1, 0.0035, 9);
+  FillRandomCloud(*two, 1500, 0.1, 0.0035, 9);
+  one->Advance(100);
+  two->Advance(100);
+  ASSERT_GT(two->pairs().size(), 2048u);
   for (std::int32_t i = 0; i < one->state().size(); ++i) {
     ASSERT_TRUE(one->state().position_m[i] == two->state().position_m[i]) << i;
     ASSERT_TRUE(one->state().velocity_mps[i] == two->state().velocity_mps[i]) << i;

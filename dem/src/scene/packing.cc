@@ -290,6 +290,22 @@ void WriteLammpsData(std::ostream& out, const ParticleSnapshot& snap, const Scen
       hi[d] = std::max(hi[d], snap.position_m[i][d] + 2 * snap.radius_m[i]);
     }
   }
+  // The box must hold the container too, or LAMMPS loses atoms that reach its walls.
+  const auto& c = scene.container;
+  const double margin = scene.particles.diameter.MaxDiameterM();
+  if (c.kind == ContainerKind::kCylinder) {
+    for (int d = 0; d < 2; ++d) {
+      lo[d] = std::min(lo[d], c.center_m[d] - c.radius_m - margin);
+      hi[d] = std::max(hi[d], c.center_m[d] + c.radius_m + margin);
+    }
+    lo[2] = std::min(lo[2], c.center_m[2] - margin);
+    hi[2] = std::max(hi[2], c.center_m[2] + c.height_m + margin);
+  } else if (c.kind == ContainerKind::kBox) {
+    for (int d = 0; d < scene.dimension; ++d) {
+      lo[d] = std::min(lo[d], c.min_m[d] - margin);
+      hi[d] = std::max(hi[d], c.max_m[d] + margin);
+    }
+  }
   const char* axes[3] = {"x", "y", "z"};
   for (int d = 0; d < 3; ++d) {
     if (scene.dimension == 2 && d == 2) {

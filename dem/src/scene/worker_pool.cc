@@ -6,6 +6,7 @@ namespace {
 // About 5-10 us of polling before sleeping: long enough to catch the next loop of the same
 // step without a system call, short enough to give the core away on a busy machine.
 constexpr int kSpinIterations = 200;
+constexpr std::int64_t kMinItemsPerThread = 512;
 
 inline void CpuRelax() {
 #if defined(__x86_64__) || defined(__i386__)
@@ -37,7 +38,9 @@ void WorkerPool::RunChunk(int chunk) {
 
 void WorkerPool::ParallelFor(std::int64_t n,
                              const std::function<void(int, std::int64_t, std::int64_t)>& body) {
-  if (workers_.empty()) {
+  // Small loops run on the caller: waking a sleeping worker costs microseconds on an idle
+  // machine and a scheduler slice (milliseconds) on a busy one. The split never changes results.
+  if (workers_.empty() || n < kMinItemsPerThread * threads()) {
     if (n > 0) body(0, 0, n);
     return;
   }
