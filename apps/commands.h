@@ -18,6 +18,8 @@ void AddSynthCommand(CLI::App& app);
 void AddAnalyzeCommand(CLI::App& app);
 void AddExportCommand(CLI::App& app);
 void AddExportCheckCommand(CLI::App& app);
+// pack: multi-particle packing scenes (apps/pack_command.cc).
+void AddPackCommand(CLI::App& app);
 
 }  // namespace bouncecal::apps
 

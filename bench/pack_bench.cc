@@ -1,0 +1,176 @@
+// Timed packing run: the paper 000 pour (or any 3D scene) from one start file, reported as
+// particle-steps per second. When a LAMMPS executable (lmp, lmp_serial or lmp_stable) is on the
+// PATH it runs the same start positions with pair gran/hooke/history (the paper's damping mapped
+// to a linear dashpot of equal restitution, PHYSICS.md section 4) and prints the speed ratio
+// from this one run. Figures only: nothing here asserts a time.
+//
+//   pack_bench [SCENE.json] [--duration S] [--threads N] [--work DIR]
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "bouncecal/atomic_file.h"
+#include "bouncecal/dem/packing.h"
+#include "bouncecal/dem/scene.h"
+#include "bouncecal/error.h"
+
+namespace {
+
+namespace dem = bouncecal::dem;
+
+double CpuSeconds(int who = RUSAGE_SELF) {
+  rusage usage{};
+  getrusage(who, &usage);
+  return usage.ru_utime.tv_sec + usage.ru_utime.tv_usec * 1e-6 + usage.ru_stime.tv_sec +
+         usage.ru_stime.tv_usec * 1e-6;
+}
+
+std::string FindLammps() {
+  for (const char* name : {"lmp", "lmp_serial", "lmp_stable", "lmp_mpi"}) {
+    const std::string command = std::string("command -v ") + name + " >/dev/null 2>&1";
+    if (std::system(command.c_str()) == 0) return name;
+  }
+  return "";
+}
+
+// The same scene in LAMMPS: walton-braun gamma_n has no LAMMPS form, so the normal damping is
+// the linear dashpot with the same restitution for a particle pair (m_eff = m/2).
+std::string LammpsInput(const dem::Scene& scene, const std::filesystem::path& data,
+                        std::int64_t steps) {
+  const double k = scene.material.law.Get("stiffness_n_per_m");
+  const double gamma = scene.material.law.kind == dem::ContactLawKind::kWaltonBraun
+                           ? scene.material.law.Get("gamma_n")
+                           : 0.5;
+  const double e = std::sqrt((1 - gamma) / (1 + gamma));
+  const double d = scene.particles.diameter.MaxDiameterM();
+  const double m = scene.particles.species[0].density_kg_per_m3 * M_PI / 6 * d * d * d;
+  const double m_eff = m / 2;
+  const double c = 2 * std::sqrt(m_eff * k) * (-std::log(e)) /
+                   std::sqrt(M_PI * M_PI + std::log(e) * std::log(e));
+  const double gamma_n = c / m_eff;  // LAMMPS gran/hooke/history takes damping per unit mass
+  // Walls: LAMMPS uses m_eff = m there, so the same damping ratio needs gamma_n / sqrt(2).
+  const auto& ct = scene.container;
+  std::ostringstream in;
+  in << "units si\natom_style sphere\nboundary f f f\ncomm_modify vel yes\n"
+     << "read_data " << data.string() << "\n"
+     << "pair_style gran/hooke/history " << k << " " << scene.material.tangential_stiffness_n_per_m
+     << " " << gamma_n << " 0 " << scene.material.friction << " 1\npair_coeff * *\n"
+     << "neighbor " << 0.1 * d << " bin\nneigh_modify delay 0\n"
+     << "fix floor all wall/gran hooke/history " << k << " "
+     << scene.material.tangential_stiffness_n_per_m << " " << gamma_n / std::sqrt(2.0) << " 0 "
+     << scene.material.wall_friction << " 1 zplane " << ct.center_m[2] << " NULL\n"
+     << "fix side all wall/gran hooke/history " << k << " "
+     << scene.material.tangential_stiffness_n_per_m << " " << gamma_n / std::sqrt(2.0) << " 0 "
+     << scene.material.wall_friction << " 1 zcylinder " << ct.radius_m << "\n"
+     << "fix grav all gravity " << scene.gravity_mps2 << " vector 0 0 -1\n"
+     << "fix integrate all nve/sphere\ntimestep " << scene.time_step_s << "\nthermo 10000\n"
+     << "run " << steps << "\n";
+  return in.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::filesystem::path scene_path =
+      std::filesystem::path(BOUNCECAL_SOURCE_DIR) / "samples/scenes/paper000_cylinder_pour.json";
+  double duration = -1;
+  int threads = 2;
+  std::filesystem::path work = std::filesystem::temp_directory_path() / "bouncecal_pack_bench";
+  for (int a = 1; a < argc; ++a) {
+    const std::string arg = argv[a];
+    if (arg == "--duration" && a + 1 < argc) {
+      duration = std::atof(argv[++a]);
+    } else if (arg == "--threads" && a + 1 < argc) {
+      threads = std::atoi(argv[++a]);
+    } else if (arg == "--work" && a + 1 < argc) {
+      work = argv[++a];
+    } else {
+      scene_path = arg;
+    }
+  }
+  try {
+    dem::Scene scene = dem::LoadScene(scene_path);
+    if (duration >= 0) scene.duration_s = duration;
+    std::filesystem::create_directories(work);
+    // One start file for both engines: every particle placed at t = 0 (a pour region is made
+    // tall enough to hold them all), written as a LAMMPS data file and read back.
+    dem::Scene start = scene;
+    start.duration_s = 0;
+    if (start.insertion.kind == dem::InsertionKind::kPour) {
+      start.insertion.kind = dem::InsertionKind::kRandom;
+      auto& region = start.insertion.region;
+      const double volume =
+          scene.particles.count * scene.particles.diameter.MeanVolumeM3(scene.dimension) / 0.25;
+      const double area =
+          region.kind == dem::RegionKind::kCylinder
+              ? M_PI * region.radius_m * region.radius_m
+              : (region.max_m[0] - region.min_m[0]) * (region.max_m[1] - region.min_m[1]);
+      if (region.kind == dem::RegionKind::kCylinder) {
+        region.z_max_m = std::max(region.z_max_m, region.z_min_m + volume / area);
+      } else {
+        region.max_m[2] = std::max(region.max_m[2], region.min_m[2] + volume / area);
+      }
+    }
+    const auto placed = dem::RunPacking(start);
+    const auto data = work / "start.data";
+    std::ostringstream text;
+    dem::WriteLammpsData(text, placed.final_state, scene);
+    bouncecal::WriteFileAtomically(data, text.str());
+    scene.insertion.kind = dem::InsertionKind::kFile;
+    scene.insertion.file = data;
+
+    dem::PackOptions options;
+    options.threads = threads;
+    const double cpu0 = CpuSeconds();
+    const auto summary = dem::RunPacking(scene, options);
+    const double cpu = CpuSeconds() - cpu0;
+    const double particle_steps = static_cast<double>(summary.particles) * summary.steps;
+    std::printf("bouncecal: %s, %lld particles, %lld steps (%.3g s simulated), %d thread(s)\n",
+                scene.name.c_str(), static_cast<long long>(summary.particles),
+                static_cast<long long>(summary.steps), summary.simulated_s, threads);
+    std::printf("  wall %.2f s, cpu %.2f s, %.3g particle-steps/s (wall), %.3g per cpu-second\n",
+                summary.wall_s, cpu, summary.particle_steps_per_s, particle_steps / cpu);
+    std::printf("  packing density %.4f, mean coordination %.3f, %lld neighbour rebuilds\n",
+                summary.packing_density, summary.coordination.mean,
+                static_cast<long long>(summary.neighbor_rebuilds));
+
+    const std::string lammps = FindLammps();
+    if (lammps.empty()) {
+      std::printf("LAMMPS: not installed (apt-get install lammps) - no ratio this run\n");
+      return 0;
+    }
+    const auto input = work / "in.pack";
+    bouncecal::WriteFileAtomically(input, LammpsInput(scene, data, summary.steps));
+    const std::string command = lammps + " -in " + input.string() + " -log " +
+                                (work / "log.lammps").string() + " > /dev/null 2>&1";
+    const double child_cpu0 = CpuSeconds(RUSAGE_CHILDREN);
+    const auto t0 = std::chrono::steady_clock::now();
+    const int status = std::system(command.c_str());
+    const double lammps_wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double lammps_cpu = CpuSeconds(RUSAGE_CHILDREN) - child_cpu0;
+    if (status != 0) {
+      std::printf("LAMMPS: %s failed (status %d); see %s\n", lammps.c_str(), status,
+                  (work / "log.lammps").string().c_str());
+      return 0;
+    }
+    std::printf(
+        "LAMMPS (%s, gran/hooke/history, 1 rank): wall %.2f s, cpu %.2f s, %.3g "
+        "particle-steps/s (wall)\n",
+        lammps.c_str(), lammps_wall, lammps_cpu, particle_steps / lammps_wall);
+    // On a shared machine the wall ratio is noisy; the cpu ratio compares the work done.
+    std::printf("speed ratio bouncecal / LAMMPS: %.2f (wall), %.2f (cpu)\n",
+                lammps_wall / summary.wall_s, lammps_cpu / cpu);
+  } catch (const bouncecal::Error& error) {
+    std::fprintf(stderr, "pack_bench: %s\n", error.what());
+    return 1;
+  }
+  return 0;
+}
