@@ -9,6 +9,12 @@ namespace bouncecal::apps {
 // does the work and throws bouncecal::Error subclasses for problems the user can fix; main()
 // turns them into one-line messages and exit statuses.
 void AddVersionCommand(CLI::App& app);
+// simulate drop: the DEM single-ball drop (apps/simulate_command.cc).
+void AddSimulateCommand(CLI::App& app);
+// pack: multi-particle packing scenes (apps/pack_command.cc).
+void AddPackCommand(CLI::App& app);
+// export / export-check: LAMMPS and LIGGGHTS decks for a material card, and their verification
+// (apps/export_command.cc, apps/export_check_command.cc).
 void AddExportCommand(CLI::App& app);
 void AddExportCheckCommand(CLI::App& app);
 

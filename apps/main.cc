@@ -22,6 +22,8 @@ int main(int argc, char** argv) {
       "All quantities are SI (m, s, kg, N/m) unless an option name says otherwise."};
   app.require_subcommand(1);
   apps::AddVersionCommand(app);
+  apps::AddSimulateCommand(app);
+  apps::AddPackCommand(app);
   apps::AddExportCommand(app);
   apps::AddExportCheckCommand(app);
 

@@ -1,0 +1,89 @@
+#ifndef BOUNCECAL_DEM_PACKING_H_
+#define BOUNCECAL_DEM_PACKING_H_
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "bouncecal/dem/packing_measures.h"
+#include "bouncecal/dem/scene.h"
+
+namespace bouncecal::dem {
+
+struct PackProgress {
+  double time_s = 0;
+  double duration_s = 0;
+  std::int64_t steps = 0;
+  std::int64_t particles = 0;
+  double wall_s = 0;
+};
+
+struct PackOptions {
+  int threads = 1;  // OpenMP threads; results are identical for every thread count
+  // Verlet skin as a fraction of the largest diameter: pairs are listed when their surfaces are
+  // closer than this and the list is rebuilt once a particle has moved half of it.
+  double skin_diameters = 0.1;
+  bool brute_force_pairs = false;    // list all N^2/2 pairs (reference path for tests)
+  std::optional<double> duration_s;  // overrides the scene's duration
+  std::int64_t progress_every_steps = 2000;
+  std::function<void(const PackProgress&)> progress;
+  // Called at t = 0, every outputs.snapshot_interval_s and at the end when that is > 0.
+  std::function<void(const ParticleSnapshot&)> snapshot;
+
+  // Throws ConfigError naming the option and its valid range.
+  void Validate() const;
+};
+
+enum class PackStopReason { kDuration, kUnstable };
+std::string_view ToString(PackStopReason reason);
+
+struct HistoryPoint {
+  double time_s = 0;
+  double packing_density = 0;  // in the scene's band (3D) or window (2D)
+  double kinetic_energy_j = 0;
+  double max_speed_mps = 0;
+  std::int64_t particles = 0;
+};
+
+struct PackSummary {
+  PackStopReason stop_reason = PackStopReason::kDuration;
+  std::string message;  // one human sentence
+  std::string physics;  // the force loop that ran, e.g. "walton-braun+tangential+rotation"
+  std::int64_t particles = 0;
+  std::int64_t particles_not_inserted = 0;  // pour/random regions too full to take them all
+  std::int64_t steps = 0;
+  std::int64_t neighbor_rebuilds = 0;
+  double time_step_s = 0;
+  double simulated_s = 0;
+  double wall_s = 0;
+  double particle_steps_per_s = 0;
+  int threads = 1;
+  double packing_density = 0;
+  double kinetic_energy_j = 0;
+  CoordinationStats coordination;
+  DensityProfile profile;
+  std::vector<HistoryPoint> history;
+  ParticleSnapshot final_state;
+};
+
+// Runs a packing scene to its duration. Throws ConfigError/InputError for a bad scene (region
+// too small, unreadable particle file); an unstable run (non-finite state) stops early with
+// kUnstable and a message instead.
+PackSummary RunPacking(const Scene& scene, const PackOptions& options = {});
+
+// "walton-braun+tangential+rotation+vdw+local-damping": the physics a scene runs with.
+std::string DescribePhysics(const Scene& scene);
+
+// One LAMMPS text dump frame (ITEM: TIMESTEP ... ITEM: ATOMS id type radius x y z vx vy vz),
+// readable by OVITO and ParaView.
+void WriteLammpsDump(std::ostream& out, const ParticleSnapshot& snapshot, const Scene& scene);
+
+// A LAMMPS data file (atom_style sphere) of the snapshot, to feed the same start to LAMMPS.
+void WriteLammpsData(std::ostream& out, const ParticleSnapshot& snapshot, const Scene& scene);
+
+}  // namespace bouncecal::dem
+
+#endif  // BOUNCECAL_DEM_PACKING_H_

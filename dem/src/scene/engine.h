@@ -1,0 +1,129 @@
+#ifndef BOUNCECAL_DEM_SCENE_ENGINE_H_
+#define BOUNCECAL_DEM_SCENE_ENGINE_H_
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "bouncecal/dem/contact_laws.h"
+#include "bouncecal/dem/scene.h"
+#include "scene/pair_list.h"
+#include "scene/vec.h"
+#include "scene/walls.h"
+#include "scene/worker_pool.h"
+
+namespace bouncecal::dem::scene {
+
+// Everything the force loop needs besides the law and the physics flags, in SI.
+struct EngineSettings {
+  double time_step_s = 1e-5;
+  double gravity_mps2 = 9.81;  // acts along -z (3D) or -y (2D)
+  double tangential_stiffness_n_per_m = 1e7;
+  double friction = 0.3;
+  double wall_friction = 0.3;
+  double hamaker_j = 21.1e-20;
+  double vdw_min_gap_m = 4e-10;
+  double vdw_cutoff_gap_m = 1e-6;
+  double local_damping = 0.7;
+  // Verlet skin: pairs closer than r_i + r_j + skin are listed and the list is rebuilt once any
+  // particle has moved skin/2. 0 rebuilds every step.
+  double skin_m = 0;
+  bool brute_force_pairs = false;  // list every pair i < j (tests only: O(N^2))
+  int threads = 1;
+};
+
+template <int Dim>
+struct ParticleState {
+  std::vector<Vec<Dim>> position_m;
+  std::vector<Vec<Dim>> velocity_mps;
+  std::vector<Vec<Dim>> force_n;
+  std::vector<Spin<Dim>> angular_velocity_radps;
+  std::vector<Spin<Dim>> torque_nm;
+  std::vector<double> radius_m;
+  std::vector<double> mass_kg;
+  std::vector<double> inverse_mass;
+  std::vector<double> inverse_inertia;  // solid sphere: I = 2/5 m r^2 (2D disks too: see docs)
+  std::vector<std::int32_t> species;
+
+  std::int32_t size() const { return static_cast<std::int32_t>(position_m.size()); }
+};
+
+// The physics a force loop is compiled for. Only what a scene declares runs in its inner loop.
+template <bool Tangential, bool Rotation, bool VanDerWaals, bool LocalDamping>
+struct Physics {
+  static constexpr bool kTangential = Tangential;
+  static constexpr bool kRotation = Rotation;
+  static constexpr bool kVanDerWaals = VanDerWaals;
+  static constexpr bool kLocalDamping = LocalDamping;
+};
+
+// State, walls, neighbour list and contact history; the force loop lives in the derived
+// template so that the law and the physics are compile-time choices.
+template <int Dim>
+class EngineBase {
+ public:
+  EngineBase(const EngineSettings& settings, std::vector<Wall<Dim>> walls);
+  virtual ~EngineBase() = default;
+  EngineBase(const EngineBase&) = delete;
+  EngineBase& operator=(const EngineBase&) = delete;
+
+  // Appends particles at rest (or with the given velocity); forces are recomputed lazily.
+  void AddParticle(const Vec<Dim>& position_m, const Vec<Dim>& velocity_mps, double radius_m,
+                   double density_kg_per_m3, std::int32_t species);
+
+  // Forces and torques at the current positions and velocities (no integration).
+  virtual void ComputeForces() = 0;
+  // `steps` velocity-Verlet steps; positions, velocities and forces are synchronised after it.
+  virtual void Advance(std::int64_t steps) = 0;
+
+  const ParticleState<Dim>& state() const { return state_; }
+  ParticleState<Dim>& mutable_state() { return state_; }
+  const EngineSettings& settings() const { return settings_; }
+  const std::vector<Wall<Dim>>& walls() const { return walls_; }
+  const PairList& pairs() const { return pairs_; }
+  std::int64_t steps() const { return steps_; }
+  double time_s() const { return static_cast<double>(steps_) * settings_.time_step_s; }
+  std::int64_t rebuilds() const { return rebuilds_; }
+  // Translational plus rotational kinetic energy.
+  double KineticEnergyJ() const;
+  // True once a position or velocity is not finite (the step was unstable).
+  bool HasNonFiniteState() const;
+  // The tangential spring of pair p (tests).
+  const Vec<Dim>& PairShear(std::size_t p) const { return pair_shear_[p]; }
+
+ protected:
+  // New pair list (grid or all pairs), carrying over the history of pairs that stay listed.
+  void RebuildPairs(double reach_m);
+  double PairReachM(bool van_der_waals) const;
+  Vec<Dim> Gravity() const;
+
+  EngineSettings settings_;
+  std::vector<Wall<Dim>> walls_;
+  ParticleState<Dim> state_;
+  PairList pairs_;
+  std::vector<Vec<Dim>> pair_shear_;
+  std::vector<NormalHistory> pair_normal_history_;
+  std::vector<double> pair_mass_kg_;   // effective mass m_i m_j / (m_i + m_j)
+  std::vector<double> pair_radius_m_;  // effective radius r_i r_j / (r_i + r_j)
+  std::vector<Vec<Dim>> pair_force_;   // on the first particle of the pair
+  std::vector<Spin<Dim>> pair_twist_;  // n x F_t: torque on a member is -radius * twist
+  std::vector<Vec<Dim>> wall_shear_;   // particle * walls + wall
+  std::vector<NormalHistory> wall_normal_history_;
+  std::vector<Vec<Dim>> position_at_rebuild_;
+  std::unique_ptr<WorkerPool> pool_;
+  bool pairs_valid_ = false;
+  bool forces_valid_ = false;
+  std::int64_t steps_ = 0;
+  std::int64_t rebuilds_ = 0;
+};
+
+// The engine for a scene: the law variant and physics flags become template arguments here.
+template <int Dim>
+std::unique_ptr<EngineBase<Dim>> MakeEngine(const EngineSettings& settings,
+                                            std::vector<Wall<Dim>> walls,
+                                            const ContactLawConfig& law,
+                                            const PhysicsSpec& physics);
+
+}  // namespace bouncecal::dem::scene
+
+#endif  // BOUNCECAL_DEM_SCENE_ENGINE_H_

@@ -1,0 +1,314 @@
+#ifndef BOUNCECAL_DEM_SCENE_ENGINE_IMPL_H_
+#define BOUNCECAL_DEM_SCENE_ENGINE_IMPL_H_
+
+// The force loop and integrator, templated on dimension, normal contact law and physics. Only
+// the engine factories include this file.
+
+#include <algorithm>
+#include <cmath>
+#include <variant>
+
+#include "scene/engine.h"
+
+namespace bouncecal::dem::scene {
+
+template <int Dim, class Law, class Phys>
+class Engine final : public EngineBase<Dim> {
+  static_assert(!Phys::kRotation || Phys::kTangential,
+                "only the tangential force makes torque (paper 000 eq. 2)");
+
+ public:
+  Engine(const EngineSettings& settings, std::vector<Wall<Dim>> walls, Law law)
+      : EngineBase<Dim>(settings, std::move(walls)),
+        law_(std::move(law)),
+        gravity_(this->Gravity()) {}
+
+  void ComputeForces() override {
+    PrepareStep();
+    PairForces();
+    const std::int32_t n = this->state_.size();
+    for (std::int32_t i = 0; i < n; ++i) GatherForce(i);
+    this->forces_valid_ = true;
+  }
+
+  void Advance(std::int64_t steps) override {
+    if (steps <= 0) return;
+    if (!this->forces_valid_) ComputeForces();
+    const std::int32_t n = this->state_.size();
+    const double dt = this->settings_.time_step_s;
+    const double half_dt = 0.5 * dt;
+    auto& pool = *this->pool_;
+    std::vector<double> chunk_move2(static_cast<std::size_t>(pool.threads()), 0.0);
+    // Velocity Verlet (Verlet 1967; Allen & Tildesley ch. 3) with the closing half kick of one
+    // step fused into the opening half kick and drift of the next, so a step costs two passes.
+    auto kick_drift = [&](int chunk, std::int64_t begin, std::int64_t end) {
+      double move2 = 0;
+      for (auto i = static_cast<std::int32_t>(begin); i < end; ++i) {
+        move2 = std::max(move2, KickDrift(i, half_dt));
+      }
+      chunk_move2[static_cast<std::size_t>(chunk)] = move2;
+    };
+    pool.ParallelFor(n, kick_drift);
+    for (std::int64_t step = 0; step < steps; ++step) {
+      double max_move2 = 0;  // max is exact, so the order of the chunks does not matter
+      for (double m : chunk_move2) max_move2 = std::max(max_move2, m);
+      if (!this->settings_.brute_force_pairs && 4 * max_move2 > Square(this->settings_.skin_m)) {
+        this->pairs_valid_ = false;
+      }
+      PrepareStep();
+      PairForces();
+      const bool last = step + 1 == steps;
+      std::fill(chunk_move2.begin(), chunk_move2.end(), 0.0);
+      pool.ParallelFor(n, [&](int chunk, std::int64_t begin, std::int64_t end) {
+        double move2 = 0;
+        for (auto i = static_cast<std::int32_t>(begin); i < end; ++i) {
+          GatherForce(i);
+          if (last) {
+            HalfKick(i, half_dt);
+          } else {
+            move2 = std::max(move2, KickDrift(i, dt));
+          }
+        }
+        chunk_move2[static_cast<std::size_t>(chunk)] = move2;
+      });
+      ++this->steps_;
+    }
+    this->forces_valid_ = true;
+  }
+
+ private:
+  using V = Vec<Dim>;
+  using S = Spin<Dim>;
+  static double Square(double x) { return x * x; }
+
+  void PrepareStep() {
+    if (!this->pairs_valid_) this->RebuildPairs(this->PairReachM(Phys::kVanDerWaals));
+  }
+
+  // v(t + dt/2) = v + kick a; x += dt v. Returns the squared distance moved since the last
+  // neighbour-list build.
+  double KickDrift(std::int32_t i, double kick) {
+    auto& s = this->state_;
+    s.velocity_mps[i] += (kick * s.inverse_mass[i]) * s.force_n[i];
+    if constexpr (Phys::kRotation) {
+      s.angular_velocity_radps[i] += (kick * s.inverse_inertia[i]) * s.torque_nm[i];
+    }
+    s.position_m[i] += this->settings_.time_step_s * s.velocity_mps[i];
+    return (s.position_m[i] - this->position_at_rebuild_[i]).squaredNorm();
+  }
+
+  void HalfKick(std::int32_t i, double half_dt) {
+    auto& s = this->state_;
+    s.velocity_mps[i] += (half_dt * s.inverse_mass[i]) * s.force_n[i];
+    if constexpr (Phys::kRotation) {
+      s.angular_velocity_radps[i] += (half_dt * s.inverse_inertia[i]) * s.torque_nm[i];
+    }
+  }
+
+  // Cundall & Strack (1979) tangential spring on the accumulated tangential displacement,
+  // capped by Coulomb friction (paper 000 eq. 5-6). The spring is first rotated into the current
+  // tangent plane with its length kept (as LAMMPS gran/hooke/history does), so a rolling contact
+  // does not grow a normal component. When it slides the spring is reset to the Coulomb force,
+  // so |F_t| never exceeds mu |F_n|. Returns the force on the body whose relative velocity vt is.
+  V TangentialForce(V& shear, const V& n, const V& vt, double normal_force_n,
+                    double friction) const {
+    const double old2 = shear.squaredNorm();
+    if (old2 > 0) {
+      shear -= shear.dot(n) * n;
+      const double new2 = shear.squaredNorm();
+      if (new2 > 0) shear *= std::sqrt(old2 / new2);
+    }
+    shear += this->settings_.time_step_s * vt;
+    const double ks = this->settings_.tangential_stiffness_n_per_m;
+    V force = -ks * shear;
+    const double cap = friction * std::abs(normal_force_n);
+    const double f2 = force.squaredNorm();
+    if (f2 > cap * cap) {
+      force *= cap / std::sqrt(f2);
+      shear = force / -ks;
+    }
+    return force;
+  }
+
+  void PairForces() {
+    this->pool_->ParallelFor(static_cast<std::int64_t>(this->pairs_.size()),
+                             [this](int, std::int64_t begin, std::int64_t end) {
+                               for (std::int64_t p = begin; p < end; ++p) {
+                                 PairForce(static_cast<std::size_t>(p));
+                               }
+                             });
+  }
+
+  void PairForce(std::size_t p) {
+    const auto& s = this->state_;
+    const std::int32_t i = this->pairs_.first[p];
+    const std::int32_t j = this->pairs_.second[p];
+    const V d = s.position_m[i] - s.position_m[j];
+    const double r_sum = s.radius_m[i] + s.radius_m[j];
+    const double dist2 = d.squaredNorm();
+    double reach = r_sum;
+    if constexpr (Phys::kVanDerWaals) reach += this->settings_.vdw_cutoff_gap_m;
+    V& force = this->pair_force_[p];
+    if (dist2 >= reach * reach) {
+      force.setZero();
+      if constexpr (Phys::kRotation) this->pair_twist_[p] = ZeroSpin<Dim>();
+      ResetPairHistory(p);
+      return;
+    }
+    const double dist = std::sqrt(dist2);
+    const V n = d / dist;  // from j to i
+    const double overlap = r_sum - dist;
+    force.setZero();
+    if constexpr (Phys::kRotation) this->pair_twist_[p] = ZeroSpin<Dim>();
+    if (overlap > 0) {
+      V v_rel = s.velocity_mps[i] - s.velocity_mps[j];
+      if constexpr (Phys::kRotation) {
+        const S spin = s.radius_m[i] * s.angular_velocity_radps[i] +
+                       s.radius_m[j] * s.angular_velocity_radps[j];
+        v_rel -= SpinCross(spin, n);
+      }
+      const double v_n = v_rel.dot(n);
+      const NormalContact contact{overlap, -v_n, this->pair_mass_kg_[p], this->pair_radius_m_[p]};
+      const double normal_force = law_.NormalForce(contact, this->pair_normal_history_[p]);
+      force = normal_force * n;
+      if constexpr (Phys::kTangential) {
+        const V v_t = v_rel - v_n * n;
+        const V tangential =
+            TangentialForce(this->pair_shear_[p], n, v_t, normal_force, this->settings_.friction);
+        force += tangential;
+        if constexpr (Phys::kRotation) this->pair_twist_[p] = TorqueCross(n, tangential);
+      }
+    } else {
+      ResetPairHistory(p);
+    }
+    if constexpr (Phys::kVanDerWaals) {
+      // Hamaker (1937) sphere-sphere attraction for gaps h << R: F = A R_eff / (6 h^2), i.e.
+      // A R / (12 h^2) for equal spheres (paper 004 eq. 2). It diverges at contact, so the gap
+      // is floored at vdw_min_gap_m (an interatomic distance, Israelachvili ch. 13).
+      const double gap = std::max(-overlap, this->settings_.vdw_min_gap_m);
+      force -= (this->settings_.hamaker_j * this->pair_radius_m_[p] / (6 * gap * gap)) * n;
+    }
+  }
+
+  void ResetPairHistory(std::size_t p) {
+    if constexpr (Phys::kTangential) this->pair_shear_[p].setZero();
+    if constexpr (Law::kNeedsHistory) this->pair_normal_history_[p] = NormalHistory{};
+  }
+
+  // Sum of the pair forces of particle i in a fixed order, plus walls, gravity and damping.
+  void GatherForce(std::int32_t i) {
+    auto& s = this->state_;
+    const auto& pairs = this->pairs_;
+    const double r_i = s.radius_m[i];
+    V force = s.mass_kg[i] * gravity_;
+    S torque = ZeroSpin<Dim>();
+    for (std::int32_t p = pairs.begin[i]; p < pairs.begin[i + 1]; ++p) {
+      force += this->pair_force_[p];
+      if constexpr (Phys::kRotation) torque -= r_i * this->pair_twist_[p];
+    }
+    for (std::int32_t k = pairs.reverse_begin[i]; k < pairs.reverse_begin[i + 1]; ++k) {
+      const std::int32_t p = pairs.reverse_pairs[k];
+      force -= this->pair_force_[p];
+      if constexpr (Phys::kRotation) torque -= r_i * this->pair_twist_[p];
+    }
+    const std::size_t wall_count = this->walls_.size();
+    for (std::size_t w = 0; w < wall_count; ++w) {
+      WallForce(i, w, force, torque);
+    }
+    if constexpr (Phys::kLocalDamping) {
+      // Cundall (1987) local non-viscous damping, as in paper 004 eq. 12: each component of the
+      // unbalanced force is reduced by alpha |F| against the velocity. It removes kinetic
+      // energy without a velocity scale and leaves the state at rest unchanged.
+      const double alpha = this->settings_.local_damping;
+      for (int d = 0; d < Dim; ++d) {
+        const double v = s.velocity_mps[i][d];
+        if (v != 0) force[d] -= alpha * std::abs(force[d]) * (v > 0 ? 1.0 : -1.0);
+      }
+      if constexpr (Phys::kRotation) {
+        if constexpr (Dim == 3) {
+          for (int d = 0; d < 3; ++d) {
+            const double w = s.angular_velocity_radps[i][d];
+            if (w != 0) torque[d] -= alpha * std::abs(torque[d]) * (w > 0 ? 1.0 : -1.0);
+          }
+        } else {
+          const double w = s.angular_velocity_radps[i];
+          if (w != 0) torque -= alpha * std::abs(torque) * (w > 0 ? 1.0 : -1.0);
+        }
+      }
+    }
+    s.force_n[i] = force;
+    if constexpr (Phys::kRotation) s.torque_nm[i] = torque;
+  }
+
+  // A wall is a body of infinite mass and curvature radius: m_eff = m, R_eff = r.
+  void WallForce(std::int32_t i, std::size_t w, V& force, S& torque) {
+    auto& s = this->state_;
+    const std::size_t h = static_cast<std::size_t>(i) * this->walls_.size() + w;
+    V n;
+    const double r_i = s.radius_m[i];
+    const double overlap = this->walls_[w].Overlap(s.position_m[i], r_i, n);
+    if (overlap <= 0) {
+      if constexpr (Phys::kTangential) this->wall_shear_[h].setZero();
+      if constexpr (Law::kNeedsHistory) this->wall_normal_history_[h] = NormalHistory{};
+      return;
+    }
+    V v_rel = s.velocity_mps[i];
+    if constexpr (Phys::kRotation) v_rel -= SpinCross(r_i * s.angular_velocity_radps[i], n);
+    const double v_n = v_rel.dot(n);
+    const NormalContact contact{overlap, -v_n, s.mass_kg[i], r_i};
+    const double normal_force = law_.NormalForce(contact, this->wall_normal_history_[h]);
+    force += normal_force * n;
+    if constexpr (Phys::kTangential) {
+      const V v_t = v_rel - v_n * n;
+      const V tangential = TangentialForce(this->wall_shear_[h], n, v_t, normal_force,
+                                           this->settings_.wall_friction);
+      force += tangential;
+      if constexpr (Phys::kRotation) torque -= r_i * TorqueCross(n, tangential);
+    }
+  }
+
+  Law law_;
+  V gravity_;
+};
+
+// Picks the physics flags at run time once, so each scene runs one specialised loop.
+template <int Dim, class Law>
+std::unique_ptr<EngineBase<Dim>> MakeEngineForLaw(const EngineSettings& settings,
+                                                  std::vector<Wall<Dim>> walls, const Law& law,
+                                                  const PhysicsSpec& physics) {
+  auto make = [&](auto tangential, auto rotation, auto vdw, auto damping) {
+    using P = Physics<decltype(tangential)::value, decltype(rotation)::value, decltype(vdw)::value,
+                      decltype(damping)::value>;
+    return std::unique_ptr<EngineBase<Dim>>(
+        new Engine<Dim, Law, P>(settings, std::move(walls), law));
+  };
+  using T = std::true_type;
+  using F = std::false_type;
+  auto with_damping = [&](auto tangential, auto rotation, auto vdw) {
+    return physics.local_damping ? make(tangential, rotation, vdw, T{})
+                                 : make(tangential, rotation, vdw, F{});
+  };
+  auto with_vdw = [&](auto tangential, auto rotation) {
+    return physics.van_der_waals ? with_damping(tangential, rotation, T{})
+                                 : with_damping(tangential, rotation, F{});
+  };
+  if (!physics.tangential) return with_vdw(F{}, F{});
+  return physics.rotation ? with_vdw(T{}, T{}) : with_vdw(T{}, F{});
+}
+
+template <int Dim>
+std::unique_ptr<EngineBase<Dim>> MakeEngine(const EngineSettings& settings,
+                                            std::vector<Wall<Dim>> walls,
+                                            const ContactLawConfig& law,
+                                            const PhysicsSpec& physics) {
+  const auto evaluator = MakeContactLaw(law);
+  return std::visit(
+      [&](const auto& typed_law) {
+        return MakeEngineForLaw<Dim>(settings, std::move(walls), typed_law, physics);
+      },
+      evaluator);
+}
+
+}  // namespace bouncecal::dem::scene
+
+#endif  // BOUNCECAL_DEM_SCENE_ENGINE_IMPL_H_

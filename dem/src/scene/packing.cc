@@ -1,0 +1,311 @@
+#include "bouncecal/dem/packing.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "bouncecal/error.h"
+#include "scene/engine.h"
+#include "scene/insertion.h"
+
+namespace bouncecal::dem {
+
+void PackOptions::Validate() const {
+  if (threads < 1 || threads > 1024) {
+    throw ConfigError(fmt::format("threads = {} is outside [1, 1024]", threads));
+  }
+  if (!(skin_diameters >= 0 && skin_diameters <= 10)) {
+    throw ConfigError(fmt::format("skin_diameters = {} is outside [0, 10]", skin_diameters));
+  }
+  if (duration_s && !(*duration_s >= 0 && std::isfinite(*duration_s))) {
+    throw ConfigError(fmt::format("duration = {} s must be finite and >= 0", *duration_s));
+  }
+  if (progress_every_steps < 1) {
+    throw ConfigError("progress_every_steps must be >= 1");
+  }
+}
+
+std::string_view ToString(PackStopReason reason) {
+  switch (reason) {
+    case PackStopReason::kDuration:
+      return "duration";
+    case PackStopReason::kUnstable:
+      return "unstable";
+  }
+  return "unknown";
+}
+
+std::string DescribePhysics(const Scene& scene) {
+  std::string text(ToString(scene.material.law.kind));
+  if (scene.physics.tangential) text += "+tangential";
+  if (scene.physics.rotation) text += "+rotation";
+  if (scene.physics.van_der_waals) text += "+vdw";
+  if (scene.physics.local_damping) text += "+local-damping";
+  return text;
+}
+
+namespace {
+
+template <int Dim>
+ParticleSnapshot Snapshot(const scene::EngineBase<Dim>& engine) {
+  const auto& s = engine.state();
+  ParticleSnapshot snap;
+  snap.dimension = Dim;
+  snap.time_s = engine.time_s();
+  snap.step = engine.steps();
+  const auto n = static_cast<std::size_t>(s.size());
+  snap.position_m.assign(n, Vec3{0, 0, 0});
+  snap.velocity_mps.assign(n, Vec3{0, 0, 0});
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int d = 0; d < Dim; ++d) {
+      snap.position_m[i][d] = s.position_m[i][d];
+      snap.velocity_mps[i][d] = s.velocity_mps[i][d];
+    }
+  }
+  snap.radius_m = s.radius_m;
+  snap.species = s.species;
+  return snap;
+}
+
+template <int Dim>
+std::vector<scene::NewParticle> Existing(const scene::EngineBase<Dim>& engine) {
+  const auto& s = engine.state();
+  std::vector<scene::NewParticle> out(static_cast<std::size_t>(s.size()));
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    for (int d = 0; d < Dim; ++d) out[i].position_m[d] = s.position_m[i][d];
+    out[i].radius_m = s.radius_m[i];
+  }
+  return out;
+}
+
+template <int Dim>
+void Insert(scene::EngineBase<Dim>& engine, const Scene& scene,
+            const std::vector<scene::NewParticle>& particles) {
+  scene::Vec<Dim> v;
+  for (int d = 0; d < Dim; ++d) v[d] = scene.insertion.initial_velocity_mps[d];
+  for (const auto& p : particles) {
+    if (p.species >= static_cast<std::int32_t>(scene.particles.species.size())) {
+      throw InputError(fmt::format("{}: particle file names species {} but the scene defines {}",
+                                   scene.source.string(), p.species,
+                                   scene.particles.species.size()));
+    }
+    scene::Vec<Dim> x;
+    for (int d = 0; d < Dim; ++d) x[d] = p.position_m[d];
+    engine.AddParticle(
+        x, v, p.radius_m,
+        scene.particles.species[static_cast<std::size_t>(p.species)].density_kg_per_m3, p.species);
+  }
+}
+
+HistoryPoint Sample(const ParticleSnapshot& snap, const Scene& scene, double kinetic_energy_j) {
+  HistoryPoint point;
+  point.time_s = snap.time_s;
+  point.packing_density = PackingDensity(snap, scene);
+  point.kinetic_energy_j = kinetic_energy_j;
+  point.particles = static_cast<std::int64_t>(snap.size());
+  for (const auto& v : snap.velocity_mps) {
+    point.max_speed_mps =
+        std::max(point.max_speed_mps, std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
+  }
+  return point;
+}
+
+std::int64_t StepsFor(double interval_s, double dt) {
+  if (!(interval_s > 0)) return std::numeric_limits<std::int64_t>::max();
+  return std::max<std::int64_t>(1, std::llround(interval_s / dt));
+}
+
+template <int Dim>
+PackSummary Run(const Scene& scene, const PackOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto& m = scene.material;
+  scene::EngineSettings settings;
+  settings.time_step_s = scene.time_step_s;
+  settings.gravity_mps2 = scene.gravity_mps2;
+  settings.tangential_stiffness_n_per_m = m.tangential_stiffness_n_per_m;
+  settings.friction = m.friction;
+  settings.wall_friction = m.wall_friction;
+  settings.hamaker_j = m.hamaker_j;
+  settings.vdw_min_gap_m = m.vdw_min_gap_m;
+  settings.vdw_cutoff_gap_m = m.vdw_cutoff_gap_m;
+  settings.local_damping = m.local_damping;
+  settings.skin_m = options.skin_diameters * scene.particles.diameter.MaxDiameterM();
+  settings.brute_force_pairs = options.brute_force_pairs;
+  settings.threads = options.threads;
+  auto engine = scene::MakeEngine<Dim>(settings, scene::ContainerWalls<Dim>(scene.container), m.law,
+                                       scene.physics);
+
+  scene::SceneRandom random(scene.insertion.seed);
+  std::vector<scene::NewParticle> pending;
+  if (scene.insertion.kind == InsertionKind::kFile) {
+    Insert(*engine, scene, scene::ReadParticleFile(scene.insertion.file, Dim));
+  } else {
+    pending = scene::DrawParticles(scene, random);
+    const auto placed = scene::PlaceInRegion(scene, pending, {}, random);
+    if (scene.insertion.kind == InsertionKind::kRandom && placed.size() < pending.size()) {
+      throw ConfigError(fmt::format(
+          "{}: insertion.region holds only {} of the {} particles without overlap after {} "
+          "attempts; enlarge the region or raise insertion.max_attempts",
+          scene.source.string(), placed.size(), pending.size(), scene.insertion.max_attempts));
+    }
+    Insert(*engine, scene, placed);
+    pending.erase(pending.begin(), pending.begin() + static_cast<std::ptrdiff_t>(placed.size()));
+  }
+
+  const double dt = scene.time_step_s;
+  const double duration = options.duration_s.value_or(scene.duration_s);
+  const std::int64_t total_steps = std::llround(duration / dt);
+  const std::int64_t history_every = StepsFor(scene.measurement.history_interval_s, dt);
+  const std::int64_t snapshot_every = StepsFor(scene.outputs.snapshot_interval_s, dt);
+  const std::int64_t batch_every = scene.insertion.kind == InsertionKind::kPour
+                                       ? StepsFor(scene.insertion.batch_interval_s, dt)
+                                       : std::numeric_limits<std::int64_t>::max();
+  const std::int64_t progress_every = options.progress_every_steps;
+
+  PackSummary summary;
+  summary.physics = DescribePhysics(scene);
+  summary.time_step_s = dt;
+  summary.threads = options.threads;
+  summary.history.push_back(Sample(Snapshot(*engine), scene, engine->KineticEnergyJ()));
+  if (options.snapshot && snapshot_every != std::numeric_limits<std::int64_t>::max()) {
+    options.snapshot(Snapshot(*engine));
+  }
+  std::int64_t particle_steps = 0;
+  auto next_multiple = [](std::int64_t step, std::int64_t every) {
+    if (every == std::numeric_limits<std::int64_t>::max()) return every;
+    return (step / every + 1) * every;
+  };
+  std::int64_t step = 0;
+  while (step < total_steps) {
+    const std::int64_t target = std::min(
+        {total_steps, next_multiple(step, history_every), next_multiple(step, snapshot_every),
+         next_multiple(step, batch_every), next_multiple(step, progress_every)});
+    engine->Advance(target - step);
+    particle_steps += (target - step) * engine->state().size();
+    step = target;
+    if (engine->HasNonFiniteState()) {
+      summary.stop_reason = PackStopReason::kUnstable;
+      summary.message = fmt::format(
+          "the run became unstable at t = {:.6g} s (a position or velocity is not finite); "
+          "use a smaller time_step_s than {:.3g} s",
+          engine->time_s(), dt);
+      break;
+    }
+    if (step % batch_every == 0 && !pending.empty()) {
+      const auto placed = scene::PlaceInRegion(scene, pending, Existing(*engine), random);
+      Insert(*engine, scene, placed);
+      pending.erase(pending.begin(), pending.begin() + static_cast<std::ptrdiff_t>(placed.size()));
+    }
+    if (step % history_every == 0 || step == total_steps) {
+      summary.history.push_back(Sample(Snapshot(*engine), scene, engine->KineticEnergyJ()));
+    }
+    if (options.snapshot &&
+        (step % snapshot_every == 0 ||
+         (step == total_steps && snapshot_every != std::numeric_limits<std::int64_t>::max()))) {
+      options.snapshot(Snapshot(*engine));
+    }
+    if (options.progress) {
+      const double wall =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      options.progress(
+          PackProgress{engine->time_s(), duration, step, engine->state().size(), wall});
+    }
+  }
+
+  summary.final_state = Snapshot(*engine);
+  summary.particles = engine->state().size();
+  summary.particles_not_inserted = static_cast<std::int64_t>(pending.size());
+  summary.steps = engine->steps();
+  summary.neighbor_rebuilds = engine->rebuilds();
+  summary.simulated_s = engine->time_s();
+  summary.kinetic_energy_j = engine->KineticEnergyJ();
+  if (summary.stop_reason == PackStopReason::kDuration) {
+    summary.packing_density = PackingDensity(summary.final_state, scene);
+    summary.coordination = Coordination(summary.final_state, scene);
+    const double bin = scene.measurement.profile_bin_m > 0
+                           ? scene.measurement.profile_bin_m
+                           : 0.25 * scene.particles.diameter.MaxDiameterM();
+    summary.profile = DensityProfileVsHeight(summary.final_state, scene, bin);
+    summary.message =
+        fmt::format("ran {} steps to t = {:.6g} s", summary.steps, summary.simulated_s);
+    if (summary.particles_not_inserted > 0) {
+      summary.message += fmt::format("; {} particles never fit in the pour region",
+                                     summary.particles_not_inserted);
+    }
+  }
+  summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.particle_steps_per_s =
+      summary.wall_s > 0 ? static_cast<double>(particle_steps) / summary.wall_s : 0.0;
+  return summary;
+}
+
+}  // namespace
+
+PackSummary RunPacking(const Scene& scene, const PackOptions& options) {
+  options.Validate();
+  return scene.dimension == 2 ? Run<2>(scene, options) : Run<3>(scene, options);
+}
+
+void WriteLammpsDump(std::ostream& out, const ParticleSnapshot& snap, const Scene& scene) {
+  double lo[3] = {0, 0, 0};
+  double hi[3] = {0, 0, 0};
+  for (std::size_t i = 0; i < snap.size(); ++i) {
+    for (int d = 0; d < 3; ++d) {
+      const double x = snap.position_m[i][d];
+      const double r = snap.radius_m[i];
+      lo[d] = i == 0 ? x - r : std::min(lo[d], x - r);
+      hi[d] = i == 0 ? x + r : std::max(hi[d], x + r);
+    }
+  }
+  if (scene.dimension == 2) {  // a thin slab so 3D viewers show the disks
+    const double r = scene.particles.diameter.MaxDiameterM() / 2;
+    lo[2] = -r;
+    hi[2] = r;
+  }
+  out << "ITEM: TIMESTEP\n"
+      << snap.step << "\nITEM: NUMBER OF ATOMS\n"
+      << snap.size() << "\nITEM: BOX BOUNDS ff ff ff\n";
+  for (int d = 0; d < 3; ++d) out << fmt::format("{:.9g} {:.9g}\n", lo[d], hi[d]);
+  out << "ITEM: ATOMS id type radius x y z vx vy vz\n";
+  for (std::size_t i = 0; i < snap.size(); ++i) {
+    const auto& x = snap.position_m[i];
+    const auto& v = snap.velocity_mps[i];
+    out << fmt::format("{} {} {:.9g} {:.9g} {:.9g} {:.9g} {:.6g} {:.6g} {:.6g}\n", i + 1,
+                       snap.species[i] + 1, snap.radius_m[i], x[0], x[1], x[2], v[0], v[1], v[2]);
+  }
+}
+
+void WriteLammpsData(std::ostream& out, const ParticleSnapshot& snap, const Scene& scene) {
+  out << "LAMMPS data file written by bouncecal from " << scene.source.string() << "\n\n"
+      << snap.size() << " atoms\n"
+      << scene.particles.species.size() << " atom types\n";
+  double lo[3] = {0, 0, 0};
+  double hi[3] = {0, 0, 0};
+  for (std::size_t i = 0; i < snap.size(); ++i) {
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = std::min(lo[d], snap.position_m[i][d] - 2 * snap.radius_m[i]);
+      hi[d] = std::max(hi[d], snap.position_m[i][d] + 2 * snap.radius_m[i]);
+    }
+  }
+  const char* axes[3] = {"x", "y", "z"};
+  for (int d = 0; d < 3; ++d) {
+    if (scene.dimension == 2 && d == 2) {
+      out << "-0.5 0.5 zlo zhi\n";
+      continue;
+    }
+    out << fmt::format("{:.9g} {:.9g} {}lo {}hi\n", lo[d], hi[d], axes[d], axes[d]);
+  }
+  out << "\nAtoms # sphere\n\n";
+  for (std::size_t i = 0; i < snap.size(); ++i) {
+    const auto& x = snap.position_m[i];
+    const auto species = static_cast<std::size_t>(snap.species[i]);
+    out << fmt::format("{} {} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g}\n", i + 1, species + 1,
+                       2 * snap.radius_m[i], scene.particles.species[species].density_kg_per_m3,
+                       x[0], x[1], x[2]);
+  }
+}
+
+}  // namespace bouncecal::dem

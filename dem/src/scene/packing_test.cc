@@ -1,0 +1,122 @@
+#include "bouncecal/dem/packing.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "bouncecal/error.h"
+
+namespace bouncecal::dem {
+namespace {
+
+// A small 3D pour: 120 steel spheres d = 1 cm dropped into a 6 cm square box.
+nlohmann::json SmallPour() {
+  return nlohmann::json::parse(R"({
+    "format": "bouncecal-scene/1",
+    "name": "small_pour",
+    "particles": {"count": 120, "diameter_m": 0.01,
+                  "species": [{"density_kg_per_m3": 7800}]},
+    "container": {"type": "box", "min_m": [0, 0, 0], "max_m": [0.06, 0.06, 0.3]},
+    "insertion": {"type": "random", "seed": 4,
+                  "region": {"type": "box", "min_m": [0, 0, 0.03], "max_m": [0.06, 0.06, 0.12]}},
+    "material": {"contact_law": {"law": "walton-braun",
+                                 "parameters": {"stiffness_n_per_m": 1e6, "gamma_n": 0.5}},
+                 "tangential_stiffness_n_per_m": 1e6, "friction": 0.3},
+    "physics": {"tangential": true, "rotation": true},
+    "time_step_s": 1e-5,
+    "duration_s": 0.5,
+    "gravity_mps2": 9.81,
+    "measurement": {"band_m": [0.005, 0.025], "history_interval_s": 0.05}
+  })");
+}
+
+TEST(PackOptions, DefaultsAreValid) { EXPECT_NO_THROW(PackOptions{}.Validate()); }
+
+TEST(PackOptions, BadThreadCountIsAConfigError) {
+  PackOptions options;
+  options.threads = 0;
+  EXPECT_THROW(options.Validate(), ConfigError);
+}
+
+TEST(RunPacking, SmallPourComesToRestAtAPhysicalDensity) {
+  const Scene scene = SceneFromJson(SmallPour(), "small_pour.json");
+  PackOptions options;
+  options.threads = 2;
+  const PackSummary summary = RunPacking(scene, options);
+  ASSERT_EQ(summary.stop_reason, PackStopReason::kDuration) << summary.message;
+  EXPECT_EQ(summary.particles, 120);
+  EXPECT_EQ(summary.steps, 50000);
+  // At rest: the pour released about 120 m g 5 cm of potential energy; less than 1e-5 of it is
+  // left as motion (a mean speed of about 1 mm/s; the undamped tangential springs keep a
+  // small jitter, as in LAMMPS gran/hooke/history without tangential damping).
+  const double m = 7800 * 3.14159265358979 / 6 * 1e-6;
+  EXPECT_LT(summary.kinetic_energy_j, 1e-5 * 120 * m * 9.81 * 0.05);
+  // Poured frictional spheres in a box 6 d wide: between random loose packing near walls
+  // (about 0.5; the walls loosen the first layers) and random close packing (0.64).
+  EXPECT_GT(summary.packing_density, 0.50);
+  EXPECT_LT(summary.packing_density, 0.66);
+  // Every sphere at rest on the floor or on others touches at least one neighbour or a wall;
+  // the mean in a frictional pack is between 4 and 6.5 (isostatic frictional 4, frictionless 6).
+  EXPECT_GT(summary.coordination.mean, 3.5);
+  EXPECT_LT(summary.coordination.mean, 6.5);
+  // The density history starts empty in the band and ends at the final value.
+  ASSERT_GE(summary.history.size(), 2u);
+  EXPECT_EQ(summary.history.front().packing_density, 0.0);
+  EXPECT_DOUBLE_EQ(summary.history.back().packing_density, summary.packing_density);
+}
+
+TEST(RunPacking, SameSeedGivesByteIdenticalResultsForAnyThreadCount) {
+  nlohmann::json json = SmallPour();
+  json["duration_s"] = 0.05;
+  const Scene scene = SceneFromJson(json, "small_pour.json");
+  PackOptions two;
+  two.threads = 2;
+  PackOptions one;
+  one.threads = 1;
+  const auto a = RunPacking(scene, two);
+  const auto b = RunPacking(scene, two);
+  const auto c = RunPacking(scene, one);
+  ASSERT_EQ(a.final_state.size(), b.final_state.size());
+  for (std::size_t i = 0; i < a.final_state.size(); ++i) {
+    EXPECT_EQ(a.final_state.position_m[i], b.final_state.position_m[i]) << i;
+    EXPECT_EQ(a.final_state.position_m[i], c.final_state.position_m[i]) << i;
+    EXPECT_EQ(a.final_state.velocity_mps[i], c.final_state.velocity_mps[i]) << i;
+  }
+  EXPECT_EQ(a.kinetic_energy_j, c.kinetic_energy_j);
+}
+
+TEST(RunPacking, OtherSeedGivesAnotherPacking) {
+  nlohmann::json json = SmallPour();
+  json["duration_s"] = 0.0;
+  const Scene first = SceneFromJson(json, "a.json");
+  json["insertion"]["seed"] = 5;
+  const Scene second = SceneFromJson(json, "b.json");
+  EXPECT_NE(RunPacking(first).final_state.position_m[0],
+            RunPacking(second).final_state.position_m[0]);
+}
+
+TEST(RunPacking, OverfullRandomRegionIsAConfigError) {
+  nlohmann::json json = SmallPour();
+  json["insertion"]["region"]["max_m"] = {0.06, 0.06, 0.04};
+  json["insertion"]["max_attempts"] = 100000;
+  const Scene scene = SceneFromJson(json, "full.json");
+  EXPECT_THROW(RunPacking(scene), ConfigError);
+}
+
+TEST(Dump, LammpsDumpHasOneLinePerParticle) {
+  nlohmann::json json = SmallPour();
+  json["duration_s"] = 0.0;
+  const Scene scene = SceneFromJson(json, "dump.json");
+  const auto summary = RunPacking(scene);
+  std::ostringstream out;
+  WriteLammpsDump(out, summary.final_state, scene);
+  const std::string text = out.str();
+  EXPECT_EQ(text.rfind("ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n120\n", 0), 0u);
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 9 + 120);
+}
+
+}  // namespace
+}  // namespace bouncecal::dem

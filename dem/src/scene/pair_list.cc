@@ -1,0 +1,148 @@
+#include "scene/pair_list.h"
+
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <cmath>
+#include <limits>
+
+namespace bouncecal::dem::scene {
+
+void PairList::BuildIndex(std::int32_t n) {
+  begin.assign(static_cast<std::size_t>(n) + 1, 0);
+  reverse_begin.assign(static_cast<std::size_t>(n) + 1, 0);
+  for (std::size_t p = 0; p < first.size(); ++p) {
+    ++begin[static_cast<std::size_t>(first[p]) + 1];
+    ++reverse_begin[static_cast<std::size_t>(second[p]) + 1];
+  }
+  for (std::int32_t i = 0; i < n; ++i) {
+    begin[i + 1] += begin[i];
+    reverse_begin[i + 1] += reverse_begin[i];
+  }
+  reverse_pairs.resize(first.size());
+  std::vector<std::int32_t> fill(reverse_begin.begin(), reverse_begin.end() - 1);
+  // Increasing p keeps each particle's reverse pairs in pair order, so sums have a fixed order.
+  for (std::size_t p = 0; p < first.size(); ++p) {
+    reverse_pairs[static_cast<std::size_t>(fill[second[p]]++)] = static_cast<std::int32_t>(p);
+  }
+}
+
+PairList AllPairs(std::int32_t n) {
+  PairList list;
+  const std::size_t count = static_cast<std::size_t>(n) * static_cast<std::size_t>(n - 1) / 2;
+  list.first.reserve(count);
+  list.second.reserve(count);
+  for (std::int32_t i = 0; i < n; ++i) {
+    for (std::int32_t j = i + 1; j < n; ++j) {
+      list.first.push_back(i);
+      list.second.push_back(j);
+    }
+  }
+  list.BuildIndex(n);
+  return list;
+}
+
+template <int Dim>
+PairList GridPairs(const std::vector<Vec<Dim>>& position_m, const std::vector<double>& radius_m,
+                   double reach_m) {
+  const auto n = static_cast<std::int32_t>(position_m.size());
+  PairList list;
+  if (n == 0) {
+    list.BuildIndex(0);
+    return list;
+  }
+  Vec<Dim> lo = position_m[0];
+  Vec<Dim> hi = position_m[0];
+  double r_max = 0;
+  for (std::int32_t i = 0; i < n; ++i) {
+    lo = lo.cwiseMin(position_m[i]);
+    hi = hi.cwiseMax(position_m[i]);
+    r_max = std::max(r_max, radius_m[i]);
+  }
+  double cell_m = 2 * r_max + reach_m;
+  // A particle flung far away must not make the grid huge: widen the cells instead (the pairs
+  // found stay exact, only the search gets slower).
+  const double max_cells = 8.0 * n + 1024;
+  for (;;) {
+    double cells = 1;
+    for (int d = 0; d < Dim; ++d) cells *= std::floor((hi[d] - lo[d]) / cell_m) + 1;
+    if (cells <= max_cells) break;
+    cell_m *= 1.5;
+  }
+  std::array<std::int64_t, Dim> dims{};
+  for (int d = 0; d < Dim; ++d) {
+    dims[d] = static_cast<std::int64_t>(std::floor((hi[d] - lo[d]) / cell_m)) + 1;
+  }
+  const double inv_cell = 1.0 / cell_m;
+  auto cell_coord = [&](const Vec<Dim>& x) {
+    std::array<std::int64_t, Dim> c{};
+    for (int d = 0; d < Dim; ++d) {
+      c[d] = std::clamp<std::int64_t>(static_cast<std::int64_t>((x[d] - lo[d]) * inv_cell), 0,
+                                      dims[d] - 1);
+    }
+    return c;
+  };
+  auto cell_index = [&](const std::array<std::int64_t, Dim>& c) {
+    std::int64_t index = 0;
+    for (int d = Dim - 1; d >= 0; --d) index = index * dims[d] + c[d];
+    return index;
+  };
+  std::int64_t total_cells = 1;
+  for (int d = 0; d < Dim; ++d) total_cells *= dims[d];
+
+  // Counting sort of particles by cell; within a cell particles stay in index order.
+  std::vector<std::int64_t> cell_of(static_cast<std::size_t>(n));
+  std::vector<std::int32_t> cell_start(static_cast<std::size_t>(total_cells) + 1, 0);
+  for (std::int32_t i = 0; i < n; ++i) {
+    cell_of[i] = cell_index(cell_coord(position_m[i]));
+    ++cell_start[static_cast<std::size_t>(cell_of[i]) + 1];
+  }
+  for (std::int64_t c = 0; c < total_cells; ++c) cell_start[c + 1] += cell_start[c];
+  std::vector<std::int32_t> sorted(static_cast<std::size_t>(n));
+  {
+    std::vector<std::int32_t> fill(cell_start.begin(), cell_start.end() - 1);
+    for (std::int32_t i = 0; i < n; ++i) sorted[static_cast<std::size_t>(fill[cell_of[i]]++)] = i;
+  }
+
+  list.first.reserve(static_cast<std::size_t>(n) * (Dim == 3 ? 8 : 4));
+  list.second.reserve(list.first.capacity());
+  std::vector<std::int32_t> found;
+  for (std::int32_t i = 0; i < n; ++i) {
+    found.clear();
+    const auto c = cell_coord(position_m[i]);
+    std::array<std::int64_t, Dim> lo_c{};
+    std::array<std::int64_t, Dim> hi_c{};
+    for (int d = 0; d < Dim; ++d) {
+      lo_c[d] = std::max<std::int64_t>(c[d] - 1, 0);
+      hi_c[d] = std::min<std::int64_t>(c[d] + 1, dims[d] - 1);
+    }
+    std::array<std::int64_t, Dim> k = lo_c;
+    for (;;) {
+      const std::int64_t cell = cell_index(k);
+      for (std::int32_t s = cell_start[cell]; s < cell_start[cell + 1]; ++s) {
+        const std::int32_t j = sorted[static_cast<std::size_t>(s)];
+        if (j <= i) continue;
+        const double reach = radius_m[i] + radius_m[j] + reach_m;
+        if ((position_m[i] - position_m[j]).squaredNorm() < reach * reach) found.push_back(j);
+      }
+      int d = 0;
+      for (; d < Dim; ++d) {
+        if (++k[d] <= hi_c[d]) break;
+        k[d] = lo_c[d];
+      }
+      if (d == Dim) break;
+    }
+    std::sort(found.begin(), found.end());
+    for (std::int32_t j : found) {
+      list.first.push_back(i);
+      list.second.push_back(j);
+    }
+  }
+  list.BuildIndex(n);
+  return list;
+}
+
+template PairList GridPairs<2>(const std::vector<Vec<2>>&, const std::vector<double>&, double);
+template PairList GridPairs<3>(const std::vector<Vec<3>>&, const std::vector<double>&, double);
+
+}  // namespace bouncecal::dem::scene

@@ -1,0 +1,324 @@
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+
+#include "bouncecal/dem/contact_law_json.h"
+#include "bouncecal/dem/scene.h"
+#include "bouncecal/error.h"
+#include "scene/json_reader.h"
+
+namespace bouncecal::dem {
+
+using scene::JsonReader;
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.14159265358979323846;
+
+std::filesystem::path Resolve(const std::filesystem::path& source, const std::string& path) {
+  const std::filesystem::path p(path);
+  if (p.is_absolute() || source.empty()) return p;
+  return source.parent_path() / p;
+}
+
+nlohmann::json ReadJsonFile(const std::filesystem::path& path, const std::string& what) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path.string() + ": cannot open the " + what + "; check the path");
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& error) {
+    throw InputError(path.string() + ": not valid JSON (" + error.what() + ")");
+  }
+}
+
+void ReadParticles(JsonReader r, Scene& scene) {
+  auto& p = scene.particles;
+  p.count = r.Integer("count", 1, std::numeric_limits<std::int32_t>::max());
+  const std::int64_t bytes = p.count * EstimatedBytesPerParticle(scene.dimension);
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long page_size = sysconf(_SC_PAGE_SIZE);
+  const double memory = pages > 0 && page_size > 0 ? static_cast<double>(pages) * page_size : kInf;
+  if (p.count > kMaxSceneParticles || static_cast<double>(bytes) > 0.8 * memory) {
+    r.Fail("count", fmt::format("{} particles would need about {:.1f} GB of memory (this machine "
+                                "has {:.1f} GB, the limit is {} particles); use fewer particles",
+                                p.count, bytes / 1e9, memory / 1e9, kMaxSceneParticles));
+  }
+  if (r.Has("diameter_m")) {
+    p.diameter.kind = DiameterDistributionKind::kConstant;
+    p.diameter.diameter_m = r.Number("diameter_m", 1e-9, 100);
+    p.diameter.min_diameter_m = p.diameter.max_diameter_m = p.diameter.diameter_m;
+  } else {
+    JsonReader d = r.Object("diameter");
+    const std::string kind = d.String("distribution");
+    if (kind == "constant") {
+      p.diameter.kind = DiameterDistributionKind::kConstant;
+      p.diameter.diameter_m = d.Number("diameter_m", 1e-9, 100);
+      p.diameter.min_diameter_m = p.diameter.max_diameter_m = p.diameter.diameter_m;
+    } else if (kind == "uniform") {
+      p.diameter.kind = DiameterDistributionKind::kUniform;
+      p.diameter.min_diameter_m = d.Number("min_m", 1e-9, 100);
+      p.diameter.max_diameter_m = d.Number("max_m", p.diameter.min_diameter_m, 100);
+      p.diameter.diameter_m = 0.5 * (p.diameter.min_diameter_m + p.diameter.max_diameter_m);
+    } else {
+      d.Fail("distribution", "'" + kind + "' is not one of: constant, uniform");
+    }
+    d.Finish();
+  }
+  const auto& list = r.Raw("species");
+  if (!list.is_array() || list.empty()) r.Fail("species", "must be a non-empty array of objects");
+  double sum = 0;
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    JsonReader s(list[k], r.file(), r.Key("species") + fmt::format("[{}]", k));
+    Species species;
+    species.name = s.String("name", fmt::format("species{}", k + 1));
+    species.density_kg_per_m3 = s.Number("density_kg_per_m3", 1e-3, 1e6);
+    species.volume_fraction = s.Number("volume_fraction", 0, 1, list.size() == 1 ? 1.0 : -1.0);
+    if (species.volume_fraction < 0) s.Fail("volume_fraction", "is missing");
+    s.Finish();
+    sum += species.volume_fraction;
+    p.species.push_back(species);
+  }
+  if (std::abs(sum - 1) > 1e-6) {
+    r.Fail("species", fmt::format("volume fractions sum to {:.6g}, not 1", sum));
+  }
+  r.Finish();
+}
+
+void ReadContainer(JsonReader r, Scene& scene) {
+  auto& c = scene.container;
+  const int dim = scene.dimension;
+  const std::string type = r.String("type");
+  if (type == "cylinder") {
+    if (dim != 3) r.Fail("type", "a cylinder needs dimension 3; use a box in 2D");
+    c.kind = ContainerKind::kCylinder;
+    c.center_m = r.Vector("center_m", 3, Vec3{0, 0, 0});
+    c.radius_m = r.Number("radius_m", 1e-9, 1e6);
+    c.height_m = r.Number("height_m", 1e-9, 1e6);
+  } else if (type == "box") {
+    c.kind = ContainerKind::kBox;
+    c.min_m = r.Vector("min_m", dim);
+    c.max_m = r.Vector("max_m", dim);
+    for (int d = 0; d < dim; ++d) {
+      if (!(c.max_m[d] > c.min_m[d])) r.Fail("max_m", "must exceed min_m in every component");
+    }
+    c.closed_top = r.Boolean("closed_top", false);
+  } else if (type == "plane") {
+    c.kind = ContainerKind::kPlane;
+    c.point_m = r.Vector("point_m", dim, Vec3{0, 0, 0});
+    Vec3 up{0, 0, 0};
+    up[dim - 1] = 1;
+    c.normal = r.Vector("normal", dim, up);
+    double norm = 0;
+    for (double x : c.normal) norm += x * x;
+    if (!(norm > 0)) r.Fail("normal", "must not be the zero vector");
+  } else {
+    r.Fail("type", "'" + type + "' is not one of: cylinder, box, plane");
+  }
+  r.Finish();
+}
+
+RegionSpec ReadRegion(JsonReader r, int dim) {
+  RegionSpec region;
+  const std::string type = r.String("type");
+  if (type == "box") {
+    region.kind = RegionKind::kBox;
+    region.min_m = r.Vector("min_m", dim);
+    region.max_m = r.Vector("max_m", dim);
+    for (int d = 0; d < dim; ++d) {
+      if (!(region.max_m[d] > region.min_m[d])) {
+        r.Fail("max_m", "must exceed min_m in every component");
+      }
+    }
+  } else if (type == "cylinder") {
+    if (dim != 3) r.Fail("type", "a cylinder region needs dimension 3; use a box in 2D");
+    region.kind = RegionKind::kCylinder;
+    region.center_m = r.Vector("center_m", 2, Vec3{0, 0, 0});
+    region.radius_m = r.Number("radius_m", 1e-9, 1e6);
+    region.z_min_m = r.Number("z_min_m", -1e6, 1e6);
+    region.z_max_m = r.Number("z_max_m", region.z_min_m, 1e6);
+  } else {
+    r.Fail("type", "'" + type + "' is not one of: box, cylinder");
+  }
+  r.Finish();
+  return region;
+}
+
+void ReadInsertion(JsonReader r, Scene& scene) {
+  auto& in = scene.insertion;
+  const std::string type = r.String("type");
+  if (type == "random" || type == "pour") {
+    in.kind = type == "random" ? InsertionKind::kRandom : InsertionKind::kPour;
+    in.region = ReadRegion(r.Object("region"), scene.dimension);
+    in.max_attempts = r.Integer("max_attempts", 1, std::int64_t{1} << 40, in.max_attempts);
+    if (in.kind == InsertionKind::kPour) {
+      in.batch_interval_s = r.Number("batch_interval_s", 1e-9, 1e6);
+    }
+  } else if (type == "file") {
+    in.kind = InsertionKind::kFile;
+    in.file = Resolve(scene.source, r.String("path"));
+  } else {
+    r.Fail("type", "'" + type + "' is not one of: random, pour, file");
+  }
+  const auto seed = r.Integer("seed", 0, std::numeric_limits<std::int64_t>::max(), 1);
+  in.seed = static_cast<std::uint64_t>(seed);
+  in.initial_velocity_mps = r.Vector("initial_velocity_mps", scene.dimension, Vec3{0, 0, 0});
+  r.Finish();
+}
+
+void ReadMaterial(JsonReader r, Scene& scene) {
+  auto& m = scene.material;
+  const bool inline_law = r.Has("contact_law");
+  const bool card = r.Has("material_card");
+  if (inline_law == card) {
+    r.Fail("contact_law", "give exactly one of 'contact_law' (inline) or 'material_card' (path)");
+  }
+  if (inline_law) {
+    m.law = ContactLawConfigFromJson(r.Raw("contact_law"), r.file() + ": " + r.Key("contact_law"));
+  } else {
+    m.material_card = Resolve(scene.source, r.String("material_card"));
+    const nlohmann::json card_json = ReadJsonFile(m.material_card, "material card");
+    if (!card_json.is_object() || !card_json.contains("contact_law")) {
+      throw InputError(m.material_card.string() +
+                       ": no 'contact_law' object; is this a bouncecal material card?");
+    }
+    m.law = ContactLawConfigFromJson(card_json.at("contact_law"),
+                                     m.material_card.string() + ": contact_law");
+  }
+  m.tangential_stiffness_n_per_m =
+      r.Number("tangential_stiffness_n_per_m", 0, 1e15, m.tangential_stiffness_n_per_m);
+  m.friction = r.Number("friction", 0, 100, m.friction);
+  m.wall_friction = r.Number("wall_friction", 0, 100, m.friction);
+  m.hamaker_j = r.Number("hamaker_j", 0, 1e-15, m.hamaker_j);
+  m.vdw_min_gap_m = r.Number("vdw_min_gap_m", 1e-12, 1e-3, m.vdw_min_gap_m);
+  m.vdw_cutoff_gap_m = r.Number("vdw_cutoff_gap_m", m.vdw_min_gap_m, 1, m.vdw_cutoff_gap_m);
+  m.local_damping = r.Number("local_damping", 0, 0.999, m.local_damping);
+  r.Finish();
+}
+
+void ReadPhysics(JsonReader r, Scene& scene) {
+  auto& p = scene.physics;
+  p.tangential = r.Boolean("tangential", p.tangential);
+  p.rotation = r.Boolean("rotation", p.tangential);
+  p.van_der_waals = r.Boolean("van_der_waals", false);
+  p.local_damping = r.Boolean("local_damping", false);
+  if (p.rotation && !p.tangential) {
+    r.Fail("rotation", "needs tangential: true (only the tangential force makes torque)");
+  }
+  r.Finish();
+}
+
+void ReadMeasurement(JsonReader r, Scene& scene) {
+  auto& m = scene.measurement;
+  if (scene.dimension == 3) {
+    const Vec3 band = r.Vector("band_m", 2);
+    if (!(band[1] > band[0])) r.Fail("band_m", "must be [low, high] with high > low");
+    m.band_min_m = band[0];
+    m.band_max_m = band[1];
+  } else {
+    JsonReader w = r.Object("window");
+    m.window_min_m = w.Vector("min_m", 2);
+    m.window_max_m = w.Vector("max_m", 2);
+    if (!(m.window_max_m[0] > m.window_min_m[0] && m.window_max_m[1] > m.window_min_m[1])) {
+      w.Fail("max_m", "must exceed min_m in both components");
+    }
+    w.Finish();
+  }
+  m.profile_bin_m = r.Number("profile_bin_m", 0, 1e6, 0);
+  m.contact_tolerance = r.Number("contact_tolerance", 1, 2, m.contact_tolerance);
+  m.history_interval_s = r.Number("history_interval_s", 0, 1e6, m.history_interval_s);
+  r.Finish();
+}
+
+void ReadOutputs(JsonReader r, Scene& scene) {
+  auto& o = scene.outputs;
+  o.directory = Resolve(scene.source, r.String("directory", scene.name + "_out"));
+  o.snapshot_interval_s = r.Number("snapshot_interval_s", 0, 1e6, 0);
+  r.Finish();
+}
+
+}  // namespace
+
+double DiameterDistribution::MaxDiameterM() const {
+  return kind == DiameterDistributionKind::kConstant ? diameter_m : max_diameter_m;
+}
+
+double DiameterDistribution::MeanVolumeM3(int dimension) const {
+  // Mean of pi d^3/6 (or pi d^2/4) over the distribution.
+  if (kind == DiameterDistributionKind::kConstant) {
+    return dimension == 3 ? kPi * std::pow(diameter_m, 3) / 6 : kPi * diameter_m * diameter_m / 4;
+  }
+  const double a = min_diameter_m;
+  const double b = max_diameter_m;
+  if (b <= a) return DiameterDistribution{kind, a, a, a}.MeanVolumeM3(dimension);
+  return dimension == 3 ? kPi / 6 * (std::pow(b, 4) - std::pow(a, 4)) / (4 * (b - a))
+                        : kPi / 4 * (std::pow(b, 3) - std::pow(a, 3)) / (3 * (b - a));
+}
+
+std::int64_t EstimatedBytesPerParticle(int dimension) {
+  // State (~20 doubles), wall history (6 walls), ~8 listed pairs of 12 doubles each, grid.
+  return dimension == 3 ? 1400 : 800;
+}
+
+std::string_view ToString(ContainerKind kind) {
+  switch (kind) {
+    case ContainerKind::kPlane:
+      return "plane";
+    case ContainerKind::kCylinder:
+      return "cylinder";
+    case ContainerKind::kBox:
+      return "box";
+  }
+  return "unknown";
+}
+
+std::string_view ToString(InsertionKind kind) {
+  switch (kind) {
+    case InsertionKind::kRandom:
+      return "random";
+    case InsertionKind::kPour:
+      return "pour";
+    case InsertionKind::kFile:
+      return "file";
+  }
+  return "unknown";
+}
+
+Scene SceneFromJson(const nlohmann::json& root, const std::filesystem::path& source) {
+  const std::string file = source.empty() ? std::string("scene") : source.string();
+  JsonReader r(root, file, "");
+  Scene scene;
+  scene.source = source;
+  const std::string format = r.String("format");
+  if (format != "bouncecal-scene/1") {
+    r.Fail("format", "'" + format + "' is not a known scene format; expected bouncecal-scene/1");
+  }
+  scene.name = r.String("name", source.empty() ? std::string("scene") : source.stem().string());
+  r.String("description", "");
+  scene.dimension = static_cast<int>(r.Integer("dimension", 2, 3, 3));
+  ReadParticles(r.Object("particles"), scene);
+  ReadContainer(r.Object("container"), scene);
+  ReadInsertion(r.Object("insertion"), scene);
+  ReadMaterial(r.Object("material"), scene);
+  ReadPhysics(r.Has("physics") ? r.Object("physics")
+                               : JsonReader(nlohmann::json::object(), file, "physics"),
+              scene);
+  scene.time_step_s = r.Number("time_step_s", 1e-12, 1);
+  scene.duration_s = r.Number("duration_s", 0, 1e6);
+  scene.gravity_mps2 = r.Number("gravity_mps2", 0, 1e4, scene.gravity_mps2);
+  ReadMeasurement(r.Object("measurement"), scene);
+  ReadOutputs(r.Has("outputs") ? r.Object("outputs")
+                               : JsonReader(nlohmann::json::object(), file, "outputs"),
+              scene);
+  r.Finish();
+  return scene;
+}
+
+Scene LoadScene(const std::filesystem::path& path) {
+  return SceneFromJson(ReadJsonFile(path, "scene file"), path);
+}
+
+}  // namespace bouncecal::dem

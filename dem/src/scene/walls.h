@@ -1,0 +1,53 @@
+#ifndef BOUNCECAL_DEM_SCENE_WALLS_H_
+#define BOUNCECAL_DEM_SCENE_WALLS_H_
+
+#include <cmath>
+#include <vector>
+
+#include "bouncecal/dem/scene.h"
+#include "scene/vec.h"
+
+namespace bouncecal::dem::scene {
+
+// One rigid, fixed wall. Particles touch it from one side only; contact geometry is the overlap
+// and the unit normal pointing from the wall into the particle (the direction the wall pushes).
+template <int Dim>
+struct Wall {
+  enum class Kind { kPlane, kCylinderSide };
+  Kind kind = Kind::kPlane;
+  Vec<Dim> point = Vec<Dim>::Zero();   // plane: a point on it; cylinder: on the axis (z ignored)
+  Vec<Dim> normal = Vec<Dim>::Zero();  // plane: unit normal into the particles
+  double radius_m = 0;                 // cylinder
+  double z_min_m = 0;                  // cylinder side spans these heights; the rim is not
+  double z_max_m = 0;                  // modelled, so particles above it do not touch it
+
+  // Overlap (> 0 in contact) of a particle of radius r at x, and the unit normal into it.
+  double Overlap(const Vec<Dim>& x, double r, Vec<Dim>& n) const {
+    if (kind == Kind::kPlane) {
+      n = normal;
+      return r - (x - point).dot(normal);
+    }
+    if constexpr (Dim == 3) {
+      if (x.z() < z_min_m || x.z() > z_max_m) return -1;
+      const double dx = x.x() - point.x();
+      const double dy = x.y() - point.y();
+      const double rho2 = dx * dx + dy * dy;
+      const double inner = radius_m - r;  // no contact while the centre is inside this radius
+      if (inner > 0 && rho2 <= inner * inner) return -1;
+      const double rho = std::sqrt(rho2);
+      const double overlap = r - (radius_m - rho);
+      if (overlap <= 0 || rho == 0) return -1;
+      n = Vec<Dim>{{-dx / rho, -dy / rho, 0}};
+      return overlap;
+    }
+    return -1;
+  }
+};
+
+// The walls of a scene's container, in a fixed order (their index keys the contact history).
+template <int Dim>
+std::vector<Wall<Dim>> ContainerWalls(const ContainerSpec& container);
+
+}  // namespace bouncecal::dem::scene
+
+#endif  // BOUNCECAL_DEM_SCENE_WALLS_H_
