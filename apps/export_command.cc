@@ -53,15 +53,6 @@ void RunExport(const ExportArguments& arguments) {
   }
   const calibrate::Deck deck = calibrate::ExportDropDeck(material, options);
 
-  const std::filesystem::path folder = arguments.output_dir;
-  std::error_code error;
-  std::filesystem::create_directories(folder, error);
-  if (error || !std::filesystem::is_directory(folder)) {
-    throw OutputError(
-        fmt::format("-o {}: cannot create the deck folder ({}); choose a writable "
-                    "folder",
-                    folder.string(), error ? error.message() : "not a folder"));
-  }
   // Everything is generated (and so validated) before the first file is written.
   std::optional<calibrate::Deck> packing;
   std::string law_note;
@@ -79,6 +70,15 @@ void RunExport(const ExportArguments& arguments) {
           "means exporting its law.\n",
           dem::ToJson(scene.material.law).dump(), dem::ToJson(material.law).dump());
     }
+  }
+  const std::filesystem::path folder = arguments.output_dir;
+  std::error_code error;
+  std::filesystem::create_directories(folder, error);
+  if (error || !std::filesystem::is_directory(folder)) {
+    throw OutputError(
+        fmt::format("-o {}: cannot create the deck folder ({}); choose a writable "
+                    "folder",
+                    folder.string(), error ? error.message() : "not a folder"));
   }
   for (const auto& file : deck.files) WriteFileAtomically(folder / file.name, file.content);
   if (packing) {
@@ -185,8 +185,9 @@ void AddExportCommand(CLI::App& app) {
       "Example:\n"
       "  bouncecal export --material steel.json --engine lammps -o deck-lammps \\\n"
       "      --scene samples/scenes/paper000_cylinder_pour.json\n"
-      "  cd deck-lammps && lmp -in in.drop -log log.lammps && bouncecal export-check .\n"
-      "  cd deck-lammps && mpirun -np 2 lmp -in in.pack -log log.lammps");
+      "  (cd deck-lammps && lmp -in in.drop -log log.lammps)\n"
+      "  bouncecal export-check deck-lammps\n"
+      "  (cd deck-lammps && mpirun -np 2 lmp -in in.pack -log log.lammps)");
   auto* drop_height = command->get_option("--drop-height-m");
   command->callback([arguments, drop_height] {
     arguments->drop_height_given = drop_height->count() > 0;

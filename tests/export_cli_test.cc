@@ -82,7 +82,7 @@ TEST_F(ExportCli, TwoDimensionalSceneIsABadOptionNamingTheKey) {
                                    scene.string() + " -o " + (folder_ / "deck").string());
   EXPECT_EQ(result.exit_status, 3) << result.output;
   EXPECT_NE(result.output.find("dimension"), std::string::npos) << result.output;
-  EXPECT_FALSE(fs::exists(folder_ / "deck" / "in.drop")) << "nothing written on error";
+  EXPECT_FALSE(fs::exists(folder_ / "deck")) << "nothing written, not even the folder, on error";
 }
 
 TEST_F(ExportCli, HelpShowsAnExample) {
