@@ -16,10 +16,12 @@ void AddSweepCommand(CLI::App& app);
 void AddCompareCommand(CLI::App& app);
 void AddSynthCommand(CLI::App& app);
 void AddAnalyzeCommand(CLI::App& app);
-void AddExportCommand(CLI::App& app);
-void AddExportCheckCommand(CLI::App& app);
 // pack: multi-particle packing scenes (apps/pack_command.cc).
 void AddPackCommand(CLI::App& app);
+// export / export-check: LAMMPS and LIGGGHTS decks for a material card, and their verification
+// (apps/export_command.cc, apps/export_check_command.cc).
+void AddExportCommand(CLI::App& app);
+void AddExportCheckCommand(CLI::App& app);
 
 }  // namespace bouncecal::apps
 

@@ -9,6 +9,10 @@
 
 #include "bouncecal/atomic_file.h"
 #include "bouncecal/calibrate/export/drop_deck.h"
+#include "bouncecal/calibrate/export/packing_deck.h"
+#include "bouncecal/calibrate/export/scene_packing.h"
+#include "bouncecal/dem/contact_law_json.h"
+#include "bouncecal/dem/scene.h"
 #include "bouncecal/error.h"
 #include "commands.h"
 
@@ -22,6 +26,8 @@ struct ExportArguments {
   calibrate::DropDeckOptions drop;
   std::optional<double> time_step_s;
   bool drop_height_given = false;
+  std::string scene;  // empty: no packing deck
+  int processes = 2;
 };
 
 // Single quotes keep any folder name intact when the user pastes the printed command.
@@ -47,6 +53,24 @@ void RunExport(const ExportArguments& arguments) {
   }
   const calibrate::Deck deck = calibrate::ExportDropDeck(material, options);
 
+  // Everything is generated (and so validated) before the first file is written.
+  std::optional<calibrate::Deck> packing;
+  std::string law_note;
+  if (!arguments.scene.empty()) {
+    const dem::Scene scene = dem::LoadScene(arguments.scene);
+    calibrate::PackingDeckOptions packing_options;
+    packing_options.engine = options.engine;
+    packing_options.processes = arguments.processes;
+    packing_options.scene_source = arguments.scene;
+    packing = calibrate::MakePackingDeck(material, calibrate::PackingDeckSpecFromScene(scene),
+                                         packing_options);
+    if (dem::ToJson(scene.material.law) != dem::ToJson(material.law)) {
+      law_note = fmt::format(
+          "  Note: the scene names the law {} but the deck uses the card's {}: exporting a card "
+          "means exporting its law.\n",
+          dem::ToJson(scene.material.law).dump(), dem::ToJson(material.law).dump());
+    }
+  }
   const std::filesystem::path folder = arguments.output_dir;
   std::error_code error;
   std::filesystem::create_directories(folder, error);
@@ -57,6 +81,11 @@ void RunExport(const ExportArguments& arguments) {
                     folder.string(), error ? error.message() : "not a folder"));
   }
   for (const auto& file : deck.files) WriteFileAtomically(folder / file.name, file.content);
+  if (packing) {
+    for (const auto& file : packing->files) {
+      WriteFileAtomically(folder / file.name, file.content);
+    }
+  }
 
   fmt::print(
       "bouncecal export: {} single-drop check deck for material card {} (drop from {} m{})\n",
@@ -85,6 +114,17 @@ void RunExport(const ExportArguments& arguments) {
   fmt::print("  cd {} && {}\n", ShellQuoted(folder.string()), deck.run_command);
   fmt::print("Then compare every bounce with the expectation:\n  bouncecal export-check {}\n",
              ShellQuoted(folder.string()));
+  if (packing) {
+    fmt::print("Packing scene {}:\n", arguments.scene);
+    for (const auto& file : packing->files) {
+      fmt::print("  wrote {}\n", (folder / file.name).string());
+    }
+    // The law is mapped again for the scene's particles, which may differ from the card's ball.
+    for (const auto& note : packing->notes) fmt::print("  - {}\n", note);
+    fmt::print("{}", law_note);
+    fmt::print("Run it ({} steps of {:.4g} s):\n  cd {} && {}\n", packing->steps,
+               packing->time_step_s, ShellQuoted(folder.string()), packing->run_command);
+  }
 }
 
 }  // namespace
@@ -133,10 +173,21 @@ void AddExportCommand(CLI::App& app) {
                    "Number of rebounds the run covers, 1..1000")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
+  command->add_option("--scene", arguments->scene,
+                      "Packing scene file (JSON, bouncecal-scene/1): also write in.pack, the "
+                      "scene with the card's law, for mpirun");
+  command
+      ->add_option("--processes", arguments->processes,
+                   "MPI ranks in the printed packing run command, 1..4096 (1: serial)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 4096));
   command->footer(
       "Example:\n"
-      "  bouncecal export --material steel.json --engine lammps -o deck-lammps\n"
-      "  cd deck-lammps && lmp -in in.drop -log log.lammps");
+      "  bouncecal export --material steel.json --engine lammps -o deck-lammps \\\n"
+      "      --scene samples/scenes/paper000_cylinder_pour.json\n"
+      "  (cd deck-lammps && lmp -in in.drop -log log.lammps)\n"
+      "  bouncecal export-check deck-lammps\n"
+      "  (cd deck-lammps && mpirun -np 2 lmp -in in.pack -log log.lammps)");
   auto* drop_height = command->get_option("--drop-height-m");
   command->callback([arguments, drop_height] {
     arguments->drop_height_given = drop_height->count() > 0;

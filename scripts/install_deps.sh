@@ -8,7 +8,7 @@ packages=(
   libsndfile1-dev libfftw3-dev libnlopt-cxx-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libfmt-dev
   gnuplot-nox
-  lammps liggghts
+  lammps liggghts mpi-default-bin
   "$@"
 )
 

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "cli_runner.h"
@@ -53,6 +54,35 @@ TEST_F(ExportCli, WritesTheDeckAndPrintsMappingDeviationAndRunCommand) {
   for (const auto& entry : fs::directory_iterator(deck)) {
     EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << entry.path();
   }
+}
+
+TEST_F(ExportCli, SceneAddsThePackingDeckForMpirun) {
+  const fs::path deck = folder_ / "deck";
+  const auto scene = SourceDir() / "samples/scenes/paper000_cylinder_pour.json";
+  const auto result = RunBouncecal("export --material " + Card() + " --engine lammps --scene " +
+                                   scene.string() + " -o " + deck.string());
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  EXPECT_TRUE(fs::exists(deck / "in.drop"));
+  ASSERT_TRUE(fs::exists(deck / "in.pack"));
+  EXPECT_NE(result.output.find("cd " + deck.string() + " && mpirun -np 2 lmp -in in.pack"),
+            std::string::npos)
+      << result.output;
+  std::ifstream script(deck / "in.pack");
+  std::stringstream text;
+  text << script.rdbuf();
+  // The paper's pour: 2000 spheres into R = 10 cm at 10 us for 3 s.
+  EXPECT_NE(text.str().find("fix             pour all pour 2000 1"), std::string::npos);
+  EXPECT_NE(text.str().find("zcylinder 0.1"), std::string::npos);
+  EXPECT_NE(text.str().find("run             300000"), std::string::npos);
+}
+
+TEST_F(ExportCli, TwoDimensionalSceneIsABadOptionNamingTheKey) {
+  const auto scene = SourceDir() / "samples/scenes/paper004_disks_frictionless.json";
+  const auto result = RunBouncecal("export --material " + Card() + " --engine lammps --scene " +
+                                   scene.string() + " -o " + (folder_ / "deck").string());
+  EXPECT_EQ(result.exit_status, 3) << result.output;
+  EXPECT_NE(result.output.find("dimension"), std::string::npos) << result.output;
+  EXPECT_FALSE(fs::exists(folder_ / "deck")) << "nothing written, not even the folder, on error";
 }
 
 TEST_F(ExportCli, HelpShowsAnExample) {

@@ -17,6 +17,24 @@ using deck_text::CommentBlock;
 using deck_text::Number;
 using deck_text::RequirePositive;
 
+double LargestDiameter(const PackingDeckSpec& spec) {
+  return spec.max_diameter_m.value_or(spec.diameter_m);
+}
+
+double MeanDiameter(const PackingDeckSpec& spec) {
+  return 0.5 * (spec.diameter_m + LargestDiameter(spec));
+}
+
+// E[d^3] of the uniform diameter distribution, for volumes.
+double MeanCubedDiameter(const PackingDeckSpec& spec) {
+  const double a = spec.diameter_m, b = LargestDiameter(spec);
+  return b > a ? (std::pow(b, 4) - std::pow(a, 4)) / (4 * (b - a)) : a * a * a;
+}
+
+double SphereMass(double diameter_m, double density_kg_per_m3) {
+  return density_kg_per_m3 * std::numbers::pi * std::pow(diameter_m, 3) / 6;
+}
+
 void RequireNonNegative(double value, std::string_view name) {
   if (!std::isfinite(value) || value < 0) {
     throw ConfigError(fmt::format("{} must be a finite number >= 0, got {}", name, value));
@@ -33,26 +51,32 @@ void Validate(const PackingDeckSpec& spec, const PackingDeckOptions& options) {
         fmt::format("scene particle count must be in [1, 1e9], got {}", spec.particle_count));
   }
   RequirePositive(spec.diameter_m, "scene particle diameter", "metres");
+  if (spec.max_diameter_m && !(*spec.max_diameter_m > spec.diameter_m)) {
+    throw ConfigError(fmt::format(
+        "scene largest diameter must exceed the smallest ({} m), got {}; leave it unset for one "
+        "size",
+        spec.diameter_m, *spec.max_diameter_m));
+  }
+  const double largest = LargestDiameter(spec);
   RequirePositive(spec.density_kg_per_m3, "scene particle density", "kg/m^3");
   RequirePositive(spec.container_height_m, "scene container height", "metres");
   if (spec.container == PackingContainer::kCylinder) {
-    RequirePositive(spec.container_radius_m - spec.diameter_m,
-                    "scene container radius minus one diameter", "metres");
+    RequirePositive(spec.container_radius_m - largest, "scene container radius minus one diameter",
+                    "metres");
   } else {
-    RequirePositive(spec.box_half_x_m - spec.diameter_m,
-                    "scene box half-width x minus one diameter", "metres");
-    RequirePositive(spec.box_half_y_m - spec.diameter_m,
-                    "scene box half-width y minus one diameter", "metres");
+    RequirePositive(spec.box_half_x_m - largest, "scene box half-width x minus one diameter",
+                    "metres");
+    RequirePositive(spec.box_half_y_m - largest, "scene box half-width y minus one diameter",
+                    "metres");
   }
-  RequirePositive(spec.insert_z_min_m - 0.5 * spec.diameter_m,
+  RequirePositive(spec.insert_z_min_m - 0.5 * largest,
                   "scene insertion bottom above the floor (minus a radius)", "metres");
-  RequirePositive(spec.insert_z_max_m - spec.insert_z_min_m - spec.diameter_m,
+  RequirePositive(spec.insert_z_max_m - spec.insert_z_min_m - largest,
                   "scene insertion band height minus one diameter", "metres");
   // The insertion region must hold a particle and stay inside the container's walls.
   auto check_inside = [&](const std::optional<double>& value, double wall, std::string_view name) {
     if (!value) return;
-    RequirePositive(*value - 0.5 * spec.diameter_m, fmt::format("{} minus a radius", name),
-                    "metres");
+    RequirePositive(*value - 0.5 * largest, fmt::format("{} minus a radius", name), "metres");
     RequirePositive(wall - *value, fmt::format("container size minus {}", name), "metres");
   };
   check_inside(spec.insert_radius_m, spec.container_radius_m, "scene insertion radius");
@@ -94,14 +118,14 @@ struct LiggghtsBatches {
 
 LiggghtsBatches PlanBatches(const PackingDeckSpec& spec) {
   const double band = spec.insert_z_max_m - spec.insert_z_min_m;
-  const double d = spec.diameter_m;
+  const double d = LargestDiameter(spec);
   const double section =
       spec.container == PackingContainer::kCylinder
           ? std::numbers::pi *
                 std::pow(spec.insert_radius_m.value_or(spec.container_radius_m - d), 2)
           : 4 * spec.insert_half_x_m.value_or(spec.box_half_x_m - d) *
                 spec.insert_half_y_m.value_or(spec.box_half_y_m - d);
-  const double particle_volume = std::numbers::pi * std::pow(spec.diameter_m, 3) / 6;
+  const double particle_volume = std::numbers::pi * MeanCubedDiameter(spec) / 6;
   LiggghtsBatches batches;
   const double interval_s = spec.batch_interval_s.value_or(std::sqrt(2 * band / spec.gravity_mps2));
   batches.every_steps = std::max<std::int64_t>(1, std::llround(interval_s / spec.time_step_s));
@@ -120,7 +144,7 @@ struct Regions {
 };
 
 Regions MakeRegions(const PackingDeckSpec& spec) {
-  const double d = spec.diameter_m;
+  const double d = LargestDiameter(spec);
   const double top = std::max(spec.container_height_m, spec.insert_z_max_m) + d;
   const std::string z_band =
       fmt::format("{} {}", Number(spec.insert_z_min_m), Number(spec.insert_z_max_m));
@@ -146,7 +170,23 @@ Regions MakeRegions(const PackingDeckSpec& spec) {
 // Type 1 is the particle, type 2 the walls; property/global matrices are ordered 11 12 21 22.
 std::string LiggghtsPackingScript(const PackingDeckSpec& spec, const LawMapping& mapping,
                                   const LiggghtsBatches& batches, const Deck& deck) {
-  const double d = spec.diameter_m;
+  const double d = LargestDiameter(spec);
+  // A uniform diameter distribution becomes kSizeClasses equally likely sizes at the centres of
+  // equal-width bins (number-based weights), the closest LIGGGHTS' discrete templates come.
+  constexpr int kSizeClasses = 5;
+  const int classes = spec.max_diameter_m ? kSizeClasses : 1;
+  std::string templates, weights;
+  const std::uint32_t template_seeds[kSizeClasses] = {15485863, 15485867, 32452843, 32452867,
+                                                      49979687};
+  for (int i = 0; i < classes; ++i) {
+    const double diameter =
+        spec.diameter_m + (i + 0.5) / classes * (LargestDiameter(spec) - spec.diameter_m);
+    templates += fmt::format(
+        "fix             template{} all particletemplate/sphere {} atom_type 1 density constant "
+        "{} radius constant {}\n",
+        i + 1, template_seeds[i], Number(spec.density_kg_per_m3), Number(0.5 * diameter));
+    weights += fmt::format(" template{} {}", i + 1, Number(1.0 / classes));
+  }
   auto per_type_pair = [](double particle, double wall) {
     return fmt::format("{0} {1} {1} {1}", Number(particle), Number(wall));
   };
@@ -195,8 +235,7 @@ timestep        {dt}
 fix             gravity all gravity {g} vector 0.0 0.0 -1.0
 fix             floor all {wall_model} zplane 0.0
 {walls}
-fix             template all particletemplate/sphere 15485863 atom_type 1 density constant {rho} radius constant {r}
-fix             distribution all particledistribution/discrete 32452843 1 template 1.0
+{templates}fix             distribution all particledistribution/discrete/numberbased 67867967 {classes}{weights}
 region          insert {insert} units box
 fix             pour all insert/rate/region seed {seed} distributiontemplate distribution nparticles {count} particlerate {rate} insert_every {every} overlapcheck yes all_in yes vel constant 0 0 0 region insert
 
@@ -216,7 +255,7 @@ write_data      final.data
       fmt::arg("mu", per_type_pair(spec.friction, spec.wall_friction)),
       fmt::arg("dt", Number(spec.time_step_s)), fmt::arg("g", Number(spec.gravity_mps2)),
       fmt::arg("wall_model", wall_model), fmt::arg("walls", walls),
-      fmt::arg("rho", Number(spec.density_kg_per_m3)), fmt::arg("r", Number(0.5 * d)),
+      fmt::arg("templates", templates), fmt::arg("classes", classes), fmt::arg("weights", weights),
       fmt::arg("insert", regions.insert), fmt::arg("seed", PrimeSeed(spec.seed)),
       fmt::arg("count", spec.particle_count), fmt::arg("rate", Number(batches.rate_per_s)),
       fmt::arg("every", batches.every_steps),
@@ -235,8 +274,8 @@ write_data      final.data
 Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec,
                      const PackingDeckOptions& options) {
   Validate(spec, options);
-  const double d = spec.diameter_m;
-  const double mass = spec.density_kg_per_m3 * std::numbers::pi * d * d * d / 6;
+  const double d = MeanDiameter(spec);
+  const double mass = SphereMass(d, spec.density_kg_per_m3);
   // The pour's typical first impact: a fall from the middle of the insertion band.
   const double impact_speed =
       std::sqrt(2 * spec.gravity_mps2 * 0.5 * (spec.insert_z_min_m + spec.insert_z_max_m));
@@ -252,10 +291,11 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
   deck.expected_restitution = mapping.restitution;
   const SpringDashpot& pair = mapping.pair;
   const double pair_contact_s = ContactDurationS(pair);
-  // The shortest contact (pairs) sets both the discretisation error and the stability limit.
+  // The shortest contact (pairs; of the smallest particles) sets both the discretisation error
+  // and the stability limit.
   deck.time_step_error_bound = pair.damping_rate_per_s * spec.time_step_s;
-  const double omega_dt =
-      std::sqrt(pair.stiffness_n_per_m / pair.effective_mass_kg) * spec.time_step_s;
+  const double smallest_pair_mass = 0.5 * SphereMass(spec.diameter_m, spec.density_kg_per_m3);
+  const double omega_dt = std::sqrt(pair.stiffness_n_per_m / smallest_pair_mass) * spec.time_step_s;
   if (omega_dt >= 2) {
     throw ConfigError(fmt::format(
         "scene time step {} s is unstable for the mapped pair contact (omega dt = {:.3g} >= 2, "
@@ -269,6 +309,20 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
   deck.output_interval_s = deck.output_every_steps * spec.time_step_s;
 
   deck.notes = mapping.notes;
+  if (spec.max_diameter_m) {
+    // One coefficient set for every size: the mass-scaled dashpot gives each its own e.
+    auto wall_e = [&](double diameter) {
+      SpringDashpot wall = mapping.wall;
+      wall.effective_mass_kg = SphereMass(diameter, spec.density_kg_per_m3);
+      return Restitution(wall);
+    };
+    deck.notes.push_back(fmt::format(
+        "POLYDISPERSE: diameters uniform in [{}, {}] m; the law is mapped for the mean diameter "
+        "{} m, so on the walls the smallest particles bounce with e = {:.4f} and the largest with "
+        "{:.4f} instead of {:.4f}.",
+        Number(spec.diameter_m), Number(*spec.max_diameter_m), Number(d), wall_e(spec.diameter_m),
+        wall_e(*spec.max_diameter_m), mapping.restitution));
+  }
   deck.notes.push_back(fmt::format(
       "Time step {} s resolves a pair contact (t_c = {:.4g} s) in {:.1f} steps and a wall contact "
       "in {:.1f}: the restitution of single contacts may deviate by up to gamma_n dt = {:.1f} % "
@@ -319,11 +373,15 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
       fmt::format("Written by bouncecal {} from material card: {}", Version(), material.source),
       fmt::format("Scene: {}", options.scene_source),
       fmt::format("Card's contact law: {}", mapping.source_description),
-      fmt::format("Particles: {} spheres of {} m, {} kg/m^3 ({} kg each); {} s of {} s steps "
+      fmt::format("Particles: {} spheres of {} m, {} kg/m^3 ({} kg{}); {} s of {} s steps "
                   "({} steps); g = {} m/s^2.",
-                  spec.particle_count, Number(d), Number(spec.density_kg_per_m3), Number(mass),
-                  Number(spec.duration_s), Number(spec.time_step_s), deck.steps,
-                  Number(spec.gravity_mps2)),
+                  spec.particle_count,
+                  spec.max_diameter_m
+                      ? fmt::format("{}-{}", Number(spec.diameter_m), Number(*spec.max_diameter_m))
+                      : Number(d),
+                  Number(spec.density_kg_per_m3), Number(mass),
+                  spec.max_diameter_m ? " at the mean diameter" : " each", Number(spec.duration_s),
+                  Number(spec.time_step_s), deck.steps, Number(spec.gravity_mps2)),
       ""};
   for (const auto& note : deck.notes) header.push_back(note);
   header.push_back("");
@@ -384,7 +442,7 @@ fix             gravity all gravity {g} vector 0 0 -1
 fix             floor all wall/gran {wall} zplane 0.0 NULL
 {sides}
 region          insert {insert} units box
-fix             pour all pour {count} 1 {seed} region insert diam one {d} dens {rho} {rho}
+fix             pour all pour {count} 1 {seed} region insert diam {diam} dens {rho} {rho}
 
 compute         rotation all erotate/sphere
 thermo_style    custom step time atoms ke c_rotation
@@ -395,10 +453,13 @@ write_data      final.data
       fmt::arg("box", regions.box), fmt::arg("kn", Number(pair.stiffness_n_per_m)),
       fmt::arg("kt", Number(spec.tangential_stiffness_n_per_m)),
       fmt::arg("gn", Number(pair.damping_rate_per_s)), fmt::arg("mu", Number(spec.friction)),
-      fmt::arg("skin", Number(0.2 * d)), fmt::arg("dt", Number(spec.time_step_s)),
-      fmt::arg("g", Number(spec.gravity_mps2)), fmt::arg("wall", wall_law),
-      fmt::arg("sides", wall_sides), fmt::arg("insert", regions.insert),
-      fmt::arg("count", spec.particle_count), fmt::arg("seed", spec.seed), fmt::arg("d", Number(d)),
+      fmt::arg("skin", Number(0.2 * LargestDiameter(spec))),
+      fmt::arg("dt", Number(spec.time_step_s)), fmt::arg("g", Number(spec.gravity_mps2)),
+      fmt::arg("wall", wall_law), fmt::arg("sides", wall_sides), fmt::arg("insert", regions.insert),
+      fmt::arg("count", spec.particle_count), fmt::arg("seed", spec.seed),
+      fmt::arg("diam", spec.max_diameter_m ? fmt::format("range {} {}", Number(spec.diameter_m),
+                                                         Number(*spec.max_diameter_m))
+                                           : fmt::format("one {}", Number(spec.diameter_m))),
       fmt::arg("rho", Number(spec.density_kg_per_m3)),
       fmt::arg("thermo", std::max<std::int64_t>(1, deck.steps / 20)),
       fmt::arg("dump",

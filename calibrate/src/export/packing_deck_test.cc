@@ -97,6 +97,27 @@ TEST(MakePackingDeck, ExplicitInsertionRegionAndBatchIntervalAreUsed) {
   EXPECT_THROW(MakePackingDeck(PaperMaterial(), spec, options), ConfigError);
 }
 
+TEST(MakePackingDeck, PolydisperseScenePoursARangeAndStatesTheSizeDependentRestitution) {
+  PackingDeckSpec spec;
+  spec.diameter_m = 0.008;
+  spec.max_diameter_m = 0.012;
+  const auto lammps = MakePackingDeck(PaperMaterial(), spec, {});
+  EXPECT_TRUE(Contains(lammps.files[0].content, "diam range 0.008 0.012"))
+      << lammps.files[0].content;
+  EXPECT_TRUE(Contains(lammps.files[0].content, "POLYDISPERSE")) << lammps.files[0].content;
+  // Mapped for the mean diameter (1 cm): the paper's e on the walls for that size.
+  EXPECT_NEAR(lammps.expected_restitution, std::sqrt(1.0 / 3.0), 1e-12);
+  PackingDeckOptions options;
+  options.engine = Engine::kLiggghts;
+  const auto liggghts = MakePackingDeck(PaperMaterial(), spec, options);
+  EXPECT_TRUE(Contains(liggghts.files[0].content,
+                       "particledistribution/discrete/numberbased 67867967 5 template1 0.2"))
+      << liggghts.files[0].content;
+  EXPECT_TRUE(Contains(liggghts.files[0].content, "radius constant 0.0042\n"));  // 8.4 mm class
+  spec.max_diameter_m = 0.008;
+  EXPECT_THROW(MakePackingDeck(PaperMaterial(), spec, {}), ConfigError);
+}
+
 TEST(MakePackingDeck, BoxContainerGetsFourSideWalls) {
   PackingDeckSpec spec;
   spec.container = PackingContainer::kBox;

@@ -23,6 +23,10 @@ struct PackingDeckSpec {
   std::string name = "packing";
   std::int64_t particle_count = 2000;
   double diameter_m = 0.01;
+  // When set: diameters uniform in [diameter_m, max_diameter_m]. The law is then mapped for the
+  // mean diameter's mass, and the header states the wall restitution of the smallest and the
+  // largest particle (a mass-scaled dashpot gives each size its own e).
+  std::optional<double> max_diameter_m;
   double density_kg_per_m3 = 7800;
   PackingContainer container = PackingContainer::kCylinder;
   double container_radius_m = 0.1;  // kCylinder
