@@ -14,6 +14,8 @@ void AddSweepCommand(CLI::App& app);
 void AddCompareCommand(CLI::App& app);
 void AddSynthCommand(CLI::App& app);
 void AddAnalyzeCommand(CLI::App& app);
+// simulate drop: the DEM single-ball drop (apps/simulate_command.cc).
+void AddSimulateCommand(CLI::App& app);
 
 }  // namespace bouncecal::apps
 

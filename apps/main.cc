@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   apps::AddCompareCommand(app);
   apps::AddSynthCommand(app);
   apps::AddAnalyzeCommand(app);
+  apps::AddSimulateCommand(app);
 
   try {
     app.parse(argc, argv);

@@ -59,9 +59,10 @@ std::span<const ParameterSpec> ParameterSpecs(ContactLawKind kind) { return Spec
 void CheckParameterValue(const ParameterSpec& spec, double value, std::string_view context) {
   if (std::isfinite(value) && value >= spec.min_value && value <= spec.max_value) return;
   throw ConfigError(fmt::format(
-      "{} parameter {} = {} is outside its valid range [{:g}, {:g}] {}; choose a finite value in "
-      "that range",
-      context, spec.name, value, spec.min_value, spec.max_value, spec.unit));
+      "{} parameter {} = {} is outside its valid range [{:g}, {:g}]{}{}; choose a finite value "
+      "in that range",
+      context, spec.name, value, spec.min_value, spec.max_value, spec.unit == "1" ? "" : " ",
+      spec.unit == "1" ? "" : spec.unit));
 }
 
 double ContactLawConfig::Get(std::string_view name) const {

@@ -135,7 +135,7 @@ TEST(ContactLaws, EveryLawGivesZeroForceWithoutOverlap) {
     std::visit(
         [&](const auto& law) {
           NormalHistory history;
-          EXPECT_EQ(law.NormalForce(Contact(0, 1), history), 0) << ToString(kind);
+          EXPECT_EQ(law.NormalForce(Contact(0, -1), history), 0) << ToString(kind);
           EXPECT_EQ(law.NormalForce(Contact(-1e-6, -1), history), 0) << ToString(kind);
         },
         DefaultLaw(kind));

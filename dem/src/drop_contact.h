@@ -33,7 +33,9 @@ template <typename Law>
 double Acceleration(const Law& law, const Physics& physics, double z, double v,
                     NormalHistory& history) {
   double a = -physics.gravity_mps2 - physics.drag_per_mass * v * std::abs(v);
-  if (z < 0) {
+  // Touching and approaching counts as contact: laws whose force jumps at touchdown (dashpot)
+  // then act from the first instant of the contact.
+  if (z < 0 || (z == 0 && v < 0)) {
     const NormalContact contact{.overlap_m = -z,
                                 .overlap_rate_mps = -v,
                                 .effective_mass_kg = physics.mass_kg,
@@ -50,10 +52,17 @@ class ContactStepper {
  public:
   ContactStepper(const Law& law, const Physics& physics) : law_(&law), physics_(&physics) {}
 
-  void Start(const State& state) {
+  // grid_entry: the contact starts at a grid step that already has overlap (classic stepping).
+  // A Verlet code reaching that step has applied half a kick of the contact force there
+  // (v = v_half + dt/2 a with the new force), which the ballistic state lacks: add it.
+  void Start(State& state, double dt, bool grid_entry) {
     history_ = {};
     if constexpr (kMethod == Integrator::kVelocityVerlet) {
       acceleration_ = Acceleration(*law_, *physics_, state.z, state.v, history_);
+      if (grid_entry) {
+        NormalHistory none;
+        state.v += 0.5 * dt * (acceleration_ - Acceleration(*law_, *physics_, 1.0, state.v, none));
+      }
     }
   }
 
@@ -119,13 +128,50 @@ class ContactStepper {
   double acceleration_ = 0;
 };
 
-enum class ContactEnd { kReleased, kTrapped, kTimeLimit, kStepLimit };
+// Finds the sub-step s in (0, dt] after which value(state) crosses 0, given its values at the
+// start and after the full step (of opposite signs), by regula falsi with the Illinois
+// modification on the sub-step length: each trial re-integrates the sub-step from the saved
+// stepper, so the event is located on the integrator's own trajectory, whatever the step size.
+// Leaves the state and stepper at the event and returns s.
+template <typename Stepper, typename Value>
+double LocateEvent(const Stepper& saved, const State& start, double dt, Branch branch,
+                   double value_start, double value_end, Value value, State& state,
+                   Stepper& stepper) {
+  double lo = 0, hi = dt, f_lo = value_start, f_hi = value_end;
+  const double tolerance = 1e-12 * std::max(std::abs(value_start), std::abs(value_end));
+  double s = dt * value_start / (value_start - value_end);
+  int side = 0;
+  for (int iteration = 0; iteration < 30; ++iteration) {
+    stepper = saved;
+    state = start;
+    stepper.Step(state, s, branch);
+    const double f = value(state);
+    if (std::abs(f) <= tolerance || hi - lo <= 1e-12 * dt) break;
+    if ((f < 0) == (f_lo < 0)) {
+      lo = s;
+      f_lo = f;
+      if (side == -1) f_hi *= 0.5;
+      side = -1;
+    } else {
+      hi = s;
+      f_hi = f;
+      if (side == 1) f_lo *= 0.5;
+      side = 1;
+    }
+    s = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+  }
+  return s;
+}
+
+enum class ContactEnd { kReleased, kTrapped, kSustained, kTimeLimit, kStepLimit };
 
 // One contact integrated with a fixed step from `state` (overlap >= 0, approaching) until the
-// ball is released, can never be released, or the time or step budget ends.
+// ball is released, can never be released, stays longer than max_contact_s (sustained contact:
+// resting on the plane while a weakly damped ring-down decays), or the time or step budget
+// ends.
 //
 // With options.locate_contact_events, a step in which the velocity changes sign is redone as
-// two sub-steps split at the (linearly estimated) turning point, with the law's loading branch
+// two sub-steps split at the turning point (located by LocateEvent), with the law's loading branch
 // before it and the unloading branch after, and the step in which the ball leaves the plane is
 // redone up to the crossing. There the contact behaves like Coulomb friction in
 // velocity space (Filippov): if neither branch can move the ball (upward acceleration <= 0 on
@@ -134,10 +180,10 @@ enum class ContactEnd { kReleased, kTrapped, kTimeLimit, kStepLimit };
 // point by up to a step (e > 0 even for gamma_n = 1).
 template <Integrator kMethod, typename Law>
 ContactEnd IntegrateContact(const Law& law, const Physics& physics, const DropOptions& options,
-                            double dt, State& state, DropImpact& impact, std::int64_t& steps,
-                            TrajectoryRecorder& recorder) {
+                            double dt, double max_contact_s, State& state, DropImpact& impact,
+                            std::int64_t& steps, TrajectoryRecorder& recorder) {
   ContactStepper<kMethod, Law> stepper(law, physics);
-  stepper.Start(state);
+  stepper.Start(state, dt, options.fixed_step_grid && state.z < 0);
   const double m = physics.mass_kg;
   const double g = physics.gravity_mps2;
   for (;;) {
@@ -147,35 +193,34 @@ ContactEnd IntegrateContact(const Law& law, const Physics& physics, const DropOp
     stepper.Step(state, dt, Branch::kFree);
     ++steps;
     if (options.locate_contact_events && previous.v * state.v < 0 && state.z < 0) {
-      const double fraction = previous.v / (previous.v - state.v);
-      stepper = saved;
-      state = previous;
       const Branch before = previous.v < 0 ? Branch::kLoading : Branch::kUnloading;
-      const State turned_from = state;
-      stepper.Step(state, fraction * dt, before);
+      const double v_end = state.v;
+      const double sub_step = LocateEvent(
+          saved, previous, dt, before, previous.v, v_end, [](const State& at) { return at.v; },
+          state, stepper);
       state.v = 0;
       const auto [up, down] = stepper.TurningAccelerations(state.z);
-      recorder.Segment(turned_from.t, turned_from.z, turned_from.v, state.t, state.z, state.v);
+      recorder.Segment(previous.t, previous.z, previous.v, state.t, state.z, state.v);
       if (up <= 0 && down >= 0) {
         impact.max_overlap_m = std::max(impact.max_overlap_m, -state.z);
         return ContactEnd::kTrapped;
       }
+      impact.max_overlap_m = std::max(impact.max_overlap_m, -state.z);  // exact at v = 0
       const Branch after = up > 0 ? Branch::kUnloading : Branch::kLoading;
       stepper.Turn(state, after);
       const State mid = state;
-      stepper.Step(state, (1 - fraction) * dt, after);
+      stepper.Step(state, dt - sub_step, after);
       ++steps;
       state.t = previous.t + dt;
       recorder.Segment(mid.t, mid.z, mid.v, state.t, state.z, state.v);
     } else if (options.locate_contact_events && state.z >= 0 && previous.z < 0) {
-      // Release inside the step: redo it up to the (linearly estimated) crossing, so that no
-      // part of the step feels the force jump there (the dashpot's pull ends at overlap 0).
-      const double fraction = previous.z / (previous.z - state.z);
-      stepper = saved;
-      state = previous;
-      stepper.Step(state, fraction * dt, Branch::kFree);
+      // Release inside the step: redo it up to the crossing, so that no part of the step feels
+      // the force jump there (the dashpot's pull ends at overlap 0).
+      LocateEvent(
+          saved, previous, dt, Branch::kFree, previous.z, state.z,
+          [](const State& at) { return at.z; }, state, stepper);
       recorder.Segment(previous.t, previous.z, previous.v, state.t, state.z, state.v);
-      state.z = std::max(state.z, 0.0);  // a remaining overlap of O(dt^2) is released too
+      state.z = std::max(state.z, 0.0);  // what remains is below the location tolerance
     } else {
       recorder.Segment(previous.t, previous.z, previous.v, state.t, state.z, state.v);
     }
@@ -194,6 +239,7 @@ ContactEnd IntegrateContact(const Law& law, const Physics& physics, const DropOp
     if (0.5 * m * state.v * state.v + stepper.ReturnableEnergy(state) < m * g * (-state.z)) {
       return ContactEnd::kTrapped;
     }
+    if (state.t - impact.time_s > max_contact_s) return ContactEnd::kSustained;
     if (state.t >= options.max_time_s) return ContactEnd::kTimeLimit;
   }
 }

@@ -288,5 +288,138 @@ TEST(SimulateDrop, TrajectoryFollowsTheFreeFall) {
   }
 }
 
+// With the turning point located, the peak overlap is the integrator's state at v = 0; at 1000
+// steps it matches the exact path to the O(dt) of Euler, 1e-3 relative.
+TEST(SimulateDrop, PeakOverlapMatchesTheExactPath) {
+  DropOptions options = PaperDrop();
+  options.max_impacts = 1;
+  options.integrator = Integrator::kExact;
+  const double exact = SimulateDrop(options).impacts.at(0).max_overlap_m;
+  for (Integrator integrator : kSteppedIntegrators) {
+    options.integrator = integrator;
+    options.steps_per_contact = 1000;
+    EXPECT_NEAR(SimulateDrop(options).impacts.at(0).max_overlap_m, exact, 1e-3 * exact)
+        << ToString(integrator);
+  }
+}
+
+TEST(SimulateDrop, EveryStopReasonIsReachedAndExplained) {
+  DropOptions options = PaperDrop();
+  options.max_impacts = 4;
+  DropResult result = SimulateDrop(options);
+  EXPECT_EQ(result.stop_reason, DropStopReason::kMaxImpacts);
+  EXPECT_EQ(result.impacts.size(), 4u);
+  options = PaperDrop();
+  options.max_time_s = 0.5;
+  result = SimulateDrop(options);
+  EXPECT_EQ(result.stop_reason, DropStopReason::kTimeLimit);
+  EXPECT_EQ(result.impacts.size(), 2u);  // onsets at 0.202 s and 0.435 s
+  options = PaperDrop();
+  options.max_steps = 10;
+  result = SimulateDrop(options);
+  EXPECT_EQ(result.stop_reason, DropStopReason::kStepLimit);
+  EXPECT_LE(result.steps, 12);  // a located event may add one sub-step to the last step
+  options = PaperDrop();
+  options.rest_flight_s = 0.05;  // flights of 0.4 e^k s: rest after impact 4 (0.044 s)
+  result = SimulateDrop(options);
+  EXPECT_EQ(result.stop_reason, DropStopReason::kAtRest);
+  EXPECT_EQ(result.impacts.size(), 4u);
+  for (DropStopReason reason :
+       {DropStopReason::kMaxImpacts, DropStopReason::kTimeLimit, DropStopReason::kAtRest,
+        DropStopReason::kStuck, DropStopReason::kStepLimit}) {
+    EXPECT_NE(ToString(reason), "unknown");
+  }
+}
+
+// The paper's simulated eta-bar = 0.598 (../shared/PHYSICS.md section 3) is what fixed-step
+// stepping at dt = 10 us gives on average over where the touchdown falls inside a step (the
+// hysteresis branch switches only at step boundaries); located events give the formula's 0.667.
+// Over 100 onset phases the classic mean has a standard error of 0.0046 (spread 0.046), so
+// 0.02 is 4 standard errors; the located result is within 0.025 of 0.667 at 7 steps/contact.
+TEST(SimulateDrop, ClassicTenMicrosecondStepsReproduceThePaperValue) {
+  const auto eta_bar = [](const DropResult& result, double h0) {
+    double previous = 2 * std::sqrt(2 * h0 / 9.8), sum = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double interval = result.impacts.at(k + 1).time_s - result.impacts.at(k).time_s;
+      sum += 1 - (interval / previous) * (interval / previous);
+      previous = interval;
+    }
+    return sum / 3;
+  };
+  DropOptions options = PaperDrop();
+  options.gravity_mps2 = 9.8;
+  options.time_step_s = 10e-6;
+  options.max_impacts = 5;
+  options.fixed_step_grid = true;
+  options.locate_contact_events = false;
+  double mean = 0;
+  for (int i = 0; i < 100; ++i) {
+    options.drop_height_m = 0.2 + i / 100.0 * std::sqrt(2 * 9.8 * 0.2) * 10e-6;
+    mean += eta_bar(SimulateDrop(options), options.drop_height_m) / 100;
+  }
+  EXPECT_NEAR(mean, 0.598, 0.02);
+  options.fixed_step_grid = false;
+  options.locate_contact_events = true;
+  options.drop_height_m = 0.2;
+  EXPECT_NEAR(eta_bar(SimulateDrop(options), 0.2), 2 * 0.5 / 1.5, 0.025);
+}
+
+// Every law with a closed-form restitution or contact duration, through the whole drop engine:
+// the first impact (RK4, 1000 steps per contact) against the gravity-free closed forms. Gravity
+// acting during the contact changes both by a relative amount of order g t_c / v_out; the
+// tolerance is 3 g t_c / v_out (the integration error, < 1e-8, is negligible). Brilliantov
+// damping is taken small (A = 2e-8 s) so that the two-term series is exact to ~1e-7.
+TEST(SimulateDrop, FirstImpactMatchesEveryClosedForm) {
+  for (ContactLawKind kind : kAllContactLawKinds) {
+    DropOptions options;
+    options.law = {.kind = kind, .parameters = {}};
+    if (kind == ContactLawKind::kHertzViscoelastic) {
+      options.law.parameters["dissipative_time_s"] = 2e-8;
+    }
+    options.integrator = Integrator::kRungeKutta4;
+    options.steps_per_contact = 1000;
+    options.max_impacts = 1;
+    const DropImpact impact = SimulateDrop(options).impacts.at(0);
+    const ContactLaw law = MakeContactLaw(options.law);
+    std::visit(
+        [&](const auto& typed) {
+          const double m = options.ball.MassKg(), r = options.ball.RadiusM();
+          const double tolerance =
+              3 * options.gravity_mps2 * impact.contact_duration_s / impact.speed_out_mps;
+          if (const auto e = typed.ClosedFormRestitution(m, r, impact.speed_in_mps)) {
+            EXPECT_NEAR(impact.restitution, *e, tolerance * *e) << ToString(kind);
+          }
+          if (const auto tc = typed.ClosedFormContactDuration(m, r, impact.speed_in_mps)) {
+            EXPECT_NEAR(impact.contact_duration_s, *tc, tolerance * *tc) << ToString(kind);
+          }
+        },
+        law);
+  }
+}
+
+// Quadratic drag makes a light ball's apparent restitution (from flight intervals, as a
+// recording measures it) fall with drop height while the contact's own restitution does not:
+// a ping-pong ball (40 mm, 2.7 g) from 0.3 m and 2 m. Tolerance 2e-3 on the law's e: gravity
+// during the contact at the two impact speeds.
+TEST(SimulateDrop, DragMakesApparentRestitutionDependOnDropHeight) {
+  const auto apparent_first = [](double height) {
+    DropOptions options;
+    options.ball = {.diameter_m = 0.04, .density_kg_per_m3 = 1000, .mass_kg = 0.0027};
+    options.drop_height_m = height;
+    options.drag.enabled = true;
+    options.max_impacts = 2;
+    const DropResult result = SimulateDrop(options);
+    const double first_flight = result.impacts.at(1).time_s - result.impacts.at(0).time_s;
+    return std::pair(first_flight / (2 * std::sqrt(2 * height / 9.81)),
+                     result.impacts.at(0).restitution);
+  };
+  const auto [low_apparent, low_true] = apparent_first(0.3);
+  const auto [high_apparent, high_true] = apparent_first(2.0);
+  EXPECT_NEAR(low_true, high_true, 2e-3);  // the law's e (speed ratio) barely changes
+  // Drag slows both the fall from h0 and the following flight, so the ratio to the drag-free
+  // dt_0 = 2 sqrt(2 h0 / g) drops with height: 0.57 from 0.3 m, 0.49 from 2 m.
+  EXPECT_LT(high_apparent, low_apparent - 0.05);
+}
+
 }  // namespace
 }  // namespace bouncecal::dem

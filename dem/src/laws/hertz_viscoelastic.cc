@@ -50,12 +50,12 @@ std::optional<double> HertzViscoelastic::ClosedFormContactDuration(double, doubl
 }
 
 double HertzViscoelastic::MaxStableTimeStepS(double effective_mass_kg, double effective_radius_m,
-                                             double impact_speed_mps) const {
+                                             double impact_speed_mps, double gravity_mps2) const {
   // The elastic Hertz limit, reduced for the damping like a dashpot with the local coefficient
   // c = 1.5 A K sqrt(xi) at the deepest overlap (O'Sullivan & Bray 2004).
   const Hertz elastic({.effective_modulus_pa = params_.effective_modulus_pa});
-  const double elastic_step =
-      elastic.MaxStableTimeStepS(effective_mass_kg, effective_radius_m, impact_speed_mps);
+  const double elastic_step = elastic.MaxStableTimeStepS(effective_mass_kg, effective_radius_m,
+                                                         impact_speed_mps, gravity_mps2);
   const double omega = 2 / elastic_step;
   const double tangent = omega * omega * effective_mass_kg;  // 1.5 K sqrt(xi)
   const double damping = params_.dissipative_time_s * tangent;

@@ -1,5 +1,6 @@
 #include "bouncecal/dem/laws/linear_dashpot.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -54,7 +55,7 @@ std::optional<double> LinearDashpot::ClosedFormContactDuration(double effective_
   return std::numbers::pi / (omega * std::sqrt(1 - zeta * zeta));
 }
 
-double LinearDashpot::MaxStableTimeStepS(double effective_mass_kg, double, double) const {
+double LinearDashpot::MaxStableTimeStepS(double effective_mass_kg, double, double, double) const {
   const double zeta = params_.damping_ratio;
   const double omega = std::sqrt(params_.stiffness_n_per_m / effective_mass_kg);
   return 2 / omega * (std::sqrt(1 + zeta * zeta) - zeta);
@@ -95,39 +96,46 @@ ExactImpact LinearDashpot::SolveImpactExactly(double mass_kg, double gravity_mps
   const double wd = w * std::sqrt(1 - zeta * zeta);
   const double amp_a = -xi_s;
   const double amp_b = (impact_speed_mps - a * xi_s) / wd;
-  const auto overlap = [&](double t) {
-    return xi_s + std::exp(-a * t) * (amp_a * std::cos(wd * t) + amp_b * std::sin(wd * t));
-  };
   const double p = impact_speed_mps;
   const double q = wd * xi_s - a * amp_b;
-  const auto rate = [&](double t) {
-    return std::exp(-a * t) * (p * std::cos(wd * t) + q * std::sin(wd * t));
+  // Overlap and its rate share one exponential and one sine/cosine pair.
+  const auto evaluate = [&](double t, double& overlap, double& rate) {
+    const double decay = std::exp(-a * t);
+    const double c = std::cos(wd * t), s = std::sin(wd * t);
+    overlap = xi_s + decay * (amp_a * c + amp_b * s);
+    rate = decay * (p * c + q * s);
   };
   const double theta_max = std::atan2(p, -q);
   double lo = theta_max / wd;
   double hi = (theta_max + std::numbers::pi) / wd;
-  impact.max_overlap_m = overlap(lo);
-  if (overlap(hi) > 0) return impact;
-  // xi decreases monotonically on [lo, hi] from positive to <= 0.
-  double t = 0.5 * (lo + hi);
-  for (int iteration = 0; iteration < 100; ++iteration) {
-    const double value = overlap(t);
-    if (value > 0)
+  double value = 0, slope = 0;
+  evaluate(lo, impact.max_overlap_m, slope);
+  // xi decreases monotonically on [lo, hi]; it is released iff xi(hi) <= 0. Newton from the
+  // gravity-free root pi / w_d (gravity moves it by a fraction g / (w v) of the contact),
+  // safeguarded by bisection; xi(hi) itself is only needed when the iteration runs into hi.
+  double t = std::clamp(std::numbers::pi / wd, lo, hi);
+  bool converged = false, root = false;
+  for (int iteration = 0; iteration < 200 && !converged; ++iteration) {
+    evaluate(t, value, slope);
+    if (value > 0) {
       lo = t;
-    else
+    } else {
       hi = t;
-    const double slope = rate(t);
-    double next = slope < 0 ? t - value / slope : 0.5 * (lo + hi);
-    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-    if (std::abs(next - t) <= 1e-15 * next || hi - lo <= 1e-15 * hi) {
-      t = next;
-      break;
     }
-    t = next;
+    if (slope < 0 && std::abs(value / slope) <= 1e-14 * t) {
+      t -= value / slope;
+      converged = root = true;
+    } else {
+      double next = slope < 0 ? t - value / slope : 0.5 * (lo + hi);
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      t = next;
+      converged = hi - lo <= 1e-14 * hi;
+    }
   }
+  if (!root && value > 0) return impact;  // ran into the minimum without crossing: stays
   impact.released = true;
   impact.duration_s = t;
-  impact.speed_out_mps = -rate(t);
+  impact.speed_out_mps = -slope;
   return impact;
 }
 

@@ -43,7 +43,7 @@ std::optional<double> WaltonBraun::ClosedFormContactDuration(double effective_ma
           std::sqrt(effective_mass_kg / (k * (1 - params_.gamma_n))));
 }
 
-double WaltonBraun::MaxStableTimeStepS(double effective_mass_kg, double, double) const {
+double WaltonBraun::MaxStableTimeStepS(double effective_mass_kg, double, double, double) const {
   return 2 * std::sqrt(effective_mass_kg / (params_.stiffness_n_per_m * (1 + params_.gamma_n)));
 }
 

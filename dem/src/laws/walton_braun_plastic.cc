@@ -58,7 +58,8 @@ std::optional<double> WaltonBraunPlastic::ClosedFormContactDuration(double effec
          t1 * (1 - e2) / std::sqrt(e2);
 }
 
-double WaltonBraunPlastic::MaxStableTimeStepS(double effective_mass_kg, double, double) const {
+double WaltonBraunPlastic::MaxStableTimeStepS(double effective_mass_kg, double, double,
+                                              double) const {
   return 2 * std::sqrt(effective_mass_kg / params_.unloading_stiffness_n_per_m);
 }
 

@@ -29,7 +29,8 @@ enum class DropStopReason {
   kMaxImpacts,  // options.max_impacts impacts were simulated
   kTimeLimit,   // options.max_time_s was reached
   kAtRest,      // the bounces became shorter than rest_flight_s, or the ball stayed in contact
-                // (its remaining energy cannot lift it off the plane any more)
+                // (its remaining energy cannot lift it off the plane any more, or the contact
+                // lasted rest_contact_factor contact durations)
   kStuck,       // the law returns no energy at all (e = 0, e.g. gamma_n = 1): the first contact
                 // never ends
   kStepLimit,   // options.max_steps integration steps were taken (guarantees finite work)
@@ -68,8 +69,8 @@ struct DropOptions {
   // omega_max for laws without one) and omega_max = sqrt(stiffest tangent stiffness / m), so
   // both the whole contact and the stiffest branch's oscillation get steps_per_contact steps.
   std::optional<double> time_step_s;
-  // [1, 1e7]. 50 keeps eta_1 within 1e-3 of the exact value with velocity Verlet on the linear
-  // laws (docs/drop_accuracy.md).
+  // [1, 1e7]. 50: velocity Verlet keeps eta_1 within 4e-4 of the exact path on walton-braun
+  // (2.4e-4 plastic, 4e-6 hertz, 3.5e-3 dashpot) at ~25 us CPU per drop (docs/drop_accuracy.md).
   double steps_per_contact = 50;
   // A step beyond the integrator's stability limit for this law is refused unless set.
   bool allow_unstable_step = false;
@@ -92,6 +93,10 @@ struct DropOptions {
   // recording resolves such bounces. Contacts that can never release (remaining kinetic plus
   // returnable elastic energy below the work to lift the ball out) also end the drop.
   double rest_flight_s = 1e-5;
+  // A contact lasting more than this many contact durations (the law's, at that impact's speed)
+  // is sustained: the ball rests on the plane while a weakly damped ring-down decays, [1, 1e9].
+  // Bounds the work of a contact to this many times steps_per_contact steps.
+  double rest_contact_factor = 100;
   std::int64_t max_steps = 200'000'000;  // [1, 1e12]
   double trajectory_interval_s = 0;      // 0: no trajectory recorded, else (0, 1e3]
 };

@@ -43,10 +43,11 @@ class Hertz {
   std::optional<double> ClosedFormContactDuration(double effective_mass_kg,
                                                   double effective_radius_m,
                                                   double impact_speed_mps) const;
-  // omega dt < 2 with the tangent stiffness 1.5 K sqrt(xi_max) at the deepest overlap of an
-  // impact at this speed (plus the static overlap under gravity, so slow impacts are covered).
+  // 0.6 x (omega dt < 2) with the tangent stiffness 1.5 K sqrt(xi_max) at the deepest overlap an
+  // impact at this speed reaches under gravity (energy bound, so every slower impact is
+  // covered); the 0.6 margin covers the overshoot of a stiffening contact (see hertz.cc).
   double MaxStableTimeStepS(double effective_mass_kg, double effective_radius_m,
-                            double impact_speed_mps) const;
+                            double impact_speed_mps, double gravity_mps2 = 9.81) const;
   double ReturnableEnergyJ(const NormalContact& contact, const NormalHistory& history) const;
 
   // Gravity-free maximum overlap of an impact at impact_speed_mps.

@@ -54,7 +54,7 @@ class HertzViscoelastic {
                                                   double effective_radius_m,
                                                   double impact_speed_mps) const;
   double MaxStableTimeStepS(double effective_mass_kg, double effective_radius_m,
-                            double impact_speed_mps) const;
+                            double impact_speed_mps, double gravity_mps2 = 9.81) const;
   double ReturnableEnergyJ(const NormalContact& contact, const NormalHistory& history) const;
 
  private:

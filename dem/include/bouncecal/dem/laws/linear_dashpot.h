@@ -32,8 +32,12 @@ class LinearDashpot {
   static std::span<const ParameterSpec> Specs();
   const Params& params() const { return params_; }
 
+  // At zero overlap the force is the dashpot's c * rate while approaching (the right-hand limit:
+  // the dashpot force jumps at touchdown, a known property of this model), else 0.
   double NormalForce(const NormalContact& contact, NormalHistory& /*history*/) const {
-    if (contact.overlap_m <= 0) return 0;
+    if (contact.overlap_m < 0 || (contact.overlap_m == 0 && contact.overlap_rate_mps <= 0)) {
+      return 0;
+    }
     const double damping = 2 * params_.damping_ratio *
                            std::sqrt(contact.effective_mass_kg * params_.stiffness_n_per_m);
     return params_.stiffness_n_per_m * contact.overlap_m + damping * contact.overlap_rate_mps;
@@ -47,7 +51,7 @@ class LinearDashpot {
   // omega dt < 2 (sqrt(1 + zeta^2) - zeta): the central-difference limit with viscous damping
   // (O'Sullivan & Bray 2004, Eng. Comput. 21).
   double MaxStableTimeStepS(double effective_mass_kg, double effective_radius_m,
-                            double impact_speed_mps) const;
+                            double impact_speed_mps, double gravity_mps2 = 9.81) const;
   double ReturnableEnergyJ(const NormalContact& contact, const NormalHistory& history) const;
   ExactImpact SolveImpactExactly(double mass_kg, double gravity_mps2,
                                  double impact_speed_mps) const;

@@ -49,7 +49,7 @@ class WaltonBraun {
                                                   double impact_speed_mps) const;
   // Explicit-integrator limit omega dt < 2 on the stiffer (loading) branch.
   double MaxStableTimeStepS(double effective_mass_kg, double effective_radius_m,
-                            double impact_speed_mps) const;
+                            double impact_speed_mps, double gravity_mps2 = 9.81) const;
   // Most energy the law can give back while the overlap goes from its current value to 0.
   double ReturnableEnergyJ(const NormalContact& contact, const NormalHistory& history) const;
   // One impact on a plane under gravity g, in closed form (piecewise harmonic motion).

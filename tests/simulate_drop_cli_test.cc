@@ -1,0 +1,80 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "cli_runner.h"
+
+namespace bouncecal::testing {
+namespace {
+
+std::filesystem::path TempPath(const std::string& name) {
+  return std::filesystem::path(BOUNCECAL_BINARY_DIR) / ("simulate_drop_cli_" + name);
+}
+
+std::string ReadAll(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
+TEST(SimulateDropCli, WritesJsonAndTrajectoryOfThePaperDrop) {
+  const auto json_path = TempPath("paper.json");
+  const auto csv_path = TempPath("paper.csv");
+  const auto result = RunBouncecal(
+      "simulate drop --law walton-braun --gamma 0.5 --stiffness 1e7 --diameter 0.01 --density "
+      "7800 --drop-height 0.2 --json " +
+      json_path.string() + " --trajectory " + csv_path.string());
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  EXPECT_NE(result.output.find("restitution"), std::string::npos);
+  const auto json = nlohmann::json::parse(ReadAll(json_path));
+  ASSERT_GE(json.at("impacts").size(), 10u);
+  const auto& first = json.at("impacts").at(0);
+  for (const char* key : {"time_s", "restitution", "energy_loss", "contact_duration_s",
+                          "max_overlap_m", "speed_in_mps", "speed_out_mps"}) {
+    EXPECT_TRUE(first.at(key).is_number()) << key;
+  }
+  // The paper's law: e = sqrt((1 - 0.5)/(1 + 0.5)) = 0.577 up to the 50-step discretisation.
+  EXPECT_NEAR(first.at("restitution").get<double>(), 0.5774, 2e-3);
+  EXPECT_NEAR(first.at("time_s").get<double>(), std::sqrt(2 * 0.2 / 9.81), 1e-9);
+  EXPECT_EQ(json.at("stop_reason"), "at_rest");
+  EXPECT_TRUE(json.at("steps").is_number_integer());
+  EXPECT_TRUE(json.at("cpu_s").is_number());
+  const std::string csv = ReadAll(csv_path);
+  EXPECT_EQ(csv.rfind("time_s,height_m,velocity_mps\n", 0), 0u);
+  EXPECT_GT(std::count(csv.begin(), csv.end(), '\n'), 1000);
+  std::filesystem::remove(json_path);
+  std::filesystem::remove(csv_path);
+}
+
+TEST(SimulateDropCli, NonsenseParametersExitWithStatusThreeAndOneLine) {
+  for (const char* arguments :
+       {"--gamma 1.5", "--stiffness -1e7", "--diameter 0", "--drop-height nan",
+        "--law hertz --gamma 0.3", "--integrator leapfrog", "--dt 1e-4"}) {
+    const auto result = RunBouncecal(std::string("simulate drop ") + arguments);
+    EXPECT_EQ(result.exit_status, 3) << arguments << ": " << result.output;
+    EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1)
+        << arguments << ": " << result.output;
+  }
+}
+
+TEST(SimulateDropCli, UnwritableJsonExitsWithStatusFour) {
+  const auto result = RunBouncecal("simulate drop --quiet --json /nonexistent-dir/out.json");
+  EXPECT_EQ(result.exit_status, 4) << result.output;
+}
+
+TEST(SimulateDropCli, HelpShowsAnExample) {
+  const auto result = RunBouncecal("simulate drop --help");
+  EXPECT_EQ(result.exit_status, 0);
+  EXPECT_NE(result.output.find("Example"), std::string::npos);
+  EXPECT_NE(result.output.find("--steps-per-contact"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace bouncecal::testing
