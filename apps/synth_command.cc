@@ -262,6 +262,8 @@ void AddSynthCommand(CLI::App& app) {
   command->add_option("--dc-offset", o.dc_offset, "DC offset (full scale)")->capture_default_str();
   command->add_option("--clip-level", args->clip_level,
                       "Hard-clip at +-this level (full scale, 0 < level <= 1)");
+  command->add_option("--band-limit-hz", o.band_limit_hz,
+                      "Low-pass everything here like a lossy codec (Hz), e.g. 7000");
   command->add_option("--knock-s", args->knock_s,
                       "Add a knock (not a ball impact) at this time (s), repeatable");
   command->add_option("--thump-s", args->thump_s,

@@ -30,34 +30,51 @@ void AddModal(std::span<const PlateMode> modes, double contact_s, double arrival
   impact.Add(arrival_s, peak_amplitude / peak, sample_rate_hz, first_index, out);
 }
 
+// A second-order section (RBJ audio-EQ cookbook, Butterworth Q = 1/sqrt 2), direct form I.
+struct Biquad {
+  double b0, b1, b2, a1, a2;
+  double x1 = 0, x2 = 0, y1 = 0, y2 = 0;
+
+  static Biquad Butterworth(double cutoff_hz, double sample_rate_hz, bool low_pass) {
+    const double w0 = 2.0 * std::numbers::pi * cutoff_hz / sample_rate_hz;
+    const double alpha = std::sin(w0) / std::numbers::sqrt2;
+    const double cos_w0 = std::cos(w0);
+    const double a0 = 1.0 + alpha;
+    const double b1 = (low_pass ? 1.0 - cos_w0 : -(1.0 + cos_w0)) / a0;
+    const double b0 = (low_pass ? b1 : -b1) / 2.0;
+    return {b0, b1, b0, -2.0 * cos_w0 / a0, (1.0 - alpha) / a0};
+  }
+
+  double Process(double x) {
+    const double y = b0 * x + b1 * x1 + b2 * x2 - a1 * y1 - a2 * y2;
+    x2 = x1;
+    x1 = x;
+    y2 = y1;
+    y1 = y;
+    return y;
+  }
+};
+
 void AddStrayBurst(double arrival_s, double peak_amplitude, double sample_rate_hz,
                    RandomStream random, std::int64_t first_index, std::span<float> out) {
   constexpr double kAttackS = 0.003;
   constexpr double kDecayS = 0.010;
   constexpr double kLengthS = 0.060;
-  // RBJ cookbook band-pass (constant 0 dB peak gain) centred on the geometric mean of the band.
-  const double low_hz = 300.0;
+  // Fourth-order band-pass: two Butterworth high-pass sections at 300 Hz and two low-pass
+  // sections at 2.5 kHz (24 dB/octave skirts), like the basketball file's sub-2.5 kHz event.
   const double high_hz = std::min(2500.0, 0.45 * sample_rate_hz);
-  const double centre_hz = std::sqrt(low_hz * high_hz);
-  const double q = centre_hz / (high_hz - low_hz);
-  const double w0 = 2.0 * std::numbers::pi * centre_hz / sample_rate_hz;
-  const double alpha = std::sin(w0) / (2.0 * q);
-  const double a0 = 1.0 + alpha;
-  const double b0 = alpha / a0, b2 = -alpha / a0;
-  const double a1 = -2.0 * std::cos(w0) / a0, a2 = (1.0 - alpha) / a0;
+  Biquad filters[] = {Biquad::Butterworth(300.0, sample_rate_hz, false),
+                      Biquad::Butterworth(300.0, sample_rate_hz, false),
+                      Biquad::Butterworth(high_hz, sample_rate_hz, true),
+                      Biquad::Butterworth(high_hz, sample_rate_hz, true)};
 
-  auto start = static_cast<std::int64_t>(std::ceil(arrival_s * sample_rate_hz));
-  if (static_cast<double>(start) / sample_rate_hz < arrival_s) ++start;
+  const std::int64_t start = FirstSampleAtOrAfter(arrival_s, sample_rate_hz);
   const auto count = static_cast<std::int64_t>(kLengthS * sample_rate_hz);
   std::vector<double> burst(static_cast<size_t>(count));
-  double x1 = 0, x2 = 0, y1 = 0, y2 = 0, peak = 0;
+  double peak = 0;
   for (std::int64_t i = 0; i < count; ++i) {
-    const double x = random.Gaussian();
-    const double y = b0 * x + b2 * x2 - a1 * y1 - a2 * y2;
-    x2 = x1;
-    x1 = x;
-    y2 = y1;
-    y1 = y;
+    double y = random.Gaussian();
+    for (Biquad& filter : filters) y = filter.Process(y);
     const double t_s = static_cast<double>(start + i) / sample_rate_hz - arrival_s;
     const double envelope = t_s < kAttackS
                                 ? 0.5 * (1.0 - std::cos(std::numbers::pi * t_s / kAttackS))

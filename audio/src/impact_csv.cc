@@ -43,6 +43,7 @@ std::vector<ImpactSpec> ParseImpactCsv(std::string_view text, std::string_view s
   std::vector<ImpactSpec> impacts;
   const std::string source(source_name);
   int kind_column = -1;
+  int drop_column = -1;
   bool first_content_line = true;
   int line_number = 0;
   size_t start = 0;
@@ -62,6 +63,7 @@ std::vector<ImpactSpec> ParseImpactCsv(std::string_view text, std::string_view s
       // A header: remember where the kind column is, if any.
       for (size_t i = 0; i < fields.size(); ++i) {
         if (fields[i] == "kind") kind_column = static_cast<int>(i);
+        if (fields[i] == "drop") drop_column = static_cast<int>(i);
       }
       first_content_line = false;
       continue;
@@ -82,7 +84,13 @@ std::vector<ImpactSpec> ParseImpactCsv(std::string_view text, std::string_view s
     if (onset_s < 0.0 || speed_mps <= 0.0) {
       throw InputError(where + "onset_s must be >= 0 and impact_speed_mps > 0; fix the values");
     }
-    impacts.push_back({onset_s, speed_mps});
+    double drop = 0.0;
+    if (drop_column >= 0 && static_cast<size_t>(drop_column) < fields.size() &&
+        (!ParseNumber(fields[static_cast<size_t>(drop_column)], drop) || drop < 0.0 ||
+         drop != std::floor(drop) || drop > 1e6)) {
+      throw InputError(where + "the drop column must hold a whole number >= 0; fix the value");
+    }
+    impacts.push_back({onset_s, speed_mps, static_cast<int>(drop)});
   }
   if (impacts.empty()) {
     throw InputError(source + ": holds no impacts; give lines 'onset_s,impact_speed_mps'");

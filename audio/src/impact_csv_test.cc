@@ -20,12 +20,15 @@ TEST(ImpactCsv, TruthFilesFeedBackTheirBallImpactsOnly) {
   SynthesisOptions options;
   options.precursor = PrecursorOptions{};
   options.extra_events = {{SoundEventKind::kKnock, 0.05, 0.2}};
+  options.drop.drop_count = 2;
   const SynthesizedRecording recording = SynthesizeBounces(options);
   const auto impacts = ParseImpactCsv(TruthCsv(recording), "truth.csv");
   const auto onsets = recording.BallImpactOnsetsS();
   ASSERT_EQ(impacts.size(), onsets.size());
   // TruthCsv writes 9 decimals: the round trip is exact to 0.5 ns.
   for (size_t i = 0; i < onsets.size(); ++i) EXPECT_NEAR(impacts[i].onset_s, onsets[i], 5e-10);
+  EXPECT_EQ(impacts.front().drop_index, 0);
+  EXPECT_EQ(impacts.back().drop_index, 1);
 }
 
 TEST(ImpactCsv, MalformedLinesNameTheSourceAndLine) {

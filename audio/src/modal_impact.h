@@ -10,6 +10,10 @@
 
 namespace bouncecal::audio {
 
+// The first sample index i whose time i / sample_rate_hz is at or after t_s, robust to the
+// rounding of t_s * sample_rate_hz (so a sample exactly at an onset counts as after it).
+std::int64_t FirstSampleAtOrAfter(double t_s, double sample_rate_hz);
+
 // The closed-form response of one decaying mode, h(t) = exp(-t / T) sin(w t), to a half-sine
 // force pulse of unit area and duration tau, f(u) = (pi / 2 tau) sin(pi u / tau) on [0, tau]:
 //   y(t) = Im[ exp(s t) I(min(t, tau)) ],  s = -1/T + i w,  I(x) = int_0^x f(u) exp(-s u) du,
@@ -47,25 +51,6 @@ class ModeResponse {
   double ring_duration_s_;
 };
 
-// A bank of modes excited together by one contact.
-class ModalImpact {
- public:
-  ModalImpact(std::span<const PlateMode> modes, double contact_duration_s);
-
-  double Evaluate(double t_s) const;
-  void Add(double onset_s, double scale, double sample_rate_hz, std::int64_t first_index,
-           std::span<float> out) const;
-  double ring_duration_s() const { return ring_duration_s_; }
-
-  // Largest |y| at the sample times 0, 1/rate, ... up to span_s after the onset: the peak an
-  // onset on a sample would show, used to give amplitudes a meaning in full-scale units.
-  double SampledPeak(double sample_rate_hz, double span_s) const;
-
- private:
-  std::vector<ModeResponse> modes_;
-  double ring_duration_s_ = 0.0;
-};
-
 // One excitation of a mode bank: a unit-area half-sine of contact_s starting at arrival_s,
 // scaled by scale.
 struct ModalExcitation {
@@ -84,6 +69,27 @@ struct ModalExcitation {
 void RenderModalExcitations(std::span<const PlateMode> modes,
                             std::span<const ModalExcitation> excitations, double sample_rate_hz,
                             std::span<float> out);
+
+// A bank of modes excited together by one contact.
+class ModalImpact {
+ public:
+  ModalImpact(std::span<const PlateMode> modes, double contact_duration_s);
+
+  double Evaluate(double t_s) const;
+  void Add(double onset_s, double scale, double sample_rate_hz, std::int64_t first_index,
+           std::span<float> out) const;
+  double ring_duration_s() const { return ring_duration_s_; }
+
+  // Largest |y| at the sample times 0, 1/rate, ... up to span_s after the onset: the peak an
+  // onset on a sample would show, used to give amplitudes a meaning in full-scale units.
+  double SampledPeak(double sample_rate_hz, double span_s) const;
+
+ private:
+  std::vector<PlateMode> plate_modes_;
+  double contact_s_;
+  std::vector<ModeResponse> modes_;
+  double ring_duration_s_ = 0.0;
+};
 
 }  // namespace bouncecal::audio
 

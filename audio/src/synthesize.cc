@@ -6,6 +6,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "band_limit.h"
 #include "bouncecal/error.h"
 #include "extra_event_sound.h"
 #include "modal_impact.h"
@@ -69,18 +70,41 @@ constexpr double kPeakSearchS = 0.05;
 // Mean square of one impact's direct sound over the round(window_s * rate) samples that start
 // at the first sample at or after its arrival (a sample count, so rounding of t_i never adds or
 // drops a sample at the window's end).
-double WindowPower(const ModalImpact& impact, double scale, double arrival_s, double window_s,
-                   double sample_rate_hz) {
-  auto first = static_cast<std::int64_t>(std::ceil(arrival_s * sample_rate_hz));
-  if (static_cast<double>(first) / sample_rate_hz < arrival_s) ++first;
+double WindowPower(std::span<const PlateMode> modes, double contact_s, double scale,
+                   double arrival_s, double window_s, double sample_rate_hz) {
+  const std::int64_t first = FirstSampleAtOrAfter(arrival_s, sample_rate_hz);
   const auto count = std::max<std::int64_t>(1, std::llround(window_s * sample_rate_hz));
+  // Rendered into a window-sized buffer whose sample 0 is sample `first` of the file.
+  std::vector<float> window(static_cast<size_t>(count), 0.0f);
+  const ModalExcitation excitation{arrival_s - static_cast<double>(first) / sample_rate_hz, scale,
+                                   contact_s};
+  RenderModalExcitations(modes, std::span(&excitation, 1), sample_rate_hz, window);
   double sum = 0.0;
-  for (std::int64_t index = first; index < first + count; ++index) {
-    const double value =
-        scale * impact.Evaluate(static_cast<double>(index) / sample_rate_hz - arrival_s);
-    sum += value * value;
-  }
+  for (float value : window) sum += static_cast<double>(value) * value;
   return sum / static_cast<double>(count);
+}
+
+// Adds amplitude * sin(omega n + phase) for the file's samples n = first_sample + i. A rotating
+// phasor (one complex multiply per sample) re-anchored with sin/cos every 4096 samples keeps the
+// phase exact over hours at a fraction of a sin() per sample.
+void AddSine(double amplitude, double omega, double phase, std::int64_t first_sample,
+             std::span<float> out) {
+  constexpr size_t kReanchorSamples = 4096;
+  const double step_re = std::cos(omega);
+  const double step_im = std::sin(omega);
+  for (size_t start = 0; start < out.size(); start += kReanchorSamples) {
+    const double angle =
+        omega * static_cast<double>(first_sample + static_cast<std::int64_t>(start)) + phase;
+    double re = amplitude * std::cos(angle);
+    double im = amplitude * std::sin(angle);
+    const size_t stop = std::min(out.size(), start + kReanchorSamples);
+    for (size_t i = start; i < stop; ++i) {
+      out[i] += static_cast<float>(im);
+      const double next_re = re * step_re - im * step_im;
+      im = re * step_im + im * step_re;
+      re = next_re;
+    }
+  }
 }
 
 }  // namespace
@@ -173,7 +197,8 @@ std::vector<SynthesizedEvent> PlanBallImpacts(const SynthesisOptions& options) {
   std::vector<SynthesizedEvent> impacts;
   if (!options.impacts.empty()) {
     for (const ImpactSpec& spec : options.impacts) {
-      impacts.push_back({spec.onset_s, SoundEventKind::kBallImpact, spec.impact_speed_mps, 0});
+      impacts.push_back(
+          {spec.onset_s, SoundEventKind::kBallImpact, spec.impact_speed_mps, spec.drop_index});
     }
     std::sort(impacts.begin(), impacts.end(),
               [](const auto& a, const auto& b) { return a.onset_s < b.onset_s; });
@@ -305,7 +330,7 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
         }
       }
       if (options.noise) {
-        direct_power.push_back(WindowPower(ModalImpact(modes, voice.contact_s), scale, arrival_s,
+        direct_power.push_back(WindowPower(modes, voice.contact_s, scale, arrival_s,
                                            options.noise->window_s, rate_hz));
       }
     }
@@ -342,10 +367,7 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
         const double phase = 2.0 * std::numbers::pi * random.Uniform();
         if (frequency_hz >= 0.45 * rate_hz) continue;
         const double omega = 2.0 * std::numbers::pi * frequency_hz / rate_hz;
-        for (size_t i = 0; i < live.size(); ++i) {
-          const double n = static_cast<double>(i + static_cast<size_t>(silence_frames));
-          live[i] += static_cast<float>(amplitude / h * std::sin(omega * n + phase));
-        }
+        AddSine(amplitude / h, omega, phase, silence_frames, live);
       }
     }
     if (options.dc_offset != 0.0) {
@@ -360,6 +382,10 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
           ++clipped;
         }
       }
+    }
+    if (options.band_limit_hz) {
+      BandLimit(*options.band_limit_hz, 0.1 * *options.band_limit_hz, rate_hz, out);
+      std::fill(out.begin(), out.begin() + silence_frames, 0.0f);
     }
     result.channels.push_back(std::move(recording));
     result.noise_rms.push_back(noise_rms);

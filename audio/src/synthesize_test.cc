@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <numbers>
 #include <span>
 #include <string>
@@ -116,6 +117,31 @@ TEST(SynthesizeBounces, SignalIsExactlyZeroBeforeTheFirstOnsetAndNotAfter) {
   // non-zero; by 1 ms the plate rings at a good fraction of the requested peak amplitude.
   EXPECT_NE(x[first_after], 0.0f);
   EXPECT_GT(PeakIn(recording.channels[0], 0.1234567, 0.1244567), 0.05);
+}
+
+TEST(SynthesizeBounces, EchoesAndPrecursorsAreExactScaledCopiesOfTheImpact) {
+  SynthesisOptions dry = ExplicitImpacts({{0.1000123, 1.5}});
+  SynthesisOptions wet = dry;
+  // 9 ms and 7 ms are 432 and 336 samples at 48 kHz, so the copies line up sample for sample.
+  wet.reverb = ReverbOptions{.rt60_s = 0.0, .echoes = {{0.009, -12.0}}};
+  wet.precursor = PrecursorOptions{.lead_s = 0.007, .gain_db = -20.0};
+  const auto a = SynthesizeBounces(dry).channels[0].samples;
+  const auto b = SynthesizeBounces(wet).channels[0].samples;
+  const double echo = std::pow(10.0, -12.0 / 20.0);
+  const double precursor = std::pow(10.0, -20.0 / 20.0);
+  const auto at = [&](std::ptrdiff_t i) {
+    return i >= 0 && i < std::ssize(a) ? double{a[static_cast<size_t>(i)]} : 0.0;
+  };
+  double worst = 0.0;
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i + 336 < a.size(); ++i) {  // a ends 336 samples early for the precursor
+    const auto n = static_cast<std::ptrdiff_t>(i);
+    // main + echo of main + precursor + the precursor's own echo
+    const double expected =
+        at(n) + echo * at(n - 432) + precursor * at(n + 336) + precursor * echo * at(n + 336 - 432);
+    worst = std::max(worst, std::abs(b[i] - expected));
+  }
+  EXPECT_LT(worst, 1e-6);  // float rounding of four overlapping copies
 }
 
 TEST(SynthesizeBounces, FractionalOnsetShiftMovesTheWaveformBySubSampleTime) {
@@ -301,6 +327,42 @@ TEST(SynthesizeBounces, TruthListsPrecursorsAndNonBallEventsWithTheirKinds) {
   EXPECT_NE(csv.find(",knock,-1\n"), std::string::npos);
 }
 
+// RMS frequency of x[from, to): for a sinusoid at f the first difference has (2 sin(pi f / rate))^2
+// times its power, so this inverts that relation on the power ratio.
+double RmsFrequencyHz(const std::vector<float>& x, double rate, size_t from, size_t to) {
+  double power = 0, difference = 0;
+  for (size_t i = from + 1; i < to; ++i) {
+    power += static_cast<double>(x[i]) * x[i];
+    difference += std::pow(static_cast<double>(x[i]) - x[i - 1], 2);
+  }
+  return rate / std::numbers::pi * std::asin(std::sqrt(difference / power) / 2);
+}
+
+TEST(SynthesizeBounces, NonBallEventsSoundDifferentFromBallImpacts) {
+  // Each event alone in a file; its spectral centroid (RMS frequency) tells the sounds apart
+  // the way a detector's band would: thump < 100 Hz, knock and stray within 0.2-2.5 kHz, the
+  // ball on the steel plate far above.
+  const auto render = [](std::vector<ImpactSpec> impacts, std::vector<ExtraEvent> extras) {
+    SynthesisOptions options = ExplicitImpacts(std::move(impacts));
+    options.extra_events = std::move(extras);
+    options.duration_s = 1.0;
+    return SynthesizeBounces(options).channels[0].samples;
+  };
+  const auto ball = render({{0.1, 2.0}}, {});
+  const auto thump = render({{0.9, 2.0}}, {{SoundEventKind::kThump, 0.1, 0.3}});
+  const auto knock = render({{0.9, 2.0}}, {{SoundEventKind::kKnock, 0.1, 0.3}});
+  const auto stray = render({{0.9, 2.0}}, {{SoundEventKind::kStray, 0.1, 0.3}});
+  const auto window = [](const std::vector<float>& x) {
+    return RmsFrequencyHz(x, 48000, 4800, 4800 + 9600);  // 0.1-0.3 s
+  };
+  EXPECT_LT(window(thump), 100.0);
+  EXPECT_GT(window(knock), 200.0);
+  EXPECT_LT(window(knock), 2500.0);
+  EXPECT_GT(window(stray), 300.0);
+  EXPECT_LT(window(stray), 2500.0);
+  EXPECT_GT(window(ball), 2500.0);
+}
+
 TEST(SynthesizeBounces, HumDcClippingAndDigitalSilenceAreApplied) {
   SynthesisOptions options = ExplicitImpacts({{0.5, 2.0}});
   options.hum = HumOptions{.frequency_hz = 50.0, .fundamental_dbfs = -30.0, .harmonics_count = 1};
@@ -323,6 +385,36 @@ TEST(SynthesizeBounces, HumDcClippingAndDigitalSilenceAreApplied) {
   EXPECT_GT(recording.clipped_sample_count[0], 0);
   EXPECT_LE(*std::max_element(x.begin(), x.end()), 0.2f);
   EXPECT_GE(*std::min_element(x.begin(), x.end()), -0.2f);
+}
+
+// Complex amplitude of a sinusoid at frequency_hz in x[from, from + count) by correlation (the
+// window holds whole periods of both test tones, so they do not leak into each other).
+std::complex<double> Tone(const std::vector<float>& x, double rate, double frequency_hz,
+                          size_t from, size_t count) {
+  std::complex<double> sum = 0.0;
+  for (size_t i = from; i < from + count; ++i) {
+    const double phase = 2 * std::numbers::pi * frequency_hz * static_cast<double>(i) / rate;
+    sum += static_cast<double>(x[i]) * std::polar(1.0, -phase);
+  }
+  return 2.0 * sum / static_cast<double>(count);
+}
+
+TEST(SynthesizeBounces, BandLimitKeepsThePassBandAndRemovesTheStopBand) {
+  SynthesisOptions options = ExplicitImpacts({{0.1, 2.0}});
+  options.modes = {{2000.0, 10.0, 1.0}, {9000.0, 10.0, 1.0}};  // 10 s decay: steady tones
+  const auto open = SynthesizeBounces(options).channels[0].samples;
+  options.band_limit_hz = 4000.0;
+  const auto limited = SynthesizeBounces(options).channels[0].samples;
+  // 0.2-0.3 s: 4800 samples, whole periods of 2 and 9 kHz at 48 kHz.
+  const std::complex<double> pass =
+      Tone(limited, 48000, 2000, 9600, 4800) / Tone(open, 48000, 2000, 9600, 4800);
+  const std::complex<double> stop =
+      Tone(limited, 48000, 9000, 9600, 4800) / Tone(open, 48000, 9000, 9600, 4800);
+  // Blackman-windowed sinc: pass-band ripple ~0.002 dB, stop band below -74 dB.
+  EXPECT_NEAR(20 * std::log10(std::abs(pass)), 0.0, 0.01);
+  EXPECT_LT(20 * std::log10(std::abs(stop)), -70.0);
+  // Zero phase: the pass-band tone keeps its phase (a one-sample delay would turn it by 0.26 rad).
+  EXPECT_NEAR(std::arg(pass), 0.0, 1e-3);
 }
 
 TEST(SynthesizeBounces, ModesAboveNyquistAreLeftOutAtLowSampleRates) {
@@ -370,6 +462,9 @@ TEST(SynthesizeBounces, InvalidOptionsGiveOneLineErrorsNamingTheOption) {
   options = {};
   options.leading_digital_silence_s = 1.0;
   ExpectConfigErrorNaming(options, "leading_digital_silence_s");
+  options = {};
+  options.band_limit_hz = 30000.0;
+  ExpectConfigErrorNaming(options, "band_limit_hz");
   options = {};
   options.clip_level = 1.5;
   ExpectConfigErrorNaming(options, "clip_level");

@@ -50,6 +50,7 @@ void ValidateSynthesisOptions(const SynthesisOptions& options) {
     RequireRange(name + ".onset_s", options.impacts[i].onset_s, 0.0, 4 * 3600.0, "s");
     RequireAbove(name + ".impact_speed_mps", options.impacts[i].impact_speed_mps, 0.0, 1000.0,
                  "m/s");
+    RequireRange(name + ".drop_index", options.impacts[i].drop_index, 0, 1e6, "");
   }
   if (options.impacts.empty()) {
     const DropSpec& drop = options.drop;
@@ -136,6 +137,10 @@ void ValidateSynthesisOptions(const SynthesisOptions& options) {
   }
   RequireRange("dc_offset", options.dc_offset, -1.0, 1.0, "full scale");
   if (options.clip_level) RequireAbove("clip_level", *options.clip_level, 0.0, 1.0, "full scale");
+  if (options.band_limit_hz) {
+    RequireRange("band_limit_hz", *options.band_limit_hz, 500.0, 0.45 * options.sample_rate_hz,
+                 "Hz");
+  }
   RequireRange("leading_digital_silence_s", options.leading_digital_silence_s, 0.0, 3600.0, "s");
 
   if (options.channels.empty() || options.channels.size() > 64) {

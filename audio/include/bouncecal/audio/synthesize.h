@@ -87,6 +87,7 @@ struct RestitutionLaw {
 struct ImpactSpec {
   double onset_s = 0.0;           // start of contact
   double impact_speed_mps = 1.0;  // normal speed just before contact, > 0
+  int drop_index = 0;             // which drop it belongs to (truth only), >= 0
 };
 
 // Ballistic drops: a ball released from rest at drop_height_m at release_s hits the floor at
@@ -191,7 +192,8 @@ struct ChannelOptions {
 
 struct SynthesisOptions {
   int sample_rate_hz = 48000;  // 8 kHz to 384 kHz
-  // Length of the file; 0 = up to the last event plus tail_s.
+  // Length of the file; 0 = up to the last event plus tail_s. Events at or after duration_s
+  // are left out of the file and of the truth.
   double duration_s = 0.0;
   double tail_s = 1.0;
   double gravity_mps2 = 9.81;
@@ -222,8 +224,12 @@ struct SynthesisOptions {
   std::optional<NoiseOptions> noise;
   std::optional<HumOptions> hum;
   std::vector<ExtraEvent> extra_events;
-  double dc_offset = 0.0;                  // added to every sample, full-scale units
-  std::optional<double> clip_level;        // hard clip at +-clip_level (0 < level <= 1) when set
+  double dc_offset = 0.0;            // added to every sample, full-scale units
+  std::optional<double> clip_level;  // hard clip at +-clip_level (0 < level <= 1) when set
+  // Band limit of a lossy codec or phone path (the last step before the digital silence): a
+  // zero-phase low-pass with a 10 % transition band, -74 dB above it. Like real codecs it rings
+  // on both sides of a sharp onset, so the signal is then no longer exactly zero before it.
+  std::optional<double> band_limit_hz;
   double leading_digital_silence_s = 0.0;  // exact zeros (no noise, hum or DC) at the start
 
   std::vector<ChannelOptions> channels = {ChannelOptions{}};
