@@ -1,8 +1,10 @@
 #include "bouncecal/audio/impact_detector.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <limits>
 #include <optional>
 #include <string>
@@ -72,6 +74,23 @@ void DetectorOptions::Validate(int sample_rate_hz) const {
 // above the main band's low edge and below 0.7 of the Nyquist frequency (and the low-pass).
 constexpr double kDetectionBandsHz[] = {2000.0, 6000.0};
 
+// Maximum over a sliding window of frames: a monotonic queue (values decreasing from the
+// front), so each frame is pushed and popped once.
+class SlidingMax {
+ public:
+  void Push(std::int64_t index, double value) {
+    while (!queue_.empty() && queue_.back().second <= value) queue_.pop_back();
+    queue_.emplace_back(index, value);
+  }
+  void DropBefore(std::int64_t index) {
+    while (!queue_.empty() && queue_.front().first < index) queue_.pop_front();
+  }
+  double max() const { return queue_.empty() ? ToDb(0.0) : queue_.front().second; }
+
+ private:
+  std::deque<std::pair<std::int64_t, double>> queue_;
+};
+
 class ImpactDetector::Impl {
  public:
   Impl(int sample_rate_hz, const DetectorOptions& options)
@@ -91,7 +110,9 @@ class ImpactDetector::Impl {
     const auto ring = static_cast<std::size_t>(lookback_frames_ + max_open_frames_ + peak_frames_ +
                                                attack_frames_ + 8);
     for (std::size_t b = 0; b < filter_.output_count(); ++b) {
-      bands_.emplace_back(static_cast<std::size_t>(Samples(kHistoryS)), ring, frame_s_);
+      bands_.emplace_back(
+          static_cast<std::size_t>(Samples(kHistoryS)) + filter_.max_latency_samples(), ring,
+          frame_s_);
     }
     result_.sample_rate_hz = sample_rate_hz;
   }
@@ -138,15 +159,25 @@ class ImpactDetector::Impl {
 
   // One detection band: its filtered samples, energy frames in dB and noise floor.
   struct Band {
+    // The frame ring has a power-of-two size so indexing is a mask, not a division: the rise
+    // loops read it ~50 times per frame and band.
     Band(std::size_t history, std::size_t frames, double frame_s)
-        : samples(history), frames_db(frames), floor(frame_s) {}
+        : samples(history),
+          frames_db(std::bit_ceil(frames)),
+          mask(frames_db.size() - 1),
+          floor(frame_s) {}
     SampleHistory<float> samples;
     std::vector<double> frames_db;
+    std::size_t mask;
     NoiseFloor floor;
-    double power = 0;
+    double power = 0;                  // of the frame being filled
+    std::vector<double> frame_powers;  // mean squares of the frames completed by this block
     double Db(std::int64_t frame) const {
-      return frames_db[static_cast<std::size_t>(frame) % frames_db.size()];
+      return frames_db[static_cast<std::size_t>(frame) & mask];
     }
+    // Sliding maxima of the attack window and the lookback (monotonic queues, O(1) per frame).
+    SlidingMax ahead;
+    SlidingMax reference;
   };
 
   static std::vector<double> DetectionBands(int rate, const DetectorOptions& options) {
@@ -167,42 +198,51 @@ class ImpactDetector::Impl {
     return std::max<std::int64_t>(1, std::llround(ms * 1e-3 * rate_ / static_cast<double>(hop_)));
   }
 
+  // Band by band (cache-friendly loops), then frame by frame: each band's history takes the
+  // whole block and its frame energies are collected before the frames are examined.
   void Consume() {
     const std::size_t count = blocks_.empty() ? 0 : blocks_[0].size();
-    const std::size_t filtered = blocks_.size();
-    for (std::size_t i = 0; i < count; ++i) {
-      for (std::size_t b = 0; b < filtered; ++b) {
-        const float y = blocks_[b][i];
-        bands_[b].samples.Push(y);
-        bands_[b].power += double{y} * y;
+    const std::int64_t fill_at_start = frame_fill_;
+    for (std::size_t b = 0; b < blocks_.size(); ++b) {
+      Band& band = bands_[b];
+      band.samples.PushBlock(blocks_[b]);
+      band.frame_powers.clear();
+      std::int64_t fill = fill_at_start;
+      double power = band.power;
+      for (float y : blocks_[b]) {
+        power += double{y} * y;
+        if (++fill == hop_) {
+          band.frame_powers.push_back(power / static_cast<double>(hop_));
+          power = 0;
+          fill = 0;
+        }
       }
-
-      if (++frame_fill_ == hop_) {
-        OnFrame();
-        frame_fill_ = 0;
-      }
+      band.power = power;
     }
+    frame_fill_ = (fill_at_start + static_cast<std::int64_t>(count)) % hop_;
+    const std::size_t frames = bands_.empty() ? 0 : bands_[0].frame_powers.size();
+    for (std::size_t f = 0; f < frames; ++f) OnFrame(f);
   }
 
-  // Rise of frame m of one band: its loudest frame in the attack window [m, n] against the
-  // loudest frame of the lookback before m.
-  double Rise(const Band& band, std::int64_t m, std::int64_t n) const {
-    double ahead_db = band.Db(m);
-    for (std::int64_t i = m + 1; i <= n; ++i) ahead_db = std::max(ahead_db, band.Db(i));
-    double reference_db = band.Db(m - skip_frames_);
-    for (std::int64_t k = skip_frames_ + 1; k <= lookback_frames_; ++k) {
-      reference_db = std::max(reference_db, band.Db(m - k));
-    }
-    return ahead_db - reference_db;
+  // Rise of frame m = n - attack of one band: its loudest frame in the attack window [m, n]
+  // against the loudest frame of the lookback [m - lookback, m - skip].
+  void UpdateWindows(Band& band, std::int64_t n) const {
+    const std::int64_t m = n - attack_frames_;
+    band.ahead.Push(n, band.Db(n));
+    band.ahead.DropBefore(m);
+    const std::int64_t entering = m - skip_frames_;
+    if (entering >= 0) band.reference.Push(entering, band.Db(entering));
+    band.reference.DropBefore(m - lookback_frames_);
   }
+  static double Rise(const Band& band) { return band.ahead.max() - band.reference.max(); }
 
-  void OnFrame() {
+  void OnFrame(std::size_t block_frame) {
     const std::int64_t n = frame_count_++;
     for (auto& band : bands_) {
-      const double power = band.power / static_cast<double>(hop_);
-      band.frames_db[static_cast<std::size_t>(n) % band.frames_db.size()] = ToDb(power);
+      const double power = band.frame_powers[block_frame];
+      band.frames_db[static_cast<std::size_t>(n) & band.mask] = ToDb(power);
       band.floor.Add(power);
-      band.power = 0;
+      UpdateWindows(band, n);
     }
     const double level_db = bands_[0].Db(n);
     if (open_ && level_db > candidate_peak_db_) {
@@ -221,7 +261,7 @@ class ImpactDetector::Impl {
     double rise_db = -std::numeric_limits<double>::infinity();
     std::size_t rising_band = 0;
     for (std::size_t b = 0; b < bands_.size(); ++b) {
-      const double rise = Rise(bands_[b], m, n);
+      const double rise = Rise(bands_[b]);
       if (rise > rise_db) {
         rise_db = rise;
         rising_band = b;

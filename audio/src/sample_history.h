@@ -3,6 +3,7 @@
 
 #include <cassert>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace bouncecal::audio {
@@ -20,6 +21,9 @@ class SampleHistory {
   }
 
   void Push(T value) { buffer_[static_cast<std::size_t>(count_++) & mask_] = value; }
+  void PushBlock(std::span<const T> values) {
+    for (T value : values) buffer_[static_cast<std::size_t>(count_++) & mask_] = value;
+  }
   // Index of the next sample to be pushed (= samples pushed so far).
   std::int64_t end() const { return count_; }
   // Oldest index still held.
