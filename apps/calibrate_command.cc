@@ -45,7 +45,7 @@ struct CalibrateCliOptions {
 
 calibrate::FitOptions ToFitOptions(const CalibrateCliOptions& cli) {
   calibrate::FitOptions options;
-  options.law = cli.drop.Law();
+  options.law = cli.drop.Law(/*validate=*/!cli.compare_laws);
   options.fitted_parameters = cli.fitted;
   options.ball = cli.drop.Ball();
   options.drop_height_m =

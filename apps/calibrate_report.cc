@@ -125,15 +125,10 @@ void PlotFit(const std::filesystem::path& target, const calibrate::FitSummary& s
       {},
       {},
       false,
-      "top right"};
-  PlotPanel flights{"Flight time between impacts",
-                    "interval number k",
-                    "flight time dt_k (s)",
-                    {},
-                    {},
-                    {},
-                    true,
-                    "top right"};
+      "outside right top vertical"};
+  PlotPanel flights{
+      "Flight time between impacts", "interval number k", "flight time dt_k (s)", {}, {}, {}, true,
+      "outside right top vertical"};
   const size_t shown = std::min<size_t>(summary.sequences.size(), 4);
   for (size_t s = 0; s < shown; ++s) {
     const auto& sequence = summary.sequences[s];

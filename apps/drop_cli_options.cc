@@ -62,7 +62,7 @@ dem::Ball DropCliOptions::Ball() const {
   return ball;
 }
 
-dem::ContactLawConfig DropCliOptions::Law() const {
+dem::ContactLawConfig DropCliOptions::Law(bool validate) const {
   dem::ContactLawConfig config;
   config.kind = dem::ContactLawKindFromString(law);
   if (stiffness_n_per_m) config.parameters["stiffness_n_per_m"] = *stiffness_n_per_m;
@@ -84,7 +84,7 @@ dem::ContactLawConfig DropCliOptions::Law() const {
     }
     config.parameters[assignment.substr(0, equals)] = value;
   }
-  config.Validate();
+  if (validate) config.Validate();
   return config;
 }
 

@@ -33,8 +33,9 @@ struct DropCliOptions {
   // Registers the options on `command`.
   void Add(CLI::App& command, bool with_law = true);
   dem::Ball Ball() const;
-  // The law with --stiffness and --param applied and validated (ConfigError otherwise).
-  dem::ContactLawConfig Law() const;
+  // The law with --stiffness and --param applied and validated (ConfigError otherwise). Unvalidated
+  // for --compare-laws, where each law takes the --param values it has.
+  dem::ContactLawConfig Law(bool validate = true) const;
   dem::Integrator Integrator() const;
   dem::AirDrag Drag() const;
 };

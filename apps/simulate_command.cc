@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bouncecal/atomic_file.h"
+#include "bouncecal/dem/contact_law.h"
 #include "bouncecal/dem/contact_law_json.h"
 #include "bouncecal/dem/drop.h"
 #include "bouncecal/error.h"
@@ -198,14 +199,20 @@ void AddDropCommand(CLI::App& simulate) {
   auto handles = std::make_shared<DropOptionHandles>();
   CLI::App* drop = simulate.add_subcommand(
       "drop", "Simulate a sphere dropped on a rigid plane until it rests (DEM single-ball drop)");
+  std::string laws;
+  for (dem::ContactLawKind kind : dem::kAllContactLawKinds) {
+    std::string names;
+    for (const dem::ParameterSpec& spec : dem::ParameterSpecs(kind)) {
+      names += fmt::format("{}{} [{}]", names.empty() ? "" : ", ", spec.name, spec.unit);
+    }
+    laws += fmt::format("\n  {}: {}", dem::ToString(kind), names);
+  }
   drop->footer(
       "Example (the paper's set-up, 1 cm steel ball from 20 cm):\n"
       "  bouncecal simulate drop --law walton-braun --gamma 0.5 --stiffness 1e7 --diameter 0.01 "
       "--density 7800 --drop-height 0.2 --json drop.json --trajectory drop.csv\n"
-      "Laws and their parameters (--param NAME=VALUE, SI units): walton-braun (stiffness_n_per_m, "
-      "gamma_n), walton-braun-plastic (stiffness_n_per_m, unloading_stiffness_n_per_m), "
-      "linear-dashpot (stiffness_n_per_m, damping_ratio), hertz (effective_modulus_pa), "
-      "hertz-viscoelastic (effective_modulus_pa, dissipative_time_s).");
+      "Law parameters for --param NAME=VALUE (SI units):" +
+      laws);
   drop->add_option("--law", args->law, "Contact law: " + dem::ContactLawNames())
       ->capture_default_str();
   handles->gamma = drop->add_option(

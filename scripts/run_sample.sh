@@ -5,3 +5,6 @@ cd "$(dirname "$0")/.."
 scripts/install_deps.sh
 scripts/build.sh -DBOUNCECAL_BUILD_BENCH=OFF -DBOUNCECAL_BUILD_TESTS=OFF
 build/apps/bouncecal version
+# The main job: the paper's experiment (1 cm steel ball, 0.20 m drop, eta-bar = 0.58), printing
+# the fitted gamma_n with its analytic check, confidence interval and optimiser summary.
+build/apps/bouncecal calibrate samples/steel_ball_h0.2m.wav

@@ -168,6 +168,24 @@ TEST(CompareLaws, PrefersTheLawThatGeneratedTheData) {
   EXPECT_GT(comparison.fits[1].bic - comparison.fits[0].bic, 10);
 }
 
+TEST(CompareLaws, EachLawTakesTheParametersItHasByName) {
+  auto options = QuickOptions();
+  options.uncertainty.threads = 1;
+  options.law = {dem::ContactLawKind::kWaltonBraun,
+                 {{"stiffness_n_per_m", 2e7}, {"effective_modulus_pa", 5e10}}};
+  const auto recording = SimulatedRecording(WaltonBraun(0.4), 6, 10e-6, 2);
+  const auto comparison = CompareLaws(
+      {recording}, {dem::ContactLawKind::kWaltonBraun, dem::ContactLawKind::kHertzViscoelastic},
+      options);
+  for (const auto& fit : comparison.fits) {
+    if (fit.law.kind == dem::ContactLawKind::kWaltonBraun) {
+      EXPECT_DOUBLE_EQ(fit.law.Get("stiffness_n_per_m"), 2e7);
+    } else {
+      EXPECT_DOUBLE_EQ(fit.law.Get("effective_modulus_pa"), 5e10);
+    }
+  }
+}
+
 TEST(Fit, BootstrapIsDeterministicForASeedAndIndependentOfThreads) {
   auto options = QuickOptions();
   options.uncertainty.bootstrap_samples = 8;

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -48,43 +49,88 @@ std::string Where(const std::filesystem::path& path, int line) {
   return "'" + path.string() + "' line " + std::to_string(line);
 }
 
+// Column positions: by header name when the file has a header, else onset_s, uncertainty,
+// sequence in that order. A "kind" column (the synthesiser's truth files) keeps only
+// ball_impact rows; a "drop" column serves as the sequence number (-1 rows are not drops).
+struct CsvColumns {
+  int onset = 0;
+  int uncertainty = 1;
+  int sequence = 2;
+  int kind = -1;
+};
+
+std::optional<CsvColumns> HeaderColumns(const std::vector<std::string>& fields) {
+  CsvColumns columns{-1, -1, -1, -1};
+  for (size_t i = 0; i < fields.size(); ++i) {
+    const std::string name = Lower(fields[i]);
+    const int index = static_cast<int>(i);
+    if (name == "onset_s") columns.onset = index;
+    if (name == "onset_uncertainty_s" || name == "uncertainty_s") columns.uncertainty = index;
+    if (name == "sequence" || name == "drop") columns.sequence = index;
+    if (name == "kind") columns.kind = index;
+  }
+  if (columns.onset < 0) return std::nullopt;
+  return columns;
+}
+
+std::string Field(const std::vector<std::string>& fields, int index) {
+  return index >= 0 && index < static_cast<int>(fields.size()) ? fields[static_cast<size_t>(index)]
+                                                               : std::string();
+}
+
 std::vector<MeasuredSequence> ReadCsv(const std::filesystem::path& path, std::istream& stream,
                                       const ImpactTimesOptions& options) {
   std::map<long long, std::vector<TimedImpact>> by_sequence;
   std::string line;
   int line_number = 0;
   bool seen_data = false;
+  CsvColumns columns;
   while (std::getline(stream, line)) {
     ++line_number;
     line = Trim(line);
     if (line.empty() || line[0] == '#') continue;
     const auto fields = SplitCsv(line);
     double onset = 0;
-    if (!ParseDouble(fields[0], onset)) {
-      if (!seen_data && std::isalpha(static_cast<unsigned char>(fields[0][0]))) continue;  // header
-      throw InputError(Where(path, line_number) + ": '" + fields[0] +
+    if (!seen_data && !fields[0].empty() &&
+        std::isalpha(static_cast<unsigned char>(fields[0][0]))) {
+      const auto header = HeaderColumns(fields);
+      if (!header) {
+        throw InputError(Where(path, line_number) + ": the header has no onset_s column");
+      }
+      columns = *header;
+      continue;
+    }
+    if (columns.kind >= 0 && Field(fields, columns.kind) != "ball_impact") continue;
+    if (!ParseDouble(Field(fields, columns.onset), onset)) {
+      throw InputError(Where(path, line_number) + ": '" + Field(fields, columns.onset) +
                        "' is not a finite onset time in seconds; expected onset_s[,uncertainty_s"
                        "[,sequence]]");
     }
     seen_data = true;
     double sigma = options.default_uncertainty_s;
-    if (fields.size() > 1 && !fields[1].empty() && (!ParseDouble(fields[1], sigma) || sigma < 0)) {
-      throw InputError(Where(path, line_number) + ": onset uncertainty '" + fields[1] +
+    const std::string sigma_text = Field(fields, columns.uncertainty);
+    if (!sigma_text.empty() && (!ParseDouble(sigma_text, sigma) || sigma < 0)) {
+      throw InputError(Where(path, line_number) + ": onset uncertainty '" + sigma_text +
                        "' must be a non-negative number of seconds");
     }
     double sequence = 0;
-    if (fields.size() > 2 && !fields[2].empty() &&
-        (!ParseDouble(fields[2], sequence) || sequence != std::floor(sequence))) {
-      throw InputError(Where(path, line_number) + ": sequence '" + fields[2] +
+    const std::string sequence_text = Field(fields, columns.sequence);
+    if (!sequence_text.empty() &&
+        (!ParseDouble(sequence_text, sequence) || sequence != std::floor(sequence))) {
+      throw InputError(Where(path, line_number) + ": sequence '" + sequence_text +
                        "' must be an integer");
     }
+    if (sequence < 0) continue;  // the truth files' -1: not part of a drop
     by_sequence[static_cast<long long>(sequence)].push_back({onset, sigma});
   }
   std::vector<MeasuredSequence> sequences;
   for (auto& [number, impacts] : by_sequence) {
     std::sort(impacts.begin(), impacts.end(),
               [](const TimedImpact& a, const TimedImpact& b) { return a.onset_s < b.onset_s; });
-    sequences.push_back({path.filename().string(), path, std::move(impacts)});
+    // Appended, not "#" + to_string(...): GCC 12 warns falsely (-Wrestrict) on that insert.
+    std::string suffix;
+    if (by_sequence.size() > 1) suffix.append("#").append(std::to_string(number));
+    sequences.push_back({path.filename().string() + suffix, path, std::move(impacts)});
   }
   return sequences;
 }

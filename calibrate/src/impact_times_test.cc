@@ -54,6 +54,22 @@ TEST(ReadImpactTimes, AnalyzeJsonTakesUncertaintiesFromTheImpactList) {
   std::filesystem::remove(path);
 }
 
+TEST(ReadImpactTimes, SynthesizerTruthCsvKeepsOnlyBallImpactsPerDrop) {
+  // The columns bouncecal synth --truth writes: other events (kind knock, drop -1) are skipped.
+  const auto path = WriteTemp("truth.csv",
+                              "onset_s,impact_speed_mps,kind,drop\n0.35,0.5,knock,-1\n"
+                              "0.5,1.98,ball_impact,0\n0.76,1.28,ball_impact,0\n"
+                              "0.93,0.83,ball_impact,0\n");
+  const auto sequences = ReadImpactTimes(path);
+  ASSERT_EQ(sequences.size(), 1u);
+  ASSERT_EQ(sequences[0].impacts.size(), 3u);
+  EXPECT_DOUBLE_EQ(sequences[0].impacts[0].onset_s, 0.5);
+  // impact_speed_mps is not an uncertainty: the default applies.
+  EXPECT_DOUBLE_EQ(sequences[0].impacts[0].uncertainty_s,
+                   ImpactTimesOptions{}.default_uncertainty_s);
+  std::filesystem::remove(path);
+}
+
 TEST(ReadImpactTimes, MalformedRowNamesTheLine) {
   const auto path = WriteTemp("bad.csv", "0.1\n0.4\nfoo bar\n0.6\n");
   try {

@@ -3,6 +3,35 @@
 #include "bouncecal/error.h"
 
 namespace bouncecal::calibrate {
+namespace {
+
+std::vector<MeasuredSequence> FromRecording(const std::filesystem::path& path,
+                                            const SequenceInputOptions& options) {
+  const auto detection = audio::DetectImpactsInFile(path, options.detection);
+  const auto& impacts = detection.detection.impacts;
+  const auto grouping = audio::FindBounceSequences(impacts, options.sequences);
+  std::vector<MeasuredSequence> sequences;
+  for (size_t s = 0; s < grouping.sequences.size(); ++s) {
+    MeasuredSequence sequence;
+    sequence.source = path.filename().string() + "#" + std::to_string(s + 1);
+    sequence.path = path;
+    for (int index : grouping.sequences[s].impact_indices) {
+      const auto& impact = impacts[static_cast<size_t>(index)];
+      sequence.impacts.push_back({impact.onset_s, impact.onset_uncertainty_s});
+    }
+    if (static_cast<int>(sequence.impacts.size()) >= options.impact_times.min_impacts)
+      sequences.push_back(std::move(sequence));
+  }
+  if (sequences.empty()) {
+    throw InputError("'" + path.string() + "': found " + std::to_string(impacts.size()) +
+                     " impacts but no bounce sequence of at least " +
+                     std::to_string(options.impact_times.min_impacts) +
+                     " impacts; check it with bouncecal analyze");
+  }
+  return sequences;
+}
+
+}  // namespace
 
 std::vector<MeasuredSequence> LoadSequences(const std::vector<std::filesystem::path>& inputs,
                                             const SequenceInputOptions& options) {
@@ -11,11 +40,8 @@ std::vector<MeasuredSequence> LoadSequences(const std::vector<std::filesystem::p
     if (!std::filesystem::exists(input)) {
       throw InputError("input '" + input.string() + "' does not exist; check the path");
     }
-    if (!IsImpactTimesFile(input)) {
-      throw InputError("'" + input.string() + "': reading recordings needs the audio stage, " +
-                       "which this build lacks; give an impact-time .csv or analyze .json");
-    }
-    auto read = ReadImpactTimes(input, options.impact_times);
+    auto read = IsImpactTimesFile(input) ? ReadImpactTimes(input, options.impact_times)
+                                         : FromRecording(input, options);
     sequences.insert(sequences.end(), read.begin(), read.end());
   }
   return sequences;

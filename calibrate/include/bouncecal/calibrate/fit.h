@@ -188,7 +188,10 @@ struct LawComparison {
 // Ranked by BIC (Schwarz 1978) rather than AIC: the question is which law generated the data
 // (is one constant gamma enough?), and BIC is consistent for that as the number of intervals
 // grows, while AIC (also reported) targets prediction and keeps over-parameterised laws. Laws
-// without dissipative parameters (hertz) are skipped. Runs the laws on options.uncertainty.threads.
+// without dissipative parameters (hertz) are skipped. Each law takes the parameters of
+// options.law it has by name (so options.law may carry, e.g., both stiffness_n_per_m and
+// effective_modulus_pa); the rest take their defaults. Runs the laws on
+// options.uncertainty.threads.
 LawComparison CompareLaws(const std::vector<MeasuredSequence>& sequences,
                           const std::vector<dem::ContactLawKind>& laws, const FitOptions& options);
 
