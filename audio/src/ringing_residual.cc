@@ -13,6 +13,9 @@ namespace {
 // a plate (kHz apart) fall in different bins.
 constexpr double kWindowS = 2.7e-3;
 constexpr int kMinWindow = 16;
+// Added to squared magnitudes before dividing: far below any sound (a -300 dB bin), it only
+// keeps digital silence from dividing 0 by 0.
+constexpr float kTinyNorm = 1e-30f;
 
 }  // namespace
 
@@ -45,19 +48,28 @@ void RingingResidual::Analyse() {
   fft_.Forward();
   const auto spectrum = fft_.spectrum();
   double residual = 0;
+  // Written out in real arithmetic and without branches: std::complex's NaN-safe multiply and
+  // divide and a data-dependent branch per bin cost more than the FFT itself.
+  const float use_prediction = frames_ >= 2 ? 1.0f : 0.0f;
   for (std::size_t k = first_bin_; k < end_bin_; ++k) {
-    const std::complex<float> last = previous_[k];
-    const float last_norm = std::norm(before_previous_[k]);
-    std::complex<float> predicted{};
-    if (frames_ >= 2 && last_norm > 0) {
-      // last * (last / before) = last^2 * conj(before) / |before|^2, limited to |ratio| <= 1.
-      std::complex<float> ratio = last * std::conj(before_previous_[k]) / last_norm;
-      const float ratio_norm = std::norm(ratio);
-      if (ratio_norm > 1.0f) ratio /= std::sqrt(ratio_norm);
-      predicted = last * ratio;
-    }
-    residual += std::norm(spectrum[k] - predicted);
-    before_previous_[k] = last;
+    const float lr = previous_[k].real();
+    const float li = previous_[k].imag();
+    const float br = before_previous_[k].real();
+    const float bi = before_previous_[k].imag();
+    const float xr = spectrum[k].real();
+    const float xi = spectrum[k].imag();
+    // ratio = last / before = last * conj(before) / |before|^2, limited to |ratio| <= 1, which
+    // is |last|^2 <= |before|^2: scaled by min(1, |before| / |last|).
+    const float l_norm = lr * lr + li * li;
+    const float b_norm = br * br + bi * bi;
+    const float inverse = use_prediction / (b_norm + kTinyNorm);
+    const float limit = std::min(1.0f, std::sqrt(b_norm / (l_norm + kTinyNorm)));
+    const float rr = (lr * br + li * bi) * inverse * limit;
+    const float ri = (li * br - lr * bi) * inverse * limit;
+    const float dr = xr - (lr * rr - li * ri);
+    const float di = xi - (lr * ri + li * rr);
+    residual += double{dr * dr + di * di};
+    before_previous_[k] = previous_[k];
     previous_[k] = spectrum[k];
   }
   ++frames_;
