@@ -235,9 +235,10 @@ class ImpactDetector::Impl {
     if (!blocks_.empty()) {
       Band& band = bands_[residual_band_];
       band.frame_powers.clear();
+      const bool use_residual = options_.ringing_residual;
       std::int64_t fill = fill_at_start;
       for (float y : blocks_[0]) {
-        if (residual_.Push(y)) residual_power_ = residual_.power();
+        if (use_residual && residual_.Push(y)) residual_power_ = residual_.power();
         if (++fill == hop_) {
           band.frame_powers.push_back(residual_power_);
           fill = 0;
@@ -300,6 +301,7 @@ class ImpactDetector::Impl {
     // only split a hit that builds up slowly into two candidates. The noise is the residual's
     // floor: under continuous ringing the band's own minimum-statistics floor is the ringing.
     const bool tail_present =
+        options_.ringing_residual &&
         bands_[0].reference.max() - bands_[residual_band_].floor.db() >= options_.rise_threshold_db;
     const double residual_rise_db =
         tail_present ? Rise(bands_[residual_band_]) : -std::numeric_limits<double>::infinity();
