@@ -361,6 +361,8 @@ void AddAnalyzeCommand(CLI::App& app) {
       ->add_option("--min-gap-ms", d.min_gap_ms,
                    "Rises closer than this (ms) are one impact (precursors, echoes)")
       ->capture_default_str();
+  command->add_flag("!--no-ringing-residual", d.ringing_residual,
+                    "Do not look for impacts buried in the ringing of earlier ones (faster)");
   auto& s = args->sequences;
   command
       ->add_option("--max-interval-s", s.max_interval_s,

@@ -36,6 +36,12 @@ struct DetectorOptions {
   // the other is reported as a precursor or echo. 12 ms covers the 5-10 ms precursors and the
   // 8-10 ms echoes seen in real recordings; bounces that close are chatter anyway.
   double min_gap_ms = 12.0;
+  // Also look for new energy that the decaying ringing of earlier impacts does not predict
+  // (complex-domain prediction per STFT bin): finds impacts buried in a long-ringing plate's
+  // tail, where no band energy rises. Only consulted where a tail is present. It costs about
+  // 40 % of the detection time (bench/analyze_bench), which turning it off saves on recordings
+  // known to have no long ringing.
+  bool ringing_residual = true;
   // Energy frame length of the envelope.
   double frame_ms = 0.25;
 
