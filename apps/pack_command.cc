@@ -196,7 +196,7 @@ void AddPackCommand(CLI::App& app) {
   command->add_option("scene", args->scene, "Scene file (JSON)")->required();
   command
       ->add_option("--threads", args->threads,
-                   "OpenMP threads (count, >= 1); results do not depend on it")
+                   "Worker threads (count, >= 1); results are bit-identical for any count")
       ->check(CLI::Range(1, 1024));
   command->add_option("--json", args->json, "Also write the summary JSON to this file");
   command->add_option("--out", args->out,

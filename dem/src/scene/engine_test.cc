@@ -227,5 +227,15 @@ TEST(PackingEngine, VanDerWaalsAttractsNearbyParticlesWithTheHamakerForce) {
   EXPECT_NEAR(engine->state().force_n[1][0], -expected, 1e-9 * expected);
 }
 
+TEST(PairList, NonFinitePositionsGiveNoPairsInsteadOfHanging) {
+  std::vector<Vec<3>> x = {V3(0, 0, 0), V3(0.001, 0, 0), V3(std::nan(""), 0, 0)};
+  const std::vector<double> r = {0.001, 0.001, 0.001};
+  EXPECT_EQ(GridPairs<3>(x, r, 0.0).size(), 0u);
+  x[2] = V3(1e200, 0, 0);
+  EXPECT_EQ(GridPairs<3>(x, r, 0.0).size(), 0u);
+  x[2] = V3(0.5, 0, 0);
+  EXPECT_EQ(GridPairs<3>(x, r, 0.0).size(), 1u);  // the touching pair (0, 1)
+}
+
 }  // namespace
 }  // namespace bouncecal::dem::scene

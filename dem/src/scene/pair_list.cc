@@ -55,9 +55,21 @@ PairList GridPairs(const std::vector<Vec<Dim>>& position_m, const std::vector<do
   Vec<Dim> hi = position_m[0];
   double r_max = 0;
   for (std::int32_t i = 0; i < n; ++i) {
+    if (!position_m[i].allFinite()) {
+      list.BuildIndex(n);
+      return list;
+    }
     lo = lo.cwiseMin(position_m[i]);
     hi = hi.cwiseMax(position_m[i]);
     r_max = std::max(r_max, radius_m[i]);
+  }
+  // A blown-up run (non-finite or astronomically far positions) gets no pairs; the engine
+  // reports it as unstable at its next check instead of hanging here.
+  for (int d = 0; d < Dim; ++d) {
+    if (!(hi[d] - lo[d] <= 1e12)) {
+      list.BuildIndex(n);
+      return list;
+    }
   }
   double cell_m = 2 * r_max + reach_m;
   // A particle flung far away must not make the grid huge: widen the cells instead (the pairs
