@@ -149,10 +149,10 @@ class DropRunner {
       }
       t = t_on + exact.duration_s;
       recorder_.Segment(t_on, 0, -speed_in, t, 0, exact.speed_out_mps);
+      if (Released(impact, t)) return;
       if (t > options_.max_time_s) return StopAtTimeLimit();
       z = 0;
       v = exact.speed_out_mps;
-      if (Released(impact, t)) return;
     }
   }
 
