@@ -139,8 +139,13 @@ void RunSynth(const SynthArguments& args) {
   }
   int clipped = 0;
   for (int count : recording.clipped_sample_count) clipped += count;
-  if (clipped > 0 || summary.clipped_samples > 0) {
-    fmt::print(stderr, "note: {} samples clipped by --clip-level, {} beyond full scale\n", clipped,
+  if (clipped > 0) {
+    fmt::print(stderr, "note: {} samples clipped at --clip-level {}\n", clipped, *args.clip_level);
+  }
+  if (summary.clipped_samples > 0) {
+    fmt::print(stderr,
+               "note: {} samples exceeded full scale and were clipped in the file; lower "
+               "--peak-amplitude to avoid it, or write --format float\n",
                summary.clipped_samples);
   }
   if (truth) fmt::print("truth: {}\n", args.truth);
@@ -161,8 +166,9 @@ void AddSynthCommand(CLI::App& app) {
 
   command->add_option("-o,--output", args->output, "Audio file to write (.wav, or .flac)")
       ->required();
-  command->add_option("--truth", args->truth,
-                      "Write the ground truth CSV (onset_s,impact_speed_mps,kind,drop) here");
+  command->add_option(
+      "--truth", args->truth,
+      "Write the ground truth CSV (onset_s,impact_speed_mps,kind,drop,peak_amplitude) here");
   auto* impacts = command->add_option(
       "--impact-times", args->impact_times,
       "CSV of explicit impacts 'onset_s,impact_speed_mps' (s, m/s) instead of a ballistic drop");
@@ -190,11 +196,14 @@ void AddSynthCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--release-s", o.drop.release_s, "Time the first drop is released (s)")
       ->capture_default_str();
+  auto* drag = command->add_option(
+      "--terminal-speed-mps", o.drop.terminal_speed_mps,
+      "Add quadratic air drag with this terminal speed (m/s): ~9 ping-pong, ~50 steel ball");
   command
       ->add_option("--min-flight-s", o.drop.min_flight_s,
                    "A drop ends when the next flight would be shorter than this (s)")
       ->capture_default_str();
-  for (auto* option : {height, restitution, slope, drops}) impacts->excludes(option);
+  for (auto* option : {height, restitution, slope, drops, drag}) impacts->excludes(option);
 
   command->add_option("--sample-rate-hz", o.sample_rate_hz, "Sample rate (Hz)")
       ->capture_default_str();

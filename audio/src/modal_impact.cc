@@ -26,7 +26,6 @@ std::int64_t FirstSampleAtOrAfter(double t_s, double sample_rate_hz) {
 
 ModeResponse::ModeResponse(const PlateMode& mode, double contact_duration_s)
     : gain_(mode.gain),
-      decay_s_(mode.decay_s),
       contact_s_(contact_duration_s),
       s_(-1.0 / mode.decay_s, 2.0 * std::numbers::pi * mode.frequency_hz),
       after_contact_(Integral(contact_duration_s)),

@@ -44,7 +44,6 @@ class ModeResponse {
 
  private:
   double gain_;
-  double decay_s_;
   double contact_s_;
   std::complex<double> s_;
   std::complex<double> after_contact_;  // I(tau)

@@ -107,9 +107,57 @@ void AddSine(double amplitude, double omega, double phase, std::int64_t first_sa
   }
 }
 
+// A fall from rest through height_m, ballistic or with quadratic drag (see DropSpec).
+struct Fall {
+  double duration_s;
+  double landing_speed_mps;
+};
+Fall FallFrom(double height_m, double g, std::optional<double> terminal_speed_mps) {
+  if (!terminal_speed_mps) return {std::sqrt(2.0 * height_m / g), std::sqrt(2.0 * g * height_m)};
+  const double vt = *terminal_speed_mps;
+  const double x = g * height_m / (vt * vt);
+  // acosh(e^x) = x + ln(1 + sqrt(1 - e^-2x)), written so a high terminal speed (x -> 0) keeps
+  // full precision instead of cancelling in acosh(1 + tiny).
+  const double root = std::sqrt(-std::expm1(-2.0 * x));
+  return {vt / g * (x + std::log1p(root)), vt * root};
+}
+
+// A flight launched upwards at launch_mps, back down to the floor.
+using Flight = Fall;
+Flight FlightFrom(double launch_mps, double g, std::optional<double> terminal_speed_mps) {
+  if (!terminal_speed_mps) return {2.0 * launch_mps / g, launch_mps};
+  const double vt = *terminal_speed_mps;
+  const double rise_s = vt / g * std::atan(launch_mps / vt);
+  const double apex_m = vt * vt / (2.0 * g) * std::log1p(launch_mps * launch_mps / (vt * vt));
+  const Fall fall = FallFrom(apex_m, g, terminal_speed_mps);
+  return {rise_s + fall.duration_s, fall.landing_speed_mps};
+}
+
 }  // namespace
 
 std::vector<PlateMode> RectangularPlateModes(const RectangularPlate& plate) {
+  const auto require = [](std::string_view name, double value, double lower, double upper) {
+    if (std::isfinite(value) && value > lower && value <= upper) return;
+    throw ConfigError("plate option " + std::string(name) + " = " + Number(value) +
+                      " is outside (" + Number(lower) + ", " + Number(upper) +
+                      "]; choose a value in range");
+  };
+  require("length_m", plate.length_m, 0.0, 100.0);
+  require("width_m", plate.width_m, 0.0, 100.0);
+  require("thickness_m", plate.thickness_m, 0.0, 1.0);
+  require("youngs_modulus_pa", plate.youngs_modulus_pa, 0.0, 1e13);
+  require("density_kg_per_m3", plate.density_kg_per_m3, 0.0, 1e5);
+  require("poisson_ratio", plate.poisson_ratio, -1.0, 0.5);
+  require("loss_factor", plate.loss_factor, 0.0, 1.0);
+  for (double fraction : {plate.impact_x_fraction, plate.impact_y_fraction, plate.pickup_x_fraction,
+                          plate.pickup_y_fraction}) {
+    require("impact/pickup fraction", fraction, 0.0, 1.0);
+  }
+  require("min_frequency_hz", plate.min_frequency_hz, -1.0, 1e6);
+  require("max_frequency_hz", plate.max_frequency_hz, plate.min_frequency_hz, 1e6);
+  // Modal density is area / (4 pi) sqrt(rho h / D) per rad/s; refuse plates that would need
+  // more modes than any rendering can afford.
+  constexpr size_t kMaxModes = 5000;
   const double rigidity = plate.youngs_modulus_pa * std::pow(plate.thickness_m, 3) /
                           (12.0 * (1.0 - plate.poisson_ratio * plate.poisson_ratio));
   const double wave_factor =
@@ -130,6 +178,11 @@ std::vector<PlateMode> RectangularPlateModes(const RectangularPlate& plate) {
                           shape(m, n, plate.pickup_x_fraction, plate.pickup_y_fraction);
       modes.push_back(
           {frequency_hz, 1.0 / (std::numbers::pi * plate.loss_factor * frequency_hz), gain});
+      if (modes.size() > kMaxModes) {
+        throw ConfigError("plate options give more than " + std::to_string(kMaxModes) +
+                          " modes below max_frequency_hz; use a smaller or thicker plate or a "
+                          "lower max_frequency_hz");
+      }
       largest = std::max(largest, std::abs(gain));
     }
   }
@@ -208,8 +261,9 @@ std::vector<SynthesizedEvent> PlanBallImpacts(const SynthesisOptions& options) {
   const double g = options.gravity_mps2;
   double release_s = drop.release_s;
   for (int d = 0; d < drop.drop_count; ++d) {
-    double onset_s = release_s + std::sqrt(2.0 * drop.drop_height_m / g);
-    double speed_mps = std::sqrt(2.0 * g * drop.drop_height_m);
+    const Fall first = FallFrom(drop.drop_height_m, g, drop.terminal_speed_mps);
+    double onset_s = release_s + first.duration_s;
+    double speed_mps = first.landing_speed_mps;
     for (int k = 0; k < drop.max_impacts_per_drop; ++k) {
       impacts.push_back({onset_s, SoundEventKind::kBallImpact, speed_mps, d});
       const double e = drop.restitution.Evaluate(speed_mps);
@@ -218,10 +272,10 @@ std::vector<SynthesizedEvent> PlanBallImpacts(const SynthesisOptions& options) {
                           " at impact speed " + Number(speed_mps) +
                           " m/s; the law must stay inside (0, 1) for every impact speed");
       }
-      speed_mps *= e;
-      const double flight_s = 2.0 * speed_mps / g;
-      if (flight_s < drop.min_flight_s) break;
-      onset_s += flight_s;
+      const Flight flight = FlightFrom(e * speed_mps, g, drop.terminal_speed_mps);
+      if (flight.duration_s < drop.min_flight_s) break;
+      onset_s += flight.duration_s;
+      speed_mps = flight.landing_speed_mps;
     }
     release_s = impacts.back().onset_s + drop.gap_between_drops_s;
   }
@@ -241,16 +295,29 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
         "modes with non-zero gain below 0.45 x sample_rate_hz");
   }
 
+  // Per-impact level jitter is a property of the impact, shared by every channel.
+  std::vector<double> jitter(ball_impacts.size(), 1.0);
+  if (options.level_jitter_db > 0.0) {
+    RandomStream random(options.seed, kLevelJitterStream);
+    for (double& value : jitter) value = DbToGain(options.level_jitter_db * random.Gaussian());
+  }
   // Every event of the truth, before truncation to the file length.
-  std::vector<SynthesizedEvent> events = ball_impacts;
-  if (options.precursor) {
-    for (const SynthesizedEvent& impact : ball_impacts) {
+  std::vector<SynthesizedEvent> events;
+  for (size_t k = 0; k < ball_impacts.size(); ++k) {
+    SynthesizedEvent impact = ball_impacts[k];
+    impact.peak_amplitude = options.peak_amplitude *
+                            std::pow(impact.impact_speed_mps / options.reference_speed_mps,
+                                     options.amplitude_speed_exponent) *
+                            jitter[k];
+    events.push_back(impact);
+    if (options.precursor) {
       events.push_back({impact.onset_s - options.precursor->lead_s, SoundEventKind::kPrecursor,
-                        impact.impact_speed_mps, impact.drop_index});
+                        impact.impact_speed_mps, impact.drop_index,
+                        impact.peak_amplitude * DbToGain(options.precursor->gain_db)});
     }
   }
   for (const ExtraEvent& extra : options.extra_events) {
-    events.push_back({extra.onset_s, extra.kind, 0.0, -1});
+    events.push_back({extra.onset_s, extra.kind, 0.0, -1, extra.peak_amplitude});
   }
   std::stable_sort(events.begin(), events.end(),
                    [](const auto& a, const auto& b) { return a.onset_s < b.onset_s; });
@@ -283,12 +350,6 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
     }
   }
 
-  // Per-impact level jitter is a property of the impact, shared by every channel.
-  std::vector<double> jitter(ball_impacts.size(), 1.0);
-  if (options.level_jitter_db > 0.0) {
-    RandomStream random(options.seed, kLevelJitterStream);
-    for (double& value : jitter) value = DbToGain(options.level_jitter_db * random.Gaussian());
-  }
   std::vector<double> echo_delays_s = {0.0};
   std::vector<double> echo_gains = {1.0};
   if (options.reverb) {
@@ -390,6 +451,7 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
     result.channels.push_back(std::move(recording));
     result.noise_rms.push_back(noise_rms);
     result.clipped_sample_count.push_back(clipped);
+    result.channel_delay_s.push_back(channel.delay_s);
   }
   result.events = std::move(events);
   return result;
@@ -397,13 +459,14 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
 
 std::string TruthCsv(const SynthesizedRecording& recording) {
   std::ostringstream out;
-  out << "onset_s,impact_speed_mps,kind,drop\n";
+  out << "onset_s,impact_speed_mps,kind,drop,peak_amplitude\n";
   out.setf(std::ios::fixed);
   for (const SynthesizedEvent& event : recording.events) {
     out.precision(9);
     out << event.onset_s << ',';
     out.precision(6);
-    out << event.impact_speed_mps << ',' << ToString(event.kind) << ',' << event.drop_index << '\n';
+    out << event.impact_speed_mps << ',' << ToString(event.kind) << ',' << event.drop_index << ','
+        << event.peak_amplitude << '\n';
   }
   return out.str();
 }

@@ -60,6 +60,9 @@ void ValidateSynthesisOptions(const SynthesisOptions& options) {
     RequireRange("drop.gap_between_drops_s", drop.gap_between_drops_s, 0.0, 3600.0, "s");
     RequireAbove("drop.min_flight_s", drop.min_flight_s, 0.0, 10.0, "s");
     RequireRange("drop.max_impacts_per_drop", drop.max_impacts_per_drop, 1, 100000, "");
+    if (drop.terminal_speed_mps) {
+      RequireAbove("drop.terminal_speed_mps", *drop.terminal_speed_mps, 0.1, 1e4, "m/s");
+    }
     if (!drop.restitution.callback) {
       RequireAbove("drop.restitution.constant", drop.restitution.constant, 0.0, 1.0, "");
       RequireRange("drop.restitution.slope_per_mps", drop.restitution.slope_per_mps, -10.0, 10.0,

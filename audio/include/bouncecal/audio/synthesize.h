@@ -60,11 +60,11 @@ struct RectangularPlate {
 std::vector<PlateMode> RectangularPlateModes(const RectangularPlate& plate);
 
 // RectangularPlateModes of the default RectangularPlate: a 15 x 10 cm, 1 mm steel plate
-// (about 70 modes from 1 to 15 kHz, 20-320 ms decays), the default of SynthesisOptions.
+// (61 modes from 1.07 to 14.6 kHz, 22-300 ms decays), the default of SynthesisOptions.
 std::vector<PlateMode> SteelPlateModes();
 // A ping-pong ball on a kitchen counter, modelled on eeps-pingpong/pingpong.wav: dense modes
-// from 1.1 to 18 kHz ringing 20-360 ms, long enough to overlap the next bounce (a 20 x 13 cm,
-// 1.2 mm plate with loss factor 8e-4). The recorded bandwidth (up to 18 kHz) implies an
+// from 1.3 to 17.7 kHz (109 of them) ringing 22-300 ms, long enough to overlap the next bounce (a
+// 20 x 13 cm, 1.2 mm plate with loss factor 8e-4). The recorded bandwidth (up to 18 kHz) implies an
 // excitation much sharper than the ~1 ms ball contact: a half-sine's spectrum has its first
 // zero at 1.5 / tau, so use a contact_duration_s of ~50 us to reproduce it.
 std::vector<PlateMode> CounterTopModes();
@@ -95,6 +95,13 @@ struct ImpactSpec {
 // e(v_k) v_k and flies dt_k = 2 e(v_k) v_k / g (drag and contact time neglected, as in
 // ../shared/PHYSICS.md section 1). A drop ends when the next flight would be shorter than
 // min_flight_s (the ball then chatters and rolls) or after max_impacts_per_drop impacts.
+//
+// With terminal_speed_mps set, flights follow quadratic air drag (m dv/dt = -m g -+ m g v|v| /
+// v_t^2) in closed form: rising from u the ball stops after (v_t / g) atan(u / v_t) at
+// H = (v_t^2 / 2g) ln(1 + u^2 / v_t^2), then falls for (v_t / g) acosh(exp(g H / v_t^2)) and
+// lands at v_t sqrt(1 - exp(-2 g H / v_t^2)). Drag shortens flights, so an analysis that
+// assumes ballistic flights reads a lower e (what the Fr4nci authors blame for their h0 fit).
+// A ping-pong ball has v_t ~ 9 m/s, a 1 cm steel ball ~ 50 m/s.
 struct DropSpec {
   double drop_height_m = 0.20;
   double release_s = 0.3;
@@ -104,6 +111,7 @@ struct DropSpec {
   double min_flight_s = 0.005;
   int max_impacts_per_drop = 100;
   RestitutionLaw restitution;
+  std::optional<double> terminal_speed_mps;  // unset: no drag
 };
 
 // Discrete room echo (an image source): a copy of every sound delayed by delay_s at gain_db.
@@ -243,6 +251,10 @@ struct SynthesizedEvent {
   SoundEventKind kind = SoundEventKind::kBallImpact;
   double impact_speed_mps = 0.0;  // ball impacts (and their precursors); 0 otherwise
   int drop_index = -1;            // 0-based drop of a ball impact/precursor; -1 otherwise
+  // Peak of the event's direct sound at 0 dB channel gain (full scale): for ball impacts
+  // peak_amplitude (v / v_ref)^amplitude_speed_exponent times the level jitter (the sampled peak
+  // exactly for a speed-independent contact duration, within a few % otherwise).
+  double peak_amplitude = 0.0;
 };
 
 struct SynthesizedRecording {
@@ -250,6 +262,7 @@ struct SynthesizedRecording {
   std::vector<SynthesizedEvent> events;   // every event, sorted by onset_s
   std::vector<double> noise_rms;          // per channel; 0 without noise
   std::vector<int> clipped_sample_count;  // per channel
+  std::vector<double> channel_delay_s;    // per channel: it hears an event at onset_s + this
 
   // Onsets of the ball impacts only, sorted; optionally of one drop.
   std::vector<double> BallImpactOnsetsS(std::optional<int> drop_index = std::nullopt) const;
@@ -265,8 +278,8 @@ std::vector<SynthesizedEvent> PlanBallImpacts(const SynthesisOptions& options);
 // Renders the recording. Deterministic for a given options.seed.
 SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options);
 
-// CSV of the truth: header "onset_s,impact_speed_mps,kind,drop" and one line per event, times
-// with 9 decimals (ns).
+// CSV of the truth: header "onset_s,impact_speed_mps,kind,drop,peak_amplitude" and one line per
+// event, times with 9 decimals (ns).
 std::string TruthCsv(const SynthesizedRecording& recording);
 
 }  // namespace bouncecal::audio
