@@ -212,3 +212,66 @@ TEST(DetectorGroundTruth, StereoPicksTheBetterChannelIn24BitAndFloatFiles) {
 
 }  // namespace
 }  // namespace bouncecal::audio
+
+namespace bouncecal::audio {
+namespace {
+
+// The paper's own setup: a steel ball dropped 20 cm on a free steel plate whose modes ring for
+// up to 1.7 s (the synthesiser's default SteelPlateModes). From the third or fourth bounce on,
+// each impact is quieter than the tail of the earlier ones in every band, so only the ringing
+// residual (new energy the decaying modes do not predict) finds them; the onset is then picked
+// on the linear-prediction innovation. e from 0.5 to 0.9, three seeds each, 30 dB SNR referred
+// to the weakest impact.
+TEST(DetectorGroundTruth, ImpactsInsideALongRingingFreePlateAreFound) {
+  int truth = 0;
+  int found = 0;
+  int extra = 0;
+  std::vector<double> errors;
+  for (double e : {0.5, 0.65, 0.8, 0.9}) {
+    for (std::uint64_t seed : {1u, 2u, 3u}) {
+      SynthesisOptions options;
+      options.drop.restitution.constant = e;
+      options.drop.min_flight_s = 0.03;
+      NoiseOptions noise;
+      noise.snr_db = 30.0;
+      noise.reference = SnrReference::kWeakestImpact;
+      options.noise = noise;
+      options.seed = seed;
+      const auto synthesized = SynthesizeBounces(options);
+      const auto detection = DetectImpacts(synthesized.channels[0]);
+      const auto onsets = synthesized.BallImpactOnsetsS();
+      const auto score = Compare(detection.impacts, onsets);
+      Print("free plate e " + std::to_string(e).substr(0, 4) + " seed " + std::to_string(seed),
+            score);
+      truth += score.truth;
+      found += score.found;
+      extra += score.extra;
+      for (double t : onsets) {
+        for (const auto& impact : detection.impacts) {
+          if (std::fabs(impact.onset_s - t) < kMatchS)
+            errors.push_back(std::fabs(impact.onset_s - t));
+        }
+      }
+    }
+  }
+  std::sort(errors.begin(), errors.end());
+  ASSERT_FALSE(errors.empty());
+  const double median = errors[errors.size() / 2];
+  const double p90 = errors[std::min(errors.size() - 1, errors.size() * 9 / 10)];
+  std::printf(
+      "[ figures  ] free plate, all: recall %d/%d  extra %d  |error| median %.1f us  p90 %.1f us\n",
+      found, truth, extra, median * 1e6, p90 * 1e6);
+  // Band rises alone found 2/4, 3/7, 6/12 and 14/25 impacts (seed 1; 52 %) before the residual
+  // existed. Measured now: 138/144 within 1 ms (a detection more than 1 ms off counts as a miss
+  // and an extra). 93 % recall and at most 3 % extras leave room for other platforms' rounding
+  // without letting the band-only detector pass.
+  EXPECT_GE(found, truth * 93 / 100);
+  EXPECT_LE(extra, truth * 3 / 100);
+  // Inside ringing the innovation picker is less precise than on a clean onset, and with these
+  // slowly decaying modes even the first, clean impact is picked ~60 us late (the modes'
+  // t^3 growth during contact is longer to emerge from the noise): 50 us median bounds it.
+  EXPECT_LT(median, 50e-6);
+}
+
+}  // namespace
+}  // namespace bouncecal::audio

@@ -13,6 +13,8 @@
 #include "bouncecal/error.h"
 #include "noise_floor.h"
 #include "onset_picker.h"
+#include "prediction_innovation.h"
+#include "ringing_residual.h"
 #include "sample_history.h"
 
 namespace bouncecal::audio {
@@ -36,6 +38,9 @@ constexpr double kPeakLevelMs = 5.0;
 // Rises of this fraction of rise_threshold_db open a candidate; it counts as an impact only
 // if it or a member of its min-gap group reaches the full threshold (see Merge).
 constexpr double kSecondaryRiseFraction = 0.5;
+// Order of the linear predictor that removes ringing before picking an onset inside it: two
+// coefficients per mode, so up to 12 modes in the band (a plate's strong low modes).
+constexpr int kInnovationOrder = 24;
 // History kept for the picker and the peak level; longer than every window above together.
 constexpr double kHistoryS = 0.1;
 
@@ -106,7 +111,9 @@ class ImpactDetector::Impl {
         attack_frames_(Frames(kAttackMs)),
         peak_frames_(std::max(attack_frames_ + 1, Frames(kPeakSearchMs))),
         max_open_frames_(std::max(peak_frames_, Frames(std::min(options.min_gap_ms, kMaxOpenMs)))),
-        secondary_threshold_db_(kSecondaryRiseFraction * options.rise_threshold_db) {
+        secondary_threshold_db_(kSecondaryRiseFraction * options.rise_threshold_db),
+        residual_(sample_rate_hz, options.band_low_hz, options.band_high_hz),
+        residual_band_(filter_.output_count()) {
     const auto ring = static_cast<std::size_t>(lookback_frames_ + max_open_frames_ + peak_frames_ +
                                                attack_frames_ + 8);
     for (std::size_t b = 0; b < filter_.output_count(); ++b) {
@@ -114,6 +121,8 @@ class ImpactDetector::Impl {
           static_cast<std::size_t>(Samples(kHistoryS)) + filter_.max_latency_samples(), ring,
           frame_s_);
     }
+    // The ringing residual has no sample stream of its own: a token history.
+    bands_.emplace_back(1, ring, frame_s_);
     result_.sample_rate_hz = sample_rate_hz;
   }
 
@@ -154,6 +163,8 @@ class ImpactDetector::Impl {
     Impact impact;
     double level_db = 0;
     double group_rise_db = 0;
+    // False when only the ringing residual rose: its level is then mostly the tail it is in.
+    bool band_rose = true;
     std::vector<MergedEvent> others;
   };
 
@@ -219,6 +230,20 @@ class ImpactDetector::Impl {
       }
       band.power = power;
     }
+    // The residual is computed on the main band and held between its (longer) frames, so each
+    // envelope frame carries the residual of the latest window that ended in it or before.
+    if (!blocks_.empty()) {
+      Band& band = bands_[residual_band_];
+      band.frame_powers.clear();
+      std::int64_t fill = fill_at_start;
+      for (float y : blocks_[0]) {
+        if (residual_.Push(y)) residual_power_ = residual_.power();
+        if (++fill == hop_) {
+          band.frame_powers.push_back(residual_power_);
+          fill = 0;
+        }
+      }
+    }
     frame_fill_ = (fill_at_start + static_cast<std::int64_t>(count)) % hop_;
     const std::size_t frames = bands_.empty() ? 0 : bands_[0].frame_powers.size();
     for (std::size_t f = 0; f < frames; ++f) OnFrame(f);
@@ -258,34 +283,53 @@ class ImpactDetector::Impl {
     // first lookback of the file has no reference: the start of the file is not an impact.
     const std::int64_t m = n - attack_frames_;
     if (m < lookback_frames_) return;
-    double rise_db = -std::numeric_limits<double>::infinity();
+    // The ringing residual (last band) is a further rise measure: inside a long-ringing tail a
+    // weaker impact adds little energy to any band but is new energy the decay of the tail
+    // does not predict. The onset is picked in the filtered band that rose most.
+    double band_rise_db = -std::numeric_limits<double>::infinity();
     std::size_t rising_band = 0;
-    for (std::size_t b = 0; b < bands_.size(); ++b) {
+    for (std::size_t b = 0; b < residual_band_; ++b) {
       const double rise = Rise(bands_[b]);
-      if (rise > rise_db) {
-        rise_db = rise;
+      if (rise > band_rise_db) {
+        band_rise_db = rise;
         rising_band = b;
       }
     }
+    // The residual only matters where a tail is there to hide a rise: where the main band's
+    // recent level is near the noise, the band rises are as sensitive and the residual would
+    // only split a hit that builds up slowly into two candidates. The noise is the residual's
+    // floor: under continuous ringing the band's own minimum-statistics floor is the ringing.
+    const bool tail_present =
+        bands_[0].reference.max() - bands_[residual_band_].floor.db() >= options_.rise_threshold_db;
+    const double residual_rise_db =
+        tail_present ? Rise(bands_[residual_band_]) : -std::numeric_limits<double>::infinity();
+    // A residual frame spans a few ms, so after a hit it stays above its pre-hit reference for
+    // that long: the residual opens a candidate only after it has fallen back below the
+    // threshold once (hysteresis), never on the lingering frames of the last candidate.
+    if (residual_rise_db < secondary_threshold_db_) residual_armed_ = true;
     if (open_) {
       // A candidate stays open while its envelope keeps reaching new peaks, so a hit that
       // builds up over several milliseconds (or grows out of its precursor) is one candidate
       // whose onset the picker finds; it closes peak_frames_ after its last peak.
-      if (rise_db > candidate_rise_db_) {
-        candidate_rise_db_ = rise_db;
+      if (band_rise_db > candidate_rise_db_) {
+        candidate_rise_db_ = band_rise_db;
         candidate_band_ = rising_band;
       }
+      candidate_residual_rise_db_ = std::max(candidate_residual_rise_db_, residual_rise_db);
       if ((n - candidate_peak_frame_ >= peak_frames_ && n - candidate_frame_ >= peak_frames_) ||
           n - candidate_frame_ >= max_open_frames_) {
         CloseCandidate();
       }
-    } else if (rise_db >= secondary_threshold_db_) {
-      // No re-arming hysteresis: a sound that keeps rising (a precursor growing into the hit)
-      // opens a new candidate every peak window, and Merge keeps the loudest of them.
+      residual_armed_ = false;
+    } else if (band_rise_db >= secondary_threshold_db_ ||
+               (residual_armed_ && residual_rise_db >= secondary_threshold_db_)) {
+      // No re-arming hysteresis in the bands: a sound that keeps rising (a precursor growing into
+      // the hit) opens a new candidate every peak window, and Merge keeps the loudest of them.
       open_ = true;
       candidate_frame_ = m;
-      candidate_rise_db_ = rise_db;
+      candidate_rise_db_ = band_rise_db;
       candidate_band_ = rising_band;
+      candidate_residual_rise_db_ = residual_rise_db;
       candidate_peak_db_ = bands_[0].Db(m);
       candidate_peak_frame_ = m;
       for (std::int64_t i = m + 1; i <= n; ++i) {
@@ -295,6 +339,15 @@ class ImpactDetector::Impl {
         }
       }
     }
+  }
+
+  double ResidualSnrDb() const {
+    const Band& band = bands_[residual_band_];
+    double peak_db = band.Db(candidate_frame_);
+    for (std::int64_t i = candidate_frame_ + 1; i < frame_count_; ++i) {
+      peak_db = std::max(peak_db, band.Db(i));
+    }
+    return peak_db - band.floor.db();
   }
 
   void CloseCandidate() {
@@ -307,10 +360,13 @@ class ImpactDetector::Impl {
       band_peak_db = std::max(band_peak_db, band.Db(i));
     }
     const double snr_db = band_peak_db - band.floor.db();
-    if (snr_db < options_.min_snr_db) return;
+    // Under continuous ringing the minimum-statistics floor of every band is the ringing, not
+    // the noise; the ringing residual's floor stays at the noise, so passing in it also counts.
+    // snr_db itself stays the band's, so the channel choice compares like with like.
+    if (snr_db < options_.min_snr_db && ResidualSnrDb() < options_.min_snr_db) return;
     // The onset is picked in the same band, where the impact stands out most from what was
     // there before; the window ends at the impact's largest sample.
-    const SampleHistory<float>& samples = band.samples;
+    const SampleHistory<float>& samples = bands_[candidate_band_].samples;
     const std::int64_t search_begin =
         std::max(samples.begin(), (candidate_frame_ - 2 * skip_frames_) * hop_);
     const std::int64_t peak_end = std::min(samples.end(), (candidate_peak_frame_ + 1) * hop_);
@@ -320,21 +376,46 @@ class ImpactDetector::Impl {
     }
     const std::int64_t window_begin = std::max(
         {samples.begin(), search_begin - Samples(kPickerNoiseMs * 1e-3), last_peak_sample_ + 1});
-    const std::int64_t window_end = std::min(samples.end(), peak + 2);
-    window_.clear();
-    for (std::int64_t i = window_begin; i < window_end; ++i) window_.push_back(samples[i]);
+    std::int64_t window_end = std::min(samples.end(), peak + 2);
     const auto begin_offset =
         static_cast<std::size_t>(std::max<std::int64_t>(0, search_begin - window_begin));
+    const bool in_ringing = candidate_rise_db_ < secondary_threshold_db_;
+    if (in_ringing) {
+      // Only the ringing residual rose: the impact is buried in the tail of earlier ones, and
+      // the largest sample is the tail's, so the onset is picked on the linear-prediction
+      // innovation, where the tail is removed and the impact stands out, up to its largest
+      // innovation sample within the candidate.
+      window_end = std::min(samples.end(), (candidate_peak_frame_ + peak_frames_ + 1) * hop_);
+    }
+    window_.clear();
+    for (std::int64_t i = window_begin; i < window_end; ++i) window_.push_back(samples[i]);
+    std::int64_t pick_begin = window_begin;
+    std::size_t pick_offset = begin_offset;
+    if (in_ringing) {
+      auto innovation = PredictionInnovation(window_, begin_offset, kInnovationOrder);
+      const std::size_t skipped = window_.size() - innovation.size();
+      if (skipped > 0 && begin_offset > skipped) {
+        window_ = std::move(innovation);
+        pick_begin += static_cast<std::int64_t>(skipped);
+        pick_offset -= skipped;
+        std::size_t top = pick_offset;
+        for (std::size_t i = pick_offset; i < window_.size(); ++i) {
+          if (std::fabs(window_[i]) > std::fabs(window_[top])) top = i;
+        }
+        peak = pick_begin + static_cast<std::int64_t>(top);
+        window_.resize(std::min(window_.size(), top + 2));
+      }
+    }
     const auto end_offset =
-        static_cast<std::size_t>(std::max<std::int64_t>(0, peak + 1 - window_begin));
-    const OnsetPick pick = PickOnset(window_, begin_offset, end_offset);
+        static_cast<std::size_t>(std::max<std::int64_t>(0, peak + 1 - pick_begin));
+    const OnsetPick pick = PickOnset(window_, pick_offset, end_offset);
     last_peak_sample_ = peak;
 
     Impact impact;
-    const double onset_index = static_cast<double>(window_begin) + pick.index;
+    const double onset_index = static_cast<double>(pick_begin) + pick.index;
     impact.onset_s = onset_index / rate_;
     impact.onset_uncertainty_s = pick.sigma_samples / rate_;
-    impact.rise_db = candidate_rise_db_;
+    impact.rise_db = std::max(candidate_rise_db_, candidate_residual_rise_db_);
     impact.snr_db = snr_db;
     const std::int64_t level_begin =
         std::max<std::int64_t>(raw_.begin(), std::llround(std::floor(onset_index)));
@@ -344,7 +425,7 @@ class ImpactDetector::Impl {
       peak_abs = std::max(peak_abs, double{std::fabs(raw_[i])});
     }
     impact.peak_dbfs = 20.0 * std::log10(std::max(peak_abs, 1e-7));
-    Merge({impact, candidate_peak_db_, candidate_rise_db_, {}});
+    Merge({impact, candidate_peak_db_, impact.rise_db, !in_ringing, {}});
   }
 
   // Groups rises closer than min_gap_ms to the loudest one so far: a precursor before a hit or
@@ -357,13 +438,19 @@ class ImpactDetector::Impl {
       const double gap_ms = (next.impact.onset_s - pending_->impact.onset_s) * 1e3;
       char text[160];
       pending_->group_rise_db = std::max(pending_->group_rise_db, next.group_rise_db);
-      if (next.level_db > pending_->level_db) {
+      // A rise seen only in the residual a few ms after a hit sits in that hit's tail, whose
+      // level it shares: it never takes the onset from a hit that rose in the bands.
+      const bool next_wins = next.band_rose == pending_->band_rose
+                                 ? next.level_db > pending_->level_db
+                                 : next.band_rose;
+      if (next_wins) {
         std::snprintf(text, sizeof text,
                       "precursor %.1f ms before a louder impact (merged; --min-gap-ms %.3g)",
                       gap_ms, options_.min_gap_ms);
         pending_->others.push_back({pending_->impact.onset_s, pending_->impact.peak_dbfs, text});
         pending_->impact = next.impact;
         pending_->level_db = next.level_db;
+        pending_->band_rose = next.band_rose;
       } else {
         std::snprintf(text, sizeof text,
                       "echo or secondary burst %.1f ms after a louder impact (merged; "
@@ -400,6 +487,10 @@ class ImpactDetector::Impl {
   std::int64_t peak_frames_;
   std::int64_t max_open_frames_;
   double secondary_threshold_db_;
+  RingingResidual residual_;
+  std::size_t residual_band_;
+  double residual_power_ = 0;
+  bool residual_armed_ = true;
   std::int64_t frame_fill_ = 0;
   std::int64_t frame_count_ = 0;
 
@@ -407,6 +498,7 @@ class ImpactDetector::Impl {
   std::int64_t candidate_frame_ = 0;
   std::int64_t candidate_peak_frame_ = 0;
   std::size_t candidate_band_ = 0;
+  double candidate_residual_rise_db_ = 0;
   double candidate_rise_db_ = 0;
   double candidate_peak_db_ = 0;
   std::int64_t last_peak_sample_ = -1;
