@@ -289,6 +289,9 @@ std::vector<std::string> DefaultFittedParameters(dem::ContactLawKind kind) {
   std::vector<std::string> names;
   for (const auto& spec : dem::ParameterSpecs(kind)) {
     if (spec.name == "stiffness_n_per_m" || spec.name == "effective_modulus_pa") continue;
+    // Luding's speed-dependent plastic variant is opt-in (--fit plastic_flow_overlap_m): its
+    // default 0 is the 1986 form, and a second parameter needs a sequence with many impacts.
+    if (spec.name == "plastic_flow_overlap_m") continue;
     names.emplace_back(spec.name);
   }
   return names;
@@ -313,6 +316,9 @@ ParameterRange DefaultParameterRange(const dem::ContactLawConfig& config, std::s
     const double k1 = config.Get("stiffness_n_per_m");
     return {k1 * (1 + 1e-9), k1 * 1e4, true};
   }
+  // Luding's flow overlap: impact overlaps of mm-to-cm balls are 1e-6 to 1e-4 m; 0 is the
+  // 1986 form, so the range is linear and includes it.
+  if (name == "plastic_flow_overlap_m") return {0.0, 1e-3, false};
   // Brilliantov's dissipative time: 1 ns (nearly elastic) to 0.1 ms (e ~ 0 for mm-sized balls).
   if (name == "dissipative_time_s") return {1e-9, 1e-4, true};
   ParameterRange range{spec->min_value, spec->max_value, false};

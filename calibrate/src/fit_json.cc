@@ -1,5 +1,7 @@
 #include "bouncecal/calibrate/fit_json.h"
 
+#include <string>
+
 #include "bouncecal/dem/contact_law_json.h"
 
 namespace bouncecal::calibrate {
@@ -25,7 +27,9 @@ nlohmann::json ToJson(const FitSummary& summary) {
   nlohmann::json parameters = nlohmann::json::object();
   nlohmann::json intervals = nlohmann::json::object();
   nlohmann::json fitted = nlohmann::json::array();
-  for (const auto& [name, value] : summary.law.parameters) parameters[name] = value;
+  // Every parameter of the law, defaults included, so the result states the full law.
+  for (const auto& spec : dem::ParameterSpecs(summary.law.kind))
+    parameters[std::string(spec.name)] = summary.law.Get(spec.name);
   for (const auto& parameter : summary.parameters) {
     parameters[parameter.name] = parameter.value;
     if (parameter.confidence_interval) {

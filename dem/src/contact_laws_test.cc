@@ -291,5 +291,32 @@ TEST(LinearDashpot, DampingRatioForRestitutionInvertsTheClosedForm) {
               std::sqrt(1.0 / 3), 2e-3);
 }
 
+// Luding's variant: the unloading stiffness grows with the maximum overlap up to xi_f, so e
+// falls with impact speed until xi_max = v sqrt(m/k1) reaches xi_f (here 3e-5 m, reached at
+// 1.49 m/s), then stays at sqrt(k1/k2). Closed forms against the independent RK4 impact without
+// gravity (tolerance 2e-4 relative, as for the other laws) and the exact impact with gravity.
+TEST(WaltonBraunPlastic, LudingVariantRestitutionFallsWithSpeed) {
+  const WaltonBraunPlastic law({.stiffness_n_per_m = 1e7,
+                                .unloading_stiffness_n_per_m = 3e7,
+                                .plastic_flow_overlap_m = 3e-5});
+  double previous = 1;
+  for (double speed : {0.1, 0.5, 1.0, kImpactSpeedMps}) {
+    const ReferenceImpact impact = IntegrateImpact(law, speed, 0);
+    ASSERT_TRUE(impact.released);
+    const double e = *law.ClosedFormRestitution(kMassKg, kRadiusM, speed);
+    const double tc = *law.ClosedFormContactDuration(kMassKg, kRadiusM, speed);
+    EXPECT_NEAR(impact.restitution, e, 2e-4 * e) << speed;
+    EXPECT_NEAR(impact.duration_s, tc, 2e-4 * tc) << speed;
+    if (speed < 1.49) {
+      EXPECT_LT(e, previous);
+    }
+    previous = e;
+    const ExactImpact exact = law.SolveImpactExactly(kMassKg, 9.81, speed);
+    const ReferenceImpact with_gravity = IntegrateImpact(law, speed, 9.81);
+    EXPECT_NEAR(exact.speed_out_mps / speed, with_gravity.restitution, 2e-4) << speed;
+  }
+  EXPECT_NEAR(previous, std::sqrt(1.0 / 3), 1e-12);  // beyond xi_f: the 1986 value
+}
+
 }  // namespace
 }  // namespace bouncecal::dem

@@ -33,8 +33,9 @@ constexpr std::array<std::pair<Integrator, std::string_view>, 4> kIntegratorName
     {Integrator::kExact, "exact"},
 }};
 
-// RK4's real stability interval on an undamped oscillator is omega dt < 2 sqrt(2) = 2.83; the
-// laws give the limit omega dt < 2 of the explicit second-order schemes.
+// The laws give the limit omega dt < 2 of the explicit second-order schemes. RK4's stability
+// region reaches 2 sqrt(2) = 2.83 on the imaginary axis (undamped oscillator) and 2.785 on the
+// negative real axis; the smaller one also covers damped contacts.
 constexpr double kRungeKutta4StabilityFactor = 2.785 / 2;
 // Symplectic Euler is linearly stable to omega dt < 2 too, but its true energy departs from the
 // invariant it conserves, H = v^2/2 + omega^2 x^2/2 - omega^2 dt x v / 2, by factors up to
@@ -64,9 +65,10 @@ void CheckRange(std::string_view name, double value, double min_value, double ma
   const bool ok = std::isfinite(value) &&
                   (min_exclusive ? value > min_value : value >= min_value) && value <= max_value;
   if (ok) return;
-  throw ConfigError(fmt::format("drop option {} = {} is outside its valid range {}{:g}, {:g}] {}",
-                                name, value, min_exclusive ? "(" : "[", min_value, max_value,
-                                unit));
+  throw ConfigError(fmt::format(
+      "drop option {} = {} is outside its valid range {}{:g}, {:g}]{}{}; choose a finite value "
+      "in that range",
+      name, value, min_exclusive ? "(" : "[", min_value, max_value, unit.empty() ? "" : " ", unit));
 }
 
 void ValidateOptions(const DropOptions& options) {
@@ -149,10 +151,10 @@ class DropRunner {
       }
       t = t_on + exact.duration_s;
       recorder_.Segment(t_on, 0, -speed_in, t, 0, exact.speed_out_mps);
+      if (Released(impact, t)) return;
       if (t > options_.max_time_s) return StopAtTimeLimit();
       z = 0;
       v = exact.speed_out_mps;
-      if (Released(impact, t)) return;
     }
   }
 

@@ -15,10 +15,12 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-constexpr std::array<ParameterSpec, 2> kSpecs = {{
+constexpr std::array<ParameterSpec, 3> kSpecs = {{
     {"stiffness_n_per_m", "N/m", 1e-3, 1e15, 1e7, "loading stiffness k1"},
     {"unloading_stiffness_n_per_m", "N/m", 1e-3, 1e15, 3e7,
      "unloading stiffness k2 >= k1 from the maximum overlap; e = sqrt(k1/k2)"},
+    {"plastic_flow_overlap_m", "m", 0, 1, 0,
+     "Luding: k2 grows linearly with the maximum overlap up to this overlap; 0 = constant k2"},
 }};
 
 }  // namespace
@@ -26,6 +28,7 @@ constexpr std::array<ParameterSpec, 2> kSpecs = {{
 WaltonBraunPlastic::WaltonBraunPlastic(const Params& params) : params_(params) {
   CheckParameterValue(kSpecs[0], params.stiffness_n_per_m, ToString(kKind));
   CheckParameterValue(kSpecs[1], params.unloading_stiffness_n_per_m, ToString(kKind));
+  CheckParameterValue(kSpecs[2], params.plastic_flow_overlap_m, ToString(kKind));
   if (params.unloading_stiffness_n_per_m < params.stiffness_n_per_m) {
     throw ConfigError(fmt::format(
         "walton-braun-plastic parameter unloading_stiffness_n_per_m = {} is below "
@@ -37,23 +40,28 @@ WaltonBraunPlastic::WaltonBraunPlastic(const Params& params) : params_(params) {
 
 WaltonBraunPlastic::Params WaltonBraunPlastic::FromConfig(const ContactLawConfig& config) {
   return {.stiffness_n_per_m = config.Get("stiffness_n_per_m"),
-          .unloading_stiffness_n_per_m = config.Get("unloading_stiffness_n_per_m")};
+          .unloading_stiffness_n_per_m = config.Get("unloading_stiffness_n_per_m"),
+          .plastic_flow_overlap_m = config.Get("plastic_flow_overlap_m")};
 }
 
 std::span<const ParameterSpec> WaltonBraunPlastic::Specs() { return kSpecs; }
 
-std::optional<double> WaltonBraunPlastic::ClosedFormRestitution(double, double, double) const {
-  return std::sqrt(params_.stiffness_n_per_m / params_.unloading_stiffness_n_per_m);
+std::optional<double> WaltonBraunPlastic::ClosedFormRestitution(double effective_mass_kg, double,
+                                                                double impact_speed_mps) const {
+  const double max_overlap =
+      impact_speed_mps * std::sqrt(effective_mass_kg / params_.stiffness_n_per_m);
+  return std::sqrt(params_.stiffness_n_per_m / UnloadingStiffness(max_overlap));
 }
 
 std::optional<double> WaltonBraunPlastic::ClosedFormContactDuration(double effective_mass_kg,
-                                                                    double, double) const {
+                                                                    double,
+                                                                    double impact_speed_mps) const {
   // Loading quarter period, unloading quarter period down to xi_0, then force-free flight from
   // xi_0 = xi_max (1 - e^2) at the release speed e v: xi_0 / (e v) = sqrt(m/k1) (1 - e^2) / e.
   const double k1 = params_.stiffness_n_per_m;
-  const double k2 = params_.unloading_stiffness_n_per_m;
-  const double e2 = k1 / k2;
   const double t1 = std::sqrt(effective_mass_kg / k1);
+  const double k2 = UnloadingStiffness(impact_speed_mps * t1);
+  const double e2 = k1 / k2;
   return std::numbers::pi / 2 * (t1 + std::sqrt(effective_mass_kg / k2)) +
          t1 * (1 - e2) / std::sqrt(e2);
 }
@@ -66,10 +74,9 @@ double WaltonBraunPlastic::MaxStableTimeStepS(double effective_mass_kg, double, 
 double WaltonBraunPlastic::ReturnableEnergyJ(const NormalContact& contact,
                                              const NormalHistory& history) const {
   if (contact.overlap_m <= 0) return 0;
-  const double k1 = params_.stiffness_n_per_m;
-  const double k2 = params_.unloading_stiffness_n_per_m;
   const double max_overlap = std::max(history.max_overlap_m, contact.overlap_m);
-  const double elastic = contact.overlap_m - max_overlap * (1 - k1 / k2);
+  const double k2 = UnloadingStiffness(max_overlap);
+  const double elastic = contact.overlap_m - max_overlap * (1 - params_.stiffness_n_per_m / k2);
   return elastic > 0 ? 0.5 * k2 * elastic * elastic : 0;
 }
 
@@ -81,11 +88,11 @@ ExactImpact WaltonBraunPlastic::SolveImpactExactly(double mass_kg, double gravit
   // trapped for ever: at rest in its dent.
   ExactImpact impact;
   const double k1 = params_.stiffness_n_per_m;
-  const double k2 = params_.unloading_stiffness_n_per_m;
   const double w1 = std::sqrt(k1 / mass_kg);
   const double xi1 = gravity_mps2 / (w1 * w1);
   const double reach = impact_speed_mps / w1;
   impact.max_overlap_m = xi1 + std::hypot(xi1, reach);
+  const double k2 = UnloadingStiffness(impact.max_overlap_m);
   const double t_load = std::atan2(reach, -xi1) / w1;
   const double offset = impact.max_overlap_m * (1 - k1 / k2);
   const double w2 = std::sqrt(k2 / mass_kg);

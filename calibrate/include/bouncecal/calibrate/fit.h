@@ -41,7 +41,9 @@ struct ParameterRange {
 };
 
 // The dissipative parameters of a law (what a drop constrains): every parameter except the
-// elastic ones that set only the contact duration (stiffness_n_per_m, effective_modulus_pa).
+// elastic ones that set only the contact duration (stiffness_n_per_m, effective_modulus_pa) and
+// the opt-in speed dependence of the plastic law (plastic_flow_overlap_m; add it with
+// fitted_parameters / --fit).
 std::vector<std::string> DefaultFittedParameters(dem::ContactLawKind kind);
 // The default search range of a parameter for the law `config` (gamma_n [0, 0.98]; the plastic
 // unloading stiffness [k1, 1e4 k1]; the Hertz dissipative time [1e-9, 1e-4] s in log space; other
