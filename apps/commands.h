@@ -18,6 +18,8 @@ void AddSynthCommand(CLI::App& app);
 void AddAnalyzeCommand(CLI::App& app);
 void AddExportCommand(CLI::App& app);
 void AddExportCheckCommand(CLI::App& app);
+// report: calibration as one self-contained HTML page (apps/report_command.cc).
+void AddReportCommand(CLI::App& app);
 
 }  // namespace bouncecal::apps
 

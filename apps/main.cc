@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   apps::AddAnalyzeCommand(app);
   apps::AddExportCommand(app);
   apps::AddExportCheckCommand(app);
+  apps::AddReportCommand(app);
 
   try {
     app.parse(argc, argv);
