@@ -9,12 +9,14 @@
 #include <string>
 #include <vector>
 
+#include "analyze_plot.h"
 #include "bouncecal/atomic_file.h"
 #include "bouncecal/audio/bounce_sequences.h"
 #include "bouncecal/audio/detect_file.h"
 #include "bouncecal/calibrate/restitution.h"
 #include "bouncecal/error.h"
 #include "commands.h"
+#include "plot/gnuplot_plot.h"
 
 namespace bouncecal::apps {
 namespace {
@@ -27,6 +29,7 @@ struct AnalyzeArgs {
   std::optional<int> channel;
   std::string json_path;
   std::string csv_path;
+  std::string plot_path;
   audio::DetectorOptions detector;
   audio::SequenceOptions sequences;
 };
@@ -272,6 +275,22 @@ std::string Csv(const std::vector<FileAnalysis>& analyses) {
   return csv;
 }
 
+std::vector<AnalyzedRecording> ForPlot(const std::vector<FileAnalysis>& analyses) {
+  std::vector<AnalyzedRecording> recordings;
+  for (const auto& analysis : analyses) {
+    AnalyzedRecording recording;
+    recording.path = analysis.detection.info.path;
+    recording.channel = analysis.detection.channel;
+    for (const auto& entry : analysis.sequences) {
+      for (const auto& onset : entry.onsets) recording.impact_onsets_s.push_back(onset.onset_s);
+      recording.sequences.push_back(entry.physics);
+    }
+    for (const auto& event : analysis.rejected) recording.rejected_times_s.push_back(event.time_s);
+    recordings.push_back(std::move(recording));
+  }
+  return recordings;
+}
+
 void Run(const AnalyzeArgs& args) {
   if (args.first_n < 1)
     throw ConfigError("--first must be at least 1, got " + std::to_string(args.first_n));
@@ -279,6 +298,7 @@ void Run(const AnalyzeArgs& args) {
   if (args.drop_height_m && !(*args.drop_height_m > 0)) {
     throw ConfigError("--drop-height must be a positive number of metres");
   }
+  if (!args.plot_path.empty()) CheckPlotTarget(args.plot_path);
   // Every file is analysed before any output is written, so a bad file leaves no output.
   std::vector<FileAnalysis> analyses;
   for (const auto& path : args.recordings) analyses.push_back(AnalyzeFile(path, args));
@@ -316,6 +336,10 @@ void Run(const AnalyzeArgs& args) {
     WriteFileAtomically(args.json_path, json.dump(2) + "\n");
   }
   if (!args.csv_path.empty()) WriteFileAtomically(args.csv_path, Csv(analyses));
+  if (!args.plot_path.empty()) {
+    PlotAnalysis(args.plot_path, ForPlot(analyses), {.high_pass_hz = args.detector.band_low_hz});
+    fmt::print("plot written to {}\n", args.plot_path);
+  }
 }
 
 }  // namespace
@@ -325,8 +349,10 @@ void AddAnalyzeCommand(CLI::App& app) {
   auto* command = app.add_subcommand(
       "analyze",
       "Find every impact in recordings of a bouncing ball, group them into bounce sequences and "
-      "compute intervals, restitution e_k, energy loss eta_k = 1 - e_k^2 and bounce heights.\n"
-      "Example: bouncecal analyze drop1.wav drop2.wav --drop-height 0.20 --json out.json\n"
+      "compute intervals, restitution e_k, energy loss eta_k = 1 - e_k^2 and bounce heights.");
+  command->footer(
+      "Example:\n"
+      "  bouncecal analyze drop1.wav drop2.wav --drop-height 0.20 --json out.json --plot out.png\n"
       "With several recordings, --json writes an array of per-file objects whose last element "
       "is {\"summary\": {...}} (mean and sample std of the first sequence's eta-bar).");
   command->add_option("recordings", args->recordings, "Recordings (WAV, FLAC, OGG, ...)")
@@ -341,6 +367,9 @@ void AddAnalyzeCommand(CLI::App& app) {
                       "impact-to-noise ratio)");
   command->add_option("--json", args->json_path, "Write the results as JSON to this file");
   command->add_option("--csv", args->csv_path, "Write one row per impact as CSV to this file");
+  command->add_option("--plot", args->plot_path,
+                      "Plot the waveform with impacts and rejected events marked, and eta_k vs k "
+                      "(.png or .svg)");
   auto& d = args->detector;
   command->add_option("--band-low-hz", d.band_low_hz, "Pre-filter high-pass edge in Hz")
       ->capture_default_str();

@@ -5,8 +5,6 @@
 #include <algorithm>
 #include <string>
 
-#include "plot/gnuplot_plot.h"
-
 namespace bouncecal::apps {
 namespace {
 
@@ -115,8 +113,8 @@ void PrintComparison(const calibrate::LawComparison& comparison, size_t sequence
   fmt::print("  dBIC > 10 is very strong evidence against a law (Kass & Raftery 1995)\n");
 }
 
-void PlotFit(const std::filesystem::path& target, const calibrate::FitSummary& summary,
-             const calibrate::FitOptions& options) {
+std::vector<PlotPanel> FitPlotPanels(const calibrate::FitSummary& summary,
+                                     const calibrate::FitOptions& options) {
   PlotPanel energy{
       "Energy loss per impact: measured vs fitted " + std::string(dem::ToString(summary.law.kind)),
       "impact number k",
@@ -183,7 +181,59 @@ void PlotFit(const std::filesystem::path& target, const calibrate::FitSummary& s
     if (!series.x.empty()) last = std::max(last, series.x.back());
   }
   energy.x_range = flights.x_range = std::make_pair(0.0, last + 1);
-  RenderPlot(target, {energy, flights});
+  energy.integer_x = flights.integer_x = true;
+  // A log axis only helps across a decade; within one it shows a single labelled tick.
+  double shortest = 1e300, longest = 0;
+  for (const auto& series : flights.series) {
+    for (double y : series.y) {
+      if (y > 0) shortest = std::min(shortest, y);
+      longest = std::max(longest, y);
+    }
+  }
+  flights.log_y = longest > 10 * shortest;
+  return {energy, flights};
+}
+
+void PlotFit(const std::filesystem::path& target, const calibrate::FitSummary& summary,
+             const calibrate::FitOptions& options) {
+  RenderPlot(target, FitPlotPanels(summary, options));
+}
+
+std::optional<PlotPanel> GammaEtaPanel(const calibrate::FitSummary& summary) {
+  const auto& check = summary.check;
+  if (!check.applicable) return std::nullopt;
+  PlotPanel panel;
+  panel.title = "Analytic check: energy loss vs damping, eta = 2 gamma_n / (1 + gamma_n)";
+  panel.x_label = "damping gamma_n (1)";
+  panel.y_label = "energy loss eta (1)";
+  panel.legend_position = "bottom right";
+  PlotSeries curve;
+  curve.title = "eta = 2 gamma_n / (1 + gamma_n) (Walton & Braun 1986)";
+  constexpr int kCurvePoints = 101;
+  for (int i = 0; i < kCurvePoints; ++i) {
+    const double gamma = static_cast<double>(i) / (kCurvePoints - 1);
+    curve.x.push_back(gamma);
+    curve.y.push_back(2 * gamma / (1 + gamma));
+  }
+  panel.series.push_back(std::move(curve));
+  PlotSeries measured;
+  measured.title = "measured eta-bar (1 sigma) at the formula's gamma_n";
+  measured.style = SeriesStyle::kErrorBars;
+  measured.x = {check.gamma_n_formula};
+  measured.y = {check.energy_loss_mean};
+  measured.y_error = {check.energy_loss_mean_uncertainty};
+  panel.series.push_back(std::move(measured));
+  PlotSeries fitted;
+  fitted.title = "DEM fit: gamma_n fitted, eta-bar simulated with the chosen step";
+  fitted.style = SeriesStyle::kPoints;
+  fitted.point_type = 9;
+  fitted.point_size = 1.6;
+  fitted.x = {check.gamma_n_fitted};
+  fitted.y = {check.energy_loss_mean_chosen_step};
+  panel.series.push_back(std::move(fitted));
+  panel.x_range = std::make_pair(0.0, 1.0);
+  panel.y_range = std::make_pair(0.0, 1.0);
+  return panel;
 }
 
 }  // namespace bouncecal::apps

@@ -2,8 +2,11 @@
 #define BOUNCECAL_APPS_CALIBRATE_REPORT_H_
 
 #include <filesystem>
+#include <optional>
+#include <vector>
 
 #include "bouncecal/calibrate/fit.h"
+#include "plot/gnuplot_plot.h"
 
 namespace bouncecal::apps {
 
@@ -14,8 +17,16 @@ void PrintFit(const calibrate::FitSummary& summary, const calibrate::FitOptions&
 // The ranking of --compare-laws.
 void PrintComparison(const calibrate::LawComparison& comparison, size_t sequence_count);
 // Energy loss per impact and flight times per interval, measured (with 1-sigma bars) vs fitted.
+std::vector<PlotPanel> FitPlotPanels(const calibrate::FitSummary& summary,
+                                     const calibrate::FitOptions& options);
+// The gamma-eta curve of the analytic check with the measured and fitted points (walton-braun
+// under the mean-energy-loss objective only; nullopt where the check does not apply).
+std::optional<PlotPanel> GammaEtaPanel(const calibrate::FitSummary& summary);
 void PlotFit(const std::filesystem::path& target, const calibrate::FitSummary& summary,
              const calibrate::FitOptions& options);
+// The gamma-eta curve of the analytic check with the measured and fitted points (walton-braun
+// under the mean-energy-loss objective only; nullopt where the check does not apply).
+std::optional<PlotPanel> GammaEtaPanel(const calibrate::FitSummary& summary);
 
 }  // namespace bouncecal::apps
 

@@ -22,6 +22,8 @@ void AddPackCommand(CLI::App& app);
 // (apps/export_command.cc, apps/export_check_command.cc).
 void AddExportCommand(CLI::App& app);
 void AddExportCheckCommand(CLI::App& app);
+// report: calibration as one self-contained HTML page (apps/report_command.cc).
+void AddReportCommand(CLI::App& app);
 
 }  // namespace bouncecal::apps
 

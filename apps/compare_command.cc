@@ -38,6 +38,7 @@ std::string Label(const dem::ContactLawConfig& law) {
 }
 
 void Run(const CompareCliOptions& cli) {
+  if (!cli.plot.empty()) CheckPlotTarget(cli.plot);
   if (cli.gamma_values.empty() == cli.material.empty()) {
     throw ConfigError("give exactly one of --gamma LIST or --material CARD");
   }
@@ -120,8 +121,10 @@ void AddCompareCommand(CLI::App& app) {
   auto* command = app.add_subcommand(
       "compare",
       "Plot the measured bounce trajectory against simulated drops, with the RMS height error "
-      "per curve (the paper's Fig. 5).\nExample: bouncecal compare drop.wav --gamma "
-      "0.1,0.3,0.5,0.7,0.9 --plot fig5.png");
+      "per curve (the paper's Fig. 5).");
+  command->footer(
+      "Example:\n"
+      "  bouncecal compare drop.wav --gamma 0.1,0.3,0.5,0.7,0.9 --plot fig5.png");
   command
       ->add_option("recording", cli->input,
                    "Recording, impact-time CSV or analyze JSON (its first bounce sequence)")

@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   apps::AddExportCommand(app);
   apps::AddExportCheckCommand(app);
   apps::AddPackCommand(app);
+  apps::AddReportCommand(app);
 
   try {
     app.parse(argc, argv);

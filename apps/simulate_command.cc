@@ -16,6 +16,8 @@
 #include "bouncecal/dem/drop.h"
 #include "bouncecal/error.h"
 #include "commands.h"
+#include "plot/gnuplot_plot.h"
+#include "simulate_plot.h"
 
 namespace bouncecal::apps {
 namespace {
@@ -47,6 +49,7 @@ struct DropArguments {
   double rest_contact_factor = dem::DropOptions{}.rest_contact_factor;
   std::string json_path;
   std::string trajectory_path;
+  std::string plot_path;
   double trajectory_interval_s = 1e-4;
   bool quiet = false;
 };
@@ -135,7 +138,8 @@ dem::DropOptions MakeDropOptions(const DropArguments& args, const DropOptionHand
   options.max_time_s = args.max_time_s;
   options.rest_flight_s = args.rest_flight_s;
   options.rest_contact_factor = args.rest_contact_factor;
-  options.trajectory_interval_s = args.trajectory_path.empty() ? 0 : args.trajectory_interval_s;
+  options.trajectory_interval_s =
+      args.trajectory_path.empty() && args.plot_path.empty() ? 0 : args.trajectory_interval_s;
   return options;
 }
 
@@ -274,8 +278,11 @@ void AddDropCommand(CLI::App& simulate) {
   drop->add_option("--trajectory-interval", args->trajectory_interval_s,
                    "Sampling interval of --trajectory, in s")
       ->capture_default_str();
+  drop->add_option("--plot", args->plot_path,
+                   "Plot height vs time with the impacts marked, and eta_k vs k (.png or .svg)");
   drop->add_flag("--quiet", args->quiet, "Do not print the impact table");
   drop->callback([args, handles] {
+    if (!args->plot_path.empty()) CheckPlotTarget(args->plot_path);
     const dem::DropOptions options = MakeDropOptions(*args, *handles);
     const dem::DropResult result = dem::SimulateDrop(options);
     if (!args->json_path.empty()) {
@@ -285,6 +292,12 @@ void AddDropCommand(CLI::App& simulate) {
       WriteFileAtomically(args->trajectory_path, TrajectoryCsv(result));
     }
     if (!args->quiet) PrintSummary(result);
+    if (!args->plot_path.empty()) {
+      PlotDrop(args->plot_path, result,
+               fmt::format("{} law, d = {:g} m, from {:g} m", dem::ToString(options.law.kind),
+                           options.ball.diameter_m, options.drop_height_m));
+      if (!args->quiet) fmt::print("plot written to {}\n", args->plot_path);
+    }
   });
 }
 

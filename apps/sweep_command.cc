@@ -6,6 +6,7 @@
 
 #include "bouncecal/atomic_file.h"
 #include "bouncecal/calibrate/sweep.h"
+#include "bouncecal/error.h"
 #include "commands.h"
 #include "drop_cli_options.h"
 #include "plot/gnuplot_plot.h"
@@ -60,10 +61,15 @@ void Plot(const SweepCliOptions& cli, const calibrate::SweepSummary& summary) {
 }
 
 void Run(const SweepCliOptions& cli) {
+  if (!cli.plot.empty()) CheckPlotTarget(cli.plot);
   calibrate::SweepOptions options;
   options.law = cli.drop.Law();
   options.parameter = cli.parameter;
-  options.values = calibrate::ParseValueList(cli.values);
+  try {
+    options.values = calibrate::ParseValueList(cli.values);
+  } catch (const ConfigError& error) {
+    throw ConfigError(std::string("--gamma/--values: ") + error.what());
+  }
   options.ball = cli.drop.Ball();
   options.drop_height_m = cli.drop.drop_height_m;
   options.gravity_mps2 = cli.drop.gravity_mps2;
@@ -123,8 +129,10 @@ void AddSweepCommand(CLI::App& app) {
   auto* command = app.add_subcommand(
       "sweep",
       "Simulate drops over a range of one law parameter and plot the energy loss against it "
-      "(the paper's Fig. 6).\nExample: bouncecal sweep --law walton-braun --gamma 0.1:0.9:0.2 "
-      "--plot sweep.png");
+      "(the paper's Fig. 6).");
+  command->footer(
+      "Example:\n"
+      "  bouncecal sweep --law walton-braun --gamma 0.1:0.9:0.2 --plot sweep.png");
   cli->drop.Add(*command);
   command->add_option("--gamma,--values", cli->values,
                       "Values of the swept parameter: lo:hi:step or a,b,c (default 0.1:0.9:0.2)");

@@ -58,11 +58,15 @@ std::string StyleClause(const PlotSeries& series, int index) {
     case SeriesStyle::kLines:
       return "with lines linewidth 2" + color + dash;
     case SeriesStyle::kPoints:
-      return "with points pointtype 7 pointsize 1" + color;
+      return fmt::format("with points pointtype {} pointsize {}", series.point_type,
+                         series.point_size) +
+             color;
     case SeriesStyle::kLinesPoints:
       return "with linespoints linewidth 2 pointtype 7 pointsize 0.8" + color + dash;
     case SeriesStyle::kErrorBars:
       return "with yerrorbars pointtype 7 pointsize 1" + color;
+    case SeriesStyle::kBand:
+      return "with filledcurves fillstyle solid 0.6 noborder" + color;
   }
   return "with lines";
 }
@@ -76,17 +80,14 @@ void Validate(const std::filesystem::path& target, const std::vector<PlotPanel>&
     for (const auto& series : panel.series) {
       const bool errors_ok =
           series.style != SeriesStyle::kErrorBars || series.y_error.size() == series.y.size();
-      if (series.x.size() != series.y.size() || !errors_ok) {
+      const bool band_ok =
+          series.style != SeriesStyle::kBand || series.y_high.size() == series.y.size();
+      if (series.x.size() != series.y.size() || !errors_ok || !band_ok) {
         throw ConfigError("plot series '" + series.title + "' has mismatched x/y/error lengths");
       }
     }
   }
-  std::string extension = target.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (extension != ".png" && extension != ".svg") {
-    throw ConfigError("plot file '" + target.string() + "' must end in .png or .svg");
-  }
+  CheckPlotTarget(target);
 }
 
 std::string ShellQuote(const std::string& text) {
@@ -97,13 +98,12 @@ std::string ShellQuote(const std::string& text) {
 
 }  // namespace
 
-void RenderPlot(const std::filesystem::path& target, const std::vector<PlotPanel>& panels,
-                const PlotOptions& options) {
-  Validate(target, panels);
-  std::string extension = target.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  const bool svg = extension == ".svg";
+namespace {
+
+// Runs gnuplot in a private folder and returns the image bytes; `name` is what error messages
+// call the figure.
+std::string RenderBytes(const std::string& name, const std::vector<PlotPanel>& panels,
+                        const PlotOptions& options, bool svg) {
   TemporaryFolder folder;
   const auto image = folder.path() / (svg ? "plot.svg" : "plot.png");
   const int height_px = options.height_px_per_panel * static_cast<int>(panels.size());
@@ -123,6 +123,9 @@ void RenderPlot(const std::filesystem::path& target, const std::vector<PlotPanel
     script << "set ylabel " << Quote(panel.y_label) << "\n";
     script << "set key " << panel.legend_position << "\n";
     script << (panel.log_y ? "set logscale y\n" : "unset logscale y\n");
+    const bool few = panel.x_range && panel.x_range->second - panel.x_range->first <= 20;
+    script << (panel.integer_x && few ? "set xtics 1\n" : "set xtics autofreq\n");
+    script << (panel.integer_x ? "set format x '%.0f'\n" : "set format x '% h'\n");
     script << (panel.x_range ? fmt::format("set xrange [{}:{}]\n", panel.x_range->first,
                                            panel.x_range->second)
                              : "set autoscale x\n");
@@ -138,10 +141,13 @@ void RenderPlot(const std::filesystem::path& target, const std::vector<PlotPanel
         out << fmt::format("{:.9g} {:.9g}", series.x[i], series.y[i]);
         if (series.style == SeriesStyle::kErrorBars)
           out << fmt::format(" {:.9g}", series.y_error[i]);
+        if (series.style == SeriesStyle::kBand) out << fmt::format(" {:.9g}", series.y_high[i]);
         out << "\n";
       }
       if (!out) throw OutputError("cannot write plot data to " + data.string());
-      const std::string columns = series.style == SeriesStyle::kErrorBars ? "1:2:3" : "1:2";
+      const bool three_columns =
+          series.style == SeriesStyle::kErrorBars || series.style == SeriesStyle::kBand;
+      const std::string columns = three_columns ? "1:2:3" : "1:2";
       script << (s ? ", \\\n     " : "") << Quote(data.string()) << " using " << columns
              << " title " << Quote(series.title) << " " << StyleClause(series, static_cast<int>(s));
     }
@@ -168,12 +174,39 @@ void RenderPlot(const std::filesystem::path& target, const std::vector<PlotPanel
     if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
       first_error = "gnuplot not found; install it (Debian package gnuplot-nox)";
     }
-    throw OutputError("cannot render plot '" + target.string() + "': " + first_error);
+    throw OutputError("cannot render plot '" + name + "': " + first_error);
   }
   std::ifstream rendered(image, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(rendered)),
-                          std::istreambuf_iterator<char>());
-  WriteFileAtomically(target, bytes);
+  return std::string((std::istreambuf_iterator<char>(rendered)), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+void CheckPlotTarget(const std::filesystem::path& target) {
+  std::string extension = target.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension != ".png" && extension != ".svg") {
+    throw ConfigError("--plot '" + target.string() + "' must end in .png or .svg");
+  }
+}
+
+void RenderPlot(const std::filesystem::path& target, const std::vector<PlotPanel>& panels,
+                const PlotOptions& options) {
+  Validate(target, panels);
+  std::string extension = target.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  WriteFileAtomically(target, RenderBytes(target.string(), panels, options, extension == ".svg"));
+}
+
+std::string RenderSvgElement(const std::vector<PlotPanel>& panels, const PlotOptions& options) {
+  Validate("inline.svg", panels);
+  const std::string svg = RenderBytes("inline SVG", panels, options, true);
+  // Drop the XML declaration and DOCTYPE: inside HTML only the <svg> element is allowed.
+  const auto start = svg.find("<svg");
+  if (start == std::string::npos) throw OutputError("gnuplot produced no <svg> element");
+  return svg.substr(start);
 }
 
 }  // namespace bouncecal::apps

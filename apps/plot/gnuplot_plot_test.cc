@@ -44,6 +44,37 @@ TEST(RenderPlot, WritesAnSvg) {
   std::filesystem::remove(target);
 }
 
+TEST(RenderSvgElement, StartsWithTheSvgElementSoItCanBeInlinedInHtml) {
+  const std::string svg = RenderSvgElement({SinePanel()});
+  EXPECT_EQ(svg.rfind("<svg", 0), 0u);
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
+  EXPECT_EQ(svg.find("<!DOCTYPE"), std::string::npos);
+}
+
+TEST(RenderPlot, DrawsAMinMaxBandAndMarkerShapes) {
+  PlotPanel panel{"band", "time t (s)", "amplitude (1)", {}, {}, {}, false, "top right"};
+  PlotSeries band;
+  band.title = "envelope";
+  band.style = SeriesStyle::kBand;
+  band.x = {0, 1, 2};
+  band.y = {-1, -0.5, -0.2};
+  band.y_high = {1, 0.5, 0.2};
+  panel.series.push_back(band);
+  PlotSeries markers;
+  markers.title = "impacts";
+  markers.style = SeriesStyle::kPoints;
+  markers.point_type = 11;
+  markers.x = {0.5};
+  markers.y = {1.1};
+  panel.series.push_back(markers);
+  const std::string svg = RenderSvgElement({panel});
+  EXPECT_NE(svg.find("envelope"), std::string::npos);
+  EXPECT_NE(svg.find("impacts"), std::string::npos);
+  band.y_high.pop_back();
+  panel.series = {band};
+  EXPECT_THROW(RenderSvgElement({panel}), ConfigError);
+}
+
 TEST(RenderPlot, RejectsAnUnknownExtensionAndEmptyPanels) {
   EXPECT_THROW(RenderPlot("figure.pdf", {SinePanel()}), ConfigError);
   EXPECT_THROW(RenderPlot("figure.png", {}), ConfigError);

@@ -1,0 +1,103 @@
+#include "calibrate_cli_options.h"
+
+#include <fmt/core.h>
+
+#include "bouncecal/error.h"
+
+namespace bouncecal::apps {
+
+void CalibrateCliOptions::AddFitOptions(CLI::App& command) {
+  command
+      .add_option("recordings", inputs,
+                  "Recordings (any audio libsndfile reads), impact-time CSV files "
+                  "(onset_s[,onset_uncertainty_s[,sequence]]) or bouncecal analyze --json "
+                  "files; several are fitted jointly")
+      ->required();
+  drop.Add(command);
+  command.add_flag("--unknown-drop-height", unknown_drop_height,
+                   "The drop height is not known: simulations start from the apex of the first "
+                   "measured flight");
+  command.add_option("--drop-height-uncertainty", drop_height_uncertainty_m,
+                     "One-sigma uncertainty of --drop-height in m, propagated into the "
+                     "confidence interval (default 0)");
+  command.add_option("--objective", objective,
+                     "What the drops must reproduce: mean-energy-loss (eta-bar of the first N "
+                     "impacts, the paper's method), intervals (every flight time, weighted) or "
+                     "heights (bounce heights)");
+  command.add_option("--first", first_n, "Impacts averaged by mean-energy-loss (count, default 3)");
+  command.add_option("--max-intervals", max_intervals,
+                     "Flight intervals per recording fitted by intervals/heights (count, 0: all)");
+  command.add_option("--fit", fitted,
+                     "Parameter to fit, repeatable (default: the law's damping parameters)");
+  command.add_option("--optimizer", optimizer,
+                     "NLopt local method: bobyqa, cobyla or nelder-mead (default bobyqa)");
+  command.add_option("--max-evaluations", max_evaluations,
+                     "Budget of drop simulations for the fit (count, default 200)");
+  command.add_option("--global-evaluations", global_evaluations,
+                     "DIRECT-L evaluations before the local method (count; -1 automatic: none "
+                     "for one parameter under mean-energy-loss, else 12 per parameter)");
+  command.add_option("--bootstrap", bootstrap,
+                     "Bootstrap refits for the confidence intervals (count, 0 skips, default 32)");
+  command.add_option("--confidence", confidence,
+                     "Confidence level of the intervals (fraction, default 0.95)");
+  command.add_option("--seed", seed, "Random seed of the bootstrap (integer, default 1)");
+  command.add_option("--threads", threads, "Threads for the bootstrap (count, default 2)");
+  command.add_option("--onset-uncertainty", onset_uncertainty_s,
+                     "One-sigma onset uncertainty in s where an input gives none (default 1e-5)");
+}
+
+calibrate::FitOptions CalibrateCliOptions::FitOptions(bool validate_law) const {
+  const CalibrateCliOptions& cli = *this;
+  // The library checks these too, in one sentence for all; here each names its option.
+  if (first_n < 1) throw ConfigError(fmt::format("--first must be at least 1, got {}", first_n));
+  if (bootstrap < 0) {
+    throw ConfigError(fmt::format("--bootstrap must be >= 0 refits (0 skips), got {}", bootstrap));
+  }
+  if (!(confidence > 0 && confidence < 1)) {
+    throw ConfigError(fmt::format("--confidence must be in (0, 1), e.g. 0.95, got {}", confidence));
+  }
+  if (threads < 1) throw ConfigError(fmt::format("--threads must be >= 1, got {}", threads));
+  if (!(drop_height_uncertainty_m >= 0)) {
+    throw ConfigError(
+        fmt::format("--drop-height-uncertainty must be >= 0 m, got {}", drop_height_uncertainty_m));
+  }
+  if (max_evaluations < 1) {
+    throw ConfigError(fmt::format("--max-evaluations must be >= 1, got {}", max_evaluations));
+  }
+  calibrate::FitOptions options;
+  options.law = cli.drop.Law(validate_law);
+  options.fitted_parameters = cli.fitted;
+  options.ball = cli.drop.Ball();
+  options.drop_height_m =
+      cli.unknown_drop_height ? std::nullopt : std::optional<double>(cli.drop.drop_height_m);
+  options.gravity_mps2 = cli.drop.gravity_mps2;
+  options.drag = cli.drop.Drag();
+  options.integrator = cli.drop.Integrator();
+  options.time_step_s = cli.drop.time_step_s;
+  options.steps_per_contact = cli.drop.steps_per_contact;
+  options.fixed_step_grid = cli.drop.fixed_step_grid;
+  options.objective = calibrate::FitObjectiveFromString(cli.objective);
+  options.first_n = cli.first_n;
+  options.max_intervals = cli.max_intervals;
+  options.minimizer.local_method = calibrate::LocalMethodFromString(cli.optimizer);
+  options.minimizer.max_evaluations = cli.max_evaluations;
+  options.minimizer.global_evaluations = cli.global_evaluations;
+  options.uncertainty.bootstrap_samples = cli.bootstrap;
+  options.uncertainty.confidence_level = cli.confidence;
+  options.uncertainty.seed = cli.seed;
+  options.uncertainty.threads = cli.threads;
+  options.uncertainty.drop_height_uncertainty_m = cli.drop_height_uncertainty_m;
+  return options;
+}
+
+std::vector<calibrate::MeasuredSequence> CalibrateCliOptions::LoadSequences() const {
+  if (!(onset_uncertainty_s > 0)) {
+    throw ConfigError("--onset-uncertainty must be a positive number of seconds (e.g. 1e-5), got " +
+                      std::to_string(onset_uncertainty_s));
+  }
+  calibrate::SequenceInputOptions input;
+  input.impact_times.default_uncertainty_s = onset_uncertainty_s;
+  return calibrate::LoadSequences(inputs, input);
+}
+
+}  // namespace bouncecal::apps

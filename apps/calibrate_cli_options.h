@@ -1,0 +1,46 @@
+#ifndef BOUNCECAL_APPS_CALIBRATE_CLI_OPTIONS_H_
+#define BOUNCECAL_APPS_CALIBRATE_CLI_OPTIONS_H_
+
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bouncecal/calibrate/fit.h"
+#include "bouncecal/calibrate/sequence_input.h"
+#include "drop_cli_options.h"
+
+namespace bouncecal::apps {
+
+// The recordings and every fit setting shared by `calibrate` and `report` (outputs are each
+// command's own), so both run exactly the same calibration from the same command line.
+struct CalibrateCliOptions {
+  std::vector<std::filesystem::path> inputs;
+  DropCliOptions drop;
+  bool unknown_drop_height = false;
+  double drop_height_uncertainty_m = 0;
+  std::string objective = "mean-energy-loss";
+  int first_n = 3;
+  int max_intervals = 0;
+  std::vector<std::string> fitted;
+  std::string optimizer = "bobyqa";
+  int max_evaluations = 200;
+  int global_evaluations = -1;
+  int bootstrap = 32;
+  double confidence = 0.95;
+  unsigned long long seed = 1;
+  int threads = 2;
+  double onset_uncertainty_s = 10e-6;
+
+  // Registers the recordings argument and the fit options on `command`.
+  void AddFitOptions(CLI::App& command);
+  // Throws ConfigError naming the option and its valid range. --compare-laws passes
+  // validate_law = false: its --param values may belong to another law than the default one.
+  calibrate::FitOptions FitOptions(bool validate_law = true) const;
+  // Validates --onset-uncertainty and loads every input through calibrate::LoadSequences.
+  std::vector<calibrate::MeasuredSequence> LoadSequences() const;
+};
+
+}  // namespace bouncecal::apps
+
+#endif  // BOUNCECAL_APPS_CALIBRATE_CLI_OPTIONS_H_

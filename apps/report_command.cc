@@ -1,0 +1,97 @@
+#include <fmt/core.h>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "bouncecal/atomic_file.h"
+#include "bouncecal/calibrate/fit.h"
+#include "bouncecal/calibrate/fit_json.h"
+#include "bouncecal/calibrate/material_card.h"
+#include "bouncecal/error.h"
+#include "calibrate_cli_options.h"
+#include "calibrate_report.h"
+#include "calibration_html.h"
+#include "commands.h"
+
+namespace bouncecal::apps {
+namespace {
+
+struct ReportCommandOptions : CalibrateCliOptions {
+  std::filesystem::path output;
+};
+
+// The options as given, so the page records how to reproduce it.
+std::string CommandLine(const CLI::App& command) {
+  std::string line = "bouncecal report";
+  for (const CLI::Option* option : command.get_options()) {
+    if (option->count() == 0 || option->get_name() == "--help") continue;
+    const bool positional = option->get_name().rfind("-", 0) != 0;
+    if (option->get_type_size() == 0) {
+      line += " " + option->get_name();
+      continue;
+    }
+    for (const auto& value : option->results()) {
+      line += positional ? " " + value : " " + option->get_name() + " " + value;
+    }
+  }
+  return line;
+}
+
+void Run(const ReportCommandOptions& cli, const std::string& command_line) {
+  if (cli.output.extension() != ".html" && cli.output.extension() != ".htm") {
+    throw ConfigError("-o/--output '" + cli.output.string() +
+                      "' must end in .html (the report is one HTML page)");
+  }
+  const auto options = cli.FitOptions();
+  const auto sequences = cli.LoadSequences();
+  const auto summary = calibrate::Fit(sequences, options);
+
+  CalibrationReportContent content;
+  content.command_line = command_line;
+  content.summary = summary;
+  content.options = options;
+  content.card = calibrate::MakeMaterialCard(summary, options, cli.inputs);
+  content.card_json = calibrate::ToJson(content.card).dump(2);
+  content.fit_json = calibrate::ToJson(summary).dump(2);
+  content.figures.emplace_back(
+      "Measured (1-sigma bars) and fitted energy loss per impact, and flight times between "
+      "impacts.",
+      RenderSvgElement(FitPlotPanels(summary, options)));
+  if (const auto gamma_eta = GammaEtaPanel(summary)) {
+    PlotOptions square;
+    square.width_px = 800;
+    square.height_px_per_panel = 520;
+    content.figures.emplace_back(
+        "Analytic check: the closed-form gamma-eta curve with the measured mean energy loss and "
+        "the DEM fit.",
+        RenderSvgElement({*gamma_eta}, square));
+  }
+  WriteFileAtomically(cli.output, CalibrationReportHtml(content));
+  fmt::print("report written to {} (law {}, {} sequence(s), {} = {:.6g})\n", cli.output.string(),
+             dem::ToString(summary.law.kind), sequences.size(),
+             summary.parameters.empty() ? std::string("no fitted parameter")
+                                        : summary.parameters.front().name,
+             summary.parameters.empty() ? 0.0 : summary.parameters.front().value);
+}
+
+}  // namespace
+
+void AddReportCommand(CLI::App& app) {
+  auto cli = std::make_shared<ReportCommandOptions>();
+  auto* command = app.add_subcommand(
+      "report",
+      "Calibrate like `bouncecal calibrate` and write one self-contained HTML page: inputs with "
+      "content hashes, impacts table, fit summary, analytic check, plots (inline SVG) and the "
+      "material card, for a lab notebook or a paper's supplement.");
+  command->footer(
+      "Example:\n"
+      "  bouncecal report drop1.wav drop2.wav --drop-height 0.2 --bootstrap 16 -o steel.html\n"
+      "Takes every fit option of `bouncecal calibrate`; the page uses no script and no external "
+      "resource, so it opens offline.");
+  cli->AddFitOptions(*command);
+  command->add_option("-o,--output", cli->output, "The HTML page to write (.html)")->required();
+  command->callback([cli, command] { Run(*cli, CommandLine(*command)); });
+}
+
+}  // namespace bouncecal::apps

@@ -1,0 +1,152 @@
+// bouncecal report: one self-contained HTML page for a calibration, checked as text and, when
+// Debian's chromium is installed, as rendered by a real browser.
+#include <gtest/gtest.h>
+#include <stdlib.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "bouncecal/calibrate/content_hash.h"
+#include "cli_runner.h"
+
+namespace bouncecal::testing {
+namespace {
+
+std::string ReadText(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+std::size_t Count(const std::string& text, const std::string& what) {
+  std::size_t count = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++count;
+  return count;
+}
+
+// The report of the shipped paper-style sample, made once for every test (a fit takes seconds).
+class ReportCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    folder_ = new std::filesystem::path(std::filesystem::temp_directory_path() /
+                                        "bouncecal_report_cli_test");
+    std::filesystem::remove_all(*folder_);
+    std::filesystem::create_directories(*folder_);
+    // The report reads recordings through calibrate::LoadSequences; an analyze --json file is
+    // one of its inputs and keeps this test independent of recording support in that loader.
+    const auto analysis =
+        RunBouncecal("analyze " + (SourceDir() / "samples/steel_ball_h0.2m.wav").string() +
+                     " --drop-height 0.2 --json " + Input().string());
+    if (analysis.exit_status != 0) {
+      run_ = new CliResult(analysis);
+      return;
+    }
+    run_ = new CliResult(RunBouncecal("report " + Input().string() +
+                                      " --drop-height 0.2 --bootstrap 0 -o " +
+                                      (*folder_ / "report.html").string()));
+  }
+  static void TearDownTestSuite() {
+    std::filesystem::remove_all(*folder_);
+    delete folder_;
+    delete run_;
+  }
+  static std::filesystem::path Input() { return *folder_ / "steel_ball_h0.2m.json"; }
+  static std::filesystem::path* folder_;
+  static CliResult* run_;
+};
+std::filesystem::path* ReportCli::folder_ = nullptr;
+CliResult* ReportCli::run_ = nullptr;
+
+TEST_F(ReportCli, PageHasEverySectionTheFiguresAndTheInputHash) {
+  ASSERT_EQ(run_->exit_status, 0) << run_->output;
+  const std::string html = ReadText(*folder_ / "report.html");
+  for (const char* id :
+       {"inputs", "fit-summary", "analytic-check", "plots", "impacts", "material-card"}) {
+    EXPECT_NE(html.find(std::string("id=\"") + id + "\""), std::string::npos) << id;
+  }
+  // The fit figure and the gamma-eta figure (walton-braun under mean-energy-loss has the check).
+  EXPECT_EQ(Count(html, "<svg"), 2u);
+  EXPECT_NE(html.find(calibrate::FileContentHash(Input())), std::string::npos);
+  EXPECT_NE(html.find("bouncecal-material/1"), std::string::npos);
+  // The mean-energy-loss fit needs 3 impacts after the release: rows k = 1..3 at least.
+  EXPECT_NE(html.find("<td class=\"text\">3</td>"), std::string::npos);
+}
+
+TEST_F(ReportCli, FittedDampingMatchesTheSamplesKnownEnergyLoss) {
+  ASSERT_EQ(run_->exit_status, 0) << run_->output;
+  const std::string html = ReadText(*folder_ / "report.html");
+  // The card is shown escaped in a <pre>; its gamma_n is the fit.
+  const std::string key = "&quot;gamma_n&quot;: ";
+  const auto at = html.find(key);
+  ASSERT_NE(at, std::string::npos);
+  const double gamma_n = std::strtod(html.c_str() + at + key.size(), nullptr);
+  // The shipped sample was synthesised with eta-bar = 0.58 exactly, so gamma_n = 0.58 / 1.42 =
+  // 0.4085 (PHYSICS.md). Tolerance 0.02: detected onsets carry ~10 us errors on 0.1-0.26 s flights,
+  // i.e. ~0.01 in eta-bar over 3 impacts, and d gamma / d eta = (1 + gamma)^2 / 2 ~ 1.
+  EXPECT_NEAR(gamma_n, 0.58 / 1.42, 0.02);
+}
+
+TEST_F(ReportCli, PageNeedsNoExternalResource) {
+  ASSERT_EQ(run_->exit_status, 0) << run_->output;
+  const std::string html = ReadText(*folder_ / "report.html");
+  EXPECT_EQ(html.find("<script"), std::string::npos);
+  EXPECT_EQ(html.find("<link"), std::string::npos);
+  EXPECT_EQ(html.find("src="), std::string::npos);
+  EXPECT_EQ(html.find("@import"), std::string::npos);
+  EXPECT_EQ(html.find("url("), std::string::npos);
+  // gnuplot's SVG carries xlink:href only to its own #ids.
+  for (auto at = html.find("href=\""); at != std::string::npos; at = html.find("href=\"", at + 1)) {
+    EXPECT_EQ(html[at + 6], '#') << html.substr(at, 60);
+  }
+}
+
+TEST_F(ReportCli, RendersInHeadlessChromium) {
+  ASSERT_EQ(run_->exit_status, 0) << run_->output;
+  std::string chromium;
+  for (const char* candidate : {"/usr/bin/chromium", "/usr/bin/chromium-browser"}) {
+    if (std::filesystem::exists(candidate)) chromium = candidate;
+  }
+  if (chromium.empty()) {
+    GTEST_SKIP() << "chromium is not installed (Debian package chromium; "
+                    "scripts/install_deps.sh installs it): the browser rendering check is skipped";
+  }
+  std::string profile = (*folder_ / "profile-XXXXXX").string();
+  ASSERT_NE(mkdtemp(profile.data()), nullptr);
+  const auto page = *folder_ / "report.html";
+  const auto screenshot = *folder_ / "report.png";
+  const std::string flags =
+      " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
+      "--disable-background-networking --disable-component-update --disable-sync "
+      "--user-data-dir=" +
+      profile + " ";
+  const auto dom = folder_->string() + "/dom.html";
+  const std::string dump =
+      chromium + flags + "--dump-dom file://" + page.string() + " > " + dom + " 2>/dev/null";
+  ASSERT_EQ(std::system(dump.c_str()), 0);
+  const std::string rendered = ReadText(dom);
+  // The DOM is what the browser parsed: sections, both figures and the fit values survive.
+  EXPECT_NE(rendered.find("id=\"fit-summary\""), std::string::npos);
+  EXPECT_NE(rendered.find("gamma_n fitted"), std::string::npos);
+  EXPECT_EQ(Count(rendered, "<svg"), 2u);
+  const std::string shot = chromium + flags +
+                           "--window-size=1200,2400 --screenshot=" + screenshot.string() +
+                           " file://" + page.string() + " >/dev/null 2>&1";
+  ASSERT_EQ(std::system(shot.c_str()), 0);
+  // A blank page compresses to a few kB; tables, text and two figures take far more.
+  EXPECT_GT(std::filesystem::file_size(screenshot), 50'000u);
+  if (const char* keep = std::getenv("BOUNCECAL_KEEP_REPORT_SCREENSHOT")) {
+    std::filesystem::copy_file(screenshot, keep, std::filesystem::copy_options::overwrite_existing);
+  }
+}
+
+TEST(ReportCliErrors, AnOutputThatIsNotHtmlNamesTheOption) {
+  const auto run = RunBouncecal(
+      "report " + (SourceDir() / "samples/steel_ball_h0.2m.wav").string() + " -o report.pdf");
+  EXPECT_EQ(run.exit_status, 3) << run.output;
+  EXPECT_NE(run.output.find("--output"), std::string::npos) << run.output;
+}
+
+}  // namespace
+}  // namespace bouncecal::testing
