@@ -189,7 +189,8 @@ void AddPackCommand(CLI::App& app) {
   auto* command = app.add_subcommand(
       "pack",
       "Run a multi-particle packing scene (JSON scene file, see docs/scenes.md) and measure its "
-      "packing density, density profile, coordination and kinetic energy.\n"
+      "packing density, density profile, coordination and kinetic energy.");
+  command->footer(
       "Example: bouncecal pack samples/scenes/paper000_cylinder_pour.json --threads 2 "
       "--json result.json --plot");
   // No ExistingFile check: a missing scene is an input-file error (status 2), not a usage one.

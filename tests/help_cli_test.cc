@@ -24,6 +24,9 @@ std::vector<std::string> Subcommands(const std::string& help) {
     }
     if (!inside) continue;
     if (line.empty() || line[0] != ' ') break;
+    // A name sits at the start of its row, indented by two spaces; deeper-indented rows continue
+    // a long description and must not be walked as commands (that recursed without end).
+    if (line.size() < 3 || line[2] == ' ') continue;
     std::istringstream words(line);
     std::string name;
     words >> name;
