@@ -152,6 +152,12 @@ TEST_F(BadInput, RatesBelow8kHzAreRefusedAndTheMinimumIsNamed) {
   ExpectRefused("analyze", Write("rate_4k.wav", Pcm16Wav(4000, 4000)), 2, "8000 hz");
 }
 
+// Fuzzing finding: a header claiming 520 MHz made the detector size its windows for that rate
+// and allocate gigabytes before reading a sample.
+TEST_F(BadInput, AbsurdSampleRatesAreRefusedBeforeAnythingIsAllocated) {
+  ExpectRefused("analyze", Write("rate_520mhz.wav", Pcm16Wav(256, 520110080)), 2, "768000 hz");
+}
+
 // Cases that must work: a telephone-rate recording and a six-channel recorder.
 audio::SynthesisOptions Drop(int rate_hz) {
   audio::SynthesisOptions options;
