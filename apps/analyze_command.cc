@@ -181,8 +181,11 @@ void PrintTable(const FileAnalysis& analysis, const AnalyzeArgs& args) {
   if (d.channel_chosen_automatically) {
     channel_note = ", chosen for the best impact-to-noise ratio (";
     for (size_t c = 0; c < d.channel_impact_to_noise_db.size(); ++c) {
-      channel_note +=
-          fmt::format("{}ch {}: {:.1f} dB", c ? ", " : "", c, d.channel_impact_to_noise_db[c]);
+      // A dead input (digital silence) scores -inf; the JSON writes null, the report says so.
+      const double score = d.channel_impact_to_noise_db[c];
+      channel_note += fmt::format(
+          "{}ch {}: {}", c ? ", " : "", c,
+          std::isfinite(score) ? fmt::format("{:.1f} dB", score) : std::string("silent"));
     }
     channel_note += ")";
   }

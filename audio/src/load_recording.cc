@@ -25,6 +25,13 @@ RecordingReader::RecordingReader(const std::filesystem::path& path)
                      ": truncated (the data chunk is shorter than its header says); copy or "
                      "export the file again");
   }
+  // The detector's windows are sized in seconds, so a corrupt header claiming hundreds of MHz
+  // would make it allocate gigabytes (a fuzzing finding); no recorder exceeds 768 kHz.
+  if (info_.sample_rate_hz > kMaxSampleRateHz) {
+    throw InputError(path.string() + ": sample rate " + std::to_string(info_.sample_rate_hz) +
+                     " Hz is above the " + std::to_string(kMaxSampleRateHz) +
+                     " Hz maximum; the header is damaged, export the file again");
+  }
   if (info_.sample_rate_hz < kMinSampleRateHz) {
     throw InputError(path.string() + ": sample rate " + std::to_string(info_.sample_rate_hz) +
                      " Hz is below the 8000 Hz minimum; impacts cannot be timed in it");

@@ -1,7 +1,12 @@
 #include "bouncecal/calibrate/material_card.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <ctime>
 #include <fstream>
+#include <initializer_list>
+#include <limits>
 
 #include "bouncecal/atomic_file.h"
 #include "bouncecal/calibrate/content_hash.h"
@@ -17,10 +22,72 @@ nlohmann::json Optional(const std::optional<T>& value) {
   return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
 }
 
-template <typename T>
-std::optional<T> OptionalFrom(const nlohmann::json& object, const char* key) {
+// Card readers name the offending key in every error: a card is typed or edited by hand, and
+// "type must be number, but is string" alone does not say where to look.
+void RejectUnknownKeys(const nlohmann::json& object, const std::string& where,
+                       std::initializer_list<std::string_view> known) {
+  for (const auto& [key, value] : object.items()) {
+    if (std::find(known.begin(), known.end(), key) == known.end()) {
+      std::string list;
+      for (const auto name : known) list += (list.empty() ? "" : ", ") + std::string(name);
+      throw InputError(where + ": unknown key \"" + key + "\" (valid keys: " + list + ")");
+    }
+  }
+}
+
+bool IsFiniteNumber(const nlohmann::json& value) {
+  return value.is_number() && std::isfinite(value.get<double>());
+}
+
+const nlohmann::json& ObjectAt(const nlohmann::json& object, const char* key,
+                               const std::string& where) {
+  const auto& value = object[key];
+  if (!value.is_object()) {
+    throw InputError(where + ": \"" + key + "\" must be an object, not " +
+                     std::string(value.type_name()));
+  }
+  return value;
+}
+
+// Absent or null gives nothing; anything but the expected type is an InputError naming the key.
+std::optional<double> NumberAt(const nlohmann::json& object, const char* key,
+                               const std::string& where) {
   if (!object.contains(key) || object[key].is_null()) return std::nullopt;
-  return object[key].get<T>();
+  if (!IsFiniteNumber(object[key])) {
+    throw InputError(where + ": \"" + key + "\" must be a finite number, not " +
+                     object[key].dump());
+  }
+  return object[key].get<double>();
+}
+
+std::optional<int> IntegerAt(const nlohmann::json& object, const char* key,
+                             const std::string& where) {
+  if (!object.contains(key) || object[key].is_null()) return std::nullopt;
+  const auto& value = object[key];
+  if (!value.is_number_integer() || value.get<std::int64_t>() < 0 ||
+      value.get<std::int64_t>() > std::numeric_limits<int>::max()) {
+    throw InputError(where + ": \"" + key + "\" must be a non-negative integer, not " +
+                     value.dump());
+  }
+  return static_cast<int>(value.get<std::int64_t>());
+}
+
+std::optional<std::string> StringAt(const nlohmann::json& object, const char* key,
+                                    const std::string& where) {
+  if (!object.contains(key) || object[key].is_null()) return std::nullopt;
+  if (!object[key].is_string()) {
+    throw InputError(where + ": \"" + key + "\" must be a string, not " + object[key].dump());
+  }
+  return object[key].get<std::string>();
+}
+
+std::optional<bool> BoolAt(const nlohmann::json& object, const char* key,
+                           const std::string& where) {
+  if (!object.contains(key) || object[key].is_null()) return std::nullopt;
+  if (!object[key].is_boolean()) {
+    throw InputError(where + ": \"" + key + "\" must be true or false, not " + object[key].dump());
+  }
+  return object[key].get<bool>();
 }
 
 }  // namespace
@@ -124,60 +191,90 @@ MaterialCard MaterialCardFromJson(const nlohmann::json& object, std::string_view
                      std::string(kMaterialCardFormat) + "\"); write one with bouncecal " +
                      "calibrate --card");
   }
+  RejectUnknownKeys(object, where,
+                    {"format", "contact_law", "parameter_units", "ball", "implied", "fit",
+                     "recordings", "tool_version", "created_utc"});
   if (!object.contains("contact_law")) {
     throw InputError(where + ": material card has no \"contact_law\" object");
   }
   MaterialCard card;
   card.law = dem::ContactLawConfigFromJson(object["contact_law"], where + ": contact_law");
-  try {
-    if (object.contains("ball")) {
-      const auto& ball = object["ball"];
-      card.ball.diameter_m = ball.value("diameter_m", card.ball.diameter_m);
-      card.ball.density_kg_per_m3 = ball.value("density_kg_per_m3", card.ball.density_kg_per_m3);
-      card.ball.mass_kg = OptionalFrom<double>(ball, "mass_kg");
-    }
-    if (object.contains("implied")) {
-      card.implied_restitution = object["implied"].value("restitution", 0.0);
-      card.implied_energy_loss = object["implied"].value("energy_loss", 0.0);
-    }
-    if (object.contains("fit")) {
-      const auto& fit = object["fit"];
-      card.fit.objective = fit.value("objective", "");
-      card.fit.first_n = fit.value("first_n", 3);
-      card.fit.residual = fit.value("residual", 0.0);
-      card.fit.data_points = fit.value("data_points", 0);
-      card.fit.evaluations = fit.value("evaluations", 0);
-      card.fit.stop_reason = fit.value("stop_reason", "");
-      card.fit.drop_height_m = OptionalFrom<double>(fit, "drop_height_m");
-      card.fit.integrator = fit.value("integrator", "");
-      card.fit.time_step_s = OptionalFrom<double>(fit, "time_step_s");
-      card.fit.steps_per_contact = OptionalFrom<double>(fit, "steps_per_contact");
-      card.fit.fixed_step_grid = fit.value("fixed_step_grid", false);
-      card.fit.drag = fit.value("drag", false);
-      card.fit.confidence_level = fit.value("confidence_level", 0.95);
-      card.fit.uncertainty_method = fit.value("uncertainty_method", "");
-      card.fit.energy_loss_mean_measured = OptionalFrom<double>(fit, "energy_loss_mean_measured");
-      card.fit.gamma_n_formula = OptionalFrom<double>(fit, "gamma_n_formula");
-      if (fit.contains("confidence_interval")) {
-        for (const auto& [name, interval] : fit["confidence_interval"].items())
-          card.fit.confidence_interval[name] = {interval.at(0).get<double>(),
-                                                interval.at(1).get<double>()};
-      }
-    }
-    if (object.contains("recordings")) {
-      for (const auto& recording : object["recordings"])
-        card.recordings.push_back({recording.at("file").get<std::string>(),
-                                   recording.at("content_hash").get<std::string>()});
-    }
-    card.tool_version = object.value("tool_version", "");
-    card.created_utc = object.value("created_utc", "");
-  } catch (const nlohmann::json::exception& error) {
-    throw InputError(where + ": malformed material card field (" + error.what() + ")");
+  if (object.contains("ball")) {
+    const auto& ball = ObjectAt(object, "ball", where);
+    const std::string at = where + ": ball";
+    RejectUnknownKeys(ball, at, {"diameter_m", "density_kg_per_m3", "mass_kg"});
+    card.ball.diameter_m = NumberAt(ball, "diameter_m", at).value_or(card.ball.diameter_m);
+    card.ball.density_kg_per_m3 =
+        NumberAt(ball, "density_kg_per_m3", at).value_or(card.ball.density_kg_per_m3);
+    card.ball.mass_kg = NumberAt(ball, "mass_kg", at);
   }
   if (!(card.ball.diameter_m > 0) || !(card.ball.density_kg_per_m3 > 0) ||
       (card.ball.mass_kg && !(*card.ball.mass_kg > 0))) {
-    throw InputError(where + ": ball diameter, density and mass must be positive");
+    throw InputError(where + ": ball diameter_m, density_kg_per_m3 and mass_kg must be positive");
   }
+  if (object.contains("implied")) {
+    const auto& implied = ObjectAt(object, "implied", where);
+    const std::string at = where + ": implied";
+    RejectUnknownKeys(implied, at, {"restitution", "energy_loss"});
+    card.implied_restitution = NumberAt(implied, "restitution", at).value_or(0.0);
+    card.implied_energy_loss = NumberAt(implied, "energy_loss", at).value_or(0.0);
+  }
+  if (object.contains("fit")) {
+    const auto& fit = ObjectAt(object, "fit", where);
+    const std::string at = where + ": fit";
+    RejectUnknownKeys(
+        fit, at,
+        {"objective", "first_n", "residual", "data_points", "evaluations", "stop_reason",
+         "drop_height_m", "integrator", "time_step_s", "steps_per_contact", "fixed_step_grid",
+         "drag", "confidence_interval", "confidence_level", "uncertainty_method",
+         "energy_loss_mean_measured", "gamma_n_formula"});
+    auto& record = card.fit;
+    record.objective = StringAt(fit, "objective", at).value_or("");
+    record.first_n = IntegerAt(fit, "first_n", at).value_or(3);
+    record.residual = NumberAt(fit, "residual", at).value_or(0.0);
+    record.data_points = IntegerAt(fit, "data_points", at).value_or(0);
+    record.evaluations = IntegerAt(fit, "evaluations", at).value_or(0);
+    record.stop_reason = StringAt(fit, "stop_reason", at).value_or("");
+    record.drop_height_m = NumberAt(fit, "drop_height_m", at);
+    record.integrator = StringAt(fit, "integrator", at).value_or("");
+    record.time_step_s = NumberAt(fit, "time_step_s", at);
+    record.steps_per_contact = NumberAt(fit, "steps_per_contact", at);
+    record.fixed_step_grid = BoolAt(fit, "fixed_step_grid", at).value_or(false);
+    record.drag = BoolAt(fit, "drag", at).value_or(false);
+    record.confidence_level = NumberAt(fit, "confidence_level", at).value_or(0.95);
+    record.uncertainty_method = StringAt(fit, "uncertainty_method", at).value_or("");
+    record.energy_loss_mean_measured = NumberAt(fit, "energy_loss_mean_measured", at);
+    record.gamma_n_formula = NumberAt(fit, "gamma_n_formula", at);
+    if (fit.contains("confidence_interval")) {
+      for (const auto& [name, interval] : ObjectAt(fit, "confidence_interval", at).items()) {
+        if (!interval.is_array() || interval.size() != 2 || !IsFiniteNumber(interval[0]) ||
+            !IsFiniteNumber(interval[1])) {
+          throw InputError(at + ": confidence_interval \"" + name +
+                           "\" must be a pair of finite numbers [low, high], not " +
+                           interval.dump());
+        }
+        record.confidence_interval[name] = {interval[0].get<double>(), interval[1].get<double>()};
+      }
+    }
+  }
+  if (object.contains("recordings")) {
+    const auto& recordings = object["recordings"];
+    if (!recordings.is_array()) {
+      throw InputError(where + ": \"recordings\" must be an array, not " +
+                       std::string(recordings.type_name()));
+    }
+    for (const auto& recording : recordings) {
+      const std::string at = where + ": recordings[]";
+      if (!recording.is_object()) {
+        throw InputError(at + " entries must be objects {\"file\", \"content_hash\"}");
+      }
+      RejectUnknownKeys(recording, at, {"file", "content_hash"});
+      card.recordings.push_back({StringAt(recording, "file", at).value_or(""),
+                                 StringAt(recording, "content_hash", at).value_or("")});
+    }
+  }
+  card.tool_version = StringAt(object, "tool_version", where).value_or("");
+  card.created_utc = StringAt(object, "created_utc", where).value_or("");
   return card;
 }
 

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <numbers>
 
+#include "bouncecal/calibrate/material_card.h"
 #include "bouncecal/dem/contact_law_json.h"
 #include "bouncecal/error.h"
 
@@ -39,6 +40,9 @@ ExportMaterial ExportMaterialFromJson(const nlohmann::json& card, std::string_vi
         "{}: key \"format\" must be \"{}\", got {}; is this a bouncecal material card?", context,
         kFormat, format == card.end() ? std::string("nothing") : format->dump()));
   }
+  // The calibration's own reader checks every key and type (unknown keys, non-finite numbers),
+  // so a card that export accepts is one calibrate would accept too.
+  MaterialCardFromJson(card, context);
   ExportMaterial material;
   material.source = std::string(context);
 
@@ -107,6 +111,10 @@ ExportMaterial ReadExportMaterial(const std::filesystem::path& card_path) {
   } catch (const nlohmann::json::parse_error& error) {
     throw InputError(fmt::format("{}: not valid JSON (byte {}); is this a material card?",
                                  card_path.string(), error.byte));
+  } catch (const nlohmann::json::exception& error) {
+    // A number too large for a double (1e999) is out_of_range, not a parse_error.
+    throw InputError(
+        fmt::format("{}: not a usable JSON material card ({})", card_path.string(), error.what()));
   }
   return ExportMaterialFromJson(card, card_path.string());
 }

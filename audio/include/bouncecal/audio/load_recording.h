@@ -23,11 +23,12 @@ struct RecordingInfo {
 // Streams a recording in blocks so an hour of audio never has to sit in memory. Any format
 // libsndfile reads (WAV PCM 16/24/32, float, FLAC, OGG...), any rate from 8 kHz, any channel
 // count; nothing is resampled. Every problem is an InputError with a one-line message naming the
-// file: missing, empty, not audio, rate below 8 kHz, NaN/Inf samples, truncated data, and (at
-// the end of the stream) fewer than two samples.
+// file: missing, empty, not audio, rate below 8 kHz or above 768 kHz, NaN/Inf samples, truncated
+// data, and (at the end of the stream) fewer than two samples.
 class RecordingReader {
  public:
   static constexpr int kMinSampleRateHz = 8000;
+  static constexpr int kMaxSampleRateHz = 768000;
 
   explicit RecordingReader(const std::filesystem::path& path);
   RecordingReader(RecordingReader&&) noexcept;

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (fuzz/, clang with ASan+UBSan) into build-fuzz/ and runs each from
+# its seed corpus in fuzz/corpus/<target>/ for a bounded time. Any crash, sanitizer report, leak
+# or timeout fails the run and leaves the reproducer in build-fuzz/findings/<target>/: turn it
+# into a regression test (tests/bad_input_test.cc) before fixing.
+#
+#   BOUNCECAL_FUZZ_SECONDS=60   seconds per target (default 60)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+# clang, its libFuzzer/sanitizer runtimes and its OpenMP are needed only here.
+scripts/install_deps.sh clang libclang-rt-14-dev libomp-14-dev
+seconds="${BOUNCECAL_FUZZ_SECONDS:-60}"
+CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DBOUNCECAL_FUZZ=ON -DBOUNCECAL_BUILD_TESTS=OFF -DBOUNCECAL_BUILD_BENCH=OFF >/dev/null
+targets=(recording material_card)
+cmake --build build-fuzz -j"$(nproc)" --target "${targets[@]/#/fuzz_}"
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+for target in "${targets[@]}"; do
+  # The seed corpus stays untouched; new inputs go to a scratch corpus inside build-fuzz.
+  work="build-fuzz/corpus/${target}"
+  findings="build-fuzz/findings/${target}"
+  mkdir -p "${work}" "${findings}"
+  echo "fuzz_${target}: ${seconds} s"
+  status=0
+  build-fuzz/fuzz/fuzz_"${target}" -max_total_time="${seconds}" -timeout=10 -rss_limit_mb=2048 \
+    -max_len=65536 -print_final_stats=1 -artifact_prefix="${findings}/" \
+    "${work}" "fuzz/corpus/${target}" >"build-fuzz/${target}.log" 2>&1 || status=$?
+  tail -n 20 "build-fuzz/${target}.log"
+  if [ "${status}" -ne 0 ]; then
+    echo "fuzz_${target}: FAILED (status ${status}); reproducer in ${findings}/, log in build-fuzz/${target}.log" >&2
+    exit 1
+  fi
+done
+echo "fuzz: all targets ran ${seconds} s each without a finding"

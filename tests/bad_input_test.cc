@@ -1,0 +1,278 @@
+// The bad-input catalogue (issue 7): every hostile recording or material card gives one line
+// naming the file and the problem, the README's exit status (2 input file, 3 parameter out of
+// range), and no output file. The bad files are written byte by byte here, so each case shows
+// exactly what is wrong with it.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "bouncecal/audio/synthesize.h"
+#include "bouncecal/audio/write_recording.h"
+#include "cli_runner.h"
+
+namespace bouncecal::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+class BadInput : public ::testing::Test {
+ public:
+  void SetUp() override {
+    folder_ = fs::temp_directory_path() /
+              ("bouncecal_bad_input_" + std::to_string(::getpid()) + "_" +
+               ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+
+  fs::path Write(const std::string& name, const std::string& bytes) const {
+    std::ofstream(folder_ / name, std::ios::binary) << bytes;
+    return folder_ / name;
+  }
+
+  // Runs the command with --json (or -o) pointing into the scratch folder and checks the
+  // contract: the status, one line, the input's path and the problem's words in it, no output.
+  void ExpectRefused(const std::string& command, const fs::path& input, int status,
+                     const std::string& problem, const std::string& output_flag = "--json") {
+    const fs::path output = folder_ / "out.json";
+    const auto result = RunBouncecal(command + " '" + input.string() + "' " + output_flag + " '" +
+                                     output.string() + "'");
+    SCOPED_TRACE(input.filename().string() + ": " + result.output);
+    EXPECT_EQ(result.exit_status, status);
+    EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1);
+    EXPECT_NE(result.output.find(input.string()), std::string::npos);
+    std::string lower = result.output;
+    std::transform(lower.begin(), lower.end(), lower.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    EXPECT_NE(lower.find(problem), std::string::npos) << "expected the words: " << problem;
+    EXPECT_FALSE(fs::exists(output));
+  }
+
+  fs::path folder_;
+};
+
+void Append16(std::string& bytes, std::uint16_t value) {
+  bytes.push_back(static_cast<char>(value & 0xff));
+  bytes.push_back(static_cast<char>(value >> 8));
+}
+
+void Append32(std::string& bytes, std::uint32_t value) {
+  for (int shift = 0; shift < 32; shift += 8) bytes.push_back(static_cast<char>(value >> shift));
+}
+
+// A canonical 44-byte-header WAV; the data chunk's size field says `claimed_data_bytes`
+// whatever `data` really holds, so headers can lie.
+std::string Wav(std::uint16_t format_tag, int channels, int rate_hz, int bits,
+                const std::string& data, std::uint32_t claimed_data_bytes) {
+  std::string bytes = "RIFF";
+  Append32(bytes, 36 + claimed_data_bytes);
+  bytes += "WAVEfmt ";
+  Append32(bytes, 16);
+  Append16(bytes, format_tag);
+  Append16(bytes, static_cast<std::uint16_t>(channels));
+  Append32(bytes, static_cast<std::uint32_t>(rate_hz));
+  Append32(bytes, static_cast<std::uint32_t>(rate_hz * channels * bits / 8));
+  Append16(bytes, static_cast<std::uint16_t>(channels * bits / 8));
+  Append16(bytes, static_cast<std::uint16_t>(bits));
+  bytes += "data";
+  Append32(bytes, claimed_data_bytes);
+  return bytes + data;
+}
+
+constexpr std::uint16_t kPcm = 1;
+constexpr std::uint16_t kIeeeFloat = 3;
+constexpr std::uint16_t kMpegLayer3 = 0x55;
+
+std::string Pcm16(int frames) {
+  std::string data;
+  for (int i = 0; i < frames; ++i) Append16(data, static_cast<std::uint16_t>(100 * (i % 7)));
+  return data;
+}
+
+std::string Pcm16Wav(int frames, int rate_hz = 48000) {
+  const std::string data = Pcm16(frames);
+  return Wav(kPcm, 1, rate_hz, 16, data, static_cast<std::uint32_t>(data.size()));
+}
+
+std::string FloatWavWith(float bad_value) {
+  std::vector<float> samples(4800, 0.001f);
+  samples[2400] = bad_value;
+  std::string data(reinterpret_cast<const char*>(samples.data()), samples.size() * sizeof(float));
+  return Wav(kIeeeFloat, 1, 48000, 32, data, static_cast<std::uint32_t>(data.size()));
+}
+
+TEST_F(BadInput, UnreadableRecordingsAreInputErrorsWithoutOutput) {
+  ExpectRefused("analyze", folder_ / "missing.wav", 2, "missing.wav");
+  ExpectRefused("analyze", Write("empty.wav", ""), 2, "empty.wav");
+  fs::create_directory(folder_ / "folder.wav");
+  ExpectRefused("analyze", folder_ / "folder.wav", 2, "folder.wav");
+  ExpectRefused("analyze", Write("text.wav", "time,height\n0,0.2\n"), 2, "text.wav");
+  ExpectRefused("analyze", Write("header_only_half.wav", Pcm16Wav(1000).substr(0, 30)), 2,
+                "header_only_half.wav");
+  ExpectRefused("analyze", Write("codec.wav", Wav(kMpegLayer3, 1, 48000, 16, Pcm16(1000), 2000)), 2,
+                "codec.wav");
+}
+
+TEST_F(BadInput, TruncatedOrLyingRecordingsAreRefusedAsTruncated) {
+  const std::string whole = Pcm16Wav(48000);
+  ExpectRefused("analyze", Write("cut_in_data.wav", whole.substr(0, whole.size() / 2)), 2,
+                "truncated");
+  // The header claims a million frames; the file holds a thousand.
+  ExpectRefused("analyze", Write("claims_more.wav", Wav(kPcm, 1, 48000, 16, Pcm16(1000), 2000000)),
+                2, "truncated");
+}
+
+TEST_F(BadInput, NonFiniteFloatSamplesAreRefusedWithTheirPosition) {
+  ExpectRefused("analyze", Write("nan.wav", FloatWavWith(std::numeric_limits<float>::quiet_NaN())),
+                2, "sample 2400");
+  ExpectRefused("analyze", Write("inf.wav", FloatWavWith(std::numeric_limits<float>::infinity())),
+                2, "sample 2400");
+  ExpectRefused("analyze",
+                Write("minus_inf.wav", FloatWavWith(-std::numeric_limits<float>::infinity())), 2,
+                "infinite");
+}
+
+TEST_F(BadInput, RecordingsWithNoOrOneSampleAreTooShort) {
+  ExpectRefused("analyze", Write("zero_samples.wav", Pcm16Wav(0)), 2, "zero_samples.wav");
+  ExpectRefused("analyze", Write("one_sample.wav", Pcm16Wav(1)), 2, "1 sample");
+}
+
+TEST_F(BadInput, RatesBelow8kHzAreRefusedAndTheMinimumIsNamed) {
+  ExpectRefused("analyze", Write("rate_4k.wav", Pcm16Wav(4000, 4000)), 2, "8000 hz");
+}
+
+// Fuzzing finding: a header claiming 520 MHz made the detector size its windows for that rate
+// and allocate gigabytes before reading a sample.
+TEST_F(BadInput, AbsurdSampleRatesAreRefusedBeforeAnythingIsAllocated) {
+  ExpectRefused("analyze", Write("rate_520mhz.wav", Pcm16Wav(256, 520110080)), 2, "768000 hz");
+}
+
+// Cases that must work: a telephone-rate recording and a six-channel recorder.
+audio::SynthesisOptions Drop(int rate_hz) {
+  audio::SynthesisOptions options;
+  options.sample_rate_hz = rate_hz;
+  options.drop.drop_height_m = 0.2;
+  for (auto& mode : options.modes) mode.decay_s *= 0.1;  // a damped plate, see analyze_cli_test
+  options.noise = audio::NoiseOptions{};
+  options.seed = 7;
+  return options;
+}
+
+nlohmann::json AnalyzeToJson(const fs::path& input, const fs::path& json) {
+  const auto result = RunBouncecal("analyze '" + input.string() + "' --json '" + json.string() +
+                                   "' --drop-height 0.2");
+  EXPECT_EQ(result.exit_status, 0) << result.output;
+  // fmt prints a NaN or infinity as "nan" or "inf"; the report must never show one.
+  EXPECT_FALSE(std::regex_search(result.output, std::regex(R"(\b-?(nan|inf)\b)"))) << result.output;
+  std::ifstream in(json);
+  return nlohmann::json::parse(in);
+}
+
+TEST_F(BadInput, An8kHzRecordingIsAnalysed) {
+  const auto synthesized = audio::SynthesizeBounces(Drop(8000));
+  const auto path = folder_ / "drop_8k.wav";
+  audio::WriteRecording(path, std::span<const audio::Recording>(synthesized.channels),
+                        {audio::AudioContainer::kWav, audio::SampleEncoding::kPcm16});
+  const auto json = AnalyzeToJson(path, folder_ / "drop_8k.json");
+  const auto& file = json.is_array() ? json[0] : json;
+  ASSERT_TRUE(file.contains("sample_rate_hz")) << file.dump();
+  EXPECT_EQ(file["sample_rate_hz"], 8000);
+  // At 8 kHz an onset is timed to a sample (125 us) at worst; the bounces are still found.
+  EXPECT_GE(file["impacts"].size(), 5u) << file.dump();
+}
+
+TEST_F(BadInput, ASixChannelRecordingIsAnalysedOnItsLoudestChannel) {
+  const auto synthesized = audio::SynthesizeBounces(Drop(48000));
+  std::vector<audio::Recording> channels(6, synthesized.channels[0]);
+  // Five dead inputs (digital silence: a noise floor of zero) and the microphone on input 4.
+  for (int c = 0; c < 6; ++c) {
+    if (c != 4) std::fill(channels[c].samples.begin(), channels[c].samples.end(), 0.0f);
+  }
+  const auto path = folder_ / "six_channels.wav";
+  audio::WriteRecording(path, std::span<const audio::Recording>(channels),
+                        {audio::AudioContainer::kWav, audio::SampleEncoding::kPcm16});
+  const auto json = AnalyzeToJson(path, folder_ / "six.json");
+  const auto& file = json.is_array() ? json[0] : json;
+  EXPECT_EQ(file["channel"], 4) << file.dump();
+  EXPECT_EQ(file["channel_count"], 6);
+  EXPECT_GE(file["impacts"].size(), 5u);
+}
+
+// Material cards, read by `compare --material` (calibrate's reader) and `export --material`.
+std::string Card(const std::string& law, const std::string& ball, const std::string& extra = "") {
+  return R"({"format": "bouncecal-material/1", "contact_law": )" + law + R"(, "ball": )" + ball +
+         extra + "}";
+}
+
+const std::string kLaw =
+    R"({"law": "walton-braun", "parameters": {"stiffness_n_per_m": 1e7, "gamma_n": 0.5}})";
+const std::string kBall = R"({"diameter_m": 0.01, "density_kg_per_m3": 7800})";
+
+// Both readers of a card: the problem, its exit status, the words the message must hold.
+void ExpectCardRefused(BadInput& test, const fs::path& card, int status,
+                       const std::string& problem) {
+  test.ExpectRefused("compare " + SourceDir().string() + "/samples/steel_ball_h0.2m.csv --material",
+                     card, status, problem);
+  test.ExpectRefused("export --engine lammps --material", card, status, problem, "-o");
+}
+
+TEST_F(BadInput, MaterialCardsThatAreNotCardsAreInputErrors) {
+  ExpectCardRefused(*this, folder_ / "missing.json", 2, "missing.json");
+  ExpectCardRefused(*this, Write("empty.json", ""), 2, "empty.json");
+  ExpectCardRefused(*this, Write("not_json.json", "format: material\n"), 2, "not_json.json");
+  ExpectCardRefused(*this, Write("array.json", "[1, 2]"), 2, "array.json");
+  ExpectCardRefused(*this, Write("no_law.json", R"({"format": "bouncecal-material/1"})"), 2,
+                    "contact_law");
+}
+
+TEST_F(BadInput, MaterialCardFieldsWithWrongTypesOrValuesNameTheKey) {
+  ExpectCardRefused(*this, Write("string_diameter.json", Card(kLaw, R"({"diameter_m": "1 cm"})")),
+                    2, "diameter_m");
+  ExpectCardRefused(*this,
+                    Write("negative_diameter.json",
+                          Card(kLaw, R"({"diameter_m": -0.01, "density_kg_per_m3": 7800})")),
+                    2, "diameter_m");
+  // 1e999 overflows a double: the JSON parser refuses it (and the export reader used to let that
+  // escape as an internal error, exit status 1).
+  ExpectCardRefused(*this,
+                    Write("infinite_density.json",
+                          Card(kLaw, R"({"diameter_m": 0.01, "density_kg_per_m3": 1e999})")),
+                    2, "1e999");
+  ExpectCardRefused(*this, Write("ball_array.json", Card(kLaw, "[0.01]")), 2, "ball");
+  ExpectCardRefused(*this, Write("bad_fit.json", Card(kLaw, kBall, R"(, "fit": {"drag": "yes"})")),
+                    2, "drag");
+}
+
+TEST_F(BadInput, UnknownKeysInACardAreRejectedByName) {
+  ExpectCardRefused(*this, Write("typo_top.json", Card(kLaw, kBall, R"(, "bal": {})")), 2,
+                    "\"bal\"");
+  ExpectCardRefused(
+      *this,
+      Write("typo_ball.json", Card(kLaw, R"({"diameter_m": 0.01, "densty_kg_per_m3": 7800})")), 2,
+      "\"densty_kg_per_m3\"");
+}
+
+// Out-of-range law parameters are "a parameter outside its valid range" (README: status 3), as
+// dem::ContactLawConfigFromJson documents; the message still names the card and the parameter.
+TEST_F(BadInput, OutOfRangeLawParametersInACardAreParameterErrors) {
+  const std::string negative =
+      R"({"law": "walton-braun", "parameters": {"stiffness_n_per_m": 1e7, "gamma_n": -0.5}})";
+  ExpectCardRefused(*this, Write("negative_gamma.json", Card(negative, kBall)), 3, "gamma_n");
+  const std::string unknown =
+      R"({"law": "walton-braun", "parameters": {"stiffness_n_per_m": 1e7, "gama_n": 0.5}})";
+  ExpectCardRefused(*this, Write("unknown_parameter.json", Card(unknown, kBall)), 3, "gama_n");
+}
+
+}  // namespace
+}  // namespace bouncecal::testing
