@@ -4,6 +4,7 @@
 #include <string>
 
 #include "bouncecal/calibrate/export/drop_deck_check.h"
+#include "bouncecal/error.h"
 #include "commands.h"
 
 namespace bouncecal::apps {
@@ -31,6 +32,11 @@ void RunExportCheck(const std::string& folder, double max_gravity_effect) {
   }
   fmt::print("{}: {} of {} judged bounces within the expected deviation\n",
              check.passed ? "PASSED" : "FAILED", check.within, check.judged);
+  if (!check.passed) {
+    throw CheckFailedError(folder +
+                           ": the engine's trajectory misses the restitution or contact "
+                           "duration the deck promised; see the table above");
+  }
 }
 
 }  // namespace

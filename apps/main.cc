@@ -47,6 +47,8 @@ int main(int argc, char** argv) {
     return ReportError(error.what(), apps::kExitBadOption);
   } catch (const bouncecal::OutputError& error) {
     return ReportError(error.what(), apps::kExitOutputFile);
+  } catch (const bouncecal::CheckFailedError& error) {
+    return ReportError(error.what(), apps::kExitCheckFailed);
   } catch (const bouncecal::Error& error) {
     return ReportError(error.what(), apps::kExitBadOption);
   } catch (const std::bad_alloc&) {

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -117,6 +118,16 @@ class ExportedDeck : public ::testing::Test {
     const auto verdict = RunBouncecal("export-check " + deck.string());
     EXPECT_EQ(verdict.exit_status, 0) << verdict.output;
     EXPECT_NE(verdict.output.find("PASSED"), std::string::npos) << verdict.output;
+
+    // A deck that promised 5 % more restitution than the engine gave (the size of the card-k
+    // mistake above) must fail the check with its own exit status, so scripts can stop on it.
+    const fs::path record_path = deck / "deck.json";
+    auto record = nlohmann::json::parse(std::ifstream(record_path));
+    record["expected"]["restitution"] = record["expected"]["restitution"].get<double>() * 1.05;
+    std::ofstream(record_path) << record.dump(2);
+    const auto tampered = RunBouncecal("export-check " + deck.string());
+    EXPECT_EQ(tampered.exit_status, 5) << tampered.output;
+    EXPECT_NE(tampered.output.find("FAILED"), std::string::npos) << tampered.output;
   }
 
   fs::path folder_;

@@ -2,6 +2,7 @@
 // Debian's chromium is installed, as rendered by a real browser.
 #include <gtest/gtest.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -30,8 +31,11 @@ std::size_t Count(const std::string& text, const std::string& what) {
 class ReportCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    folder_ = new std::filesystem::path(std::filesystem::temp_directory_path() /
-                                        "bouncecal_report_cli_test");
+    // ctest runs each test in its own process, two at a time: the pid keeps one process's
+    // SetUpTestSuite from wiping the folder another is reading.
+    folder_ =
+        new std::filesystem::path(std::filesystem::temp_directory_path() /
+                                  ("bouncecal_report_cli_test_" + std::to_string(::getpid())));
     std::filesystem::remove_all(*folder_);
     std::filesystem::create_directories(*folder_);
     // The report reads recordings through calibrate::LoadSequences; an analyze --json file is

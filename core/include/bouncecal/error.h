@@ -32,6 +32,13 @@ class OutputError : public Error {
   using Error::Error;
 };
 
+// A check the user asked for ran and did not pass, e.g. an exported deck whose trajectory misses
+// the card's restitution (exit status 5 in the CLI, so scripts can tell it from bad input).
+class CheckFailedError : public Error {
+ public:
+  using Error::Error;
+};
+
 }  // namespace bouncecal
 
 #endif  // BOUNCECAL_ERROR_H_
