@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <tuple>
 
 #include "bouncecal/audio/bounce_sequences.h"
 #include "bouncecal/audio/detect_file.h"
@@ -91,12 +92,19 @@ Score Evaluate(const std::string& condition, const SynthesisOptions& options) {
   return score;
 }
 
-// The contact is a 70 us half-sine: the sound grows as t^3 during it, so the first visible
-// rise comes a fraction of the contact after its start. The picker's median error on clean
-// 48 kHz audio is about +17 us, almost all of it this common bias (it is the same for every
-// impact of a drop to within a few us, since the contact time varies as v^-1/5, and cancels in
-// the intervals). 25 us bounds it; the issue's 10 us target is not met (see the report).
-constexpr double kCleanMedianS = 25e-6;
+// The contact is a 70 us half-sine: the sound grows as t^3 during it, so its first samples
+// hide in the noise and a change point alone is late by most of a sample (15 us at 48 kHz).
+// The picker fits the power law of the edge (onset_picker.h) and removes that bias: measured
+// 4.2 us at 40 dB (signed -1.0 us) and 4.0 us at 30 dB with this seed, 3-8 us and 4-10 us over
+// seeds 1-6 (docs/onset_timing.md). 10 us is the issue's target for clean 48 kHz recordings;
+// at 30 dB the edge's first sample is at the noise, so it gets 15 us; below, the issue's 50 us.
+constexpr double kCleanMedianS = 10e-6;
+constexpr double kThirtyDbMedianS = 15e-6;
+constexpr double kNoisyMedianS = 50e-6;
+
+double MedianBound(double snr_db) {
+  return snr_db >= 40 ? kCleanMedianS : snr_db >= 30 ? kThirtyDbMedianS : kNoisyMedianS;
+}
 
 TEST(DetectorGroundTruth, TimingAndRecallAcrossSnr) {
   for (double snr_db : {40.0, 30.0, 20.0, 15.0, 10.0}) {
@@ -106,8 +114,37 @@ TEST(DetectorGroundTruth, TimingAndRecallAcrossSnr) {
     // SNR refers to, 30 ms after the one before) may fall under the thresholds: one may be lost.
     EXPECT_GE(score.found, snr_db >= 30 ? score.truth : score.truth - 1) << snr_db;
     EXPECT_LE(score.extra, 1) << snr_db;
-    // The issue's targets: 10 dB SNR median <= 50 us; clean: see kCleanMedianS.
-    EXPECT_LT(score.median_abs_error_s, snr_db >= 30 ? kCleanMedianS : 50e-6) << snr_db;
+    EXPECT_LT(score.median_abs_error_s, MedianBound(snr_db)) << snr_db;
+  }
+}
+
+// The picker must not be tuned to one contact: a 40 us (hard, small ball) and a 150 us (softer)
+// contact, and a drop from 0.8 m with e = 0.6. Measured at 40 dB: 4.7, 4.0 and 4.5 us (3-5,
+// 4-11 and 3-6 us over seeds 1-6), so the clean target holds for the short contact and the
+// other drop and the long contact gets 15 us. At 10 dB the long contact's slow edge is buried
+// deepest: 47 us with this seed (28-72 us over seeds 1-6), so only the 40 us contact and the
+// other drop are held to the 50 us target there (measured 16.2 and 6.7 us); the 150 us one to
+// 80 us.
+TEST(DetectorGroundTruth, TimingHoldsForOtherContactDurationsAndDrops) {
+  for (double snr_db : {40.0, 10.0}) {
+    auto short_contact = Reference(snr_db);
+    short_contact.contact_duration_s = 40e-6;
+    auto long_contact = Reference(snr_db);
+    long_contact.contact_duration_s = 150e-6;
+    auto other_drop = Reference(snr_db);
+    other_drop.drop.drop_height_m = 0.8;
+    other_drop.drop.restitution.constant = 0.6;
+    const std::string snr = " at " + std::to_string(static_cast<int>(snr_db)) + " dB";
+    for (const auto& [name, options, clean_bound_s, noisy_bound_s] :
+         std::vector<std::tuple<std::string, SynthesisOptions, double, double>>{
+             {"contact 40 us" + snr, short_contact, kCleanMedianS, kNoisyMedianS},
+             {"contact 150 us" + snr, long_contact, 15e-6, 80e-6},
+             {"h 0.8 m, e 0.6" + snr, other_drop, kCleanMedianS, kNoisyMedianS}}) {
+      const auto score = Evaluate(name, options);
+      EXPECT_GE(score.found, score.truth - (snr_db >= 30 ? 0 : 2)) << name;
+      EXPECT_EQ(score.extra, 0) << name;
+      EXPECT_LT(score.median_abs_error_s, snr_db >= 40 ? clean_bound_s : noisy_bound_s) << name;
+    }
   }
 }
 
@@ -118,7 +155,8 @@ TEST(DetectorGroundTruth, SampleRatesFrom16To96kHz) {
     const auto score = Evaluate(std::to_string(rate) + " Hz", options);
     EXPECT_EQ(score.found, score.truth) << rate;
     EXPECT_EQ(score.extra, 0) << rate;
-    // Below 44.1 kHz the edge is a sample or two long: one sample (62.5 us at 16 kHz).
+    // Below 44.1 kHz the edge is a sample or two long: one sample (62.5 us at 16 kHz; measured
+    // 12.9 us). Measured 3.7 us at 44.1 kHz and 2.9 us at 96 kHz.
     EXPECT_LT(score.median_abs_error_s, rate >= 44100 ? kCleanMedianS : 1.0 / rate) << rate;
   }
 }
@@ -143,13 +181,11 @@ TEST(DetectorGroundTruth, ReverbEchoesPrecursorsClippingHumAndDc) {
     EXPECT_EQ(score.found, score.truth) << name;
     EXPECT_EQ(score.extra, 0) << name;
     // Clipping flattens the first peak and reverb fills the gap before an onset; 50 us (the
-    // noisy-recording target) bounds both. With a precursor 7 ms ahead, the picker's straight
-    // line through the 20 % and 60 % points of the rising edge lands 60 us late on the plate's
-    // t^3-like growth (measured 59.9 us on the Kirchhoff plate of the synthesiser); until the
-    // picker fits a power-law rise (issue 2, open) that case is held to 70 us so it cannot get
-    // worse unnoticed.
-    const double bound_s = name == "precursor 7 ms" ? 70e-6 : 50e-6;
-    EXPECT_LT(score.median_abs_error_s, bound_s) << name;
+    // noisy-recording target) bounds both (measured 4.2, 5.4 and 4.2 us for clipping, reverb
+    // and hum). With a precursor 7 ms ahead the impact rises most in the 6 kHz high-passed
+    // detection band, whose filter bends the t^3 edge over early and shortens it: 39.9 us, the
+    // same in every seed (it was 59.9 us before the edge fit).
+    EXPECT_LT(score.median_abs_error_s, kNoisyMedianS) << name;
   }
 }
 

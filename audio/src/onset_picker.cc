@@ -3,27 +3,207 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace bouncecal::audio {
 namespace {
 
-// Time (fractional index) where s * x first reaches level in [from, to], interpolated linearly
-// between samples; negative when it never does.
-double Crossing(std::span<const float> x, std::size_t from, std::size_t to, double sign,
-                double level) {
-  for (std::size_t i = std::max<std::size_t>(from, 1); i <= to; ++i) {
-    const double b = sign * x[i];
-    if (b >= level) {
-      const double a = sign * x[i - 1];
-      if (a >= level) return static_cast<double>(i - 1);
-      return static_cast<double>(i - 1) + (level - a) / (b - a);
+// A sample belongs to the impact's first lobe when it stands this many noise sigmas out: 4
+// sigma leaves a Gaussian noise sample one chance in 16,000 of being taken for the lobe.
+constexpr double kLobeNoiseSigmas = 4.0;
+// With no noise at all (digital silence before the impact), float rounding is the floor.
+constexpr double kLobeFloorFraction = 1e-3;
+// The first lobe's edge follows the power law up to about this fraction of the lobe's
+// extremum; above, the lobe bends over (see FitLeadingEdge in the header).
+constexpr double kEdgeCeiling = 0.6;
+// A lobe whose first sample above the noise is already at kShortEdgeLevel of its extremum,
+// while the noise threshold is below kShortEdgeNoiseFraction of it, rose within about one
+// sample: a t^3 edge that reaches half its extremum in one step from below 2 % is shorter than
+// two samples, so its start lies within 1.5 samples of that first sample whatever its power.
+constexpr double kShortEdgeLevel = 0.5;
+constexpr double kShortEdgeNoiseFraction = 0.02;
+// Samples of noise before the first lobe that enter the fit: they tell the fit where the edge
+// was still zero.
+constexpr std::size_t kNoiseSamplesInFit = 4;
+// Prior on the power p (see the header) and its range.
+constexpr double kPowerPrior = 3.0;
+constexpr double kPowerPriorSigma = 1.0;
+constexpr double kMinPower = 1.0;
+constexpr double kMaxPower = 4.0;
+// Model error of the power law, as a fraction of each sample.
+constexpr double kModelErrorFraction = 0.05;
+// Grid of the fit: t0 in steps of 1/8 sample and p in steps of 1/4, then a refinement around
+// the best point in steps of 1/64 sample and 1/20. The cost is smooth on these scales (the
+// edge spans several samples), so the grid finds its minimum to the refinement step without
+// the risk of a local search stopping in a side minimum, and it is deterministic.
+constexpr double kCoarseStep = 1.0 / 8;
+constexpr double kCoarsePowerStep = 0.25;
+constexpr double kFineStep = 1.0 / 64;
+constexpr double kFinePowerStep = 0.05;
+
+// Weighted least-squares fit of y ~ a u^p (a >= 0) for fixed t0 and several p at once, with
+// u_i = i - t0 and weights 1 / variance_i.
+class EdgeModel {
+ public:
+  EdgeModel(std::vector<double> y, std::vector<double> variance, double first_index)
+      : y_(std::move(y)), first_(first_index) {
+    for (std::size_t i = 0; i < y_.size(); ++i) {
+      weight_.push_back(1.0 / variance[i]);
+      wyy_ += weight_[i] * y_[i] * y_[i];
     }
   }
-  return -1.0;
-}
+
+  // Cost (chi-square plus the prior on p) of the best amplitude for t0 and each p of
+  // p0, p0 + dp, ..., p0 + (count - 1) dp; returns the lowest and its p.
+  double Best(double t0, double p0, double dp, int count, double& best_p) {
+    power_.resize(y_.size());
+    step_.resize(y_.size());
+    for (std::size_t i = 0; i < y_.size(); ++i) {
+      const double u = first_ + static_cast<double>(i) - t0;
+      power_[i] = u > 0 ? std::pow(u, p0) : 0.0;
+      step_[i] = u > 0 ? std::pow(u, dp) : 0.0;
+    }
+    double best = std::numeric_limits<double>::infinity();
+    for (int j = 0; j < count; ++j) {
+      const double p = p0 + j * dp;
+      double wyu = 0, wuu = 0;
+      for (std::size_t i = 0; i < y_.size(); ++i) {
+        wyu += weight_[i] * y_[i] * power_[i];
+        wuu += weight_[i] * power_[i] * power_[i];
+        power_[i] *= step_[i];  // u^(p + dp) for the next j, without a pow per sample
+      }
+      const double chi_square = wuu > 0 && wyu > 0 ? wyy_ - wyu * wyu / wuu : wyy_;
+      const double prior = (p - kPowerPrior) / kPowerPriorSigma;
+      const double cost = chi_square + prior * prior;
+      if (cost < best) {
+        best = cost;
+        best_p = p;
+      }
+    }
+    return best;
+  }
+
+ private:
+  std::vector<double> y_;
+  std::vector<double> weight_;
+  double first_;
+  double wyy_ = 0;
+  std::vector<double> power_;
+  std::vector<double> step_;
+};
 
 }  // namespace
+
+std::optional<OnsetPick> FitLeadingEdge(std::span<const float> x, std::size_t change_point,
+                                        double noise_rms) {
+  const std::size_t n = x.size();
+  if (change_point >= n) return std::nullopt;
+  // The first lobe: the first sample near the change point that stands out of the noise. Its
+  // sign is the lobe's; the largest sample may belong to a later, opposite lobe.
+  const std::size_t scan_begin = change_point >= 2 ? change_point - 2 : 0;
+  const std::size_t scan_end = std::min(n, change_point + 3);
+  double loudest = 0;
+  for (std::size_t i = scan_begin; i < scan_end; ++i) {
+    loudest = std::max(loudest, double{std::fabs(x[i])});
+  }
+  const double threshold = std::max(kLobeNoiseSigmas * noise_rms, kLobeFloorFraction * loudest);
+  std::size_t first = scan_begin;
+  while (first < scan_end && std::fabs(x[first]) < threshold) ++first;
+  if (first == scan_end || threshold <= 0) return std::nullopt;
+  const double sign = x[first] >= 0 ? 1.0 : -1.0;
+  std::size_t top = first;
+  while (top + 1 < n && sign * x[top + 1] >= sign * x[top]) ++top;
+  const double amplitude = sign * x[top];
+  // An edge that jumps from clean noise to half the lobe within one sample (an impulsive
+  // click, or a low sample rate) has one sample on its rise at most: its power cannot be told,
+  // and extrapolating it with the prior's p = 3 would put an impulsive (p = 1) onset a sample
+  // early. Contact began in the sample interval before the lobe, and nothing tells where.
+  // Where the noise is higher the edge's lower part may just be hidden in it, and the fit with
+  // its prior on p extrapolates it.
+  if (sign * x[first] >= kShortEdgeLevel * amplitude &&
+      threshold <= kShortEdgeNoiseFraction * amplitude) {
+    return OnsetPick{static_cast<double>(first) - 0.5, 1.0 / std::sqrt(12.0)};
+  }
+  std::size_t last = first;
+  while (last < top && sign * x[last + 1] < kEdgeCeiling * amplitude) ++last;
+  // A lone sample above the noise fits any onset before it: take the next one in as well.
+  std::size_t significant = 0;
+  for (std::size_t i = first; i <= last; ++i) significant += sign * x[i] >= threshold ? 1 : 0;
+  if (significant < 2 && last < top) ++last;
+
+  const std::size_t from = first >= kNoiseSamplesInFit ? first - kNoiseSamplesInFit : 0;
+  std::vector<double> y;
+  for (std::size_t i = from; i <= last; ++i) y.push_back(sign * x[i]);
+  // Each sample's variance: the noise, plus the power law's own error, relative to the sample
+  // (so the samples before the edge keep the noise's full weight and pin the start down), plus
+  // a float-rounding floor for digital silence.
+  std::vector<double> variance;
+  for (double v : y) {
+    const double model_error = kModelErrorFraction * v;
+    const double rounding = kLobeFloorFraction * kLobeFloorFraction * amplitude;
+    variance.push_back(noise_rms * noise_rms + model_error * model_error + rounding * rounding);
+  }
+  EdgeModel model(std::move(y), std::move(variance), static_cast<double>(from));
+
+  // Contact starts before the lobe's first sample (already above the noise) and, for an edge
+  // that stands out of the noise within a few samples, at most kNoiseSamplesInFit before it.
+  const double t_begin = static_cast<double>(from);
+  const double t_end = static_cast<double>(first);
+  const int coarse_powers =
+      static_cast<int>(std::lround((kMaxPower - kMinPower) / kCoarsePowerStep)) + 1;
+  std::vector<double> profile;  // lowest cost over p at each coarse t0
+  double best_cost = std::numeric_limits<double>::infinity();
+  double best_t0 = t_begin;
+  double best_p = kPowerPrior;
+  for (double t0 = t_begin; t0 < t_end; t0 += kCoarseStep) {
+    double p = 0;
+    profile.push_back(model.Best(t0, kMinPower, kCoarsePowerStep, coarse_powers, p));
+    if (profile.back() < best_cost) {
+      best_cost = profile.back();
+      best_t0 = t0;
+      best_p = p;
+    }
+  }
+  const std::size_t coarse_at =
+      static_cast<std::size_t>(std::lround((best_t0 - t_begin) / kCoarseStep));
+  const double p_low = std::max(kMinPower, best_p - kCoarsePowerStep);
+  const double p_high = std::min(kMaxPower, best_p + kCoarsePowerStep);
+  const int fine_powers = static_cast<int>(std::lround((p_high - p_low) / kFinePowerStep)) + 1;
+  const double centre = best_t0;
+  for (double t0 = std::max(t_begin, centre - kCoarseStep);
+       t0 <= std::min(t_end - kFineStep, centre + kCoarseStep); t0 += kFineStep) {
+    double p = 0;
+    const double cost = model.Best(t0, p_low, kFinePowerStep, fine_powers, p);
+    if (cost < best_cost) {
+      best_cost = cost;
+      best_t0 = t0;
+    }
+  }
+
+  // Profile-likelihood interval: where the coarse profile stays within 1 of the minimum,
+  // with the crossings interpolated between grid points. An interval that reaches the end of
+  // the search range is cut there: contact cannot start outside it.
+  const double level = best_cost + 1.0;
+  auto crossing = [&](std::size_t inside, std::size_t outside) {
+    const double a = profile[inside] - level;
+    const double b = profile[outside] - level;
+    const double f = a < 0 && b > a ? -a / (b - a) : 0.5;
+    return t_begin +
+           kCoarseStep * (static_cast<double>(inside) +
+                          f * (static_cast<double>(outside) - static_cast<double>(inside)));
+  };
+  std::size_t lo = coarse_at;
+  while (lo > 0 && profile[lo - 1] <= level) --lo;
+  std::size_t hi = coarse_at;
+  while (hi + 1 < profile.size() && profile[hi + 1] <= level) ++hi;
+  const double interval_begin = lo > 0 ? crossing(lo, lo - 1) : t_begin;
+  const double interval_end = hi + 1 < profile.size() ? crossing(hi, hi + 1) : t_end;
+  OnsetPick pick;
+  pick.index = best_t0;
+  pick.sigma_samples = std::max(0.5 * (interval_end - interval_begin), kFineStep);
+  return pick;
+}
 
 OnsetPick PickOnset(std::span<const float> x, std::size_t search_begin, std::size_t search_end) {
   const std::size_t n = x.size();
@@ -70,39 +250,20 @@ OnsetPick PickOnset(std::span<const float> x, std::size_t search_begin, std::siz
   pick.index = static_cast<double>(best_k) - 0.5;
   pick.sigma_samples = std::hypot(half_width, quantisation);
 
-  // Sub-sample refinement: follow the first half-cycle of the impact to its extremum and
-  // extrapolate the line through its 20 % and 60 % crossings back to zero. The radiated
-  // pressure of a plate mode driven by a contact force that grows from zero rises linearly at
-  // first, so a line through the lower part of the edge meets zero at the start of contact.
-  const double noise_rms = std::sqrt(prefix[best_k] / static_cast<double>(best_k));
-  std::size_t lead = best_k;
-  for (std::size_t i = best_k; i < std::min(best_k + 3, n); ++i) {
-    if (std::fabs(x[i]) > std::fabs(x[lead])) lead = i;
-  }
-  const double sign = x[lead] >= 0 ? 1.0 : -1.0;
-  std::size_t top = best_k;
-  while (sign * x[top] <= 0 && top < lead) ++top;
-  while (top + 1 < n && sign * x[top + 1] >= sign * x[top]) ++top;
-  const double amplitude = sign * x[top];
-  if (amplitude < 5.0 * noise_rms || top <= best_k) return pick;
-  const std::size_t from = best_k >= 3 ? best_k - 3 : 0;
-  // Keep both levels clear of the noise, or the crossings are noise-driven.
-  const double low = std::max(0.2 * amplitude, 2.0 * noise_rms);
-  const double high = std::max(0.6 * amplitude, low + 2.0 * noise_rms);
-  if (high >= amplitude) return pick;
-  const double t_low = Crossing(x, from, top, sign, low);
-  const double t_high = Crossing(x, from, top, sign, high);
-  if (t_low < 0 || t_high <= t_low) return pick;
-  const double slope = (high - low) / (t_high - t_low);
-  const double onset = t_low - low / slope;
-  // Trust the extrapolation only where it agrees with the AIC change point.
-  if (onset < static_cast<double>(best_k) - 4.0 || onset > static_cast<double>(best_k) + 1.0) {
+  // The noise before the impact; the two samples before the change point may already hold
+  // the faint start of the edge, so they are left out where there is enough noise without them.
+  const std::size_t noise_end = best_k >= 10 ? best_k - 2 : best_k;
+  const double noise_rms = std::sqrt(prefix[noise_end] / static_cast<double>(noise_end));
+  const auto edge = FitLeadingEdge(x, best_k, noise_rms);
+  // Trust the fit only where it agrees with the change point.
+  if (!edge || edge->index < static_cast<double>(best_k) - 4.0 ||
+      edge->index > static_cast<double>(best_k) + 1.0) {
     return pick;
   }
-  pick.index = onset;
-  // Noise moves each crossing by about noise_rms / slope.
-  const double timing = std::sqrt(2.0) * noise_rms / slope;
-  pick.sigma_samples = std::hypot(quantisation, timing, 0.5 * half_width);
+  pick.index = edge->index;
+  // The change point's spread stands for what the fit cannot see: whether an earlier, fainter
+  // lobe hid in the noise.
+  pick.sigma_samples = std::hypot(edge->sigma_samples, 0.5 * half_width);
   return pick;
 }
 

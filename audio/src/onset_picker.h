@@ -2,6 +2,7 @@
 #define BOUNCECAL_AUDIO_SRC_ONSET_PICKER_H_
 
 #include <cstddef>
+#include <optional>
 #include <span>
 
 namespace bouncecal::audio {
@@ -14,14 +15,35 @@ struct OnsetPick {
 // Start of contact inside a window of band-passed samples that holds noise (or the tail of an
 // earlier impact) followed by the rising edge of one impact, up to its first peak.
 //
-// The change point is the minimum of the Akaike information criterion of a two-segment model
-// (Maeda 1985; Sleeman & van Eck, PEPI 113, 1999), searched in [search_begin, search_end). The
-// AIC is -2 log L up to constants, so the points within 1 of its minimum form a one-sigma
-// profile-likelihood interval: its half-width, with the quantisation floor 1/sqrt(12) sample,
-// is the uncertainty. The change point is then refined below one sample by extrapolating the
-// leading edge of the first rise back to the noise level.
+// Two stages (docs/onset_timing.md compares them and the alternatives on synthetic recordings):
+//  1. The change point is the minimum of the Akaike information criterion of a two-segment
+//     model (Maeda 1985; Sleeman & van Eck, PEPI 113, 1999), searched in [search_begin,
+//     search_end). It finds the first sample that belongs to the impact, but on its own it is
+//     late by most of a sample: the sound of a contact grows from zero smoothly, so its first
+//     samples hide in the noise.
+//  2. FitLeadingEdge (below) fits a power law to the leading edge of the impact's first lobe
+//     and takes its origin. When no edge stands out of the noise the change point is kept.
 OnsetPick PickOnset(std::span<const float> window, std::size_t search_begin,
                     std::size_t search_end);
+
+// Leading-edge fit. The contact force of a ball on a plate grows from zero (linearly for a
+// half-sine or linear-spring pulse, as t^(3/2) for a Hertz contact; Johnson 1985, ch. 11) and
+// every plate mode, whose impulse response starts as sin(w t) ~ t, integrates it once more,
+// so the radiated sound starts as a (t - t0)^p with p ~ 3 (3.5 for Hertz); a microphone or
+// filter that differentiates lowers p, an impulsive click has p = 1. The model
+//     y_i = a (i - t0)^p for i > t0, 0 before,  a >= 0, p in [1, 4],
+// is fitted by least squares to the samples from four before the first lobe up to the last one
+// below 60 % of the lobe's extremum (above it the lobe bends over to its peak and the
+// power law no longer holds). At 48 kHz the edge of a 70 us contact holds only two or three
+// samples above the noise, too few to pin p down, so p has a Gaussian prior 3 +- 1 (the
+// physics above) that the data overrule when they can (an impulsive onset in clean audio).
+// Each sample's variance is the noise's plus 5 % of the sample for the model's own error. The
+// uncertainty is the half-width of the profile-likelihood interval (cost within 1 of its minimum)
+// in t0. A lobe that jumps from clean noise to half its extremum in one sample has no edge to
+// fit: the onset is then put in the middle of the sample interval before it (+- 1/sqrt(12)).
+// Returns nothing when no lobe stands 4 noise_rms above the noise near change_point.
+std::optional<OnsetPick> FitLeadingEdge(std::span<const float> x, std::size_t change_point,
+                                        double noise_rms);
 
 }  // namespace bouncecal::audio
 
