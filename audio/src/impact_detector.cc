@@ -13,6 +13,7 @@
 #include "bouncecal/error.h"
 #include "noise_floor.h"
 #include "onset_picker.h"
+#include "power_db.h"
 #include "prediction_innovation.h"
 #include "ringing_residual.h"
 #include "sample_history.h"
@@ -44,7 +45,7 @@ constexpr int kInnovationOrder = 24;
 // History kept for the picker and the peak level; longer than every window above together.
 constexpr double kHistoryS = 0.1;
 
-double ToDb(double power) { return 10.0 * std::log10(std::max(power, kTinyPower)); }
+double ToDb(double power) { return PowerToDb(std::max(power, kTinyPower)); }
 
 void Require(bool ok, const std::string& what) {
   if (!ok) throw ConfigError(what);

@@ -1,6 +1,7 @@
 #include "bouncecal/audio/load_recording.h"
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "bouncecal/error.h"
@@ -47,17 +48,29 @@ bool RecordingReader::ReadBlock(std::vector<std::vector<float>>& channels, std::
   channels.resize(channel_count);
   interleaved_.resize(max_frames * channel_count);
   const std::int64_t got = finished_ ? 0 : file_->ReadFrames(interleaved_);
-  for (std::size_t c = 0; c < channel_count; ++c) channels[c].resize(static_cast<size_t>(got));
-  for (std::int64_t f = 0; f < got; ++f) {
-    for (std::size_t c = 0; c < channel_count; ++c) {
-      const float x = interleaved_[static_cast<size_t>(f) * channel_count + c];
-      if (!std::isfinite(x)) {
-        throw InputError(info_.path.string() + ": sample " + std::to_string(frames_read_ + f) +
-                         " of channel " + std::to_string(c) +
-                         " is NaN or infinite; the file is damaged, re-export it");
+  const auto frames = static_cast<std::size_t>(got);
+  // One branch-free pass over the block (it vectorises; NaN fails the comparison), and the
+  // sample-by-sample search only when it found something: checking each sample with a branch
+  // cost as much as the band filter.
+  bool finite = true;
+  for (std::size_t i = 0; i < frames * channel_count; ++i) {
+    finite &= std::fabs(interleaved_[i]) <= std::numeric_limits<float>::max();
+  }
+  if (!finite) {
+    for (std::size_t i = 0; i < frames * channel_count; ++i) {
+      if (!std::isfinite(interleaved_[i])) {
+        throw InputError(
+            info_.path.string() + ": sample " +
+            std::to_string(frames_read_ + static_cast<std::int64_t>(i / channel_count)) +
+            " of channel " + std::to_string(i % channel_count) +
+            " is NaN or infinite; the file is damaged, re-export it");
       }
-      channels[c][static_cast<size_t>(f)] = x;
     }
+  }
+  for (std::size_t c = 0; c < channel_count; ++c) {
+    auto& channel = channels[c];
+    channel.resize(frames);
+    for (std::size_t f = 0; f < frames; ++f) channel[f] = interleaved_[f * channel_count + c];
   }
   frames_read_ += got;
   if (got > 0) return true;

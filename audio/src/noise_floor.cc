@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "power_db.h"
+
 namespace bouncecal::audio {
 
 NoiseFloor::NoiseFloor(double frame_s, double smoothing_s, double window_s, int subwindows)
@@ -31,7 +33,7 @@ void NoiseFloor::Add(double power) {
 double NoiseFloor::db() const {
   double floor = started_ ? current_min_ : 0.0;
   for (std::size_t i = 0; i < stored_; ++i) floor = std::min(floor, minima_[i]);
-  return 10.0 * std::log10(std::max(floor, 1e-14));
+  return PowerToDb(std::max(floor, 1e-14));
 }
 
 }  // namespace bouncecal::audio
