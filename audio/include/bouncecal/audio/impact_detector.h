@@ -55,6 +55,12 @@ struct Impact {
   double peak_dbfs = 0;            // peak |x| of the raw signal within 5 ms of the onset
   double rise_db = 0;              // how far the envelope rose above what was there before
   double snr_db = 0;               // envelope peak above the noise floor
+  // Only the ringing residual's evidence made this an impact: no band energy rose by the full
+  // rise_threshold_db, or it stood above the noise under the ringing but not above the band's
+  // own floor. That is how an impact buried in the tail of earlier ones looks, and also how
+  // handling noise and speech can look, so FindBounceSequences takes such an impact only where
+  // a bounce sequence predicts one, never to start a sequence.
+  bool residual_only = false;
 };
 
 // A rise that was merged into a louder impact less than min_gap_ms away.
