@@ -267,7 +267,7 @@ TEST(DetectorGroundTruth, ImpactsInsideALongRingingFreePlateAreFound) {
       "[ figures  ] free plate, all: recall %d/%d  extra %d  |error| median %.1f us  p90 %.1f us\n",
       found, truth, extra, median * 1e6, p90 * 1e6);
   // The synthesiser's Kirchhoff plate packs 61 modes 220 Hz apart; the earlier complex-domain
-  // residual (one tone per bin) found 87/144 on it, the per-bin novelty finds 134/144 with no
+  // residual (one tone per bin) found 87/144 on it, the per-bin novelty finds 137/144 with no
   // extra (measured). The target: at least 93 % found, at most 3 % extras. The misses
   // are the last one or two impacts of some drops, 30-40 ms after the previous one and
   // 20-25 dB under the tail.

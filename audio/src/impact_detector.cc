@@ -171,6 +171,7 @@ class ImpactDetector::Impl {
     double group_band_rise_db = 0;  // the same, from the filtered bands alone
     // False when only the ringing residual rose: its level is then mostly the tail it is in.
     bool band_rose = true;
+    bool continuation = false;  // the rest of a sound whose candidate was closed while rising
     std::vector<MergedEvent> others;
   };
 
@@ -321,13 +322,16 @@ class ImpactDetector::Impl {
     // recent level is near the noise, the band rises are as sensitive and the residual would
     // only split a hit that builds up slowly into two candidates. The noise is the residual's
     // floor: under continuous ringing the band's own minimum-statistics floor is the ringing.
+    // (The tail test costs a log per frame, so it is only made when the novelty could count.)
     const Band& residual = bands_[residual_band_];
+    const double novelty_rise_db =
+        residual.ahead.max() * options_.rise_threshold_db / kNoveltyAtThresholdDb;
     const bool tail_present =
-        options_.ringing_residual && residual.floor.started() &&
+        options_.ringing_residual && novelty_rise_db >= secondary_threshold_db_ &&
+        residual.floor.started() &&
         bands_[0].reference.max() - residual.floor.db() >= options_.rise_threshold_db;
     const double residual_rise_db =
-        tail_present ? residual.ahead.max() * options_.rise_threshold_db / kNoveltyAtThresholdDb
-                     : -std::numeric_limits<double>::infinity();
+        tail_present ? novelty_rise_db : -std::numeric_limits<double>::infinity();
     // A residual frame spans a few ms, so after a hit it stays above its pre-hit reference for
     // that long: the residual opens a candidate only after it has fallen back below the
     // threshold once (hysteresis), never on the lingering frames of the last candidate.
@@ -343,6 +347,10 @@ class ImpactDetector::Impl {
       candidate_residual_rise_db_ = std::max(candidate_residual_rise_db_, residual_rise_db);
       if ((n - candidate_peak_frame_ >= peak_frames_ && n - candidate_frame_ >= peak_frames_) ||
           n - candidate_frame_ >= max_open_frames_) {
+        // Closed at max_open while the envelope still reached new peaks: its pick window ended
+        // at the sound's peak so far and found its onset; a candidate opening right after is
+        // the rest of the same sound, whose own window cannot reach back past that peak.
+        still_rising_until_ = n - candidate_peak_frame_ < peak_frames_ ? n + peak_frames_ : -1;
         CloseCandidate();
       }
       residual_armed_ = false;
@@ -351,6 +359,7 @@ class ImpactDetector::Impl {
       // No re-arming hysteresis in the bands: a sound that keeps rising (a precursor growing into
       // the hit) opens a new candidate every peak window, and Merge keeps the loudest of them.
       open_ = true;
+      candidate_continues_ = n <= still_rising_until_;
       candidate_frame_ = m;
       candidate_rise_db_ = band_rise_db;
       candidate_band_ = rising_band;
@@ -396,8 +405,16 @@ class ImpactDetector::Impl {
     // The onset is picked in the same band, where the impact stands out most from what was
     // there before; the window ends at the impact's largest sample.
     const SampleHistory<float>& samples = bands_[candidate_band_].samples;
-    const std::int64_t search_begin =
-        std::max(samples.begin(), (candidate_frame_ - 2 * skip_frames_) * hop_);
+    const bool in_ringing = candidate_rise_db_ < secondary_threshold_db_;
+    std::int64_t search_from = (candidate_frame_ - 2 * skip_frames_) * hop_;
+    if (in_ringing) {
+      // The residual's frame that fired ended by frame n = candidate + attack, and the onset
+      // lies inside that frame's window (its Hann taper hides a new sound at the window's end,
+      // so the novelty may rise a few ms after the onset): search from the window's start.
+      search_from = std::min(
+          search_from, (candidate_frame_ + attack_frames_ + 1) * hop_ - residual_.window_samples());
+    }
+    const std::int64_t search_begin = std::max(samples.begin(), search_from);
     const std::int64_t peak_end = std::min(samples.end(), (candidate_peak_frame_ + 1) * hop_);
     std::int64_t peak = search_begin;
     for (std::int64_t i = search_begin; i < peak_end; ++i) {
@@ -408,7 +425,6 @@ class ImpactDetector::Impl {
     std::int64_t window_end = std::min(samples.end(), peak + 2);
     const auto begin_offset =
         static_cast<std::size_t>(std::max<std::int64_t>(0, search_begin - window_begin));
-    const bool in_ringing = candidate_rise_db_ < secondary_threshold_db_;
     if (in_ringing) {
       // Only the ringing residual rose: the impact is buried in the tail of earlier ones, and
       // the largest sample is the tail's, so the onset is picked on the linear-prediction
@@ -438,6 +454,9 @@ class ImpactDetector::Impl {
     const auto end_offset =
         static_cast<std::size_t>(std::max<std::int64_t>(0, peak + 1 - pick_begin));
     const OnsetPick pick = PickOnset(window_, pick_offset, end_offset);
+    // The rest of a sound whose candidate closed while rising cannot pick an onset before that
+    // candidate's peak: when its search starts before that peak its onset is not trusted.
+    const bool continuation = candidate_continues_ && search_begin <= last_peak_sample_;
     last_peak_sample_ = peak;
 
     Impact impact;
@@ -455,7 +474,13 @@ class ImpactDetector::Impl {
       peak_abs = std::max(peak_abs, double{std::fabs(raw_[i])});
     }
     impact.peak_dbfs = 20.0 * std::log10(std::max(peak_abs, 1e-7));
-    Merge({impact, candidate_peak_db_, impact.rise_db, candidate_rise_db_, !in_ringing, {}});
+    Merge({impact,
+           candidate_peak_db_,
+           impact.rise_db,
+           candidate_rise_db_,
+           !in_ringing,
+           continuation,
+           {}});
   }
 
   // Groups rises closer than min_gap_ms to the loudest one so far: a precursor before a hit or
@@ -472,9 +497,9 @@ class ImpactDetector::Impl {
           std::max(pending_->group_band_rise_db, next.group_band_rise_db);
       // A rise seen only in the residual a few ms after a hit sits in that hit's tail, whose
       // level it shares: it never takes the onset from a hit that rose in the bands.
-      const bool next_wins = next.band_rose == pending_->band_rose
-                                 ? next.level_db > pending_->level_db
-                                 : next.band_rose;
+      const bool next_wins = !next.continuation && (next.band_rose == pending_->band_rose
+                                                        ? next.level_db > pending_->level_db
+                                                        : next.band_rose);
       if (next_wins) {
         std::snprintf(text, sizeof text,
                       "precursor %.1f ms before a louder impact (merged; --min-gap-ms %.3g)",
@@ -532,6 +557,8 @@ class ImpactDetector::Impl {
   std::int64_t frame_count_ = 0;
 
   bool open_ = false;
+  bool candidate_continues_ = false;
+  std::int64_t still_rising_until_ = -1;
   std::int64_t candidate_frame_ = 0;
   std::int64_t candidate_peak_frame_ = 0;
   std::size_t candidate_band_ = 0;

@@ -27,13 +27,13 @@ namespace bouncecal::audio {
 // STFT; Bello et al. 2004), which assumes one tone per bin: on a free steel plate with modes
 // ~220 Hz apart two or more modes share every 375 Hz bin, beat, and the prediction failed in
 // exactly the tails it was for (87 of 144 impacts found on the synthesiser's Kirchhoff plate,
-// against 138 with this novelty; a time-domain LPC residual of order 32-128 did no better than
+// against 137 with this novelty; a time-domain LPC residual of order 32-128 did no better than
 // the old one: the plate's 61 modes need more poles than a 20 ms fit can estimate).
 class RingingResidual {
  public:
   // Window of about 5.3 ms (a power of two in samples, at least 32): bins ~190 Hz wide, narrow
   // enough to resolve most plate modes, and short against the 30 ms of the shortest bounce
-  // flights worth timing. Hop a quarter of it. Bins outside [band_low_hz, band_high_hz]
+  // flights worth timing. Hop a third of it. Bins outside [band_low_hz, band_high_hz]
   // (band_high_hz <= 0: up to Nyquist) are ignored.
   RingingResidual(int sample_rate_hz, double band_low_hz, double band_high_hz);
 
@@ -71,6 +71,8 @@ class RingingResidual {
   // Bin powers of the last lookback + skip + 1 frames, frame-major (a ring of frames).
   std::vector<float> history_;
   std::vector<float> reference_;
+  std::vector<float> prefix_;  // running maximum since the start of the current block
+  std::vector<float> suffix_;  // suffix maxima of the last complete block, frame-major
   std::vector<float> sorted_;
   std::int64_t frames_ = 0;
   double novelty_db_ = 0;
