@@ -111,5 +111,39 @@ TEST(BounceSequences, BadOptionsAreConfigErrors) {
   EXPECT_THROW(FindBounceSequences({}, options), ConfigError);
 }
 
+// Impacts that only the ringing residual found (Impact::residual_only) are weak evidence: they
+// continue a sequence where a bounce is due, but never start one or make up its minimum count.
+TEST(BounceSequences, ResidualOnlyImpactsContinueASequenceButNeverMakeOne) {
+  const auto times = Drop(0.5, 0.4, 0.8, 8);
+  auto impacts = ToImpacts(times);
+  // The last four are buried in the tail: found by the residual only, at the tail's level.
+  for (std::size_t i = 4; i < impacts.size(); ++i) {
+    impacts[i].residual_only = true;
+    impacts[i].peak_dbfs = -3;
+  }
+  // A residual-only stray 30 ms after the 5th bounce, nowhere near where the 6th is due.
+  Impact stray = impacts[4];
+  stray.onset_s += 0.03;
+  impacts.insert(impacts.begin() + 5, stray);
+  const auto result = FindBounceSequences(impacts);
+  ASSERT_EQ(result.sequences.size(), 1u);
+  std::vector<double> members;
+  for (int i : result.sequences[0].impact_indices) {
+    members.push_back(impacts[static_cast<std::size_t>(i)].onset_s);
+  }
+  EXPECT_EQ(members, times);
+  ASSERT_EQ(result.rejected.size(), 1u);
+  EXPECT_DOUBLE_EQ(result.rejected[0].time_s, stray.onset_s);
+
+  // Three strong impacts and five residual-only ones: no sequence (min_impacts is 4), however
+  // well the weak ones fit.
+  auto weak = ToImpacts(times);
+  for (std::size_t i = 3; i < weak.size(); ++i) weak[i].residual_only = true;
+  EXPECT_TRUE(FindBounceSequences(weak).sequences.empty());
+  // And a run of residual-only impacts alone never starts one.
+  for (auto& impact : weak) impact.residual_only = true;
+  EXPECT_TRUE(FindBounceSequences(weak).sequences.empty());
+}
+
 }  // namespace
 }  // namespace bouncecal::audio
