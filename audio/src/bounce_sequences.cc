@@ -306,4 +306,56 @@ SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
   return result;
 }
 
+std::vector<Impact> ExtendSequencesWithTentative(const std::vector<Impact>& impacts,
+                                                 const std::vector<Impact>& tentative,
+                                                 const SequenceOptions& options) {
+  const SequenceResult grouping = FindBounceSequences(impacts, options);
+  std::vector<Impact> result = impacts;
+  std::vector<bool> adopted(tentative.size(), false);
+  const auto onset = [&](int i) { return impacts[static_cast<size_t>(i)].onset_s; };
+  // Weak evidence gets half the ratio tolerance a detected impact gets.
+  const double tolerance = 0.5 * options.ratio_step_tolerance;
+  const double chatter_s = 1e-3 * options.chatter_interval_ms;
+  for (const auto& sequence : grouping.sequences) {
+    const auto& members = sequence.impact_indices;
+    if (members.size() < 3) continue;
+    double before = onset(members[members.size() - 3]);
+    double previous = onset(members[members.size() - 2]);
+    double last = onset(members.back());
+    while (true) {
+      const double dt = last - previous;
+      const double ratio = dt / (previous - before);
+      const double from_s = last + std::max(options.min_ratio, ratio - tolerance) * dt;
+      const double to_s = last + std::min(options.max_ratio, ratio + tolerance) * dt;
+      if (to_s - last < chatter_s) break;
+      // A detected impact in the window did not fit the sequence: the window is ambiguous.
+      const bool occupied = std::any_of(impacts.begin(), impacts.end(), [&](const Impact& i) {
+        return i.onset_s >= from_s && i.onset_s <= to_s;
+      });
+      if (occupied) break;
+      const double predicted_s = last + ratio * dt;
+      int best = -1;
+      for (size_t t = 0; t < tentative.size(); ++t) {
+        const double t_s = tentative[t].onset_s;
+        if (adopted[t] || t_s < from_s || t_s > to_s || t_s - last < chatter_s) continue;
+        if (best < 0 || std::fabs(t_s - predicted_s) <
+                            std::fabs(tentative[static_cast<size_t>(best)].onset_s - predicted_s)) {
+          best = static_cast<int>(t);
+        }
+      }
+      if (best < 0) break;
+      adopted[static_cast<size_t>(best)] = true;
+      Impact impact = tentative[static_cast<size_t>(best)];
+      impact.residual_only = true;
+      result.push_back(impact);
+      before = previous;
+      previous = last;
+      last = impact.onset_s;
+    }
+  }
+  std::sort(result.begin(), result.end(),
+            [](const Impact& a, const Impact& b) { return a.onset_s < b.onset_s; });
+  return result;
+}
+
 }  // namespace bouncecal::audio

@@ -145,5 +145,27 @@ TEST(BounceSequences, ResidualOnlyImpactsContinueASequenceButNeverMakeOne) {
   EXPECT_TRUE(FindBounceSequences(weak).sequences.empty());
 }
 
+// Tentative impacts (rises too weak to count alone) become impacts only where they continue a
+// sequence, near t_n + r dt_n.
+TEST(BounceSequences, TentativeImpactsExtendASequenceOnlyWhereTheNextBounceIsDue) {
+  const auto times = Drop(0.5, 0.4, 0.8, 10);
+  const std::vector<double> strong_times(times.begin(), times.begin() + 6);
+  // The last four bounces are tentative, and so are three noise events: one 30 ms after the
+  // 8th bounce (a ratio of 0.2, far from 0.8), two before the drop.
+  std::vector<double> tentative_times(times.begin() + 6, times.end());
+  tentative_times.push_back(times[7] + 0.03);
+  tentative_times.push_back(0.1);
+  tentative_times.push_back(0.3);
+  const auto extended =
+      ExtendSequencesWithTentative(ToImpacts(strong_times), ToImpacts(tentative_times));
+  std::vector<double> onsets;
+  for (const auto& impact : extended) onsets.push_back(impact.onset_s);
+  EXPECT_EQ(onsets, times);
+  for (std::size_t i = 0; i < extended.size(); ++i) EXPECT_EQ(extended[i].residual_only, i >= 6);
+  // Without a sequence to continue nothing is adopted.
+  EXPECT_EQ(ExtendSequencesWithTentative(ToImpacts({0.5, 0.9}), ToImpacts(tentative_times)).size(),
+            2u);
+}
+
 }  // namespace
 }  // namespace bouncecal::audio

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "band_filter.h"
+#include "bouncecal/audio/bounce_sequences.h"
 #include "bouncecal/error.h"
 #include "noise_floor.h"
 #include "onset_picker.h"
@@ -160,6 +161,7 @@ class ImpactDetector::Impl {
                        snr.end());
       result_.impact_to_noise_db = snr[snr.size() / 2];
     }
+    AdoptTentative();
     return std::move(result_);
   }
 
@@ -526,6 +528,16 @@ class ImpactDetector::Impl {
     pending_ = next;
   }
 
+  // A bounce sequence is a strong prior: the next impact is due near t_k + e dt_k. A rise of
+  // only half the threshold (a quiet late bounce in a tail, or noise) is kept as tentative and
+  // becomes an impact only where it continues a bounce sequence found without it, inside the
+  // window where its next bounce is predicted (ExtendSequencesWithTentative, default
+  // SequenceOptions): the lower threshold applies only there.
+  void AdoptTentative() {
+    if (tentative_.empty() || result_.impacts.empty()) return;
+    result_.impacts = ExtendSequencesWithTentative(result_.impacts, tentative_);
+  }
+
   void EmitPending() {
     if (pending_ && pending_->group_rise_db >= options_.rise_threshold_db) {
       if (pending_->group_band_rise_db < options_.rise_threshold_db) {
@@ -533,6 +545,10 @@ class ImpactDetector::Impl {
       }
       result_.impacts.push_back(pending_->impact);
       for (auto& other : pending_->others) result_.merged.push_back(std::move(other));
+    } else if (pending_ && pending_->impact.snr_db >= options_.min_snr_db) {
+      // Rose by at least half the threshold: not an impact on its own (see AdoptTentative).
+      pending_->impact.residual_only = true;
+      tentative_.push_back(pending_->impact);
     }
     pending_.reset();
   }
@@ -572,6 +588,7 @@ class ImpactDetector::Impl {
   double candidate_peak_db_ = 0;
   std::int64_t last_peak_sample_ = -1;
   std::optional<Pending> pending_;
+  std::vector<Impact> tentative_;  // rises of half the threshold, see AdoptTentative
   DetectionResult result_;
 };
 
