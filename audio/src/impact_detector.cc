@@ -247,12 +247,20 @@ class ImpactDetector::Impl {
       residual_noise_.clear();
       const bool use_residual = options_.ringing_residual;
       std::int64_t fill = fill_at_start;
-      for (float y : blocks_[0]) {
-        if (use_residual && residual_.Push(y)) {
+      // In runs that end where a residual frame or an envelope frame completes, not sample by
+      // sample (same result: a frame completed by a sample counts for that sample's envelope
+      // frame).
+      const std::span<const float> block(blocks_[0]);
+      for (std::size_t at = 0; at < block.size();) {
+        std::size_t run = std::min(block.size() - at, static_cast<std::size_t>(hop_ - fill));
+        if (use_residual) run = std::min(run, residual_.samples_to_frame());
+        if (use_residual && residual_.PushRun(block.subspan(at, run))) {
           residual_novelty_db_ = residual_.novelty_db();
           residual_noise_power_ = residual_.noise_power();
         }
-        if (++fill == hop_) {
+        at += run;
+        fill += static_cast<std::int64_t>(run);
+        if (fill == hop_) {
           band.frame_powers.push_back(residual_novelty_db_);
           residual_noise_.push_back(residual_noise_power_);
           fill = 0;

@@ -113,13 +113,20 @@ void RingingResidual::Analyse() {
     for (std::size_t k = 0; k < bins_; ++k) {
       reference_[k] = std::max(1.0f, current[k] / std::max(reference_[k], kTinyPower));
     }
+    // The running product is renormalised by its binary exponent after every 8 bins, so the
+    // whole sum costs one log.
     constexpr std::size_t kChunk = 8;
-    double sum_log10 = 0;
+    double mantissa = 1;
+    long long exponent = 0;
     for (std::size_t k = 0; k < bins_; k += kChunk) {
-      double product = 1;
+      double product = mantissa;
       for (std::size_t i = k; i < std::min(bins_, k + kChunk); ++i) product *= reference_[i];
-      sum_log10 += std::log10(product);
+      int e = 0;
+      mantissa = std::frexp(product, &e);
+      exponent += e;
     }
+    const double sum_log10 = (static_cast<double>(exponent) + std::log2(mantissa)) *
+                             std::numbers::ln2 / std::numbers::ln10;
     novelty_db_ = 10.0 * sum_log10 / static_cast<double>(bins_);
   }
   // Once per window length: frames that far apart share no samples, and the floor built from

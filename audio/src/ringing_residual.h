@@ -1,7 +1,9 @@
 #ifndef BOUNCECAL_AUDIO_SRC_RINGING_RESIDUAL_H_
 #define BOUNCECAL_AUDIO_SRC_RINGING_RESIDUAL_H_
 
+#include <algorithm>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "real_fft.h"
@@ -49,6 +51,16 @@ class RingingResidual {
   }
   // Mean over the band's bins of max(0, rise in dB of the bin over its loudest value in the
   // lookback). 0 for a stationary or decaying sound; stationary noise gives a few tenths of a dB.
+  // Samples still needed to complete the next frame.
+  std::size_t samples_to_frame() const { return static_cast<std::size_t>(window_ - fill_); }
+  // Feeds at most samples_to_frame() samples at once; true when they completed a frame.
+  bool PushRun(std::span<const float> samples) {
+    std::copy(samples.begin(), samples.end(), buffer_.begin() + fill_);
+    fill_ += static_cast<int>(samples.size());
+    if (fill_ < window_) return false;
+    Analyse();
+    return true;
+  }
   double novelty_db() const { return novelty_db_; }
   // Noise power per sample under the ringing: the lower quartile of the band's bin powers
   // (a ringing tail fills a few bins, the noise all of them), scaled to a mean square.
