@@ -87,12 +87,14 @@ class SharedRecordings : public ::testing::Test {
 TEST_F(SharedRecordings, ImpactCountsAreWithinWhatTheSourcesReport) {
   // file, fewest and most impacts in the longest sequence: the lower ends are the sources' own
   // counts (eeps' 30 published times, the manual lists, basketball's 17 minus chatter), the
-  // upper ends the quick-look tracker's counts (which include chatter and some noise).
+  // upper ends the quick-look tracker's counts (which include chatter and some noise; for
+  // Audio_1 DETECTORS.md's 9: the -45 dBFS floor leaves 5 reliable impacts, and the 7th and 8th
+  // found in the predicted bounce windows continue e = 0.81 within 0.02).
   const std::vector<std::tuple<std::string, size_t, size_t>> expected = {
       {"eeps-pingpong/pingpong.wav", 30, 55},      {"ub-mth337/pingpong.wav", 45, 66},
       {"ub-mth337/rubberball.wav", 14, 30},        {"ub-mth337/basketball.wav", 14, 18},
       {"ub-mth337/atomic_trampoline.wav", 70, 85}, {"ub-mth337/steel_surface.wav", 6, 12},
-      {"fr4nci-rimbalzi/Audio.wav", 10, 16},       {"fr4nci-rimbalzi/Audio_1.wav", 5, 7},
+      {"fr4nci-rimbalzi/Audio.wav", 10, 16},       {"fr4nci-rimbalzi/Audio_1.wav", 5, 9},
       {"alessia-rimbalzi/rimbalzi.wav", 12, 34},   {"alessia-rimbalzi/Palla-audio.wav", 9, 12}};
   for (const auto& [file, low, high] : expected) {
     const auto analysis = Analyze(file);

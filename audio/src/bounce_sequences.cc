@@ -46,9 +46,15 @@ class ChainFinder {
     Chain best;
     const int n = static_cast<int>(impacts_.size());
     int reach = std::min(n - 1, first + 1);
+    // An impact found only by the ringing residual is weak evidence (handling noise and speech
+    // can give it too): it may continue a sequence where a bounce is due, never start one.
+    if (Weak(first)) {
+      best.reach = reach;
+      return best;
+    }
     int tried = 0;
     for (int second = first + 1; second < n && tried < kSecondImpactCandidates; ++second) {
-      if (!free_[static_cast<size_t>(second)]) continue;
+      if (!free_[static_cast<size_t>(second)] || Weak(second)) continue;
       const double gap_s = Onset(second) - Onset(first);
       if (gap_s > options_.max_interval_s) break;
       ++tried;
@@ -118,9 +124,14 @@ class ChainFinder {
 
  private:
   double Onset(int i) const { return impacts_[static_cast<size_t>(i)].onset_s; }
+  bool Weak(int i) const { return impacts_[static_cast<size_t>(i)].residual_only; }
 
   // The impact to continue with in [from_s, to_s]: the loudest, or among those within
-  // kLoudnessBandDb of it, the one closest to the predicted time.
+  // kLoudnessBandDb of it, the one closest to the predicted time. Impacts found only by the
+  // ringing residual come in only when no other impact is there: inside a ringing tail their
+  // peak level is the tail's, so loudness says nothing about them, and the one closest to the
+  // predicted time is taken. This is where the sequence's prior (the next bounce is due near
+  // t_k + e dt_k) lets weaker evidence count that would not be trusted on its own.
   int Pick(int after, double from_s, double to_s, double predicted_s, int& reach) const {
     double loudest = -1e300;
     const int n = static_cast<int>(impacts_.size());
@@ -128,16 +139,20 @@ class ChainFinder {
     while (first < n && Onset(first) < from_s) ++first;
     int last = first;
     while (last < n && Onset(last) <= to_s) {
-      if (free_[static_cast<size_t>(last)]) {
+      if (free_[static_cast<size_t>(last)] && !Weak(last)) {
         loudest = std::max(loudest, impacts_[static_cast<size_t>(last)].peak_dbfs);
       }
       ++last;
     }
     reach = std::max(reach, last);
+    const bool strong_present = loudest > -1e300;
     int best = -1;
     for (int i = first; i < last; ++i) {
-      if (!free_[static_cast<size_t>(i)]) continue;
-      if (impacts_[static_cast<size_t>(i)].peak_dbfs < loudest - kLoudnessBandDb) continue;
+      if (!free_[static_cast<size_t>(i)] || Weak(i) == strong_present) continue;
+      if (strong_present &&
+          impacts_[static_cast<size_t>(i)].peak_dbfs < loudest - kLoudnessBandDb) {
+        continue;
+      }
       if (best < 0 || std::fabs(Onset(i) - predicted_s) < std::fabs(Onset(best) - predicted_s)) {
         best = i;
       }
@@ -200,6 +215,11 @@ SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
     if (static_cast<int>(best.members.size()) < options.min_impacts) break;
     const int first = best.members.front();
     if (!free[static_cast<size_t>(first)]) continue;
+    // Impacts found only by the ringing residual extend a sequence; they never make one.
+    const auto strong = std::count_if(best.members.begin(), best.members.end(), [&](int i) {
+      return !impacts[static_cast<size_t>(i)].residual_only;
+    });
+    if (strong < options.min_impacts) continue;
     bool valid = true;
     for (int i = first; i <= std::min(best.reach, n - 1) && valid; ++i) {
       valid = assigned_in_epoch[static_cast<size_t>(i)] <= best.epoch;
@@ -283,6 +303,58 @@ SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
     }
     result.rejected.push_back({t, i, reason});
   }
+  return result;
+}
+
+std::vector<Impact> ExtendSequencesWithTentative(const std::vector<Impact>& impacts,
+                                                 const std::vector<Impact>& tentative,
+                                                 const SequenceOptions& options) {
+  const SequenceResult grouping = FindBounceSequences(impacts, options);
+  std::vector<Impact> result = impacts;
+  std::vector<bool> adopted(tentative.size(), false);
+  const auto onset = [&](int i) { return impacts[static_cast<size_t>(i)].onset_s; };
+  // Weak evidence gets half the ratio tolerance a detected impact gets.
+  const double tolerance = 0.5 * options.ratio_step_tolerance;
+  const double chatter_s = 1e-3 * options.chatter_interval_ms;
+  for (const auto& sequence : grouping.sequences) {
+    const auto& members = sequence.impact_indices;
+    if (members.size() < 3) continue;
+    double before = onset(members[members.size() - 3]);
+    double previous = onset(members[members.size() - 2]);
+    double last = onset(members.back());
+    while (true) {
+      const double dt = last - previous;
+      const double ratio = dt / (previous - before);
+      const double from_s = last + std::max(options.min_ratio, ratio - tolerance) * dt;
+      const double to_s = last + std::min(options.max_ratio, ratio + tolerance) * dt;
+      if (to_s - last < chatter_s) break;
+      // A detected impact in the window did not fit the sequence: the window is ambiguous.
+      const bool occupied = std::any_of(impacts.begin(), impacts.end(), [&](const Impact& i) {
+        return i.onset_s >= from_s && i.onset_s <= to_s;
+      });
+      if (occupied) break;
+      const double predicted_s = last + ratio * dt;
+      int best = -1;
+      for (size_t t = 0; t < tentative.size(); ++t) {
+        const double t_s = tentative[t].onset_s;
+        if (adopted[t] || t_s < from_s || t_s > to_s || t_s - last < chatter_s) continue;
+        if (best < 0 || std::fabs(t_s - predicted_s) <
+                            std::fabs(tentative[static_cast<size_t>(best)].onset_s - predicted_s)) {
+          best = static_cast<int>(t);
+        }
+      }
+      if (best < 0) break;
+      adopted[static_cast<size_t>(best)] = true;
+      Impact impact = tentative[static_cast<size_t>(best)];
+      impact.residual_only = true;
+      result.push_back(impact);
+      before = previous;
+      previous = last;
+      last = impact.onset_s;
+    }
+  }
+  std::sort(result.begin(), result.end(),
+            [](const Impact& a, const Impact& b) { return a.onset_s < b.onset_s; });
   return result;
 }
 

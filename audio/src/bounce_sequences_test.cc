@@ -111,5 +111,61 @@ TEST(BounceSequences, BadOptionsAreConfigErrors) {
   EXPECT_THROW(FindBounceSequences({}, options), ConfigError);
 }
 
+// Impacts that only the ringing residual found (Impact::residual_only) are weak evidence: they
+// continue a sequence where a bounce is due, but never start one or make up its minimum count.
+TEST(BounceSequences, ResidualOnlyImpactsContinueASequenceButNeverMakeOne) {
+  const auto times = Drop(0.5, 0.4, 0.8, 8);
+  auto impacts = ToImpacts(times);
+  // The last four are buried in the tail: found by the residual only, at the tail's level.
+  for (std::size_t i = 4; i < impacts.size(); ++i) {
+    impacts[i].residual_only = true;
+    impacts[i].peak_dbfs = -3;
+  }
+  // A residual-only stray 30 ms after the 5th bounce, nowhere near where the 6th is due.
+  Impact stray = impacts[4];
+  stray.onset_s += 0.03;
+  impacts.insert(impacts.begin() + 5, stray);
+  const auto result = FindBounceSequences(impacts);
+  ASSERT_EQ(result.sequences.size(), 1u);
+  std::vector<double> members;
+  for (int i : result.sequences[0].impact_indices) {
+    members.push_back(impacts[static_cast<std::size_t>(i)].onset_s);
+  }
+  EXPECT_EQ(members, times);
+  ASSERT_EQ(result.rejected.size(), 1u);
+  EXPECT_DOUBLE_EQ(result.rejected[0].time_s, stray.onset_s);
+
+  // Three strong impacts and five residual-only ones: no sequence (min_impacts is 4), however
+  // well the weak ones fit.
+  auto weak = ToImpacts(times);
+  for (std::size_t i = 3; i < weak.size(); ++i) weak[i].residual_only = true;
+  EXPECT_TRUE(FindBounceSequences(weak).sequences.empty());
+  // And a run of residual-only impacts alone never starts one.
+  for (auto& impact : weak) impact.residual_only = true;
+  EXPECT_TRUE(FindBounceSequences(weak).sequences.empty());
+}
+
+// Tentative impacts (rises too weak to count alone) become impacts only where they continue a
+// sequence, near t_n + r dt_n.
+TEST(BounceSequences, TentativeImpactsExtendASequenceOnlyWhereTheNextBounceIsDue) {
+  const auto times = Drop(0.5, 0.4, 0.8, 10);
+  const std::vector<double> strong_times(times.begin(), times.begin() + 6);
+  // The last four bounces are tentative, and so are three noise events: one 30 ms after the
+  // 8th bounce (a ratio of 0.2, far from 0.8), two before the drop.
+  std::vector<double> tentative_times(times.begin() + 6, times.end());
+  tentative_times.push_back(times[7] + 0.03);
+  tentative_times.push_back(0.1);
+  tentative_times.push_back(0.3);
+  const auto extended =
+      ExtendSequencesWithTentative(ToImpacts(strong_times), ToImpacts(tentative_times));
+  std::vector<double> onsets;
+  for (const auto& impact : extended) onsets.push_back(impact.onset_s);
+  EXPECT_EQ(onsets, times);
+  for (std::size_t i = 0; i < extended.size(); ++i) EXPECT_EQ(extended[i].residual_only, i >= 6);
+  // Without a sequence to continue nothing is adopted.
+  EXPECT_EQ(ExtendSequencesWithTentative(ToImpacts({0.5, 0.9}), ToImpacts(tentative_times)).size(),
+            2u);
+}
+
 }  // namespace
 }  // namespace bouncecal::audio

@@ -17,6 +17,8 @@ class NoiseFloor {
   void Add(double power);
   // The floor in dB re full scale (power 1); -140 dB for digital silence.
   double db() const;
+  // False until the first Add: db() then reads -140 dB, which is no measurement.
+  bool started() const { return started_; }
 
  private:
   double alpha_ = 1;

@@ -62,6 +62,16 @@ struct SequenceResult {
 SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
                                    const SequenceOptions& options = {});
 
+// The bounce sequence as a prior for the quiet end of a drop: extends every sequence found in
+// `impacts` at its end with impacts from `tentative` (rises too weak to count on their own)
+// that fall where the next bounce is due, t_n + r dt_n with r the last interval ratio, within
+// half the usual ratio_step_tolerance, while no impact of `impacts` lies in that window and
+// flights stay above chatter_interval_ms. Returns `impacts` plus the adopted ones (flagged
+// residual_only), in time order. Deterministic. Throws ConfigError for bad options.
+std::vector<Impact> ExtendSequencesWithTentative(const std::vector<Impact>& impacts,
+                                                 const std::vector<Impact>& tentative,
+                                                 const SequenceOptions& options = {});
+
 }  // namespace bouncecal::audio
 
 #endif  // BOUNCECAL_AUDIO_BOUNCE_SEQUENCES_H_

@@ -36,11 +36,11 @@ struct DetectorOptions {
   // the other is reported as a precursor or echo. 12 ms covers the 5-10 ms precursors and the
   // 8-10 ms echoes seen in real recordings; bounces that close are chatter anyway.
   double min_gap_ms = 12.0;
-  // Also look for new energy that the decaying ringing of earlier impacts does not predict
-  // (complex-domain prediction per STFT bin): finds impacts buried in a long-ringing plate's
-  // tail, where no band energy rises. Only consulted where a tail is present. It costs about
-  // 40 % of the detection time (bench/analyze_bench), which turning it off saves on recordings
-  // known to have no long ringing.
+  // Also look for new energy that the decaying ringing of earlier impacts does not explain
+  // (per-bin spectral novelty, src/ringing_residual.h): finds impacts buried in a long-ringing
+  // plate's tail, where no band energy rises. Only consulted where a tail is present. It costs
+  // about a quarter of the detection time (bench/analyze_bench), which turning it off saves on
+  // recordings known to have no long ringing.
   bool ringing_residual = true;
   // Energy frame length of the envelope.
   double frame_ms = 0.25;
@@ -55,6 +55,14 @@ struct Impact {
   double peak_dbfs = 0;            // peak |x| of the raw signal within 5 ms of the onset
   double rise_db = 0;              // how far the envelope rose above what was there before
   double snr_db = 0;               // envelope peak above the noise floor
+  // Weak evidence: no band energy rose by the full rise_threshold_db (the ringing residual's
+  // novelty did), or it stood above the noise under the ringing but not above the band's own
+  // floor, or it rose by only half the threshold and was adopted because it continues a bounce
+  // sequence where the next bounce was due (ExtendSequencesWithTentative). That is how an impact
+  // buried in the tail of earlier ones looks, and also how handling noise and speech can look,
+  // so FindBounceSequences takes such an impact only where a bounce sequence predicts one, never
+  // to start a sequence. Its onset is less precise (up to ~1.5 ms off in tests).
+  bool residual_only = false;
 };
 
 // A rise that was merged into a louder impact less than min_gap_ms away.
@@ -78,9 +86,11 @@ struct DetectionResult {
 // Memory is bounded (about 0.2 s of samples of history) whatever the length of the recording.
 //
 // Stages, each in its own file under src/: causal FFT band-pass (band_filter), energy envelope
-// with a minimum-statistics noise floor and rise detection (rise_tracker), onset picking at the
-// start of contact with an AIC picker (onset_picker; Maeda 1985, Sleeman & van Eck 1999), and
-// min-gap merging of precursors and echoes.
+// with a minimum-statistics noise floor and rise detection, the ringing residual
+// (ringing_residual), onset picking at the start of contact with an AIC picker (onset_picker;
+// Maeda 1985, Sleeman & van Eck 1999; on the linear-prediction innovation inside a tail,
+// prediction_innovation), and min-gap merging of precursors and echoes. Finish() also adopts
+// rises of half the threshold that continue a bounce sequence (ExtendSequencesWithTentative).
 class ImpactDetector {
  public:
   ImpactDetector(int sample_rate_hz, const DetectorOptions& options = {});
