@@ -303,16 +303,17 @@ TEST(DetectorGroundTruth, ImpactsInsideALongRingingFreePlateAreFound) {
       "[ figures  ] free plate, all: recall %d/%d  extra %d  |error| median %.1f us  p90 %.1f us\n",
       found, truth, extra, median * 1e6, p90 * 1e6);
   // The synthesiser's Kirchhoff plate packs 61 modes 220 Hz apart; the earlier complex-domain
-  // residual (one tone per bin) found 87/144 on it, the per-bin novelty finds 137/144 with no
-  // extra (measured). The target: at least 93 % found, at most 3 % extras. The misses
-  // are the last one or two impacts of some drops, 30-40 ms after the previous one and
-  // 20-25 dB under the tail.
+  // residual (one tone per bin) found 87/144 on it, the per-bin novelty finds 139/144 with 2
+  // extras, both late bounces adopted 1-1.5 ms off (measured). The target: at least 93 %
+  // found, at most 3 % extras. The misses are the last one or two impacts of some drops, 30-40 ms
+  // after the previous one and 20-25 dB under the tail.
   EXPECT_GE(found, truth * 93 / 100);
   EXPECT_LE(extra, truth * 3 / 100);
-  // Inside ringing even the first, clean impact is picked ~60 us late (the modes' t^3 growth
-  // during contact takes long to emerge from the noise); 70 us bounds today's 61.9 us median
-  // (the 50 us is not met inside ringing).
-  EXPECT_LT(median, 70e-6);
+  // Inside ringing the onsets come late (+40 us signed median: the modes' t^3 growth during
+  // contact takes long to emerge from the tail); measured 42.3 us median with the power-law
+  // picker. The 50 us bound (its 10 dB SNR target; this plate is 30 dB SNR but its tail
+  // buries later impacts far deeper) holds.
+  EXPECT_LT(median, 50e-6);
 }
 
 }  // namespace

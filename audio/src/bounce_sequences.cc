@@ -319,12 +319,22 @@ std::vector<Impact> ExtendSequencesWithTentative(const std::vector<Impact>& impa
   for (const auto& sequence : grouping.sequences) {
     const auto& members = sequence.impact_indices;
     if (members.size() < 3) continue;
-    double before = onset(members[members.size() - 3]);
-    double previous = onset(members[members.size() - 2]);
+    // The ratio that predicts each adoption comes from the detected impacts only (the median
+    // of the sequence's last few ratios): re-estimating it from adopted, weakly timed impacts
+    // lets one mistimed adoption steer the next window and walk the chain to ratios near 1.
+    std::vector<double> ratios;
+    for (size_t k = members.size() >= 6 ? members.size() - 5 : 2; k < members.size(); ++k) {
+      ratios.push_back((onset(members[k]) - onset(members[k - 1])) /
+                       (onset(members[k - 1]) - onset(members[k - 2])));
+    }
+    std::sort(ratios.begin(), ratios.end());
+    const double ratio = ratios.size() % 2 == 1
+                             ? ratios[ratios.size() / 2]
+                             : 0.5 * (ratios[ratios.size() / 2 - 1] + ratios[ratios.size() / 2]);
     double last = onset(members.back());
+    double previous = onset(members[members.size() - 2]);
     while (true) {
       const double dt = last - previous;
-      const double ratio = dt / (previous - before);
       const double from_s = last + std::max(options.min_ratio, ratio - tolerance) * dt;
       const double to_s = last + std::min(options.max_ratio, ratio + tolerance) * dt;
       if (to_s - last < chatter_s) break;
@@ -348,7 +358,6 @@ std::vector<Impact> ExtendSequencesWithTentative(const std::vector<Impact>& impa
       Impact impact = tentative[static_cast<size_t>(best)];
       impact.residual_only = true;
       result.push_back(impact);
-      before = previous;
       previous = last;
       last = impact.onset_s;
     }
