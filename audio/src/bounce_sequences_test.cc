@@ -167,5 +167,20 @@ TEST(BounceSequences, TentativeImpactsExtendASequenceOnlyWhereTheNextBounceIsDue
             2u);
 }
 
+// The window for each adoption is placed with the ratio of the detected bounces: an adopted
+// impact that sits at the edge of its window (ratio 0.85 where 0.8 is due, inside the +-0.06
+// half tolerance) must not move the next window to ratios near 0.85 + 0.06 = 0.91.
+TEST(BounceSequences, AnAdoptedImpactDoesNotSteerTheNextWindow) {
+  const auto times = Drop(0.5, 0.4, 0.8, 6);
+  const double dt = times[5] - times[4];
+  const double adopted = times[5] + 0.85 * dt;
+  // 0.91 is outside 0.8 +- 0.06 but inside 0.85 +- 0.06.
+  const double steered = adopted + 0.91 * (adopted - times[5]);
+  const auto extended =
+      ExtendSequencesWithTentative(ToImpacts(times), ToImpacts({adopted, steered}));
+  ASSERT_EQ(extended.size(), times.size() + 1);
+  EXPECT_EQ(extended.back().onset_s, adopted);
+}
+
 }  // namespace
 }  // namespace bouncecal::audio
