@@ -92,23 +92,43 @@ class EngineBase {
   const Vec<Dim>& PairShear(std::size_t p) const { return pair_shear_[p]; }
 
  protected:
-  // New pair list (grid or all pairs), carrying over the history of pairs that stay listed.
-  void RebuildPairs(double reach_m);
+  // New pair list (grid or all pairs) of surfaces closer than reach_m, carrying over the history
+  // of pairs that stay listed; listed pairs interact while their gap is below cutoff_gap_m.
+  void RebuildPairs(double reach_m, double cutoff_gap_m);
+  void UpdateWallNeighbours();
   double PairReachM(bool van_der_waals) const;
   Vec<Dim> Gravity() const;
+
+  // Per listed pair, fixed between rebuilds: read together by the contact kernel.
+  struct PairConstants {
+    double radius_sum_m;  // r_i + r_j
+    double cutoff2_m2;    // squared centre distance below which the pair interacts
+    double mass_kg;       // effective mass m_i m_j / (m_i + m_j)
+    double radius_m;      // effective radius r_i r_j / (r_i + r_j)
+  };
+  // Per listed pair, written every step: the force on the first particle and n x F_t (the
+  // torque on a member is -radius * twist). One record so the gather touches one cache line.
+  struct PairResult {
+    Vec<Dim> force_n;
+    Spin<Dim> twist_n;
+  };
 
   EngineSettings settings_;
   std::vector<Wall<Dim>> walls_;
   ParticleState<Dim> state_;
   PairList pairs_;
+  std::vector<PairConstants> pair_constants_;
   std::vector<Vec<Dim>> pair_shear_;
   std::vector<NormalHistory> pair_normal_history_;
-  std::vector<double> pair_mass_kg_;   // effective mass m_i m_j / (m_i + m_j)
-  std::vector<double> pair_radius_m_;  // effective radius r_i r_j / (r_i + r_j)
-  std::vector<Vec<Dim>> pair_force_;   // on the first particle of the pair
-  std::vector<Spin<Dim>> pair_twist_;  // n x F_t: torque on a member is -radius * twist
-  std::vector<Vec<Dim>> wall_shear_;   // particle * walls + wall
+  std::vector<PairResult> pair_result_;
+  // Pairs in contact this step, per pool chunk (sized to the pair count at each rebuild, so
+  // no step allocates).
+  std::vector<std::vector<std::int32_t>> chunk_contacts_;
+  std::vector<Vec<Dim>> wall_shear_;  // particle * walls + wall
   std::vector<NormalHistory> wall_normal_history_;
+  // Bit w set: particle i was within the skin of wall w at the last rebuild, so it may touch it
+  // before the next one. The others are skipped (their history is zero).
+  std::vector<std::uint64_t> wall_near_;
   std::vector<Vec<Dim>> position_at_rebuild_;
   std::unique_ptr<WorkerPool> pool_;
   bool pairs_valid_ = false;

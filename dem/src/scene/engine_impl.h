@@ -82,7 +82,10 @@ class Engine final : public EngineBase<Dim> {
   static double Square(double x) { return x * x; }
 
   void PrepareStep() {
-    if (!this->pairs_valid_) this->RebuildPairs(this->PairReachM(Phys::kVanDerWaals));
+    if (!this->pairs_valid_) {
+      this->RebuildPairs(this->PairReachM(Phys::kVanDerWaals),
+                         Phys::kVanDerWaals ? this->settings_.vdw_cutoff_gap_m : 0.0);
+    }
   }
 
   // v(t + dt/2) = v + kick a; x += dt v. Returns the squared distance moved since the last
@@ -130,36 +133,47 @@ class Engine final : public EngineBase<Dim> {
     return force;
   }
 
+  // Two passes per chunk of the pair list. The first only measures distances (most listed
+  // pairs are within the skin but not touching), zeroes their results and collects the pairs
+  // that interact without a data-dependent branch; the second evaluates the contact laws on
+  // those alone. Each pair's arithmetic does not depend on the chunking, so results are the
+  // same for every thread count.
   void PairForces() {
     this->pool_->ParallelFor(static_cast<std::int64_t>(this->pairs_.size()),
-                             [this](int, std::int64_t begin, std::int64_t end) {
+                             [this](int chunk, std::int64_t begin, std::int64_t end) {
+                               const auto& x = this->state_.position_m;
+                               const std::int32_t* first = this->pairs_.first.data();
+                               const std::int32_t* second = this->pairs_.second.data();
+                               const auto* constants = this->pair_constants_.data();
+                               auto* results = this->pair_result_.data();
+                               std::int32_t* contacts =
+                                   this->chunk_contacts_[static_cast<std::size_t>(chunk)].data();
+                               std::int64_t count = 0;
                                for (std::int64_t p = begin; p < end; ++p) {
-                                 PairForce(static_cast<std::size_t>(p));
+                                 const V d = x[first[p]] - x[second[p]];
+                                 const bool interacts = d.squaredNorm() < constants[p].cutoff2_m2;
+                                 results[p] = {V::Zero(), ZeroSpin<Dim>()};
+                                 contacts[count] = static_cast<std::int32_t>(p);
+                                 count += interacts ? 1 : 0;
+                                 if (!interacts) ResetPairHistory(static_cast<std::size_t>(p));
                                }
+                               for (std::int64_t k = 0; k < count; ++k)
+                                 PairForce(static_cast<std::size_t>(contacts[k]));
                              });
   }
 
+  // The force of a pair closer than its cutoff (pair_result_[p] is zero on entry).
   void PairForce(std::size_t p) {
     const auto& s = this->state_;
     const std::int32_t i = this->pairs_.first[p];
     const std::int32_t j = this->pairs_.second[p];
+    const auto& constants = this->pair_constants_[p];
     const V d = s.position_m[i] - s.position_m[j];
-    const double r_sum = s.radius_m[i] + s.radius_m[j];
-    const double dist2 = d.squaredNorm();
-    double reach = r_sum;
-    if constexpr (Phys::kVanDerWaals) reach += this->settings_.vdw_cutoff_gap_m;
-    V& force = this->pair_force_[p];
-    if (dist2 >= reach * reach) {
-      force.setZero();
-      if constexpr (Phys::kRotation) this->pair_twist_[p] = ZeroSpin<Dim>();
-      ResetPairHistory(p);
-      return;
-    }
-    const double dist = std::sqrt(dist2);
+    const double dist = std::sqrt(d.squaredNorm());
     const V n = d / dist;  // from j to i
-    const double overlap = r_sum - dist;
-    force.setZero();
-    if constexpr (Phys::kRotation) this->pair_twist_[p] = ZeroSpin<Dim>();
+    const double overlap = constants.radius_sum_m - dist;
+    auto& result = this->pair_result_[p];
+    V force = V::Zero();
     if (overlap > 0) {
       V v_rel = s.velocity_mps[i] - s.velocity_mps[j];
       if constexpr (Phys::kRotation) {
@@ -168,7 +182,7 @@ class Engine final : public EngineBase<Dim> {
         v_rel -= SpinCross(spin, n);
       }
       const double v_n = v_rel.dot(n);
-      const NormalContact contact{overlap, -v_n, this->pair_mass_kg_[p], this->pair_radius_m_[p]};
+      const NormalContact contact{overlap, -v_n, constants.mass_kg, constants.radius_m};
       const double normal_force = law_.NormalForce(contact, this->pair_normal_history_[p]);
       force = normal_force * n;
       if constexpr (Phys::kTangential) {
@@ -176,7 +190,7 @@ class Engine final : public EngineBase<Dim> {
         const V tangential =
             TangentialForce(this->pair_shear_[p], n, v_t, normal_force, this->settings_.friction);
         force += tangential;
-        if constexpr (Phys::kRotation) this->pair_twist_[p] = TorqueCross(n, tangential);
+        if constexpr (Phys::kRotation) result.twist_n = TorqueCross(n, tangential);
       }
     } else {
       ResetPairHistory(p);
@@ -186,8 +200,9 @@ class Engine final : public EngineBase<Dim> {
       // A R / (12 h^2) for equal spheres (paper 004 eq. 2). It diverges at contact, so the gap
       // is floored at vdw_min_gap_m (an interatomic distance, Israelachvili ch. 13).
       const double gap = std::max(-overlap, this->settings_.vdw_min_gap_m);
-      force -= (this->settings_.hamaker_j * this->pair_radius_m_[p] / (6 * gap * gap)) * n;
+      force -= (this->settings_.hamaker_j * constants.radius_m / (6 * gap * gap)) * n;
     }
+    result.force_n = force;
   }
 
   void ResetPairHistory(std::size_t p) {
@@ -202,18 +217,20 @@ class Engine final : public EngineBase<Dim> {
     const double r_i = s.radius_m[i];
     V force = s.mass_kg[i] * gravity_;
     S torque = ZeroSpin<Dim>();
+    const auto* results = this->pair_result_.data();
     for (std::int32_t p = pairs.begin[i]; p < pairs.begin[i + 1]; ++p) {
-      force += this->pair_force_[p];
-      if constexpr (Phys::kRotation) torque -= r_i * this->pair_twist_[p];
+      force += results[p].force_n;
+      if constexpr (Phys::kRotation) torque -= r_i * results[p].twist_n;
     }
     for (std::int32_t k = pairs.reverse_begin[i]; k < pairs.reverse_begin[i + 1]; ++k) {
       const std::int32_t p = pairs.reverse_pairs[k];
-      force -= this->pair_force_[p];
-      if constexpr (Phys::kRotation) torque -= r_i * this->pair_twist_[p];
+      force -= results[p].force_n;
+      if constexpr (Phys::kRotation) torque -= r_i * results[p].twist_n;
     }
     const std::size_t wall_count = this->walls_.size();
+    const std::uint64_t near = this->wall_near_[static_cast<std::size_t>(i)];
     for (std::size_t w = 0; w < wall_count; ++w) {
-      WallForce(i, w, force, torque);
+      if (w >= 64 || ((near >> w) & 1) != 0) WallForce(i, w, force, torque);
     }
     if constexpr (Phys::kLocalDamping) {
       // Cundall (1987) local non-viscous damping, as in paper 004 eq. 12: each component of the
