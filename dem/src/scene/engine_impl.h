@@ -8,6 +8,10 @@
 #include <cmath>
 #include <variant>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "scene/engine.h"
 
 namespace bouncecal::dem::scene {
@@ -21,7 +25,8 @@ class Engine final : public EngineBase<Dim> {
   Engine(const EngineSettings& settings, std::vector<Wall<Dim>> walls, Law law)
       : EngineBase<Dim>(settings, std::move(walls)),
         law_(std::move(law)),
-        gravity_(this->Gravity()) {}
+        gravity_(this->Gravity()),
+        scratch_(static_cast<std::size_t>(this->pool_->threads())) {}
 
   void ComputeForces() override {
     PrepareStep();
@@ -110,17 +115,29 @@ class Engine final : public EngineBase<Dim> {
 
   // Cundall & Strack (1979) tangential spring on the accumulated tangential displacement,
   // capped by Coulomb friction (paper 000 eq. 5-6). The spring is first rotated into the current
-  // tangent plane with its length kept (as LAMMPS gran/hooke/history does), so a rolling contact
-  // does not grow a normal component. When it slides the spring is reset to the Coulomb force,
-  // so |F_t| never exceeds mu |F_n|. Returns the force on the body whose relative velocity vt is.
-  V TangentialForce(V& shear, const V& n, const V& vt, double normal_force_n,
-                    double friction) const {
-    const double old2 = shear.squaredNorm();
+  // tangent plane with its length kept, so a rolling contact does not grow a normal component
+  // (LAMMPS gran/hooke/history projects without the rescale; pair granular rescales like this).
+  // When it slides the spring is reset to the Coulomb force, so |F_t| never exceeds mu |F_n|.
+  // Split in two around the rescale factor so the pair kernel can take the square roots of a
+  // whole block of contacts at once (see PairForces).
+  //
+  // Projects the spring; returns old^2 / new^2 in `ratio` form as (old2, new2), (1, 1) when
+  // there is nothing to rescale.
+  static void ProjectShear(V& shear, const V& n, double& old2, double& new2) {
+    old2 = shear.squaredNorm();
+    new2 = 1;
     if (old2 > 0) {
       shear -= shear.dot(n) * n;
-      const double new2 = shear.squaredNorm();
-      if (new2 > 0) shear *= std::sqrt(old2 / new2);
+      new2 = shear.squaredNorm();
     }
+    if (!(old2 > 0 && new2 > 0)) old2 = new2 = 1;  // sqrt(1 / 1) = 1 leaves the spring as is
+  }
+
+  // Rescales by `factor` = sqrt(old2 / new2), adds v_t dt and applies the Coulomb cap. Returns
+  // the force on the body whose relative velocity vt is.
+  V FinishShear(V& shear, double factor, const V& vt, double normal_force_n,
+                double friction) const {
+    shear *= factor;
     shear += this->settings_.time_step_s * vt;
     const double ks = this->settings_.tangential_stiffness_n_per_m;
     V force = -ks * shear;
@@ -133,76 +150,168 @@ class Engine final : public EngineBase<Dim> {
     return force;
   }
 
-  // Two passes per chunk of the pair list. The first only measures distances (most listed
-  // pairs are within the skin but not touching), zeroes their results and collects the pairs
-  // that interact without a data-dependent branch; the second evaluates the contact laws on
-  // those alone. Each pair's arithmetic does not depend on the chunking, so results are the
-  // same for every thread count.
-  void PairForces() {
-    this->pool_->ParallelFor(static_cast<std::int64_t>(this->pairs_.size()),
-                             [this](int chunk, std::int64_t begin, std::int64_t end) {
-                               const auto& x = this->state_.position_m;
-                               const std::int32_t* first = this->pairs_.first.data();
-                               const std::int32_t* second = this->pairs_.second.data();
-                               const auto* constants = this->pair_constants_.data();
-                               auto* results = this->pair_result_.data();
-                               std::int32_t* contacts =
-                                   this->chunk_contacts_[static_cast<std::size_t>(chunk)].data();
-                               std::int64_t count = 0;
-                               for (std::int64_t p = begin; p < end; ++p) {
-                                 const V d = x[first[p]] - x[second[p]];
-                                 const bool interacts = d.squaredNorm() < constants[p].cutoff2_m2;
-                                 results[p] = {V::Zero(), ZeroSpin<Dim>()};
-                                 contacts[count] = static_cast<std::int32_t>(p);
-                                 count += interacts ? 1 : 0;
-                                 if (!interacts) ResetPairHistory(static_cast<std::size_t>(p));
-                               }
-                               for (std::int64_t k = 0; k < count; ++k)
-                                 PairForce(static_cast<std::size_t>(contacts[k]));
-                             });
+  V TangentialForce(V& shear, const V& n, const V& vt, double normal_force_n,
+                    double friction) const {
+    double old2;
+    double new2;
+    ProjectShear(shear, n, old2, new2);
+    return FinishShear(shear, std::sqrt(old2 / new2), vt, normal_force_n, friction);
   }
 
-  // The force of a pair closer than its cutoff (pair_result_[p] is zero on entry).
-  void PairForce(std::size_t p) {
+  // Each chunk of the pair list runs in stages. The first only measures distances (most listed
+  // pairs are within the skin but not touching), zeroes their results and collects the pairs
+  // that interact, without a data-dependent branch. The interacting pairs then go through the
+  // contact laws in blocks of kBlock, stage by stage: a contact is one long chain of dependent
+  // square roots and divisions, so each chain is cut where it needs one and the square roots
+  // and divisions of the whole block are taken together (independent, so they overlap in the
+  // pipeline, two per SSE2 instruction). The arithmetic of each pair is the same as a one-pass
+  // loop and does not depend on the chunking: results are the same for every thread count.
+  void PairForces() {
+    this->pool_->ParallelFor(
+        static_cast<std::int64_t>(this->pairs_.size()),
+        [this](int chunk, std::int64_t begin, std::int64_t end) {
+          const auto& x = this->state_.position_m;
+          const std::int32_t* first = this->pairs_.first.data();
+          const std::int32_t* second = this->pairs_.second.data();
+          const auto* constants = this->pair_constants_.data();
+          auto* results = this->pair_result_.data();
+          std::int32_t* contacts = this->chunk_contacts_[static_cast<std::size_t>(chunk)].data();
+          std::int64_t count = 0;
+          for (std::int64_t p = begin; p < end; ++p) {
+            const V d = x[first[p]] - x[second[p]];
+            const bool interacts = d.squaredNorm() < constants[p].cutoff2_m2;
+            results[p] = {V::Zero(), ZeroSpin<Dim>()};
+            contacts[count] = static_cast<std::int32_t>(p);
+            count += interacts ? 1 : 0;
+            if constexpr (Phys::kTangential) {
+              // A select, not a branch: in a pack the pattern of touching pairs is random.
+              auto& shear = this->pair_shear_[static_cast<std::size_t>(p)];
+              for (int c = 0; c < Dim; ++c) shear[c] = interacts ? shear[c] : 0.0;
+            }
+            if constexpr (Law::kNeedsHistory) {
+              if (!interacts) this->pair_normal_history_[static_cast<std::size_t>(p)] = {};
+            }
+          }
+          auto& scratch = scratch_[static_cast<std::size_t>(chunk)];
+          for (std::int64_t b = 0; b < count; b += kBlock) {
+            ContactBlock(contacts + b, static_cast<int>(std::min<std::int64_t>(kBlock, count - b)),
+                         scratch);
+          }
+        });
+  }
+
+  static constexpr int kBlock = 64;
+  // Per-thread temporaries of one block of contacts.
+  struct Scratch {
+    alignas(16) double dist[kBlock];
+    alignas(16) double inverse[kBlock];
+    alignas(16) double old2[kBlock];
+    alignas(16) double new2[kBlock];
+    V normal[kBlock];
+    V tangential_velocity[kBlock];
+    double normal_force[kBlock];
+    bool touching[kBlock];
+  };
+
+  // out[k] = sqrt(a[k] / b[k]) (b null: sqrt(a[k])), and inverse[k] = 1 / out[k] when asked.
+  // Correctly rounded like the scalar std::sqrt and division, so results do not depend on the
+  // block split. n is padded to even with harmless values by the caller.
+  static void BlockSqrt(double* out, const double* a, const double* b, double* inverse, int n) {
+#if defined(__SSE2__)
+    for (int k = 0; k < n; k += 2) {
+      __m128d v = _mm_load_pd(a + k);
+      if (b != nullptr) v = _mm_div_pd(v, _mm_load_pd(b + k));
+      v = _mm_sqrt_pd(v);
+      _mm_store_pd(out + k, v);
+      if (inverse != nullptr) _mm_store_pd(inverse + k, _mm_div_pd(_mm_set1_pd(1.0), v));
+    }
+#else
+    for (int k = 0; k < n; ++k) {
+      out[k] = std::sqrt(b != nullptr ? a[k] / b[k] : a[k]);
+      if (inverse != nullptr) inverse[k] = 1.0 / out[k];
+    }
+#endif
+  }
+
+  // The forces of `n` pairs closer than their cutoff (their pair_result_ is zero on entry).
+  void ContactBlock(const std::int32_t* contacts, int n, Scratch& t) {
     const auto& s = this->state_;
-    const std::int32_t i = this->pairs_.first[p];
-    const std::int32_t j = this->pairs_.second[p];
-    const auto& constants = this->pair_constants_[p];
-    const V d = s.position_m[i] - s.position_m[j];
-    const double dist = std::sqrt(d.squaredNorm());
-    const V n = d / dist;  // from j to i
-    const double overlap = constants.radius_sum_m - dist;
-    auto& result = this->pair_result_[p];
-    V force = V::Zero();
-    if (overlap > 0) {
-      V v_rel = s.velocity_mps[i] - s.velocity_mps[j];
-      if constexpr (Phys::kRotation) {
-        const S spin = s.radius_m[i] * s.angular_velocity_radps[i] +
-                       s.radius_m[j] * s.angular_velocity_radps[j];
-        v_rel -= SpinCross(spin, n);
+    const std::int32_t* first = this->pairs_.first.data();
+    const std::int32_t* second = this->pairs_.second.data();
+    const int padded = (n + 1) & ~1;
+    // Stage 1: distances.
+    for (int k = 0; k < n; ++k) {
+      const std::int32_t p = contacts[k];
+      t.normal[k] = s.position_m[first[p]] - s.position_m[second[p]];
+      t.dist[k] = t.normal[k].squaredNorm();
+    }
+    if (padded > n) t.dist[n] = 1;
+    BlockSqrt(t.dist, t.dist, nullptr, t.inverse, padded);
+    // Stage 2: normal force, relative velocity and the projected spring.
+    for (int k = 0; k < n; ++k) {
+      const auto p = static_cast<std::size_t>(contacts[k]);
+      const std::int32_t i = first[p];
+      const std::int32_t j = second[p];
+      const auto& constants = this->pair_constants_[p];
+      const V n_ij = t.normal[k] * t.inverse[k];  // from j to i; as d / dist
+      t.normal[k] = n_ij;
+      const double overlap = constants.radius_sum_m - t.dist[k];
+      t.touching[k] = overlap > 0;
+      t.old2[k] = 1;
+      t.new2[k] = 1;
+      auto& result = this->pair_result_[p];
+      if (overlap > 0) {
+        V v_rel = s.velocity_mps[i] - s.velocity_mps[j];
+        if constexpr (Phys::kRotation) {
+          const S spin = s.radius_m[i] * s.angular_velocity_radps[i] +
+                         s.radius_m[j] * s.angular_velocity_radps[j];
+          v_rel -= SpinCross(spin, n_ij);
+        }
+        const double v_n = v_rel.dot(n_ij);
+        const NormalContact contact{overlap, -v_n, constants.mass_kg, constants.radius_m};
+        const double normal_force = law_.NormalForce(contact, this->pair_normal_history_[p]);
+        if constexpr (Phys::kTangential) {
+          t.normal_force[k] = normal_force;
+          t.tangential_velocity[k] = v_rel - v_n * n_ij;
+          ProjectShear(this->pair_shear_[p], n_ij, t.old2[k], t.new2[k]);
+        } else {
+          result.force_n = normal_force * n_ij;
+          AddVanDerWaals(result.force_n, overlap, constants.radius_m, n_ij);
+        }
+      } else {
+        ResetPairHistory(p);
+        AddVanDerWaals(result.force_n, overlap, constants.radius_m, n_ij);
       }
-      const double v_n = v_rel.dot(n);
-      const NormalContact contact{overlap, -v_n, constants.mass_kg, constants.radius_m};
-      const double normal_force = law_.NormalForce(contact, this->pair_normal_history_[p]);
-      force = normal_force * n;
-      if constexpr (Phys::kTangential) {
-        const V v_t = v_rel - v_n * n;
-        const V tangential =
-            TangentialForce(this->pair_shear_[p], n, v_t, normal_force, this->settings_.friction);
+    }
+    if constexpr (Phys::kTangential) {
+      // Stage 3: the spring rescale factors, then the tangential force.
+      if (padded > n) t.old2[n] = t.new2[n] = 1;
+      BlockSqrt(t.old2, t.old2, t.new2, nullptr, padded);
+      for (int k = 0; k < n; ++k) {
+        if (!t.touching[k]) continue;
+        const auto p = static_cast<std::size_t>(contacts[k]);
+        const V& n_ij = t.normal[k];
+        auto& result = this->pair_result_[p];
+        const V tangential = FinishShear(this->pair_shear_[p], t.old2[k], t.tangential_velocity[k],
+                                         t.normal_force[k], this->settings_.friction);
+        V force = t.normal_force[k] * n_ij;
         force += tangential;
-        if constexpr (Phys::kRotation) result.twist_n = TorqueCross(n, tangential);
+        if constexpr (Phys::kRotation) result.twist_n = TorqueCross(n_ij, tangential);
+        AddVanDerWaals(force, this->pair_constants_[p].radius_sum_m - t.dist[k],
+                       this->pair_constants_[p].radius_m, n_ij);
+        result.force_n = force;
       }
-    } else {
-      ResetPairHistory(p);
     }
+  }
+
+  // Hamaker (1937) sphere-sphere attraction for gaps h << R: F = A R_eff / (6 h^2), i.e.
+  // A R / (12 h^2) for equal spheres (paper 004 eq. 2). It diverges at contact, so the gap is
+  // floored at vdw_min_gap_m (an interatomic distance, Israelachvili ch. 13).
+  void AddVanDerWaals(V& force, double overlap, double effective_radius_m, const V& n) const {
     if constexpr (Phys::kVanDerWaals) {
-      // Hamaker (1937) sphere-sphere attraction for gaps h << R: F = A R_eff / (6 h^2), i.e.
-      // A R / (12 h^2) for equal spheres (paper 004 eq. 2). It diverges at contact, so the gap
-      // is floored at vdw_min_gap_m (an interatomic distance, Israelachvili ch. 13).
       const double gap = std::max(-overlap, this->settings_.vdw_min_gap_m);
-      force -= (this->settings_.hamaker_j * constants.radius_m / (6 * gap * gap)) * n;
+      force -= (this->settings_.hamaker_j * effective_radius_m / (6 * gap * gap)) * n;
     }
-    result.force_n = force;
   }
 
   void ResetPairHistory(std::size_t p) {
@@ -258,7 +367,7 @@ class Engine final : public EngineBase<Dim> {
   }
 
   // A wall is a body of infinite mass and curvature radius: m_eff = m, R_eff = r.
-  void WallForce(std::int32_t i, std::size_t w, V& force, S& torque) {
+  [[gnu::always_inline]] void WallForce(std::int32_t i, std::size_t w, V& force, S& torque) {
     auto& s = this->state_;
     const std::size_t h = static_cast<std::size_t>(i) * this->walls_.size() + w;
     V n;
@@ -286,6 +395,7 @@ class Engine final : public EngineBase<Dim> {
 
   Law law_;
   V gravity_;
+  std::vector<Scratch> scratch_;  // one per pool chunk
 };
 
 // Picks the physics flags at run time once, so each scene runs one specialised loop.
