@@ -4,7 +4,8 @@
 // to a linear dashpot of equal restitution, PHYSICS.md section 4) and prints the speed ratio
 // from this one run. Figures only: nothing here asserts a time.
 //
-//   pack_bench [SCENE.json] [--duration S] [--threads N] [--settle S] [--no-lammps] [--work DIR]
+//   pack_bench [SCENE.json] [--duration S] [--threads N] [--settle S] [--skin D] [--no-lammps]
+//   [--work DIR]
 //
 // --settle S first runs the start for S seconds (untimed) and times both engines from that
 // state instead: a settled pack has ~5 contacts per sphere, the costly regime of a pour.
@@ -104,6 +105,7 @@ int main(int argc, char** argv) {
   double duration = -1;
   int threads = 2;
   double settle_s = 0;
+  double skin_diameters = dem::PackOptions{}.skin_diameters;
   bool run_lammps = true;
   std::filesystem::path work = std::filesystem::temp_directory_path() / "bouncecal_pack_bench";
   for (int a = 1; a < argc; ++a) {
@@ -114,6 +116,8 @@ int main(int argc, char** argv) {
       threads = std::atoi(argv[++a]);
     } else if (arg == "--settle" && a + 1 < argc) {
       settle_s = std::atof(argv[++a]);
+    } else if (arg == "--skin" && a + 1 < argc) {
+      skin_diameters = std::atof(argv[++a]);
     } else if (arg == "--no-lammps") {
       run_lammps = false;
     } else if (arg == "--work" && a + 1 < argc) {
@@ -169,6 +173,7 @@ int main(int argc, char** argv) {
 
     dem::PackOptions options;
     options.threads = threads;
+    options.skin_diameters = skin_diameters;
     const double cpu0 = CpuSeconds();
     const auto summary = dem::RunPacking(scene, options);
     const double cpu = CpuSeconds() - cpu0;
