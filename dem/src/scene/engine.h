@@ -92,20 +92,12 @@ class EngineBase {
   const Vec<Dim>& PairShear(std::size_t p) const { return pair_shear_[p]; }
 
  protected:
-  // New pair list (grid or all pairs) of surfaces closer than reach_m, carrying over the history
-  // of pairs that stay listed; listed pairs interact while their gap is below cutoff_gap_m.
-  void RebuildPairs(double reach_m, double cutoff_gap_m);
+  // New pair list (grid or all pairs), carrying over the history of pairs that stay listed.
+  void RebuildPairs(double reach_m);
   void UpdateWallNeighbours();
   double PairReachM(bool van_der_waals) const;
   Vec<Dim> Gravity() const;
 
-  // Per listed pair, fixed between rebuilds: read together by the contact kernel.
-  struct PairConstants {
-    double radius_sum_m;  // r_i + r_j
-    double cutoff2_m2;    // squared centre distance below which the pair interacts
-    double mass_kg;       // effective mass m_i m_j / (m_i + m_j)
-    double radius_m;      // effective radius r_i r_j / (r_i + r_j)
-  };
   // Per listed pair, written every step: the force on the first particle and n x F_t (the
   // torque on a member is -radius * twist). One record so the gather touches one cache line.
   struct PairResult {
@@ -117,7 +109,6 @@ class EngineBase {
   std::vector<Wall<Dim>> walls_;
   ParticleState<Dim> state_;
   PairList pairs_;
-  std::vector<PairConstants> pair_constants_;
   std::vector<Vec<Dim>> pair_shear_;
   std::vector<NormalHistory> pair_normal_history_;
   std::vector<PairResult> pair_result_;

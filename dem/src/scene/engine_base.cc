@@ -48,7 +48,7 @@ double EngineBase<Dim>::PairReachM(bool van_der_waals) const {
 }
 
 template <int Dim>
-void EngineBase<Dim>::RebuildPairs(double reach_m, double cutoff_gap_m) {
+void EngineBase<Dim>::RebuildPairs(double reach_m) {
   const std::int32_t n = state_.size();
   PairList fresh = settings_.brute_force_pairs
                        ? AllPairs(n)
@@ -72,18 +72,6 @@ void EngineBase<Dim>::RebuildPairs(double reach_m, double cutoff_gap_m) {
   pairs_ = std::move(fresh);
   pair_shear_ = std::move(shear);
   pair_normal_history_ = std::move(normal);
-  pair_constants_.resize(pairs_.size());
-  for (std::size_t p = 0; p < pairs_.size(); ++p) {
-    const std::int32_t i = pairs_.first[p];
-    const std::int32_t j = pairs_.second[p];
-    const double r_i = state_.radius_m[i];
-    const double r_j = state_.radius_m[j];
-    const double m_i = state_.mass_kg[i];
-    const double m_j = state_.mass_kg[j];
-    const double cutoff_m = r_i + r_j + cutoff_gap_m;
-    pair_constants_[p] = {r_i + r_j, cutoff_m * cutoff_m, m_i * m_j / (m_i + m_j),
-                          r_i * r_j / (r_i + r_j)};
-  }
   pair_result_.assign(pairs_.size(), PairResult{Vec<Dim>::Zero(), ZeroSpin<Dim>()});
   chunk_contacts_.resize(static_cast<std::size_t>(pool_->threads()));
   for (auto& contacts : chunk_contacts_) contacts.resize(pairs_.size());

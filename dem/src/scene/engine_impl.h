@@ -5,7 +5,9 @@
 // the engine factories include this file.
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <variant>
 
 #if defined(__SSE2__)
@@ -88,8 +90,7 @@ class Engine final : public EngineBase<Dim> {
 
   void PrepareStep() {
     if (!this->pairs_valid_) {
-      this->RebuildPairs(this->PairReachM(Phys::kVanDerWaals),
-                         Phys::kVanDerWaals ? this->settings_.vdw_cutoff_gap_m : 0.0);
+      this->RebuildPairs(this->PairReachM(Phys::kVanDerWaals));
     }
   }
 
@@ -173,20 +174,27 @@ class Engine final : public EngineBase<Dim> {
           const auto& x = this->state_.position_m;
           const std::int32_t* first = this->pairs_.first.data();
           const std::int32_t* second = this->pairs_.second.data();
-          const auto* constants = this->pair_constants_.data();
+          const double* radius = this->state_.radius_m.data();
+          // Pair terms are recomputed from the particles rather than stored per pair: the
+          // pair arrays of a settled pack already overflow a 512 KiB L2 cache.
+          const double cutoff_gap_m = Phys::kVanDerWaals ? this->settings_.vdw_cutoff_gap_m : 0.0;
           auto* results = this->pair_result_.data();
           std::int32_t* contacts = this->chunk_contacts_[static_cast<std::size_t>(chunk)].data();
           std::int64_t count = 0;
           for (std::int64_t p = begin; p < end; ++p) {
-            const V d = x[first[p]] - x[second[p]];
-            const bool interacts = d.squaredNorm() < constants[p].cutoff2_m2;
+            const std::int32_t i = first[p];
+            const std::int32_t j = second[p];
+            const V d = x[i] - x[j];
+            const double cutoff_m = radius[i] + radius[j] + cutoff_gap_m;
+            const bool interacts = d.squaredNorm() < cutoff_m * cutoff_m;
             results[p] = {V::Zero(), ZeroSpin<Dim>()};
             contacts[count] = static_cast<std::int32_t>(p);
             count += interacts ? 1 : 0;
             if constexpr (Phys::kTangential) {
-              // A select, not a branch: in a pack the pattern of touching pairs is random.
+              // The spring of a pair that does not touch is almost always zero already: test
+              // for the rare one to clear (a predictable branch) instead of writing every one.
               auto& shear = this->pair_shear_[static_cast<std::size_t>(p)];
-              for (int c = 0; c < Dim; ++c) shear[c] = interacts ? shear[c] : 0.0;
+              if (!interacts && NonZeroBits(shear)) shear = V::Zero();
             }
             if constexpr (Law::kNeedsHistory) {
               if (!interacts) this->pair_normal_history_[static_cast<std::size_t>(p)] = {};
@@ -210,6 +218,8 @@ class Engine final : public EngineBase<Dim> {
     V normal[kBlock];
     V tangential_velocity[kBlock];
     double normal_force[kBlock];
+    double overlap[kBlock];
+    double effective_radius[kBlock];
     bool touching[kBlock];
   };
 
@@ -233,6 +243,26 @@ class Engine final : public EngineBase<Dim> {
 #endif
   }
 
+  // True unless every component is +0.0 (evaluated without branches).
+  static bool NonZeroBits(const V& v) {
+    std::uint64_t bits = 0;
+    for (int c = 0; c < Dim; ++c) bits |= std::bit_cast<std::uint64_t>(v[c]);
+    return bits != 0;
+  }
+  struct PairTerms {
+    double radius_sum_m;
+    double mass_kg;   // effective mass m_i m_j / (m_i + m_j)
+    double radius_m;  // effective radius r_i r_j / (r_i + r_j)
+  };
+  PairTerms Terms(std::int32_t i, std::int32_t j) const {
+    const auto& s = this->state_;
+    const double r_i = s.radius_m[i];
+    const double r_j = s.radius_m[j];
+    const double m_i = s.mass_kg[i];
+    const double m_j = s.mass_kg[j];
+    return {r_i + r_j, m_i * m_j / (m_i + m_j), r_i * r_j / (r_i + r_j)};
+  }
+
   // The forces of `n` pairs closer than their cutoff (their pair_result_ is zero on entry).
   void ContactBlock(const std::int32_t* contacts, int n, Scratch& t) {
     const auto& s = this->state_;
@@ -252,10 +282,12 @@ class Engine final : public EngineBase<Dim> {
       const auto p = static_cast<std::size_t>(contacts[k]);
       const std::int32_t i = first[p];
       const std::int32_t j = second[p];
-      const auto& constants = this->pair_constants_[p];
+      const PairTerms terms = Terms(i, j);
       const V n_ij = t.normal[k] * t.inverse[k];  // from j to i; as d / dist
       t.normal[k] = n_ij;
-      const double overlap = constants.radius_sum_m - t.dist[k];
+      const double overlap = terms.radius_sum_m - t.dist[k];
+      t.overlap[k] = overlap;
+      t.effective_radius[k] = terms.radius_m;
       t.touching[k] = overlap > 0;
       t.old2[k] = 1;
       t.new2[k] = 1;
@@ -268,7 +300,7 @@ class Engine final : public EngineBase<Dim> {
           v_rel -= SpinCross(spin, n_ij);
         }
         const double v_n = v_rel.dot(n_ij);
-        const NormalContact contact{overlap, -v_n, constants.mass_kg, constants.radius_m};
+        const NormalContact contact{overlap, -v_n, terms.mass_kg, terms.radius_m};
         const double normal_force = law_.NormalForce(contact, this->pair_normal_history_[p]);
         if constexpr (Phys::kTangential) {
           t.normal_force[k] = normal_force;
@@ -276,11 +308,11 @@ class Engine final : public EngineBase<Dim> {
           ProjectShear(this->pair_shear_[p], n_ij, t.old2[k], t.new2[k]);
         } else {
           result.force_n = normal_force * n_ij;
-          AddVanDerWaals(result.force_n, overlap, constants.radius_m, n_ij);
+          AddVanDerWaals(result.force_n, overlap, terms.radius_m, n_ij);
         }
       } else {
         ResetPairHistory(p);
-        AddVanDerWaals(result.force_n, overlap, constants.radius_m, n_ij);
+        AddVanDerWaals(result.force_n, overlap, terms.radius_m, n_ij);
       }
     }
     if constexpr (Phys::kTangential) {
@@ -297,8 +329,7 @@ class Engine final : public EngineBase<Dim> {
         V force = t.normal_force[k] * n_ij;
         force += tangential;
         if constexpr (Phys::kRotation) result.twist_n = TorqueCross(n_ij, tangential);
-        AddVanDerWaals(force, this->pair_constants_[p].radius_sum_m - t.dist[k],
-                       this->pair_constants_[p].radius_m, n_ij);
+        AddVanDerWaals(force, t.overlap[k], t.effective_radius[k], n_ij);
         result.force_n = force;
       }
     }
