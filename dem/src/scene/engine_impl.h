@@ -122,8 +122,8 @@ class Engine final : public EngineBase<Dim> {
   // Split in two around the rescale factor so the pair kernel can take the square roots of a
   // whole block of contacts at once (see PairForces).
   //
-  // Projects the spring; returns old^2 / new^2 in `ratio` form as (old2, new2), (1, 1) when
-  // there is nothing to rescale.
+  // Projects the spring into the tangent plane; old2 and new2 are its squared lengths before and
+  // after, or both 1 when there is nothing to rescale.
   static void ProjectShear(V& shear, const V& n, double& old2, double& new2) {
     old2 = shear.squaredNorm();
     new2 = 1;
@@ -175,8 +175,8 @@ class Engine final : public EngineBase<Dim> {
           const std::int32_t* first = this->pairs_.first.data();
           const std::int32_t* second = this->pairs_.second.data();
           const double* radius = this->state_.radius_m.data();
-          // Pair terms are recomputed from the particles rather than stored per pair: the
-          // pair arrays of a settled pack already overflow a 512 KiB L2 cache.
+          // Pair terms are recomputed from the particles rather than stored per pair, to keep
+          // the per-pair arrays (read every step) small.
           const double cutoff_gap_m = Phys::kVanDerWaals ? this->settings_.vdw_cutoff_gap_m : 0.0;
           auto* results = this->pair_result_.data();
           std::int32_t* contacts = this->chunk_contacts_[static_cast<std::size_t>(chunk)].data();
