@@ -94,8 +94,16 @@ class EngineBase {
  protected:
   // New pair list (grid or all pairs), carrying over the history of pairs that stay listed.
   void RebuildPairs(double reach_m);
+  void UpdateWallNeighbours();
   double PairReachM(bool van_der_waals) const;
   Vec<Dim> Gravity() const;
+
+  // Per listed pair, written every step: the force on the first particle and n x F_t (the
+  // torque on a member is -radius * twist). One record so the gather touches one cache line.
+  struct PairResult {
+    Vec<Dim> force_n;
+    Spin<Dim> twist_n;
+  };
 
   EngineSettings settings_;
   std::vector<Wall<Dim>> walls_;
@@ -103,12 +111,15 @@ class EngineBase {
   PairList pairs_;
   std::vector<Vec<Dim>> pair_shear_;
   std::vector<NormalHistory> pair_normal_history_;
-  std::vector<double> pair_mass_kg_;   // effective mass m_i m_j / (m_i + m_j)
-  std::vector<double> pair_radius_m_;  // effective radius r_i r_j / (r_i + r_j)
-  std::vector<Vec<Dim>> pair_force_;   // on the first particle of the pair
-  std::vector<Spin<Dim>> pair_twist_;  // n x F_t: torque on a member is -radius * twist
-  std::vector<Vec<Dim>> wall_shear_;   // particle * walls + wall
+  std::vector<PairResult> pair_result_;
+  // Pairs in contact this step, per pool chunk (sized to the pair count at each rebuild, so
+  // no step allocates).
+  std::vector<std::vector<std::int32_t>> chunk_contacts_;
+  std::vector<Vec<Dim>> wall_shear_;  // particle * walls + wall
   std::vector<NormalHistory> wall_normal_history_;
+  // Bit w set: particle i was within the skin of wall w at the last rebuild, so it may touch it
+  // before the next one. The others are skipped (their history is zero).
+  std::vector<std::uint64_t> wall_near_;
   std::vector<Vec<Dim>> position_at_rebuild_;
   std::unique_ptr<WorkerPool> pool_;
   bool pairs_valid_ = false;

@@ -72,21 +72,39 @@ void EngineBase<Dim>::RebuildPairs(double reach_m) {
   pairs_ = std::move(fresh);
   pair_shear_ = std::move(shear);
   pair_normal_history_ = std::move(normal);
-  pair_mass_kg_.resize(pairs_.size());
-  pair_radius_m_.resize(pairs_.size());
-  for (std::size_t p = 0; p < pairs_.size(); ++p) {
-    const std::int32_t i = pairs_.first[p];
-    const std::int32_t j = pairs_.second[p];
-    pair_mass_kg_[p] =
-        state_.mass_kg[i] * state_.mass_kg[j] / (state_.mass_kg[i] + state_.mass_kg[j]);
-    pair_radius_m_[p] =
-        state_.radius_m[i] * state_.radius_m[j] / (state_.radius_m[i] + state_.radius_m[j]);
-  }
-  pair_force_.assign(pairs_.size(), Vec<Dim>::Zero());
-  pair_twist_.assign(pairs_.size(), ZeroSpin<Dim>());
+  pair_result_.assign(pairs_.size(), PairResult{Vec<Dim>::Zero(), ZeroSpin<Dim>()});
+  chunk_contacts_.resize(static_cast<std::size_t>(pool_->threads()));
+  for (auto& contacts : chunk_contacts_) contacts.resize(pairs_.size());
+  UpdateWallNeighbours();
   position_at_rebuild_ = state_.position_m;
   pairs_valid_ = true;
   ++rebuilds_;
+}
+
+template <int Dim>
+void EngineBase<Dim>::UpdateWallNeighbours() {
+  const std::size_t n = static_cast<std::size_t>(state_.size());
+  const std::size_t wall_count = walls_.size();
+  wall_near_.assign(n, 0);
+  // The brute-force path never rebuilds, and more than 64 walls do not fit the mask: every
+  // wall is then checked every step.
+  const bool all = settings_.brute_force_pairs || wall_count > 64;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (all) {
+      wall_near_[i] = ~std::uint64_t{0};
+      continue;
+    }
+    for (std::size_t w = 0; w < wall_count; ++w) {
+      // A particle moves at most skin/2 before the next rebuild, so one farther than the skin
+      // cannot reach the wall before then; its history is zero and stays so.
+      if (walls_[w].Near(state_.position_m[i], state_.radius_m[i], settings_.skin_m)) {
+        wall_near_[i] |= std::uint64_t{1} << w;
+      } else {
+        wall_shear_[i * wall_count + w] = Vec<Dim>::Zero();
+        wall_normal_history_[i * wall_count + w] = NormalHistory{};
+      }
+    }
+  }
 }
 
 template <int Dim>

@@ -5,8 +5,14 @@
 // the engine factories include this file.
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <variant>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "scene/engine.h"
 
@@ -21,7 +27,8 @@ class Engine final : public EngineBase<Dim> {
   Engine(const EngineSettings& settings, std::vector<Wall<Dim>> walls, Law law)
       : EngineBase<Dim>(settings, std::move(walls)),
         law_(std::move(law)),
-        gravity_(this->Gravity()) {}
+        gravity_(this->Gravity()),
+        scratch_(static_cast<std::size_t>(this->pool_->threads())) {}
 
   void ComputeForces() override {
     PrepareStep();
@@ -82,7 +89,9 @@ class Engine final : public EngineBase<Dim> {
   static double Square(double x) { return x * x; }
 
   void PrepareStep() {
-    if (!this->pairs_valid_) this->RebuildPairs(this->PairReachM(Phys::kVanDerWaals));
+    if (!this->pairs_valid_) {
+      this->RebuildPairs(this->PairReachM(Phys::kVanDerWaals));
+    }
   }
 
   // v(t + dt/2) = v + kick a; x += dt v. Returns the squared distance moved since the last
@@ -107,17 +116,29 @@ class Engine final : public EngineBase<Dim> {
 
   // Cundall & Strack (1979) tangential spring on the accumulated tangential displacement,
   // capped by Coulomb friction (paper 000 eq. 5-6). The spring is first rotated into the current
-  // tangent plane with its length kept (as LAMMPS gran/hooke/history does), so a rolling contact
-  // does not grow a normal component. When it slides the spring is reset to the Coulomb force,
-  // so |F_t| never exceeds mu |F_n|. Returns the force on the body whose relative velocity vt is.
-  V TangentialForce(V& shear, const V& n, const V& vt, double normal_force_n,
-                    double friction) const {
-    const double old2 = shear.squaredNorm();
+  // tangent plane with its length kept, so a rolling contact does not grow a normal component
+  // (LAMMPS gran/hooke/history projects without the rescale; pair granular rescales like this).
+  // When it slides the spring is reset to the Coulomb force, so |F_t| never exceeds mu |F_n|.
+  // Split in two around the rescale factor so the pair kernel can take the square roots of a
+  // whole block of contacts at once (see PairForces).
+  //
+  // Projects the spring into the tangent plane; old2 and new2 are its squared lengths before and
+  // after, or both 1 when there is nothing to rescale.
+  static void ProjectShear(V& shear, const V& n, double& old2, double& new2) {
+    old2 = shear.squaredNorm();
+    new2 = 1;
     if (old2 > 0) {
       shear -= shear.dot(n) * n;
-      const double new2 = shear.squaredNorm();
-      if (new2 > 0) shear *= std::sqrt(old2 / new2);
+      new2 = shear.squaredNorm();
     }
+    if (!(old2 > 0 && new2 > 0)) old2 = new2 = 1;  // sqrt(1 / 1) = 1 leaves the spring as is
+  }
+
+  // Rescales by `factor` = sqrt(old2 / new2), adds v_t dt and applies the Coulomb cap. Returns
+  // the force on the body whose relative velocity vt is.
+  V FinishShear(V& shear, double factor, const V& vt, double normal_force_n,
+                double friction) const {
+    shear *= factor;
     shear += this->settings_.time_step_s * vt;
     const double ks = this->settings_.tangential_stiffness_n_per_m;
     V force = -ks * shear;
@@ -130,63 +151,197 @@ class Engine final : public EngineBase<Dim> {
     return force;
   }
 
-  void PairForces() {
-    this->pool_->ParallelFor(static_cast<std::int64_t>(this->pairs_.size()),
-                             [this](int, std::int64_t begin, std::int64_t end) {
-                               for (std::int64_t p = begin; p < end; ++p) {
-                                 PairForce(static_cast<std::size_t>(p));
-                               }
-                             });
+  V TangentialForce(V& shear, const V& n, const V& vt, double normal_force_n,
+                    double friction) const {
+    double old2;
+    double new2;
+    ProjectShear(shear, n, old2, new2);
+    return FinishShear(shear, std::sqrt(old2 / new2), vt, normal_force_n, friction);
   }
 
-  void PairForce(std::size_t p) {
+  // Each chunk of the pair list runs in stages. The first only measures distances (most listed
+  // pairs are within the skin but not touching), zeroes their results and collects the pairs
+  // that interact, without a data-dependent branch. The interacting pairs then go through the
+  // contact laws in blocks of kBlock, stage by stage: a contact is one long chain of dependent
+  // square roots and divisions, so each chain is cut where it needs one and the square roots
+  // and divisions of the whole block are taken together (independent, so they overlap in the
+  // pipeline, two per SSE2 instruction). The arithmetic of each pair is the same as a one-pass
+  // loop and does not depend on the chunking: results are the same for every thread count.
+  void PairForces() {
+    this->pool_->ParallelFor(
+        static_cast<std::int64_t>(this->pairs_.size()),
+        [this](int chunk, std::int64_t begin, std::int64_t end) {
+          const auto& x = this->state_.position_m;
+          const std::int32_t* first = this->pairs_.first.data();
+          const std::int32_t* second = this->pairs_.second.data();
+          const double* radius = this->state_.radius_m.data();
+          // Pair terms are recomputed from the particles rather than stored per pair, to keep
+          // the per-pair arrays (read every step) small.
+          const double cutoff_gap_m = Phys::kVanDerWaals ? this->settings_.vdw_cutoff_gap_m : 0.0;
+          auto* results = this->pair_result_.data();
+          std::int32_t* contacts = this->chunk_contacts_[static_cast<std::size_t>(chunk)].data();
+          std::int64_t count = 0;
+          for (std::int64_t p = begin; p < end; ++p) {
+            const std::int32_t i = first[p];
+            const std::int32_t j = second[p];
+            const V d = x[i] - x[j];
+            const double cutoff_m = radius[i] + radius[j] + cutoff_gap_m;
+            const bool interacts = d.squaredNorm() < cutoff_m * cutoff_m;
+            results[p] = {V::Zero(), ZeroSpin<Dim>()};
+            contacts[count] = static_cast<std::int32_t>(p);
+            count += interacts ? 1 : 0;
+            if constexpr (Phys::kTangential) {
+              // The spring of a pair that does not touch is almost always zero already: test
+              // for the rare one to clear (a predictable branch) instead of writing every one.
+              auto& shear = this->pair_shear_[static_cast<std::size_t>(p)];
+              if (!interacts && NonZeroBits(shear)) shear = V::Zero();
+            }
+            if constexpr (Law::kNeedsHistory) {
+              if (!interacts) this->pair_normal_history_[static_cast<std::size_t>(p)] = {};
+            }
+          }
+          auto& scratch = scratch_[static_cast<std::size_t>(chunk)];
+          for (std::int64_t b = 0; b < count; b += kBlock) {
+            ContactBlock(contacts + b, static_cast<int>(std::min<std::int64_t>(kBlock, count - b)),
+                         scratch);
+          }
+        });
+  }
+
+  static constexpr int kBlock = 64;
+  // Per-thread temporaries of one block of contacts.
+  struct Scratch {
+    alignas(16) double dist[kBlock];
+    alignas(16) double inverse[kBlock];
+    alignas(16) double old2[kBlock];
+    alignas(16) double new2[kBlock];
+    V normal[kBlock];
+    V tangential_velocity[kBlock];
+    double normal_force[kBlock];
+    double overlap[kBlock];
+    double effective_radius[kBlock];
+    bool touching[kBlock];
+  };
+
+  // out[k] = sqrt(a[k] / b[k]) (b null: sqrt(a[k])), and inverse[k] = 1 / out[k] when asked.
+  // Correctly rounded like the scalar std::sqrt and division, so results do not depend on the
+  // block split. n is padded to even with harmless values by the caller.
+  static void BlockSqrt(double* out, const double* a, const double* b, double* inverse, int n) {
+#if defined(__SSE2__)
+    for (int k = 0; k < n; k += 2) {
+      __m128d v = _mm_load_pd(a + k);
+      if (b != nullptr) v = _mm_div_pd(v, _mm_load_pd(b + k));
+      v = _mm_sqrt_pd(v);
+      _mm_store_pd(out + k, v);
+      if (inverse != nullptr) _mm_store_pd(inverse + k, _mm_div_pd(_mm_set1_pd(1.0), v));
+    }
+#else
+    for (int k = 0; k < n; ++k) {
+      out[k] = std::sqrt(b != nullptr ? a[k] / b[k] : a[k]);
+      if (inverse != nullptr) inverse[k] = 1.0 / out[k];
+    }
+#endif
+  }
+
+  // True unless every component is +0.0 (evaluated without branches).
+  static bool NonZeroBits(const V& v) {
+    std::uint64_t bits = 0;
+    for (int c = 0; c < Dim; ++c) bits |= std::bit_cast<std::uint64_t>(v[c]);
+    return bits != 0;
+  }
+  struct PairTerms {
+    double radius_sum_m;
+    double mass_kg;   // effective mass m_i m_j / (m_i + m_j)
+    double radius_m;  // effective radius r_i r_j / (r_i + r_j)
+  };
+  PairTerms Terms(std::int32_t i, std::int32_t j) const {
     const auto& s = this->state_;
-    const std::int32_t i = this->pairs_.first[p];
-    const std::int32_t j = this->pairs_.second[p];
-    const V d = s.position_m[i] - s.position_m[j];
-    const double r_sum = s.radius_m[i] + s.radius_m[j];
-    const double dist2 = d.squaredNorm();
-    double reach = r_sum;
-    if constexpr (Phys::kVanDerWaals) reach += this->settings_.vdw_cutoff_gap_m;
-    V& force = this->pair_force_[p];
-    if (dist2 >= reach * reach) {
-      force.setZero();
-      if constexpr (Phys::kRotation) this->pair_twist_[p] = ZeroSpin<Dim>();
-      ResetPairHistory(p);
-      return;
+    const double r_i = s.radius_m[i];
+    const double r_j = s.radius_m[j];
+    const double m_i = s.mass_kg[i];
+    const double m_j = s.mass_kg[j];
+    return {r_i + r_j, m_i * m_j / (m_i + m_j), r_i * r_j / (r_i + r_j)};
+  }
+
+  // The forces of `n` pairs closer than their cutoff (their pair_result_ is zero on entry).
+  void ContactBlock(const std::int32_t* contacts, int n, Scratch& t) {
+    const auto& s = this->state_;
+    const std::int32_t* first = this->pairs_.first.data();
+    const std::int32_t* second = this->pairs_.second.data();
+    const int padded = (n + 1) & ~1;
+    // Stage 1: distances.
+    for (int k = 0; k < n; ++k) {
+      const std::int32_t p = contacts[k];
+      t.normal[k] = s.position_m[first[p]] - s.position_m[second[p]];
+      t.dist[k] = t.normal[k].squaredNorm();
     }
-    const double dist = std::sqrt(dist2);
-    const V n = d / dist;  // from j to i
-    const double overlap = r_sum - dist;
-    force.setZero();
-    if constexpr (Phys::kRotation) this->pair_twist_[p] = ZeroSpin<Dim>();
-    if (overlap > 0) {
-      V v_rel = s.velocity_mps[i] - s.velocity_mps[j];
-      if constexpr (Phys::kRotation) {
-        const S spin = s.radius_m[i] * s.angular_velocity_radps[i] +
-                       s.radius_m[j] * s.angular_velocity_radps[j];
-        v_rel -= SpinCross(spin, n);
+    if (padded > n) t.dist[n] = 1;
+    BlockSqrt(t.dist, t.dist, nullptr, t.inverse, padded);
+    // Stage 2: normal force, relative velocity and the projected spring.
+    for (int k = 0; k < n; ++k) {
+      const auto p = static_cast<std::size_t>(contacts[k]);
+      const std::int32_t i = first[p];
+      const std::int32_t j = second[p];
+      const PairTerms terms = Terms(i, j);
+      const V n_ij = t.normal[k] * t.inverse[k];  // from j to i; as d / dist
+      t.normal[k] = n_ij;
+      const double overlap = terms.radius_sum_m - t.dist[k];
+      t.overlap[k] = overlap;
+      t.effective_radius[k] = terms.radius_m;
+      t.touching[k] = overlap > 0;
+      t.old2[k] = 1;
+      t.new2[k] = 1;
+      auto& result = this->pair_result_[p];
+      if (overlap > 0) {
+        V v_rel = s.velocity_mps[i] - s.velocity_mps[j];
+        if constexpr (Phys::kRotation) {
+          const S spin = s.radius_m[i] * s.angular_velocity_radps[i] +
+                         s.radius_m[j] * s.angular_velocity_radps[j];
+          v_rel -= SpinCross(spin, n_ij);
+        }
+        const double v_n = v_rel.dot(n_ij);
+        const NormalContact contact{overlap, -v_n, terms.mass_kg, terms.radius_m};
+        const double normal_force = law_.NormalForce(contact, this->pair_normal_history_[p]);
+        if constexpr (Phys::kTangential) {
+          t.normal_force[k] = normal_force;
+          t.tangential_velocity[k] = v_rel - v_n * n_ij;
+          ProjectShear(this->pair_shear_[p], n_ij, t.old2[k], t.new2[k]);
+        } else {
+          result.force_n = normal_force * n_ij;
+          AddVanDerWaals(result.force_n, overlap, terms.radius_m, n_ij);
+        }
+      } else {
+        ResetPairHistory(p);
+        AddVanDerWaals(result.force_n, overlap, terms.radius_m, n_ij);
       }
-      const double v_n = v_rel.dot(n);
-      const NormalContact contact{overlap, -v_n, this->pair_mass_kg_[p], this->pair_radius_m_[p]};
-      const double normal_force = law_.NormalForce(contact, this->pair_normal_history_[p]);
-      force = normal_force * n;
-      if constexpr (Phys::kTangential) {
-        const V v_t = v_rel - v_n * n;
-        const V tangential =
-            TangentialForce(this->pair_shear_[p], n, v_t, normal_force, this->settings_.friction);
+    }
+    if constexpr (Phys::kTangential) {
+      // Stage 3: the spring rescale factors, then the tangential force.
+      if (padded > n) t.old2[n] = t.new2[n] = 1;
+      BlockSqrt(t.old2, t.old2, t.new2, nullptr, padded);
+      for (int k = 0; k < n; ++k) {
+        if (!t.touching[k]) continue;
+        const auto p = static_cast<std::size_t>(contacts[k]);
+        const V& n_ij = t.normal[k];
+        auto& result = this->pair_result_[p];
+        const V tangential = FinishShear(this->pair_shear_[p], t.old2[k], t.tangential_velocity[k],
+                                         t.normal_force[k], this->settings_.friction);
+        V force = t.normal_force[k] * n_ij;
         force += tangential;
-        if constexpr (Phys::kRotation) this->pair_twist_[p] = TorqueCross(n, tangential);
+        if constexpr (Phys::kRotation) result.twist_n = TorqueCross(n_ij, tangential);
+        AddVanDerWaals(force, t.overlap[k], t.effective_radius[k], n_ij);
+        result.force_n = force;
       }
-    } else {
-      ResetPairHistory(p);
     }
+  }
+
+  // Hamaker (1937) sphere-sphere attraction for gaps h << R: F = A R_eff / (6 h^2), i.e.
+  // A R / (12 h^2) for equal spheres (paper 004 eq. 2). It diverges at contact, so the gap is
+  // floored at vdw_min_gap_m (an interatomic distance, Israelachvili ch. 13).
+  void AddVanDerWaals(V& force, double overlap, double effective_radius_m, const V& n) const {
     if constexpr (Phys::kVanDerWaals) {
-      // Hamaker (1937) sphere-sphere attraction for gaps h << R: F = A R_eff / (6 h^2), i.e.
-      // A R / (12 h^2) for equal spheres (paper 004 eq. 2). It diverges at contact, so the gap
-      // is floored at vdw_min_gap_m (an interatomic distance, Israelachvili ch. 13).
       const double gap = std::max(-overlap, this->settings_.vdw_min_gap_m);
-      force -= (this->settings_.hamaker_j * this->pair_radius_m_[p] / (6 * gap * gap)) * n;
+      force -= (this->settings_.hamaker_j * effective_radius_m / (6 * gap * gap)) * n;
     }
   }
 
@@ -202,18 +357,20 @@ class Engine final : public EngineBase<Dim> {
     const double r_i = s.radius_m[i];
     V force = s.mass_kg[i] * gravity_;
     S torque = ZeroSpin<Dim>();
+    const auto* results = this->pair_result_.data();
     for (std::int32_t p = pairs.begin[i]; p < pairs.begin[i + 1]; ++p) {
-      force += this->pair_force_[p];
-      if constexpr (Phys::kRotation) torque -= r_i * this->pair_twist_[p];
+      force += results[p].force_n;
+      if constexpr (Phys::kRotation) torque -= r_i * results[p].twist_n;
     }
     for (std::int32_t k = pairs.reverse_begin[i]; k < pairs.reverse_begin[i + 1]; ++k) {
       const std::int32_t p = pairs.reverse_pairs[k];
-      force -= this->pair_force_[p];
-      if constexpr (Phys::kRotation) torque -= r_i * this->pair_twist_[p];
+      force -= results[p].force_n;
+      if constexpr (Phys::kRotation) torque -= r_i * results[p].twist_n;
     }
     const std::size_t wall_count = this->walls_.size();
+    const std::uint64_t near = this->wall_near_[static_cast<std::size_t>(i)];
     for (std::size_t w = 0; w < wall_count; ++w) {
-      WallForce(i, w, force, torque);
+      if (w >= 64 || ((near >> w) & 1) != 0) WallForce(i, w, force, torque);
     }
     if constexpr (Phys::kLocalDamping) {
       // Cundall (1987) local non-viscous damping, as in paper 004 eq. 12: each component of the
@@ -241,7 +398,7 @@ class Engine final : public EngineBase<Dim> {
   }
 
   // A wall is a body of infinite mass and curvature radius: m_eff = m, R_eff = r.
-  void WallForce(std::int32_t i, std::size_t w, V& force, S& torque) {
+  [[gnu::always_inline]] void WallForce(std::int32_t i, std::size_t w, V& force, S& torque) {
     auto& s = this->state_;
     const std::size_t h = static_cast<std::size_t>(i) * this->walls_.size() + w;
     V n;
@@ -269,6 +426,7 @@ class Engine final : public EngineBase<Dim> {
 
   Law law_;
   V gravity_;
+  std::vector<Scratch> scratch_;  // one per pool chunk
 };
 
 // Picks the physics flags at run time once, so each scene runs one specialised loop.

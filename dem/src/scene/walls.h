@@ -21,8 +21,22 @@ struct Wall {
   double z_min_m = 0;                  // cylinder side spans these heights; the rim is not
   double z_max_m = 0;                  // modelled, so particles above it do not touch it
 
+  // True when a particle of radius r at x is closer than margin_m to touching the wall (it may
+  // touch it after moving margin_m). Conservative: the cylinder's height limits are widened too.
+  bool Near(const Vec<Dim>& x, double r, double margin_m) const {
+    if (kind == Kind::kPlane) return r + margin_m - (x - point).dot(normal) > 0;
+    if constexpr (Dim == 3) {
+      if (x.z() < z_min_m - margin_m || x.z() > z_max_m + margin_m) return false;
+      const double dx = x.x() - point.x();
+      const double dy = x.y() - point.y();
+      const double inner = radius_m - r - margin_m;
+      return !(inner > 0 && dx * dx + dy * dy <= inner * inner);
+    }
+    return false;
+  }
+
   // Overlap (> 0 in contact) of a particle of radius r at x, and the unit normal into it.
-  double Overlap(const Vec<Dim>& x, double r, Vec<Dim>& n) const {
+  [[gnu::always_inline]] double Overlap(const Vec<Dim>& x, double r, Vec<Dim>& n) const {
     if (kind == Kind::kPlane) {
       n = normal;
       return r - (x - point).dot(normal);
