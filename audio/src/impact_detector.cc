@@ -240,37 +240,31 @@ class ImpactDetector::Impl {
       }
       band.power = power;
     }
-    // The residual is computed on the main band and held between its (longer) frames, so each
-    // envelope frame carries the residual of the latest window that ended in it or before.
-    if (!blocks_.empty()) {
-      Band& band = bands_[residual_band_];
-      band.frame_powers.clear();
-      residual_noise_.clear();
-      const bool use_residual = options_.ringing_residual;
-      std::int64_t fill = fill_at_start;
-      // In runs that end where a residual frame or an envelope frame completes, not sample by
-      // sample (same result: a frame completed by a sample counts for that sample's envelope
-      // frame).
-      const std::span<const float> block(blocks_[0]);
-      for (std::size_t at = 0; at < block.size();) {
-        std::size_t run = std::min(block.size() - at, static_cast<std::size_t>(hop_ - fill));
-        if (use_residual) run = std::min(run, residual_.samples_to_frame());
-        if (use_residual && residual_.PushRun(block.subspan(at, run))) {
-          residual_novelty_db_ = residual_.novelty_db();
+    // The residual is computed on the main band; each envelope frame records the latest
+    // residual frame that ended in it or before (a frame completed by a sample counts for that
+    // sample's envelope frame), and the noise under the ringing it held. The envelope frames are
+    // examined as they complete, so the residual still holds the frames they ask about.
+    const bool use_residual = options_.ringing_residual && !blocks_.empty();
+    std::int64_t fill = fill_at_start;
+    std::size_t frame = 0;
+    const std::span<const float> block(blocks_.empty() ? std::span<const float>()
+                                                       : std::span<const float>(blocks_[0]));
+    for (std::size_t at = 0; at < count;) {
+      std::size_t run = std::min(count - at, static_cast<std::size_t>(hop_ - fill));
+      if (use_residual) {
+        run = std::min(run, residual_.samples_to_frame());
+        if (residual_.PushRun(block.subspan(at, run))) {
           residual_noise_power_ = residual_.noise_power();
         }
-        at += run;
-        fill += static_cast<std::int64_t>(run);
-        if (fill == hop_) {
-          band.frame_powers.push_back(residual_novelty_db_);
-          residual_noise_.push_back(residual_noise_power_);
-          fill = 0;
-        }
+      }
+      at += run;
+      fill += static_cast<std::int64_t>(run);
+      if (fill == hop_) {
+        OnFrame(frame++);
+        fill = 0;
       }
     }
-    frame_fill_ = (fill_at_start + static_cast<std::int64_t>(count)) % hop_;
-    const std::size_t frames = bands_.empty() ? 0 : bands_[0].frame_powers.size();
-    for (std::size_t f = 0; f < frames; ++f) OnFrame(f);
+    frame_fill_ = fill;
   }
 
   // Rise of frame m = n - attack of one band: its loudest frame in the attack window [m, n]
@@ -295,13 +289,13 @@ class ImpactDetector::Impl {
       UpdateWindows(band, n);
     }
     {
-      // The residual band holds the novelty itself (already a rise, in dB) and, as its floor,
-      // the noise under the ringing; before its first frame there is neither (NaN noise).
+      // The residual band holds the latest residual frame (its novelty is computed only where
+      // it is asked for, see ResidualNoveltyDb) and, as its floor, the noise under the ringing;
+      // before its first frame there is neither (-1, NaN noise).
       Band& band = bands_[residual_band_];
-      band.frames_db[static_cast<std::size_t>(n) & band.mask] = band.frame_powers[block_frame];
-      const double noise = residual_noise_[block_frame];
-      if (!std::isnan(noise)) band.floor.Add(noise);
-      UpdateWindows(band, n);
+      band.frames_db[static_cast<std::size_t>(n) & band.mask] =
+          static_cast<double>(residual_.latest_frame());
+      if (!std::isnan(residual_noise_power_)) band.floor.Add(residual_noise_power_);
     }
     const double level_db = bands_[0].Db(n);
     if (open_ && level_db > candidate_peak_db_) {
@@ -335,14 +329,15 @@ class ImpactDetector::Impl {
     // floor: under continuous ringing the band's own minimum-statistics floor is the ringing.
     // (The tail test costs a log per frame, so it is only made when the novelty could count.)
     const Band& residual = bands_[residual_band_];
-    const double novelty_rise_db =
-        residual.ahead.max() * options_.rise_threshold_db / kNoveltyAtThresholdDb;
     const bool tail_present =
-        options_.ringing_residual && novelty_rise_db >= secondary_threshold_db_ &&
-        residual.floor.started() &&
+        options_.ringing_residual && residual.floor.started() &&
         bands_[0].reference.max() - residual.floor.db() >= options_.rise_threshold_db;
-    const double residual_rise_db =
-        tail_present ? novelty_rise_db : -std::numeric_limits<double>::infinity();
+    const double novelty_rise_db =
+        tail_present ? ResidualNoveltyDb(m, n) * options_.rise_threshold_db / kNoveltyAtThresholdDb
+                     : -std::numeric_limits<double>::infinity();
+    const double residual_rise_db = novelty_rise_db >= secondary_threshold_db_
+                                        ? novelty_rise_db
+                                        : -std::numeric_limits<double>::infinity();
     // A residual frame spans a few ms, so after a hit it stays above its pre-hit reference for
     // that long: the residual opens a candidate only after it has fallen back below the
     // threshold once (hysteresis), never on the lingering frames of the last candidate.
@@ -384,6 +379,22 @@ class ImpactDetector::Impl {
         }
       }
     }
+  }
+
+  // The loudest novelty of the residual frames that envelope frames [m, n] hold (the latest
+  // residual frame that ended in each; 0 before the first). Only these frames' spectra and
+  // their lookbacks are computed, so the residual costs little outside tails.
+  double ResidualNoveltyDb(std::int64_t m, std::int64_t n) {
+    const Band& band = bands_[residual_band_];
+    double novelty_db = -std::numeric_limits<double>::infinity();
+    std::int64_t previous = -2;
+    for (std::int64_t k = m; k <= n; ++k) {
+      const auto frame = static_cast<std::int64_t>(band.Db(k));
+      if (frame == previous) continue;
+      previous = frame;
+      novelty_db = std::max(novelty_db, frame < 0 ? 0.0 : residual_.NoveltyDb(frame));
+    }
+    return novelty_db;
   }
 
   // The main band's peak over the candidate against the noise under the ringing (the
@@ -587,9 +598,7 @@ class ImpactDetector::Impl {
   double secondary_threshold_db_;
   RingingResidual residual_;
   std::size_t residual_band_;
-  double residual_novelty_db_ = 0;
   double residual_noise_power_ = std::numeric_limits<double>::quiet_NaN();
-  std::vector<double> residual_noise_;  // noise power under the ringing, per completed frame
   bool residual_armed_ = true;
   std::int64_t frame_fill_ = 0;
   std::int64_t frame_count_ = 0;
