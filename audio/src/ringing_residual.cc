@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "select_kth.h"
+
 namespace bouncecal::audio {
 namespace {
 
@@ -72,11 +74,10 @@ void RingingResidual::CompleteFrame() {
   if (bins_ > 0 && t % kHopsPerWindow == 0) {
     const float* current = Powers(t);
     sorted_.assign(current, current + bins_);
-    const auto quartile = sorted_.begin() + static_cast<std::ptrdiff_t>(bins_ / 4);
-    std::nth_element(sorted_.begin(), quartile, sorted_.end());
+    const float quartile = SelectKth(sorted_, bins_ / 4);
     // Parseval with the Hann window's mean square 3/8: a bin of white noise of variance s^2
     // has mean power 3/8 N s^2.
-    noise_power_ = *quartile / kQuartileOfMean / (0.375 * window_);
+    noise_power_ = quartile / kQuartileOfMean / (0.375 * window_);
   }
   std::copy(buffer_.begin() + hop_, buffer_.end(), buffer_.begin());
   fill_ = window_ - hop_;
