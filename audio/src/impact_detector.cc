@@ -4,7 +4,6 @@
 #include <bit>
 #include <cmath>
 #include <cstdio>
-#include <deque>
 #include <limits>
 #include <optional>
 #include <string>
@@ -87,20 +86,34 @@ void DetectorOptions::Validate(int sample_rate_hz) const {
 constexpr double kDetectionBandsHz[] = {2000.0, 6000.0};
 
 // Maximum over a sliding window of frames: a monotonic queue (values decreasing from the
-// front), so each frame is pushed and popped once.
+// front), so each frame is pushed and popped once. The queue lives in a power-of-two ring
+// sized for the longest window, not a std::deque: two of these per band and frame made the
+// deque's block bookkeeping a visible part of the analysis.
 class SlidingMax {
  public:
+  // window_frames: the most frames the window ever spans (the queue holds at most that many).
+  explicit SlidingMax(std::size_t window_frames)
+      : entries_(std::bit_ceil(window_frames + 1)), mask_(entries_.size() - 1) {}
   void Push(std::int64_t index, double value) {
-    while (!queue_.empty() && queue_.back().second <= value) queue_.pop_back();
-    queue_.emplace_back(index, value);
+    while (back_ != front_ && At(back_ - 1).value <= value) --back_;
+    At(back_++) = {index, value};
   }
   void DropBefore(std::int64_t index) {
-    while (!queue_.empty() && queue_.front().first < index) queue_.pop_front();
+    while (back_ != front_ && At(front_).index < index) ++front_;
   }
-  double max() const { return queue_.empty() ? ToDb(0.0) : queue_.front().second; }
+  double max() const { return back_ == front_ ? ToDb(0.0) : At(front_).value; }
 
  private:
-  std::deque<std::pair<std::int64_t, double>> queue_;
+  struct Entry {
+    std::int64_t index;
+    double value;
+  };
+  Entry& At(std::uint64_t position) { return entries_[position & mask_]; }
+  const Entry& At(std::uint64_t position) const { return entries_[position & mask_]; }
+  std::vector<Entry> entries_;
+  std::uint64_t mask_;
+  std::uint64_t front_ = 0;  // positions count up forever; the ring index is position & mask_
+  std::uint64_t back_ = 0;
 };
 
 class ImpactDetector::Impl {
@@ -186,7 +199,9 @@ class ImpactDetector::Impl {
         : samples(history),
           frames_db(std::bit_ceil(frames)),
           mask(frames_db.size() - 1),
-          floor(frame_s) {}
+          floor(frame_s),
+          ahead(frames),
+          reference(frames) {}
     SampleHistory<float> samples;
     std::vector<double> frames_db;
     std::size_t mask;
