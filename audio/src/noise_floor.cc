@@ -25,6 +25,8 @@ void NoiseFloor::Add(double power) {
     minima_[next_] = current_min_;
     next_ = (next_ + 1) % minima_.size();
     stored_ = std::min(stored_ + 1, minima_.size());
+    stored_min_ = minima_[0];
+    for (std::size_t i = 1; i < stored_; ++i) stored_min_ = std::min(stored_min_, minima_[i]);
     filled_ = 0;
     current_min_ = smoothed_;
   }
@@ -32,8 +34,13 @@ void NoiseFloor::Add(double power) {
 
 double NoiseFloor::db() const {
   double floor = started_ ? current_min_ : 0.0;
-  for (std::size_t i = 0; i < stored_; ++i) floor = std::min(floor, minima_[i]);
-  return PowerToDb(std::max(floor, 1e-14));
+  if (stored_ > 0) floor = std::min(floor, stored_min_);
+  // The detector asks every frame; the floor changes far less often.
+  if (floor != cached_floor_) {
+    cached_floor_ = floor;
+    cached_db_ = PowerToDb(std::max(floor, 1e-14));
+  }
+  return cached_db_;
 }
 
 }  // namespace bouncecal::audio

@@ -1,6 +1,7 @@
 #ifndef BOUNCECAL_AUDIO_SRC_NOISE_FLOOR_H_
 #define BOUNCECAL_AUDIO_SRC_NOISE_FLOOR_H_
 
+#include <limits>
 #include <vector>
 
 namespace bouncecal::audio {
@@ -30,6 +31,10 @@ class NoiseFloor {
   std::vector<double> minima_;
   std::size_t next_ = 0;
   std::size_t stored_ = 0;
+  double stored_min_ = 0;  // of the stored minima
+  // The last floor db() converted and its dB (NaN: none yet).
+  mutable double cached_floor_ = std::numeric_limits<double>::quiet_NaN();
+  mutable double cached_db_ = 0;
 };
 
 }  // namespace bouncecal::audio
