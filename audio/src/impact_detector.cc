@@ -85,8 +85,12 @@ void DetectorOptions::Validate(int sample_rate_hz) const {
 // above the main band's low edge and below 0.7 of the Nyquist frequency (and the low-pass).
 constexpr double kDetectionBandsHz[] = {2000.0, 6000.0};
 
-// Maximum over a sliding window of frames: a monotonic queue (values decreasing from the
-// front), so each frame is pushed and popped once. The queue lives in a power-of-two ring
+// Maximum over a sliding window of frame powers, in dB: a monotonic queue (powers decreasing
+// from the front), so each frame is pushed and popped once. Only the maximum is converted to
+// dB, once, when it is first asked for: converting every frame of every band was a third of
+// the detector's time, and most frames never become a window's maximum. (The dB of the
+// maximum power is the maximum of the dBs: PowerToDb is monotonic to within its 1e-9 dB.)
+// The queue lives in a power-of-two ring
 // sized for the longest window, not a std::deque: two of these per band and frame made the
 // deque's block bookkeeping a visible part of the analysis.
 class SlidingMax {
@@ -94,19 +98,25 @@ class SlidingMax {
   // window_frames: the most frames the window ever spans (the queue holds at most that many).
   explicit SlidingMax(std::size_t window_frames)
       : entries_(std::bit_ceil(window_frames + 1)), mask_(entries_.size() - 1) {}
-  void Push(std::int64_t index, double value) {
-    while (back_ != front_ && At(back_ - 1).value <= value) --back_;
-    At(back_++) = {index, value};
+  void Push(std::int64_t index, double power) {
+    while (back_ != front_ && At(back_ - 1).power <= power) --back_;
+    At(back_++) = {index, power, std::numeric_limits<double>::quiet_NaN()};
   }
   void DropBefore(std::int64_t index) {
     while (back_ != front_ && At(front_).index < index) ++front_;
   }
-  double max() const { return back_ == front_ ? ToDb(0.0) : At(front_).value; }
+  double max_db() {
+    if (back_ == front_) return ToDb(0.0);
+    Entry& front = At(front_);
+    if (std::isnan(front.db)) front.db = ToDb(front.power);
+    return front.db;
+  }
 
  private:
   struct Entry {
     std::int64_t index;
-    double value;
+    double power;
+    double db;  // NaN until asked for
   };
   Entry& At(std::uint64_t position) { return entries_[position & mask_]; }
   const Entry& At(std::uint64_t position) const { return entries_[position & mask_]; }
@@ -191,26 +201,28 @@ class ImpactDetector::Impl {
     std::vector<MergedEvent> others;
   };
 
-  // One detection band: its filtered samples, energy frames in dB and noise floor.
+  // One detection band: its filtered samples, energy frames and noise floor. (The residual's
+  // band holds in its frame ring the latest residual frame of each envelope frame instead.)
   struct Band {
-    // The frame ring has a power-of-two size so indexing is a mask, not a division: the rise
-    // loops read it ~50 times per frame and band.
+    // The frame ring has a power-of-two size so indexing is a mask, not a division. Frames are
+    // kept as powers; Db() converts the few that candidates look at.
     Band(std::size_t history, std::size_t frames, double frame_s)
         : samples(history),
-          frames_db(std::bit_ceil(frames)),
-          mask(frames_db.size() - 1),
+          frame_powers_ring(std::bit_ceil(frames)),
+          mask(frame_powers_ring.size() - 1),
           floor(frame_s),
           ahead(frames),
           reference(frames) {}
     SampleHistory<float> samples;
-    std::vector<double> frames_db;
+    std::vector<double> frame_powers_ring;  // mean squares of the recent frames
     std::size_t mask;
     NoiseFloor floor;
     double power = 0;                  // of the frame being filled
     std::vector<double> frame_powers;  // mean squares of the frames completed by this block
-    double Db(std::int64_t frame) const {
-      return frames_db[static_cast<std::size_t>(frame) & mask];
+    double Power(std::int64_t frame) const {
+      return frame_powers_ring[static_cast<std::size_t>(frame) & mask];
     }
+    double Db(std::int64_t frame) const { return ToDb(Power(frame)); }
     // Sliding maxima of the attack window and the lookback (monotonic queues, O(1) per frame).
     SlidingMax ahead;
     SlidingMax reference;
@@ -286,20 +298,20 @@ class ImpactDetector::Impl {
   // against the loudest frame of the lookback [m - lookback, m - skip].
   void UpdateWindows(Band& band, std::int64_t n) const {
     const std::int64_t m = n - attack_frames_;
-    band.ahead.Push(n, band.Db(n));
+    band.ahead.Push(n, band.Power(n));
     band.ahead.DropBefore(m);
     const std::int64_t entering = m - skip_frames_;
-    if (entering >= 0) band.reference.Push(entering, band.Db(entering));
+    if (entering >= 0) band.reference.Push(entering, band.Power(entering));
     band.reference.DropBefore(m - lookback_frames_);
   }
-  static double Rise(const Band& band) { return band.ahead.max() - band.reference.max(); }
+  static double Rise(Band& band) { return band.ahead.max_db() - band.reference.max_db(); }
 
   void OnFrame(std::size_t block_frame) {
     const std::int64_t n = frame_count_++;
     for (std::size_t b = 0; b < residual_band_; ++b) {
       Band& band = bands_[b];
       const double power = band.frame_powers[block_frame];
-      band.frames_db[static_cast<std::size_t>(n) & band.mask] = ToDb(power);
+      band.frame_powers_ring[static_cast<std::size_t>(n) & band.mask] = power;
       band.floor.Add(power);
       UpdateWindows(band, n);
     }
@@ -308,14 +320,16 @@ class ImpactDetector::Impl {
       // it is asked for, see ResidualNoveltyDb) and, as its floor, the noise under the ringing;
       // before its first frame there is neither (-1, NaN noise).
       Band& band = bands_[residual_band_];
-      band.frames_db[static_cast<std::size_t>(n) & band.mask] =
+      band.frame_powers_ring[static_cast<std::size_t>(n) & band.mask] =
           static_cast<double>(residual_.latest_frame());
       if (!std::isnan(residual_noise_power_)) band.floor.Add(residual_noise_power_);
     }
-    const double level_db = bands_[0].Db(n);
-    if (open_ && level_db > candidate_peak_db_) {
-      candidate_peak_db_ = level_db;
-      candidate_peak_frame_ = n;
+    if (open_) {
+      const double level_db = bands_[0].Db(n);
+      if (level_db > candidate_peak_db_) {
+        candidate_peak_db_ = level_db;
+        candidate_peak_frame_ = n;
+      }
     }
     // The rise of frame m = n - attack is measured over an attack window because soft contacts
     // (tennis, rubber) take a millisecond or two to build up. It is measured in the whole band
@@ -346,7 +360,7 @@ class ImpactDetector::Impl {
     const Band& residual = bands_[residual_band_];
     const bool tail_present =
         options_.ringing_residual && residual.floor.started() &&
-        bands_[0].reference.max() - residual.floor.db() >= options_.rise_threshold_db;
+        bands_[0].reference.max_db() - residual.floor.db() >= options_.rise_threshold_db;
     const double novelty_rise_db =
         tail_present ? ResidualNoveltyDb(m, n) * options_.rise_threshold_db / kNoveltyAtThresholdDb
                      : -std::numeric_limits<double>::infinity();
@@ -404,7 +418,7 @@ class ImpactDetector::Impl {
     double novelty_db = -std::numeric_limits<double>::infinity();
     std::int64_t previous = -2;
     for (std::int64_t k = m; k <= n; ++k) {
-      const auto frame = static_cast<std::int64_t>(band.Db(k));
+      const auto frame = static_cast<std::int64_t>(band.Power(k));
       if (frame == previous) continue;
       previous = frame;
       novelty_db = std::max(novelty_db, frame < 0 ? 0.0 : residual_.NoveltyDb(frame));
