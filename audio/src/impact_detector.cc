@@ -162,7 +162,7 @@ class ImpactDetector::Impl {
     const std::size_t piece = filter_.max_latency_samples();
     for (std::size_t at = 0; at < samples.size(); at += piece) {
       const auto part = samples.subspan(at, std::min(piece, samples.size() - at));
-      for (float x : part) raw_.Push(x);
+      raw_.PushBlock(part);
       for (auto& block : blocks_) block.clear();
       filter_.Process(part, blocks_);
       Consume();
