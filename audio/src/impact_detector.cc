@@ -17,6 +17,7 @@
 #include "prediction_innovation.h"
 #include "ringing_residual.h"
 #include "sample_history.h"
+#include "window_max.h"
 
 namespace bouncecal::audio {
 namespace {
@@ -85,45 +86,23 @@ void DetectorOptions::Validate(int sample_rate_hz) const {
 // above the main band's low edge and below 0.7 of the Nyquist frequency (and the low-pass).
 constexpr double kDetectionBandsHz[] = {2000.0, 6000.0};
 
-// Maximum over a sliding window of frame powers, in dB: a monotonic queue (powers decreasing
-// from the front), so each frame is pushed and popped once. Only the maximum is converted to
-// dB, once, when it is first asked for: converting every frame of every band was a third of
-// the detector's time, and most frames never become a window's maximum. (The dB of the
-// maximum power is the maximum of the dBs: PowerToDb is monotonic to within its 1e-9 dB.)
-// The queue lives in a power-of-two ring
-// sized for the longest window, not a std::deque: two of these per band and frame made the
-// deque's block bookkeeping a visible part of the analysis.
-class SlidingMax {
+// 10 log10 of a window's maximum power, converted only when that maximum changes: converting
+// every frame of every band was a third of the detector's time, and a window's maximum stays
+// the same for many frames. (The dB of the maximum power is the maximum of the dBs: PowerToDb
+// is monotonic to within its 1e-9 dB.)
+class MaxDb {
  public:
-  // window_frames: the most frames the window ever spans (the queue holds at most that many).
-  explicit SlidingMax(std::size_t window_frames)
-      : entries_(std::bit_ceil(window_frames + 1)), mask_(entries_.size() - 1) {}
-  void Push(std::int64_t index, double power) {
-    while (back_ != front_ && At(back_ - 1).power <= power) --back_;
-    At(back_++) = {index, power, std::numeric_limits<double>::quiet_NaN()};
-  }
-  void DropBefore(std::int64_t index) {
-    while (back_ != front_ && At(front_).index < index) ++front_;
-  }
-  double max_db() {
-    if (back_ == front_) return ToDb(0.0);
-    Entry& front = At(front_);
-    if (std::isnan(front.db)) front.db = ToDb(front.power);
-    return front.db;
+  double operator()(double power) {
+    if (power != power_) {  // NaN before the first: always unequal
+      power_ = power;
+      db_ = ToDb(power);
+    }
+    return db_;
   }
 
  private:
-  struct Entry {
-    std::int64_t index;
-    double power;
-    double db;  // NaN until asked for
-  };
-  Entry& At(std::uint64_t position) { return entries_[position & mask_]; }
-  const Entry& At(std::uint64_t position) const { return entries_[position & mask_]; }
-  std::vector<Entry> entries_;
-  std::uint64_t mask_;
-  std::uint64_t front_ = 0;  // positions count up forever; the ring index is position & mask_
-  std::uint64_t back_ = 0;
+  double power_ = std::numeric_limits<double>::quiet_NaN();
+  double db_ = 0;
 };
 
 class ImpactDetector::Impl {
@@ -146,13 +125,16 @@ class ImpactDetector::Impl {
         residual_band_(filter_.output_count()) {
     const auto ring = static_cast<std::size_t>(lookback_frames_ + max_open_frames_ + peak_frames_ +
                                                attack_frames_ + 8);
+    // The windows of Rise: [m, n] and [m - lookback, m - skip].
+    const auto ahead_frames = static_cast<std::size_t>(attack_frames_ + 1);
+    const auto reference_frames = static_cast<std::size_t>(lookback_frames_ - skip_frames_ + 1);
     for (std::size_t b = 0; b < filter_.output_count(); ++b) {
       bands_.emplace_back(
           static_cast<std::size_t>(Samples(kHistoryS)) + filter_.max_latency_samples(), ring,
-          frame_s_);
+          frame_s_, ahead_frames, reference_frames);
     }
     // The ringing residual has no sample stream of its own: a token history.
-    bands_.emplace_back(1, ring, frame_s_);
+    bands_.emplace_back(1, ring, frame_s_, 1, 1);
     result_.sample_rate_hz = sample_rate_hz;
   }
 
@@ -206,13 +188,14 @@ class ImpactDetector::Impl {
   struct Band {
     // The frame ring has a power-of-two size so indexing is a mask, not a division. Frames are
     // kept as powers; Db() converts the few that candidates look at.
-    Band(std::size_t history, std::size_t frames, double frame_s)
+    Band(std::size_t history, std::size_t frames, double frame_s, std::size_t ahead_frames,
+         std::size_t reference_frames)
         : samples(history),
           frame_powers_ring(std::bit_ceil(frames)),
           mask(frame_powers_ring.size() - 1),
           floor(frame_s),
-          ahead(frames),
-          reference(frames) {}
+          ahead(ahead_frames),
+          reference(reference_frames) {}
     SampleHistory<float> samples;
     std::vector<double> frame_powers_ring;  // mean squares of the recent frames
     std::size_t mask;
@@ -223,9 +206,11 @@ class ImpactDetector::Impl {
       return frame_powers_ring[static_cast<std::size_t>(frame) & mask];
     }
     double Db(std::int64_t frame) const { return ToDb(Power(frame)); }
-    // Sliding maxima of the attack window and the lookback (monotonic queues, O(1) per frame).
-    SlidingMax ahead;
-    SlidingMax reference;
+    // Maxima of the attack window [m, n] and the lookback [m - lookback, m - skip] (see Rise).
+    WindowMax ahead;
+    WindowMax reference;
+    MaxDb ahead_db;
+    MaxDb reference_db;
   };
 
   static std::vector<double> DetectionBands(int rate, const DetectorOptions& options) {
@@ -298,13 +283,13 @@ class ImpactDetector::Impl {
   // against the loudest frame of the lookback [m - lookback, m - skip].
   void UpdateWindows(Band& band, std::int64_t n) const {
     const std::int64_t m = n - attack_frames_;
-    band.ahead.Push(n, band.Power(n));
-    band.ahead.DropBefore(m);
+    band.ahead.Push(band.Power(n));
     const std::int64_t entering = m - skip_frames_;
-    if (entering >= 0) band.reference.Push(entering, band.Power(entering));
-    band.reference.DropBefore(m - lookback_frames_);
+    if (entering >= 0) band.reference.Push(band.Power(entering));
   }
-  static double Rise(Band& band) { return band.ahead.max_db() - band.reference.max_db(); }
+  static double Rise(Band& band) {
+    return band.ahead_db(band.ahead.max()) - band.reference_db(band.reference.max());
+  }
 
   void OnFrame(std::size_t block_frame) {
     const std::int64_t n = frame_count_++;
@@ -360,7 +345,8 @@ class ImpactDetector::Impl {
     const Band& residual = bands_[residual_band_];
     const bool tail_present =
         options_.ringing_residual && residual.floor.started() &&
-        bands_[0].reference.max_db() - residual.floor.db() >= options_.rise_threshold_db;
+        bands_[0].reference_db(bands_[0].reference.max()) - residual.floor.db() >=
+            options_.rise_threshold_db;
     const double novelty_rise_db =
         tail_present ? ResidualNoveltyDb(m, n) * options_.rise_threshold_db / kNoveltyAtThresholdDb
                      : -std::numeric_limits<double>::infinity();
