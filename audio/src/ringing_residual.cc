@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -136,9 +137,11 @@ double RingingResidual::NoveltyDb(std::int64_t frame) {
     for (std::size_t k = 0; k < bins_; k += kChunk) {
       double product = mantissa;
       for (std::size_t i = k; i < std::min(bins_, k + kChunk); ++i) product *= reference_[i];
-      int e = 0;
-      mantissa = std::frexp(product, &e);
-      exponent += e;
+      // std::frexp from the bits (exact, and not a libm call): product is a positive normal
+      // double (at least 0.5, at most ~1e280).
+      const auto bits = std::bit_cast<std::uint64_t>(product);
+      exponent += static_cast<long long>((bits >> 52) & 0x7ff) - 1022;
+      mantissa = std::bit_cast<double>((bits & 0x000fffffffffffffULL) | 0x3fe0000000000000ULL);
     }
     const double sum_log10 = (static_cast<double>(exponent) + std::log2(mantissa)) *
                              std::numbers::ln2 / std::numbers::ln10;
