@@ -4,7 +4,6 @@
 #include <bit>
 #include <cmath>
 #include <cstdio>
-#include <deque>
 #include <limits>
 #include <optional>
 #include <string>
@@ -18,6 +17,7 @@
 #include "prediction_innovation.h"
 #include "ringing_residual.h"
 #include "sample_history.h"
+#include "window_max.h"
 
 namespace bouncecal::audio {
 namespace {
@@ -86,21 +86,23 @@ void DetectorOptions::Validate(int sample_rate_hz) const {
 // above the main band's low edge and below 0.7 of the Nyquist frequency (and the low-pass).
 constexpr double kDetectionBandsHz[] = {2000.0, 6000.0};
 
-// Maximum over a sliding window of frames: a monotonic queue (values decreasing from the
-// front), so each frame is pushed and popped once.
-class SlidingMax {
+// 10 log10 of a window's maximum power, converted only when that maximum changes: converting
+// every frame of every band was a third of the detector's time, and a window's maximum stays
+// the same for many frames. (The dB of the maximum power is the maximum of the dBs: PowerToDb
+// is monotonic to within its 1e-9 dB.)
+class MaxDb {
  public:
-  void Push(std::int64_t index, double value) {
-    while (!queue_.empty() && queue_.back().second <= value) queue_.pop_back();
-    queue_.emplace_back(index, value);
+  double operator()(double power) {
+    if (power != power_) {  // NaN before the first: always unequal
+      power_ = power;
+      db_ = ToDb(power);
+    }
+    return db_;
   }
-  void DropBefore(std::int64_t index) {
-    while (!queue_.empty() && queue_.front().first < index) queue_.pop_front();
-  }
-  double max() const { return queue_.empty() ? ToDb(0.0) : queue_.front().second; }
 
  private:
-  std::deque<std::pair<std::int64_t, double>> queue_;
+  double power_ = std::numeric_limits<double>::quiet_NaN();
+  double db_ = 0;
 };
 
 class ImpactDetector::Impl {
@@ -123,13 +125,16 @@ class ImpactDetector::Impl {
         residual_band_(filter_.output_count()) {
     const auto ring = static_cast<std::size_t>(lookback_frames_ + max_open_frames_ + peak_frames_ +
                                                attack_frames_ + 8);
+    // The windows of Rise: [m, n] and [m - lookback, m - skip].
+    const auto ahead_frames = static_cast<std::size_t>(attack_frames_ + 1);
+    const auto reference_frames = static_cast<std::size_t>(lookback_frames_ - skip_frames_ + 1);
     for (std::size_t b = 0; b < filter_.output_count(); ++b) {
       bands_.emplace_back(
           static_cast<std::size_t>(Samples(kHistoryS)) + filter_.max_latency_samples(), ring,
-          frame_s_);
+          frame_s_, ahead_frames, reference_frames);
     }
     // The ringing residual has no sample stream of its own: a token history.
-    bands_.emplace_back(1, ring, frame_s_);
+    bands_.emplace_back(1, ring, frame_s_, 1, 1);
     result_.sample_rate_hz = sample_rate_hz;
   }
 
@@ -139,7 +144,7 @@ class ImpactDetector::Impl {
     const std::size_t piece = filter_.max_latency_samples();
     for (std::size_t at = 0; at < samples.size(); at += piece) {
       const auto part = samples.subspan(at, std::min(piece, samples.size() - at));
-      for (float x : part) raw_.Push(x);
+      raw_.PushBlock(part);
       for (auto& block : blocks_) block.clear();
       filter_.Process(part, blocks_);
       Consume();
@@ -178,27 +183,34 @@ class ImpactDetector::Impl {
     std::vector<MergedEvent> others;
   };
 
-  // One detection band: its filtered samples, energy frames in dB and noise floor.
+  // One detection band: its filtered samples, energy frames and noise floor. (The residual's
+  // band holds in its frame ring the latest residual frame of each envelope frame instead.)
   struct Band {
-    // The frame ring has a power-of-two size so indexing is a mask, not a division: the rise
-    // loops read it ~50 times per frame and band.
-    Band(std::size_t history, std::size_t frames, double frame_s)
+    // The frame ring has a power-of-two size so indexing is a mask, not a division. Frames are
+    // kept as powers; Db() converts the few that candidates look at.
+    Band(std::size_t history, std::size_t frames, double frame_s, std::size_t ahead_frames,
+         std::size_t reference_frames)
         : samples(history),
-          frames_db(std::bit_ceil(frames)),
-          mask(frames_db.size() - 1),
-          floor(frame_s) {}
+          frame_powers_ring(std::bit_ceil(frames)),
+          mask(frame_powers_ring.size() - 1),
+          floor(frame_s),
+          ahead(ahead_frames),
+          reference(reference_frames) {}
     SampleHistory<float> samples;
-    std::vector<double> frames_db;
+    std::vector<double> frame_powers_ring;  // mean squares of the recent frames
     std::size_t mask;
     NoiseFloor floor;
     double power = 0;                  // of the frame being filled
     std::vector<double> frame_powers;  // mean squares of the frames completed by this block
-    double Db(std::int64_t frame) const {
-      return frames_db[static_cast<std::size_t>(frame) & mask];
+    double Power(std::int64_t frame) const {
+      return frame_powers_ring[static_cast<std::size_t>(frame) & mask];
     }
-    // Sliding maxima of the attack window and the lookback (monotonic queues, O(1) per frame).
-    SlidingMax ahead;
-    SlidingMax reference;
+    double Db(std::int64_t frame) const { return ToDb(Power(frame)); }
+    // Maxima of the attack window [m, n] and the lookback [m - lookback, m - skip] (see Rise).
+    WindowMax ahead;
+    WindowMax reference;
+    MaxDb ahead_db;
+    MaxDb reference_db;
   };
 
   static std::vector<double> DetectionBands(int rate, const DetectorOptions& options) {
@@ -240,73 +252,69 @@ class ImpactDetector::Impl {
       }
       band.power = power;
     }
-    // The residual is computed on the main band and held between its (longer) frames, so each
-    // envelope frame carries the residual of the latest window that ended in it or before.
-    if (!blocks_.empty()) {
-      Band& band = bands_[residual_band_];
-      band.frame_powers.clear();
-      residual_noise_.clear();
-      const bool use_residual = options_.ringing_residual;
-      std::int64_t fill = fill_at_start;
-      // In runs that end where a residual frame or an envelope frame completes, not sample by
-      // sample (same result: a frame completed by a sample counts for that sample's envelope
-      // frame).
-      const std::span<const float> block(blocks_[0]);
-      for (std::size_t at = 0; at < block.size();) {
-        std::size_t run = std::min(block.size() - at, static_cast<std::size_t>(hop_ - fill));
-        if (use_residual) run = std::min(run, residual_.samples_to_frame());
-        if (use_residual && residual_.PushRun(block.subspan(at, run))) {
-          residual_novelty_db_ = residual_.novelty_db();
+    // The residual is computed on the main band; each envelope frame records the latest
+    // residual frame that ended in it or before (a frame completed by a sample counts for that
+    // sample's envelope frame), and the noise under the ringing it held. The envelope frames are
+    // examined as they complete, so the residual still holds the frames they ask about.
+    const bool use_residual = options_.ringing_residual && !blocks_.empty();
+    std::int64_t fill = fill_at_start;
+    std::size_t frame = 0;
+    const std::span<const float> block(blocks_.empty() ? std::span<const float>()
+                                                       : std::span<const float>(blocks_[0]));
+    for (std::size_t at = 0; at < count;) {
+      std::size_t run = std::min(count - at, static_cast<std::size_t>(hop_ - fill));
+      if (use_residual) {
+        run = std::min(run, residual_.samples_to_frame());
+        if (residual_.PushRun(block.subspan(at, run))) {
           residual_noise_power_ = residual_.noise_power();
         }
-        at += run;
-        fill += static_cast<std::int64_t>(run);
-        if (fill == hop_) {
-          band.frame_powers.push_back(residual_novelty_db_);
-          residual_noise_.push_back(residual_noise_power_);
-          fill = 0;
-        }
+      }
+      at += run;
+      fill += static_cast<std::int64_t>(run);
+      if (fill == hop_) {
+        OnFrame(frame++);
+        fill = 0;
       }
     }
-    frame_fill_ = (fill_at_start + static_cast<std::int64_t>(count)) % hop_;
-    const std::size_t frames = bands_.empty() ? 0 : bands_[0].frame_powers.size();
-    for (std::size_t f = 0; f < frames; ++f) OnFrame(f);
+    frame_fill_ = fill;
   }
 
   // Rise of frame m = n - attack of one band: its loudest frame in the attack window [m, n]
   // against the loudest frame of the lookback [m - lookback, m - skip].
   void UpdateWindows(Band& band, std::int64_t n) const {
     const std::int64_t m = n - attack_frames_;
-    band.ahead.Push(n, band.Db(n));
-    band.ahead.DropBefore(m);
+    band.ahead.Push(band.Power(n));
     const std::int64_t entering = m - skip_frames_;
-    if (entering >= 0) band.reference.Push(entering, band.Db(entering));
-    band.reference.DropBefore(m - lookback_frames_);
+    if (entering >= 0) band.reference.Push(band.Power(entering));
   }
-  static double Rise(const Band& band) { return band.ahead.max() - band.reference.max(); }
+  static double Rise(Band& band) {
+    return band.ahead_db(band.ahead.max()) - band.reference_db(band.reference.max());
+  }
 
   void OnFrame(std::size_t block_frame) {
     const std::int64_t n = frame_count_++;
     for (std::size_t b = 0; b < residual_band_; ++b) {
       Band& band = bands_[b];
       const double power = band.frame_powers[block_frame];
-      band.frames_db[static_cast<std::size_t>(n) & band.mask] = ToDb(power);
+      band.frame_powers_ring[static_cast<std::size_t>(n) & band.mask] = power;
       band.floor.Add(power);
       UpdateWindows(band, n);
     }
     {
-      // The residual band holds the novelty itself (already a rise, in dB) and, as its floor,
-      // the noise under the ringing; before its first frame there is neither (NaN noise).
+      // The residual band holds the latest residual frame (its novelty is computed only where
+      // it is asked for, see ResidualNoveltyDb) and, as its floor, the noise under the ringing;
+      // before its first frame there is neither (-1, NaN noise).
       Band& band = bands_[residual_band_];
-      band.frames_db[static_cast<std::size_t>(n) & band.mask] = band.frame_powers[block_frame];
-      const double noise = residual_noise_[block_frame];
-      if (!std::isnan(noise)) band.floor.Add(noise);
-      UpdateWindows(band, n);
+      band.frame_powers_ring[static_cast<std::size_t>(n) & band.mask] =
+          static_cast<double>(residual_.latest_frame());
+      if (!std::isnan(residual_noise_power_)) band.floor.Add(residual_noise_power_);
     }
-    const double level_db = bands_[0].Db(n);
-    if (open_ && level_db > candidate_peak_db_) {
-      candidate_peak_db_ = level_db;
-      candidate_peak_frame_ = n;
+    if (open_) {
+      const double level_db = bands_[0].Db(n);
+      if (level_db > candidate_peak_db_) {
+        candidate_peak_db_ = level_db;
+        candidate_peak_frame_ = n;
+      }
     }
     // The rise of frame m = n - attack is measured over an attack window because soft contacts
     // (tennis, rubber) take a millisecond or two to build up. It is measured in the whole band
@@ -335,14 +343,16 @@ class ImpactDetector::Impl {
     // floor: under continuous ringing the band's own minimum-statistics floor is the ringing.
     // (The tail test costs a log per frame, so it is only made when the novelty could count.)
     const Band& residual = bands_[residual_band_];
-    const double novelty_rise_db =
-        residual.ahead.max() * options_.rise_threshold_db / kNoveltyAtThresholdDb;
     const bool tail_present =
-        options_.ringing_residual && novelty_rise_db >= secondary_threshold_db_ &&
-        residual.floor.started() &&
-        bands_[0].reference.max() - residual.floor.db() >= options_.rise_threshold_db;
-    const double residual_rise_db =
-        tail_present ? novelty_rise_db : -std::numeric_limits<double>::infinity();
+        options_.ringing_residual && residual.floor.started() &&
+        bands_[0].reference_db(bands_[0].reference.max()) - residual.floor.db() >=
+            options_.rise_threshold_db;
+    const double novelty_rise_db =
+        tail_present ? ResidualNoveltyDb(m, n) * options_.rise_threshold_db / kNoveltyAtThresholdDb
+                     : -std::numeric_limits<double>::infinity();
+    const double residual_rise_db = novelty_rise_db >= secondary_threshold_db_
+                                        ? novelty_rise_db
+                                        : -std::numeric_limits<double>::infinity();
     // A residual frame spans a few ms, so after a hit it stays above its pre-hit reference for
     // that long: the residual opens a candidate only after it has fallen back below the
     // threshold once (hysteresis), never on the lingering frames of the last candidate.
@@ -384,6 +394,22 @@ class ImpactDetector::Impl {
         }
       }
     }
+  }
+
+  // The loudest novelty of the residual frames that envelope frames [m, n] hold (the latest
+  // residual frame that ended in each; 0 before the first). Only these frames' spectra and
+  // their lookbacks are computed, so the residual costs little outside tails.
+  double ResidualNoveltyDb(std::int64_t m, std::int64_t n) {
+    const Band& band = bands_[residual_band_];
+    double novelty_db = -std::numeric_limits<double>::infinity();
+    std::int64_t previous = -2;
+    for (std::int64_t k = m; k <= n; ++k) {
+      const auto frame = static_cast<std::int64_t>(band.Power(k));
+      if (frame == previous) continue;
+      previous = frame;
+      novelty_db = std::max(novelty_db, frame < 0 ? 0.0 : residual_.NoveltyDb(frame));
+    }
+    return novelty_db;
   }
 
   // The main band's peak over the candidate against the noise under the ringing (the
@@ -587,9 +613,7 @@ class ImpactDetector::Impl {
   double secondary_threshold_db_;
   RingingResidual residual_;
   std::size_t residual_band_;
-  double residual_novelty_db_ = 0;
   double residual_noise_power_ = std::numeric_limits<double>::quiet_NaN();
-  std::vector<double> residual_noise_;  // noise power under the ringing, per completed frame
   bool residual_armed_ = true;
   std::int64_t frame_fill_ = 0;
   std::int64_t frame_count_ = 0;

@@ -12,28 +12,25 @@ NoiseFloor::NoiseFloor(double frame_s, double smoothing_s, double window_s, int 
       subwindow_frames_(std::max(1LL, std::llround(window_s / subwindows / frame_s))),
       minima_(static_cast<std::size_t>(subwindows), 0.0) {}
 
-void NoiseFloor::Add(double power) {
-  if (!started_) {
-    smoothed_ = power;
-    current_min_ = power;
-    started_ = true;
-  } else {
-    smoothed_ += alpha_ * (power - smoothed_);
-    current_min_ = std::min(current_min_, smoothed_);
-  }
-  if (++filled_ == subwindow_frames_) {
-    minima_[next_] = current_min_;
-    next_ = (next_ + 1) % minima_.size();
-    stored_ = std::min(stored_ + 1, minima_.size());
-    filled_ = 0;
-    current_min_ = smoothed_;
-  }
+void NoiseFloor::Rotate() {
+  minima_[next_] = current_min_;
+  next_ = (next_ + 1) % minima_.size();
+  stored_ = std::min(stored_ + 1, minima_.size());
+  stored_min_ = minima_[0];
+  for (std::size_t i = 1; i < stored_; ++i) stored_min_ = std::min(stored_min_, minima_[i]);
+  filled_ = 0;
+  current_min_ = smoothed_;
 }
 
 double NoiseFloor::db() const {
   double floor = started_ ? current_min_ : 0.0;
-  for (std::size_t i = 0; i < stored_; ++i) floor = std::min(floor, minima_[i]);
-  return PowerToDb(std::max(floor, 1e-14));
+  if (stored_ > 0) floor = std::min(floor, stored_min_);
+  // The detector asks every frame; the floor changes far less often.
+  if (floor != cached_floor_) {
+    cached_floor_ = floor;
+    cached_db_ = PowerToDb(std::max(floor, 1e-14));
+  }
+  return cached_db_;
 }
 
 }  // namespace bouncecal::audio

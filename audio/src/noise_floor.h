@@ -1,6 +1,8 @@
 #ifndef BOUNCECAL_AUDIO_SRC_NOISE_FLOOR_H_
 #define BOUNCECAL_AUDIO_SRC_NOISE_FLOOR_H_
 
+#include <algorithm>
+#include <limits>
 #include <vector>
 
 namespace bouncecal::audio {
@@ -14,13 +16,26 @@ namespace bouncecal::audio {
 class NoiseFloor {
  public:
   NoiseFloor(double frame_s, double smoothing_s = 0.01, double window_s = 2.0, int subwindows = 8);
-  void Add(double power);
+  // Inline: the detector adds every envelope frame of four bands.
+  void Add(double power) {
+    if (!started_) {
+      smoothed_ = power;
+      current_min_ = power;
+      started_ = true;
+    } else {
+      smoothed_ += alpha_ * (power - smoothed_);
+      current_min_ = std::min(current_min_, smoothed_);
+    }
+    if (++filled_ == subwindow_frames_) Rotate();
+  }
   // The floor in dB re full scale (power 1); -140 dB for digital silence.
   double db() const;
   // False until the first Add: db() then reads -140 dB, which is no measurement.
   bool started() const { return started_; }
 
  private:
+  void Rotate();  // stores the finished sub-window's minimum
+
   double alpha_ = 1;
   long long subwindow_frames_ = 1;
   long long filled_ = 0;
@@ -30,6 +45,10 @@ class NoiseFloor {
   std::vector<double> minima_;
   std::size_t next_ = 0;
   std::size_t stored_ = 0;
+  double stored_min_ = 0;  // of the stored minima
+  // The last floor db() converted and its dB (NaN: none yet).
+  mutable double cached_floor_ = std::numeric_limits<double>::quiet_NaN();
+  mutable double cached_db_ = 0;
 };
 
 }  // namespace bouncecal::audio

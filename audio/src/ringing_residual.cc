@@ -3,7 +3,12 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "select_kth.h"
 
 namespace bouncecal::audio {
 namespace {
@@ -47,10 +52,10 @@ RingingResidual::RingingResidual(int sample_rate_hz, double band_low_hz, double 
   skip_frames_ = static_cast<std::size_t>((kHopsPerWindow - 1) / 2);
   lookback_frames_ = std::max<std::size_t>(
       2, static_cast<std::size_t>(std::lround(kLookbackS * sample_rate_hz / hop_)));
-  history_.assign((lookback_frames_ + skip_frames_ + 1) * bins_, 0.0f);
+  slots_.resize(lookback_frames_ + skip_frames_ + 1 + kMaxQueryAgeFrames);
+  windows_.assign(slots_.size() * buffer_.size(), 0.0f);
+  powers_.assign(slots_.size() * bins_, 0.0f);
   reference_.assign(bins_, 0.0f);
-  prefix_.assign(bins_, 0.0f);
-  suffix_.assign(lookback_frames_ * bins_, 0.0f);
   // Periodic Hann window: its low side lobes keep a loud mode out of the neighbouring bins.
   for (int i = 0; i < window_; ++i) {
     taper_[static_cast<std::size_t>(i)] =
@@ -58,56 +63,67 @@ RingingResidual::RingingResidual(int sample_rate_hz, double band_low_hz, double 
   }
 }
 
-void RingingResidual::Analyse() {
+void RingingResidual::CompleteFrame() {
+  const std::int64_t t = frames_++;
+  const std::size_t slot = SlotOf(t);
+  std::copy(buffer_.begin(), buffer_.end(), windows_.begin() + slot * buffer_.size());
+  slots_[slot] = Slot{};
+  // The noise estimate is needed once per window length (frames that far apart share no
+  // samples, and the floor built from these estimates, minimum statistics over seconds, needs no
+  // more); the other spectra only when a novelty is asked for, which the detector does only
+  // inside a tail: elsewhere two FFTs in three are skipped.
+  if (bins_ > 0 && t % kHopsPerWindow == 0) {
+    const float* current = Powers(t);
+    sorted_.assign(current, current + bins_);
+    const float quartile = SelectKth(sorted_, bins_ / 4);
+    // Parseval with the Hann window's mean square 3/8: a bin of white noise of variance s^2
+    // has mean power 3/8 N s^2.
+    noise_power_ = quartile / kQuartileOfMean / (0.375 * window_);
+  }
+  std::copy(buffer_.begin() + hop_, buffer_.end(), buffer_.begin());
+  fill_ = window_ - hop_;
+}
+
+bool RingingResidual::Valid(std::int64_t frame) const {
+  // The reference of frame t is the lookback ending skip + 1 frames before it.
+  const std::int64_t j = frame - static_cast<std::int64_t>(skip_frames_) - 1;
+  return j >= static_cast<std::int64_t>(lookback_frames_) - 1 && bins_ > 0;
+}
+
+const float* RingingResidual::Powers(std::int64_t frame) {
+  const std::size_t slot = SlotOf(frame);
+  float* powers = powers_.data() + slot * bins_;
+  if (slots_[slot].spectrum_frame == frame) return powers;
+  const float* samples = windows_.data() + slot * buffer_.size();
   auto real = fft_.real();
-  for (std::size_t i = 0; i < buffer_.size(); ++i) real[i] = buffer_[i] * taper_[i];
+  for (std::size_t i = 0; i < buffer_.size(); ++i) real[i] = samples[i] * taper_[i];
   fft_.Forward();
   const auto spectrum = fft_.spectrum();
-  const std::size_t slots = lookback_frames_ + skip_frames_ + 1;
-  const std::int64_t t = frames_++;
-  const auto frame_at = [&](std::int64_t index) {
-    return history_.data() +
-           static_cast<std::size_t>(index % static_cast<std::int64_t>(slots)) * bins_;
-  };
-  float* current = frame_at(t);
-  for (std::size_t k = 0; k < bins_; ++k) current[k] = std::norm(spectrum[first_bin_ + k]);
-  novelty_db_ = 0;
-  // The reference of frame t is the per-bin maximum over frames [j - L + 1, j], j = t - skip - 1:
-  // a sliding maximum, kept in O(1) per bin and frame by the van Herk / Gil-Werman scheme (blocks
-  // of L frames; a window is the suffix maximum of one block and the prefix maximum of the next)
-  // instead of L comparisons per bin.
-  const std::int64_t j = t - static_cast<std::int64_t>(skip_frames_) - 1;
-  const auto lookback = static_cast<std::int64_t>(lookback_frames_);
-  valid_ = j >= lookback - 1 && bins_ > 0;
-  if (j >= 0) {
-    const float* entering = frame_at(j);
-    const auto in_block = static_cast<std::size_t>(j % lookback);
-    if (in_block == 0) {
-      std::copy(entering, entering + bins_, prefix_.begin());
-    } else {
-      for (std::size_t k = 0; k < bins_; ++k) prefix_[k] = std::max(prefix_[k], entering[k]);
-    }
-    if (valid_) {
-      if (in_block + 1 == lookback_frames_) {
-        std::copy(prefix_.begin(), prefix_.end(), reference_.begin());
-      } else {
-        const float* suffix = suffix_.data() + (in_block + 1) * bins_;
-        for (std::size_t k = 0; k < bins_; ++k) reference_[k] = std::max(suffix[k], prefix_[k]);
-      }
-    }
-    if (in_block + 1 == lookback_frames_) {
-      // The block is complete: its suffix maxima serve the next L windows.
-      float* last = suffix_.data() + in_block * bins_;
-      std::copy(entering, entering + bins_, last);
-      for (std::int64_t i = lookback - 2; i >= 0; --i) {
-        const float* frame = frame_at(j - lookback + 1 + i);
-        float* out = suffix_.data() + static_cast<std::size_t>(i) * bins_;
-        const float* next = out + bins_;
-        for (std::size_t k = 0; k < bins_; ++k) out[k] = std::max(frame[k], next[k]);
-      }
-    }
+  for (std::size_t k = 0; k < bins_; ++k) powers[k] = std::norm(spectrum[first_bin_ + k]);
+  slots_[slot].spectrum_frame = frame;
+  return powers;
+}
+
+double RingingResidual::NoveltyDb(std::int64_t frame) {
+  if (frame < 0 || frame >= frames_ || frames_ - 1 - frame > kMaxQueryAgeFrames) {
+    throw std::logic_error("RingingResidual::NoveltyDb: frame " + std::to_string(frame) +
+                           " is not among the last " + std::to_string(kMaxQueryAgeFrames + 1) +
+                           " of " + std::to_string(frames_));
   }
-  if (valid_) {
+  Slot& slot = slots_[SlotOf(frame)];
+  if (slot.novelty_frame == frame) return slot.novelty_db;
+  double novelty_db = 0;
+  if (Valid(frame)) {
+    // The reference of each bin is its maximum over frames [j - L + 1, j], j = t - skip - 1.
+    const std::int64_t j = frame - static_cast<std::int64_t>(skip_frames_) - 1;
+    const auto lookback = static_cast<std::int64_t>(lookback_frames_);
+    const float* first = Powers(j - lookback + 1);
+    std::copy(first, first + bins_, reference_.begin());
+    for (std::int64_t i = j - lookback + 2; i <= j; ++i) {
+      const float* powers = Powers(i);
+      for (std::size_t k = 0; k < bins_; ++k) reference_[k] = std::max(reference_[k], powers[k]);
+    }
+    const float* current = Powers(frame);
     // The sum of log ratios is the log of their product; a log per bin would cost more than
     // the FFT. Ratios are at most ~1e35 (a float), so products of 8 of them fit a double.
     for (std::size_t k = 0; k < bins_; ++k) {
@@ -121,26 +137,19 @@ void RingingResidual::Analyse() {
     for (std::size_t k = 0; k < bins_; k += kChunk) {
       double product = mantissa;
       for (std::size_t i = k; i < std::min(bins_, k + kChunk); ++i) product *= reference_[i];
-      int e = 0;
-      mantissa = std::frexp(product, &e);
-      exponent += e;
+      // std::frexp from the bits (exact, and not a libm call): product is a positive normal
+      // double (at least 0.5, at most ~1e280).
+      const auto bits = std::bit_cast<std::uint64_t>(product);
+      exponent += static_cast<long long>((bits >> 52) & 0x7ff) - 1022;
+      mantissa = std::bit_cast<double>((bits & 0x000fffffffffffffULL) | 0x3fe0000000000000ULL);
     }
     const double sum_log10 = (static_cast<double>(exponent) + std::log2(mantissa)) *
                              std::numbers::ln2 / std::numbers::ln10;
-    novelty_db_ = 10.0 * sum_log10 / static_cast<double>(bins_);
+    novelty_db = 10.0 * sum_log10 / static_cast<double>(bins_);
   }
-  // Once per window length: frames that far apart share no samples, and the floor built from
-  // these estimates (minimum statistics over seconds) needs no more.
-  if (bins_ > 0 && t % kHopsPerWindow == 0) {
-    sorted_.assign(current, current + bins_);
-    const auto quartile = sorted_.begin() + static_cast<std::ptrdiff_t>(bins_ / 4);
-    std::nth_element(sorted_.begin(), quartile, sorted_.end());
-    // Parseval with the Hann window's mean square 3/8: a bin of white noise of variance s^2
-    // has mean power 3/8 N s^2.
-    noise_power_ = *quartile / kQuartileOfMean / (0.375 * window_);
-  }
-  std::copy(buffer_.begin() + hop_, buffer_.end(), buffer_.begin());
-  fill_ = window_ - hop_;
+  slot.novelty_frame = frame;
+  slot.novelty_db = novelty_db;
+  return novelty_db;
 }
 
 }  // namespace bouncecal::audio

@@ -43,14 +43,7 @@ class RingingResidual {
   int hop_samples() const { return hop_; }
   // Feeds one sample (of the band-filtered signal); true when a frame completed. Its results are
   // then read from novelty_db(), noise_power() and valid().
-  bool Push(float sample) {
-    buffer_[static_cast<std::size_t>(fill_++)] = sample;
-    if (fill_ < window_) return false;
-    Analyse();
-    return true;
-  }
-  // Mean over the band's bins of max(0, rise in dB of the bin over its loudest value in the
-  // lookback). 0 for a stationary or decaying sound; stationary noise gives a few tenths of a dB.
+  bool Push(float sample) { return PushRun({&sample, 1}); }
   // Samples still needed to complete the next frame.
   std::size_t samples_to_frame() const { return static_cast<std::size_t>(window_ - fill_); }
   // Feeds at most samples_to_frame() samples at once; true when they completed a frame.
@@ -58,18 +51,44 @@ class RingingResidual {
     std::copy(samples.begin(), samples.end(), buffer_.begin() + fill_);
     fill_ += static_cast<int>(samples.size());
     if (fill_ < window_) return false;
-    Analyse();
+    CompleteFrame();
     return true;
   }
-  double novelty_db() const { return novelty_db_; }
+  // Index of the latest completed frame (0, 1, ...), -1 before the first.
+  std::int64_t latest_frame() const { return frames_ - 1; }
+  // Mean over the band's bins of max(0, rise in dB of the bin over its loudest value in the
+  // lookback) of frame `frame`, which must be one of the last kMaxQueryAgeFrames + 1 frames.
+  // 0 for a stationary or decaying sound; stationary noise gives a few tenths of a dB; 0 while
+  // the frame is not valid. Computed on demand (see CompleteFrame) and cached, so asking only
+  // where the answer matters skips most of the FFTs; the result does not depend on when or
+  // whether other frames were asked for.
+  double NoveltyDb(std::int64_t frame);
+  // The same for the latest frame.
+  double novelty_db() { return NoveltyDb(latest_frame()); }
   // Noise power per sample under the ringing: the lower quartile of the band's bin powers
   // (a ringing tail fills a few bins, the noise all of them), scaled to a mean square.
   double noise_power() const { return noise_power_; }
   // False until the lookback holds enough frames for a reference; novelty_db() is 0 until then.
-  bool valid() const { return valid_; }
+  bool valid() const { return Valid(latest_frame()); }
+
+  // How many frames before the latest one NoveltyDb may be asked about: the detector asks for
+  // the frames that ended in its attack window (2 ms, or one envelope frame of at most 5 ms,
+  // plus the current one: at most ~10 ms), and a hop is at least ~1.2 ms.
+  static constexpr std::int64_t kMaxQueryAgeFrames = 16;
 
  private:
-  void Analyse();
+  struct Slot {
+    std::int64_t spectrum_frame = -1;  // the frame whose bin powers `powers` holds, -1 none
+    std::int64_t novelty_frame = -1;   // the frame whose novelty `novelty_db` holds, -1 none
+    double novelty_db = 0;
+  };
+  void CompleteFrame();
+  bool Valid(std::int64_t frame) const;
+  std::size_t SlotOf(std::int64_t frame) const {
+    return static_cast<std::size_t>(frame % static_cast<std::int64_t>(slots_.size()));
+  }
+  // Bin powers of `frame` (computing its FFT from the stored window if not done yet).
+  const float* Powers(std::int64_t frame);
 
   int window_ = 0;
   int hop_ = 0;
@@ -80,16 +99,15 @@ class RingingResidual {
   std::size_t skip_frames_ = 0;
   std::vector<float> buffer_;
   std::vector<float> taper_;
-  // Bin powers of the last lookback + skip + 1 frames, frame-major (a ring of frames).
-  std::vector<float> history_;
+  // Per slot (a ring of the last lookback + skip + 1 + kMaxQueryAgeFrames frames): the frame's
+  // samples, frame-major, and its band's bin powers once computed.
+  std::vector<Slot> slots_;
+  std::vector<float> windows_;
+  std::vector<float> powers_;
   std::vector<float> reference_;
-  std::vector<float> prefix_;  // running maximum since the start of the current block
-  std::vector<float> suffix_;  // suffix maxima of the last complete block, frame-major
   std::vector<float> sorted_;
   std::int64_t frames_ = 0;
-  double novelty_db_ = 0;
   double noise_power_ = 0;
-  bool valid_ = false;
   RealFft fft_;
 };
 

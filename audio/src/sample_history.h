@@ -1,6 +1,7 @@
 #ifndef BOUNCECAL_AUDIO_SRC_SAMPLE_HISTORY_H_
 #define BOUNCECAL_AUDIO_SRC_SAMPLE_HISTORY_H_
 
+#include <algorithm>
 #include <cassert>
 #include <cstdint>
 #include <span>
@@ -21,8 +22,19 @@ class SampleHistory {
   }
 
   void Push(T value) { buffer_[static_cast<std::size_t>(count_++) & mask_] = value; }
+  // At most two contiguous copies (before and after the ring wraps), not one masked store per
+  // sample: the detector pushes every sample of four streams.
   void PushBlock(std::span<const T> values) {
-    for (T value : values) buffer_[static_cast<std::size_t>(count_++) & mask_] = value;
+    if (values.size() > buffer_.size()) {  // only the newest capacity samples stay
+      count_ += static_cast<std::int64_t>(values.size() - buffer_.size());
+      values = values.last(buffer_.size());
+    }
+    const std::size_t at = static_cast<std::size_t>(count_) & mask_;
+    const std::size_t first = std::min(values.size(), buffer_.size() - at);
+    std::copy(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(first),
+              buffer_.begin() + static_cast<std::ptrdiff_t>(at));
+    std::copy(values.begin() + static_cast<std::ptrdiff_t>(first), values.end(), buffer_.begin());
+    count_ += static_cast<std::int64_t>(values.size());
   }
   // Index of the next sample to be pushed (= samples pushed so far).
   std::int64_t end() const { return count_; }
