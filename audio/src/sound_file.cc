@@ -54,6 +54,9 @@ SoundFile SoundFile::OpenForWriting(const std::filesystem::path& path, int sampl
   }
   // Clip instead of wrapping when float samples exceed full scale on conversion to PCM.
   sf_command(handle, SFC_SET_CLIPPING, nullptr, SF_TRUE);
+  // libsndfile's PEAK chunk of a float WAV carries the wall-clock time of writing, so the same
+  // recording would differ in bytes from one second to the next; nothing reads it back.
+  sf_command(handle, SFC_SET_ADD_PEAK_CHUNK, nullptr, SF_FALSE);
   return SoundFile(handle, info, path);
 }
 
