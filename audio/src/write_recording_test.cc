@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
+#include <string>
 #include <vector>
 
 #include "bouncecal/error.h"
@@ -118,6 +120,20 @@ TEST(WriteRecording, EncodingNamesRoundTripAndUnknownNamesAreConfigErrors) {
   EXPECT_THROW(SampleEncodingFromString("mp3"), ConfigError);
   EXPECT_EQ(ContainerForPath("a/b.FLAC"), AudioContainer::kFlac);
   EXPECT_EQ(ContainerForPath("a/b.wav"), AudioContainer::kWav);
+}
+
+// libsndfile would add a PEAK chunk holding the wall-clock time of writing to float WAVs, which
+// makes the same recording differ in bytes between runs (issue 7: byte-identical outputs).
+TEST(WriteRecording, FloatWavCarriesNoTimestampedPeakChunk) {
+  const auto dir = FreshDir("peak_chunk");
+  const auto path = dir / "float.wav";
+  WriteRecordingOptions options;
+  options.encoding = SampleEncoding::kFloat;
+  WriteRecording(path, StereoTone(), options);
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(bytes.find("PEAK"), std::string::npos);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
