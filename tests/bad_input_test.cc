@@ -82,7 +82,10 @@ std::string Wav(std::uint16_t format_tag, int channels, int rate_hz, int bits,
   Append16(bytes, format_tag);
   Append16(bytes, static_cast<std::uint16_t>(channels));
   Append32(bytes, static_cast<std::uint32_t>(rate_hz));
-  Append32(bytes, static_cast<std::uint32_t>(rate_hz * channels * bits / 8));
+  // The byte rate in 64 bits: at an absurd rate (520 MHz) it overflows an int (UBSan found it);
+  // the 32-bit field then wraps, as it would in a header that lies.
+  Append32(bytes, static_cast<std::uint32_t>(static_cast<std::uint64_t>(rate_hz) * channels *
+                                             static_cast<std::uint64_t>(bits) / 8));
   Append16(bytes, static_cast<std::uint16_t>(channels * bits / 8));
   Append16(bytes, static_cast<std::uint16_t>(bits));
   bytes += "data";

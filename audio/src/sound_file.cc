@@ -54,6 +54,10 @@ SoundFile SoundFile::OpenForWriting(const std::filesystem::path& path, int sampl
   }
   // Clip instead of wrapping when float samples exceed full scale on conversion to PCM.
   sf_command(handle, SFC_SET_CLIPPING, nullptr, SF_TRUE);
+  // libsndfile adds a PEAK chunk to float files by default, and that chunk carries the time of
+  // writing: the same seed would give different bytes a second later (issue 7: byte-identical
+  // output). The peak is not needed to read the file back.
+  sf_command(handle, SFC_SET_ADD_PEAK_CHUNK, nullptr, SF_FALSE);
   return SoundFile(handle, info, path);
 }
 
