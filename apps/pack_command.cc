@@ -114,30 +114,61 @@ void WriteCsvs(const std::filesystem::path& dir, const dem::Scene& scene,
   WriteFileAtomically(dir / "particles.csv", particles.str());
 }
 
+// A gnuplot single-quoted string holds anything but a quote, which is written twice.
+std::string GnuplotQuoted(const std::string& text) {
+  std::string out = "'";
+  for (const char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+
+// A POSIX shell single-quoted word: a quote inside is closed, escaped and reopened.
+std::string ShellQuoted(const std::string& text) {
+  std::string out = "'";
+  for (const char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
 void Plot(const std::filesystem::path& dir, const dem::Scene& scene) {
   const std::string up = scene.dimension == 3 ? "z" : "y";
   const std::string script = fmt::format(
       "set datafile separator ','\n"
       "set terminal pngcairo size 900,600 noenhanced\n"
       "set grid\n"
-      "set output '{0}/profile.png'\n"
-      "set title '{1}: solid fraction vs height'\n"
+      "set output {0}\n"
+      "set title {1}\n"
       "set xlabel 'height {2} (m)'\nset ylabel 'solid fraction'\n"
-      "plot '{0}/profile.csv' using 1:2 skip 1 with lines lw 2 title 'profile'\n"
-      "set output '{0}/history.png'\n"
-      "set title '{1}: packing density and kinetic energy vs time'\n"
+      "plot {3} using 1:2 skip 1 with lines lw 2 title 'profile'\n"
+      "set output {4}\n"
+      "set title {5}\n"
       "set xlabel 'time (s)'\nset ylabel 'packing density'\nset y2label 'kinetic energy (J)'\n"
       "set logscale y2\nset y2tics\n"
-      "plot '{0}/history.csv' using 1:2 skip 1 with linespoints title 'density', "
+      "plot {6} using 1:2 skip 1 with linespoints title 'density', "
       "'' using 1:($3>0?$3:NaN) skip 1 axes x1y2 with lines title 'kinetic energy'\n",
-      dir.string(), scene.name, up);
+      // Paths and the scene name are quoted: a quote in them must not end the string early.
+      GnuplotQuoted((dir / "profile.png").string()),
+      GnuplotQuoted(scene.name + ": solid fraction vs height"), up,
+      GnuplotQuoted((dir / "profile.csv").string()), GnuplotQuoted((dir / "history.png").string()),
+      GnuplotQuoted(scene.name + ": packing density and kinetic energy vs time"),
+      GnuplotQuoted((dir / "history.csv").string()));
   const auto script_path = dir / "plots.gp";
   WriteFileAtomically(script_path, script);
-  const std::string command = "gnuplot '" + script_path.string() + "' 2>&1";
+  const std::string command = "gnuplot " + ShellQuoted(script_path.string()) + " 2>&1";
   if (std::system(command.c_str()) != 0) {
     throw OutputError(fmt::format("gnuplot failed on {}; is gnuplot installed (gnuplot-nox)?",
                                   script_path.string()));
   }
+}
+
+// The outermost folder of `dir` that does not exist yet (empty when `dir` exists).
+std::filesystem::path FirstMissingFolder(const std::filesystem::path& dir) {
+  std::filesystem::path missing;
+  std::error_code error;
+  for (auto p = std::filesystem::absolute(dir, error); !p.empty() && !error; p = p.parent_path()) {
+    if (std::filesystem::exists(p, error)) break;
+    missing = p;
+    if (p == p.parent_path()) break;
+  }
+  return missing;
 }
 
 void RunPack(const PackArgs& args) {
@@ -150,6 +181,7 @@ void RunPack(const PackArgs& args) {
   if (terminal) options.progress = DrawProgress;
   const std::filesystem::path dir =
       args.out.empty() ? scene.outputs.directory : std::filesystem::path(args.out);
+  const std::filesystem::path created = FirstMissingFolder(dir);
   std::error_code error;
   std::filesystem::create_directories(dir, error);
   if (error) {
@@ -163,7 +195,15 @@ void RunPack(const PackArgs& args) {
       WriteFileAtomically(dir / fmt::format("dump.{:09d}.lammpstrj", snap.step), text.str());
     };
   }
-  const dem::PackSummary summary = dem::RunPacking(scene, options);
+  dem::PackSummary summary;
+  try {
+    summary = dem::RunPacking(scene, options);
+  } catch (const std::exception&) {
+    // A scene refused while setting up (e.g. a missing or garbled start-positions file) leaves
+    // nothing behind: not even the output folder this run created.
+    if (!created.empty()) std::filesystem::remove_all(created, error);
+    throw;
+  }
   if (terminal) std::fprintf(stderr, "\n");
   WriteCsvs(dir, scene, summary);
   const std::string json = SummaryJson(scene, summary).dump(2) + "\n";

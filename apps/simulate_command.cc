@@ -159,7 +159,6 @@ nlohmann::json ToJson(const dem::DropResult& result, const dem::DropOptions& opt
           {"stop_reason", std::string(dem::ToString(result.stop_reason))},
           {"stop_detail", result.stop_detail},
           {"steps", result.steps},
-          {"cpu_s", result.cpu_s},
           {"time_step_s", result.time_step_s},
           {"stability_limit_s", result.stability_limit_s},
           {"integrator", std::string(dem::ToString(options.integrator))},

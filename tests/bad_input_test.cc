@@ -1,7 +1,7 @@
-// The bad-input catalogue (issue 7): every hostile recording or material card gives one line
-// naming the file and the problem, the README's exit status (2 input file, 3 parameter out of
-// range), and no output file. The bad files are written byte by byte here, so each case shows
-// exactly what is wrong with it.
+// The bad-input catalogue (issue 7): every hostile recording, material card or packing scene
+// gives one line naming the file and the problem, the README's exit status (2: an input file is
+// missing, unreadable or malformed, whichever field is wrong), and no output file. The bad files
+// are written byte by byte here, so each case shows exactly what is wrong with it.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -82,7 +82,10 @@ std::string Wav(std::uint16_t format_tag, int channels, int rate_hz, int bits,
   Append16(bytes, format_tag);
   Append16(bytes, static_cast<std::uint16_t>(channels));
   Append32(bytes, static_cast<std::uint32_t>(rate_hz));
-  Append32(bytes, static_cast<std::uint32_t>(rate_hz * channels * bits / 8));
+  // The byte rate in 64 bits: at an absurd rate (520 MHz) it overflows an int (UBSan found it);
+  // the 32-bit field then wraps, as it would in a header that lies.
+  Append32(bytes, static_cast<std::uint32_t>(static_cast<std::uint64_t>(rate_hz) * channels *
+                                             static_cast<std::uint64_t>(bits) / 8));
   Append16(bytes, static_cast<std::uint16_t>(channels * bits / 8));
   Append16(bytes, static_cast<std::uint16_t>(bits));
   bytes += "data";
@@ -263,15 +266,184 @@ TEST_F(BadInput, UnknownKeysInACardAreRejectedByName) {
       "\"densty_kg_per_m3\"");
 }
 
-// Out-of-range law parameters are "a parameter outside its valid range" (README: status 3), as
-// dem::ContactLawConfigFromJson documents; the message still names the card and the parameter.
-TEST_F(BadInput, OutOfRangeLawParametersInACardAreParameterErrors) {
+// The law inside a card is part of the file like any other field: an out-of-range, unknown or
+// mistyped law parameter, or an unknown key in "contact_law", is a bad input file (status 2),
+// and the message names the card and the parameter.
+TEST_F(BadInput, BadLawParametersInACardAreInputErrorsLikeAnyOtherField) {
   const std::string negative =
       R"({"law": "walton-braun", "parameters": {"stiffness_n_per_m": 1e7, "gamma_n": -0.5}})";
-  ExpectCardRefused(*this, Write("negative_gamma.json", Card(negative, kBall)), 3, "gamma_n");
+  ExpectCardRefused(*this, Write("negative_gamma.json", Card(negative, kBall)), 2, "gamma_n");
   const std::string unknown =
       R"({"law": "walton-braun", "parameters": {"stiffness_n_per_m": 1e7, "gama_n": 0.5}})";
-  ExpectCardRefused(*this, Write("unknown_parameter.json", Card(unknown, kBall)), 3, "gama_n");
+  ExpectCardRefused(*this, Write("unknown_parameter.json", Card(unknown, kBall)), 2, "gama_n");
+  const std::string typo_key =
+      R"({"law": "walton-braun", "parmeters": {"stiffness_n_per_m": 1e7, "gamma_n": 0.5}})";
+  ExpectCardRefused(*this, Write("unknown_law_key.json", Card(typo_key, kBall)), 2,
+                    "\"parmeters\"");
+  const std::string string_gamma =
+      R"({"law": "walton-braun", "parameters": {"stiffness_n_per_m": 1e7, "gamma_n": "0.5"}})";
+  ExpectCardRefused(*this, Write("string_gamma.json", Card(string_gamma, kBall)), 2, "gamma_n");
+  ExpectCardRefused(*this, Write("unknown_law.json", Card(R"({"law": "hooke"})", kBall)), 2,
+                    "hooke");
+}
+
+// Scene files for `bouncecal pack`. Every problem of the scene file, or of the start-positions
+// file it names, is a bad input file (status 2): one line naming the file (and for a scene the
+// key's path), and neither the output folder nor the --json file appears.
+nlohmann::json TinyScene() {
+  return nlohmann::json::parse(R"({
+    "format": "bouncecal-scene/1",
+    "particles": {"count": 20, "diameter_m": 0.01, "species": [{"density_kg_per_m3": 7800}]},
+    "container": {"type": "cylinder", "radius_m": 0.03, "height_m": 0.1},
+    "insertion": {"type": "random",
+                  "region": {"type": "cylinder", "radius_m": 0.03, "z_min_m": 0.0, "z_max_m": 0.05}},
+    "material": {"contact_law": {"law": "walton-braun"}},
+    "time_step_s": 1e-5, "duration_s": 0.001,
+    "measurement": {"band_m": [0.005, 0.02]}
+  })");
+}
+
+class BadScene : public BadInput {
+ public:
+  fs::path WriteScene(const std::string& name, const nlohmann::json& scene) const {
+    return Write(name, scene.dump(2));
+  }
+
+  // Runs `pack` on the scene and checks the contract; `named` is the file the message must name
+  // (the scene itself unless the problem lies in a file the scene points to).
+  void ExpectSceneRefused(const fs::path& scene, const std::string& problem,
+                          const fs::path& named = {}) const {
+    const fs::path out = folder_ / "pack_out";
+    const fs::path json = folder_ / "pack.json";
+    const auto result = RunBouncecal("pack '" + scene.string() + "' --out '" + out.string() +
+                                     "' --json '" + json.string() + "'");
+    SCOPED_TRACE(scene.filename().string() + ": " + result.output);
+    EXPECT_EQ(result.exit_status, 2);
+    EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1);
+    EXPECT_NE(result.output.find((named.empty() ? scene : named).string()), std::string::npos);
+    EXPECT_NE(result.output.find(problem), std::string::npos) << "expected the words: " << problem;
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_FALSE(fs::exists(json));
+  }
+};
+
+TEST_F(BadScene, ScenesThatAreNotScenesAreInputErrors) {
+  ExpectSceneRefused(folder_ / "missing.json", "cannot open");
+  ExpectSceneRefused(Write("empty.json", ""), "not valid JSON");
+  ExpectSceneRefused(Write("yaml.json", "format: bouncecal-scene/1\n"), "not valid JSON");
+  ExpectSceneRefused(Write("array.json", "[1, 2]"), "top level: must be a JSON object");
+  auto scene = TinyScene();
+  scene["format"] = "bouncecal-scene/9";
+  ExpectSceneRefused(WriteScene("future.json", scene), "bouncecal-scene/9");
+}
+
+TEST_F(BadScene, MissingFieldsAndWrongTypesNameTheKeyPath) {
+  auto scene = TinyScene();
+  scene["particles"].erase("count");
+  ExpectSceneRefused(WriteScene("no_count.json", scene), "particles.count: is missing");
+  scene = TinyScene();
+  scene.erase("measurement");
+  ExpectSceneRefused(WriteScene("no_measurement.json", scene), "measurement: is missing");
+  scene = TinyScene();
+  scene["time_step_s"] = "fast";
+  ExpectSceneRefused(WriteScene("string_step.json", scene), "time_step_s: must be a number");
+  scene = TinyScene();
+  scene["particles"]["count"] = 20.5;
+  ExpectSceneRefused(WriteScene("fractional_count.json", scene),
+                     "particles.count: must be a whole number");
+  scene = TinyScene();
+  scene["container"] = "cylinder";
+  ExpectSceneRefused(WriteScene("string_container.json", scene), "container: must be a JSON");
+  scene = TinyScene();
+  scene["measurement"]["band_m"] = {0.005, "high"};
+  ExpectSceneRefused(WriteScene("string_band.json", scene), "measurement.band_m: must be an array");
+  scene = TinyScene();
+  scene["material"]["contact_law"]["parameters"] = {{"gamma_n", "0.5"}};
+  ExpectSceneRefused(WriteScene("string_gamma.json", scene), "gamma_n");
+}
+
+TEST_F(BadScene, NegativeAndNonFiniteValuesAreRefusedWithTheValidRange) {
+  auto scene = TinyScene();
+  scene["container"]["radius_m"] = -0.03;
+  ExpectSceneRefused(WriteScene("negative_radius.json", scene),
+                     "container.radius_m: -0.03 is outside the valid range");
+  scene = TinyScene();
+  scene["particles"]["species"][0]["density_kg_per_m3"] = -7800;
+  ExpectSceneRefused(WriteScene("negative_density.json", scene),
+                     "particles.species[0].density_kg_per_m3");
+  scene = TinyScene();
+  scene["material"]["contact_law"]["parameters"] = {{"gamma_n", -0.5}};
+  ExpectSceneRefused(WriteScene("negative_gamma.json", scene), "gamma_n");
+  // JSON has no NaN or infinity; the nearest a file gets is a number that overflows a double,
+  // which the parser refuses by its text.
+  std::string text = TinyScene().dump();
+  text.replace(text.find("\"duration_s\":0.001"), 18, "\"duration_s\":1e999");
+  ExpectSceneRefused(Write("infinite_duration.json", text), "1e999");
+}
+
+TEST_F(BadScene, UnknownKeysAreRejectedWithTheirNameAndPath) {
+  auto scene = TinyScene();
+  scene["colour"] = "red";
+  ExpectSceneRefused(WriteScene("top_key.json", scene), "unknown key 'colour'");
+  scene = TinyScene();
+  scene["material"]["frictoin"] = 0.3;
+  ExpectSceneRefused(WriteScene("material_key.json", scene), "unknown key 'material.frictoin'");
+  scene = TinyScene();
+  scene["particles"]["species"][0]["colour"] = "grey";
+  ExpectSceneRefused(WriteScene("species_key.json", scene),
+                     "unknown key 'particles.species[0].colour'");
+  scene = TinyScene();
+  scene["insertion"]["region"]["radius"] = 0.03;
+  ExpectSceneRefused(WriteScene("region_key.json", scene), "unknown key 'insertion.region.radius'");
+  // The law object is read by the drop engine's parser; its unknown keys are bad files too.
+  scene = TinyScene();
+  scene["material"]["contact_law"]["parmeters"] = nlohmann::json::object();
+  ExpectSceneRefused(WriteScene("law_key.json", scene), "\"parmeters\"");
+  // A key is quoted back as it is written; a newline in it must not break the one line.
+  scene = TinyScene();
+  scene["particles"]["two\nlines"] = 1;
+  ExpectSceneRefused(WriteScene("newline_key.json", scene), "two\\nlines");
+}
+
+TEST_F(BadScene, HugeParticleCountsAreRefusedWithTheMemoryTheyNeed) {
+  auto scene = TinyScene();
+  scene["particles"]["count"] = 2'000'000'000;
+  // 2e9 spheres at ~1.4 kB each (EstimatedBytesPerParticle) is 2800 GB.
+  ExpectSceneRefused(WriteScene("two_billion.json", scene), "would need about 2800.0 GB");
+  scene["particles"]["count"] = 1e12;  // written as people write it: a float
+  ExpectSceneRefused(WriteScene("trillion.json", scene), "GB of memory");
+  scene["particles"]["count"] = std::numeric_limits<std::uint64_t>::max();
+  ExpectSceneRefused(WriteScene("uint64_max.json", scene), "GB of memory");
+}
+
+TEST_F(BadScene, MissingOrGarbledStartPositionsFilesNameThatFile) {
+  auto scene = TinyScene();
+  scene["insertion"] = {{"type", "file"}, {"path", "start.csv"}};
+  const fs::path scene_path = WriteScene("from_file.json", scene);
+  const fs::path start = folder_ / "start.csv";
+  ExpectSceneRefused(scene_path, "cannot open the particle file", start);
+  Write("start.csv", "x_m,y_m,z_m,diameter_m\n0.0,0.0,0.01,0.01\n0.02,zero,0.01,0.01\n");
+  ExpectSceneRefused(scene_path, "start.csv:3: 'zero' is not a finite number", start);
+  Write("start.csv", "x_m,y_m,diameter_m\n0.0,0.0,0.01\n");
+  ExpectSceneRefused(scene_path, "no 'z_m' column", start);
+  Write("start.csv", "x_m,y_m,z_m,diameter_m\n0.0,0.0,0.01\n");
+  ExpectSceneRefused(scene_path, "3 fields where the header has 4", start);
+  Write("start.csv", "x_m,y_m,z_m,diameter_m,species\n0.0,0.0,0.01,0.01,1e30\n");
+  ExpectSceneRefused(scene_path, "'1e30' is not a whole number", start);
+  Write("start.csv", "x_m,y_m,z_m,diameter_m,species\n0.0,0.0,0.01,0.01,3\n");
+  ExpectSceneRefused(scene_path, "names species 3", start);
+  scene["insertion"]["path"] = "start.data";
+  const fs::path lammps_scene = WriteScene("from_lammps.json", scene);
+  Write("start.data", "LAMMPS data\n\n2 atoms\n\nAtoms # sphere\n\n1 1 0.01 7800 0 0 0.01\n");
+  ExpectSceneRefused(lammps_scene, "holds 1 of the 2 atoms", folder_ / "start.data");
+}
+
+TEST_F(BadScene, ANameThatIsNotAFolderNameIsRefused) {
+  auto scene = TinyScene();
+  scene["name"] = "../../elsewhere";
+  ExpectSceneRefused(WriteScene("slash_name.json", scene), "name: must be");
+  scene["name"] = "it's";
+  ExpectSceneRefused(WriteScene("quote_name.json", scene), "name: must be");
 }
 
 }  // namespace

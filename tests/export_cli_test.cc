@@ -106,11 +106,12 @@ TEST_F(ExportCli, MissingCardIsAnInputFileError) {
   EXPECT_NE(result.output.find("none.json"), std::string::npos) << result.output;
 }
 
-TEST_F(ExportCli, OutOfRangeLawParameterIsABadOptionNamingFileAndKey) {
+// The law is part of the card file: out of range is a malformed input file (status 2).
+TEST_F(ExportCli, OutOfRangeLawParameterIsABadInputFileNamingFileAndKey) {
   WriteCard(R"({"law": "walton-braun", "parameters": {"gamma_n": 2}})");
   const auto result = RunBouncecal("export --material " + Card() + " --engine lammps -o " +
                                    (folder_ / "d").string());
-  EXPECT_EQ(result.exit_status, 3) << result.output;
+  EXPECT_EQ(result.exit_status, 2) << result.output;
   EXPECT_NE(result.output.find("card.json: contact_law"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("gamma_n"), std::string::npos) << result.output;
 }

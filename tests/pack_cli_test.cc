@@ -59,13 +59,15 @@ TEST(PackCli, MissingSceneIsAnInputFileError) {
   EXPECT_EQ(result.exit_status, 2) << result.output;
 }
 
-TEST(PackCli, BadSceneValueIsAConfigErrorNamingTheKey) {
+// A bad value in the scene FILE is a malformed input file (README: status 2), like any other
+// file; tests/bad_input_test.cc holds the whole catalogue.
+TEST(PackCli, BadSceneValueIsAnInputErrorNamingTheKey) {
   const auto dir = std::filesystem::temp_directory_path() / "bouncecal_pack_cli_bad";
   std::filesystem::create_directories(dir);
   const auto path = dir / "bad.json";
   std::ofstream(path) << R"({"format": "bouncecal-scene/1", "time_step_s": -1})";
   const auto result = RunBouncecal("pack " + path.string());
-  EXPECT_EQ(result.exit_status, 3) << result.output;
+  EXPECT_EQ(result.exit_status, 2) << result.output;
   EXPECT_NE(result.output.find("bad.json"), std::string::npos) << result.output;
   std::filesystem::remove_all(dir);
 }

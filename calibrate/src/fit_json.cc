@@ -89,8 +89,6 @@ nlohmann::json ToJson(const FitSummary& summary) {
           {"evaluations", summary.evaluations},
           {"stop_reason", ToString(summary.stop)},
           {"stop_message", summary.stop_message},
-          {"fit_time_s", summary.fit_time_s},
-          {"total_time_s", summary.total_time_s},
           {"implied",
            {{"restitution", summary.implied_restitution},
             {"energy_loss", summary.implied_energy_loss}}},

@@ -12,7 +12,7 @@ namespace bouncecal::dem {
 
 ContactLawConfig ContactLawConfigFromJson(const nlohmann::json& object, std::string_view context) {
   const auto fail = [&](const std::string& what) {
-    throw ConfigError(fmt::format("{}: {}", context, what));
+    throw InputError(fmt::format("{}: {}", context, what));
   };
   if (!object.is_object()) {
     fail(

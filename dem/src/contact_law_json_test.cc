@@ -12,7 +12,7 @@ namespace {
 std::string ErrorOf(const nlohmann::json& object) {
   try {
     ContactLawConfigFromJson(object, "card.json: contact_law");
-  } catch (const ConfigError& error) {
+  } catch (const InputError& error) {
     return error.what();
   }
   return "";

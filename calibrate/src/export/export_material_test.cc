@@ -64,10 +64,10 @@ TEST(ExportMaterialFromJson, WrongFormatIsAnInputErrorNamingFileAndKey) {
   EXPECT_EQ(message.find('\n'), std::string::npos);
 }
 
-TEST(ExportMaterialFromJson, OutOfRangeLawParameterIsAConfigErrorNamingFileAndParameter) {
+TEST(ExportMaterialFromJson, OutOfRangeLawParameterIsAnInputErrorNamingFileAndParameter) {
   auto card = PaperCard();
   card["contact_law"]["parameters"]["gamma_n"] = 1.5;
-  const auto message = MessageOf<ConfigError>([&] { ExportMaterialFromJson(card, "my.json"); });
+  const auto message = MessageOf<InputError>([&] { ExportMaterialFromJson(card, "my.json"); });
   EXPECT_NE(message.find("my.json: contact_law"), std::string::npos) << message;
   EXPECT_NE(message.find("gamma_n"), std::string::npos) << message;
   EXPECT_EQ(message.find('\n'), std::string::npos);

@@ -3,15 +3,22 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace bouncecal {
 
 // Every problem a user can fix (a bad file, an out-of-range parameter, an unwritable output) is
 // reported as an Error whose message is one line: what went wrong, which file or value, and what
 // to do. Programmer invariants use assert instead; numerical non-convergence goes into a Summary.
+// The constructor escapes control characters, so a newline inside a user's file name, a JSON
+// key or a string value quoted back in the message cannot break the one-line promise.
 class Error : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit Error(const std::string& message) : std::runtime_error(OneLine(message)) {}
+  explicit Error(const char* message) : Error(std::string(message)) {}
+
+  // "\n" for a newline, "\t" for a tab, "\xNN" for any other control character.
+  static std::string OneLine(std::string_view text);
 };
 
 // An input file that cannot be read or does not hold what it should (exit status 2 in the CLI).

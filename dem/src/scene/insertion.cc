@@ -1,5 +1,7 @@
 #include "scene/insertion.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -228,6 +230,22 @@ double ParseNumber(const std::string& text, const std::filesystem::path& path, i
   return value;
 }
 
+// A whole number in [min, max]: species, type, id and atom counts. Checked as a double first,
+// since converting a double outside the integer's range is undefined behaviour.
+std::int64_t ParseWhole(const std::string& text, const std::filesystem::path& path, int line,
+                        double min, double max) {
+  const double value = ParseNumber(text, path, line);
+  if (value != std::floor(value) || value < min || value > max) {
+    throw InputError(
+        fmt::format("{}:{}: '{}' is not a whole number in [{}, {}]; fix the particle "
+                    "file",
+                    path.string(), line, text, min, max));
+  }
+  return static_cast<std::int64_t>(value);
+}
+
+constexpr double kMaxSpecies = 1e6;
+
 std::vector<NewParticle> ReadCsv(std::ifstream& in, const std::filesystem::path& path,
                                  int dimension) {
   std::string line;
@@ -272,7 +290,9 @@ std::vector<NewParticle> ReadCsv(std::ifstream& in, const std::filesystem::path&
     p.position_m[1] = ParseNumber(fields[cy], path, line_no);
     if (cz >= 0 && dimension == 3) p.position_m[2] = ParseNumber(fields[cz], path, line_no);
     p.radius_m = 0.5 * ParseNumber(fields[cd], path, line_no);
-    if (cs >= 0) p.species = static_cast<std::int32_t>(ParseNumber(fields[cs], path, line_no));
+    if (cs >= 0) {
+      p.species = static_cast<std::int32_t>(ParseWhole(fields[cs], path, line_no, 0, kMaxSpecies));
+    }
     if (!(p.radius_m > 0) || p.species < 0) {
       throw InputError(path.string() + ":" + std::to_string(line_no) +
                        ": diameter must be > 0 and species >= 0");
@@ -291,7 +311,7 @@ std::vector<NewParticle> ReadLammpsData(std::ifstream& in, const std::filesystem
     ++line_no;
     const auto fields = SplitFields(line.substr(0, line.find('#')), false);
     if (fields.size() == 2 && fields[1] == "atoms") {
-      atoms = static_cast<std::int64_t>(ParseNumber(fields[0], path, line_no));
+      atoms = ParseWhole(fields[0], path, line_no, 0, 1e15);
     }
     if (!fields.empty() && fields[0] == "Atoms") break;
   }
@@ -308,8 +328,8 @@ std::vector<NewParticle> ReadLammpsData(std::ifstream& in, const std::filesystem
                        ": expected 'id type diameter density x y z' (atom_style sphere)");
     }
     NewParticle p;
-    const auto id = static_cast<std::int64_t>(ParseNumber(fields[0], path, line_no));
-    p.species = static_cast<std::int32_t>(ParseNumber(fields[1], path, line_no)) - 1;
+    const auto id = ParseWhole(fields[0], path, line_no, -1e15, 1e15);
+    p.species = static_cast<std::int32_t>(ParseWhole(fields[1], path, line_no, 1, kMaxSpecies)) - 1;
     p.radius_m = 0.5 * ParseNumber(fields[2], path, line_no);
     for (int d = 0; d < dimension; ++d) {
       p.position_m[d] = ParseNumber(fields[4 + d], path, line_no);

@@ -11,8 +11,8 @@ namespace bouncecal::dem::scene {
 JsonReader::JsonReader(const nlohmann::json& object, std::string file, std::string path)
     : object_(object), file_(std::move(file)), path_(std::move(path)) {
   if (!object_.is_object()) {
-    throw ConfigError(fmt::format("{}: {}: must be a JSON object {{...}}", file_,
-                                  path_.empty() ? std::string("top level") : path_));
+    throw InputError(fmt::format("{}: {}: must be a JSON object {{...}}", file_,
+                                 path_.empty() ? std::string("top level") : path_));
   }
 }
 
@@ -21,7 +21,7 @@ std::string JsonReader::Key(std::string_view key) const {
 }
 
 void JsonReader::Fail(std::string_view key, const std::string& what) const {
-  throw ConfigError(fmt::format("{}: {}: {}", file_, Key(key), what));
+  throw InputError(fmt::format("{}: {}: {}", file_, Key(key), what));
 }
 
 bool JsonReader::Has(std::string_view key) {
@@ -61,12 +61,28 @@ double JsonReader::Number(std::string_view key, double min, double max, double f
 
 std::int64_t JsonReader::Integer(std::string_view key, std::int64_t min, std::int64_t max) {
   const auto& value = Required(key);
-  if (!value.is_number_integer()) Fail(key, "must be an integer");
-  const auto x = value.get<std::int64_t>();
-  if (x < min || x > max) {
+  const auto range = [&](const auto& x) {
     Fail(key, fmt::format("{} is outside the valid range [{}, {}]", x, min, max));
+  };
+  if (value.is_number_unsigned()) {
+    // Above 2^63 a get<std::int64_t>() would wrap to a negative count.
+    const auto x = value.get<std::uint64_t>();
+    if (x > static_cast<std::uint64_t>(max) || static_cast<std::int64_t>(x) < min) range(x);
+    return static_cast<std::int64_t>(x);
   }
-  return x;
+  if (value.is_number_integer()) {
+    const auto x = value.get<std::int64_t>();
+    if (x < min || x > max) range(x);
+    return x;
+  }
+  // People write counts as 1e5: accept a float holding a whole number, range-checked before
+  // the conversion (a double outside the int64 range does not convert).
+  const double x = value.is_number_float() ? value.get<double>() : 0.5;
+  if (!value.is_number_float() || !std::isfinite(x) || x != std::floor(x)) {
+    Fail(key, "must be an integer");
+  }
+  if (x < static_cast<double>(min) || x > static_cast<double>(max) || x >= 0x1p63) range(x);
+  return static_cast<std::int64_t>(x);
 }
 
 std::int64_t JsonReader::Integer(std::string_view key, std::int64_t min, std::int64_t max,
@@ -115,7 +131,7 @@ void JsonReader::Finish() const {
     if (used_.count(key) == 0) {
       std::string valid;
       for (const auto& k : known_) valid += (valid.empty() ? "" : ", ") + k;
-      throw ConfigError(
+      throw InputError(
           fmt::format("{}: unknown key '{}'; valid keys here: {}", file_, Key(key), valid));
     }
   }

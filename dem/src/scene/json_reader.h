@@ -13,7 +13,8 @@
 namespace bouncecal::dem::scene {
 
 // Reads one JSON object strictly: every value is checked for type and range, and Finish()
-// rejects any key nobody asked for. Messages are one line: "<file>: <key.path>: what, range".
+// rejects any key nobody asked for. Every problem is an InputError (the scene FILE is malformed:
+// exit status 2) with a one-line message: "<file>: <key.path>: what, range".
 class JsonReader {
  public:
   JsonReader(const nlohmann::json& object, std::string file, std::string path);
@@ -23,6 +24,7 @@ class JsonReader {
   JsonReader Object(std::string_view key);
   double Number(std::string_view key, double min, double max);
   double Number(std::string_view key, double min, double max, double fallback);
+  // A JSON integer, or a float holding a whole number (1e5); needs 0 <= max.
   std::int64_t Integer(std::string_view key, std::int64_t min, std::int64_t max);
   std::int64_t Integer(std::string_view key, std::int64_t min, std::int64_t max,
                        std::int64_t fallback);

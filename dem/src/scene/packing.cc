@@ -88,9 +88,11 @@ void Insert(scene::EngineBase<Dim>& engine, const Scene& scene,
   for (int d = 0; d < Dim; ++d) v[d] = scene.insertion.initial_velocity_mps[d];
   for (const auto& p : particles) {
     if (p.species >= static_cast<std::int32_t>(scene.particles.species.size())) {
-      throw InputError(fmt::format("{}: particle file names species {} but the scene defines {}",
-                                   scene.source.string(), p.species,
-                                   scene.particles.species.size()));
+      throw InputError(fmt::format(
+          "{}: names species {} but the scene {} defines {} (species are 0-based); fix the "
+          "particle file or add species",
+          scene.insertion.file.string(), p.species, scene.source.string(),
+          scene.particles.species.size()));
     }
     scene::Vec<Dim> x;
     for (int d = 0; d < Dim; ++d) x[d] = p.position_m[d];

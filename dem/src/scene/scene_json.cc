@@ -1,6 +1,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -30,23 +31,28 @@ nlohmann::json ReadJsonFile(const std::filesystem::path& path, const std::string
   if (!in) throw InputError(path.string() + ": cannot open the " + what + "; check the path");
   try {
     return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& error) {
+  } catch (const nlohmann::json::exception& error) {
+    // parse_error, and out_of_range for a number that overflows a double (1e999).
     throw InputError(path.string() + ": not valid JSON (" + error.what() + ")");
   }
 }
 
 void ReadParticles(JsonReader r, Scene& scene) {
   auto& p = scene.particles;
-  p.count = r.Integer("count", 1, std::numeric_limits<std::int32_t>::max());
-  const std::int64_t bytes = p.count * EstimatedBytesPerParticle(scene.dimension);
+  // Read as a double so that any count, however absurd (1e12, 2^64), is refused by the memory it
+  // would need rather than by an integer range.
+  const double count = r.Number("count", 1, std::numeric_limits<double>::max());
+  if (count != std::floor(count)) r.Fail("count", "must be a whole number of particles");
+  const double bytes = count * static_cast<double>(EstimatedBytesPerParticle(scene.dimension));
   const long pages = sysconf(_SC_PHYS_PAGES);
   const long page_size = sysconf(_SC_PAGE_SIZE);
   const double memory = pages > 0 && page_size > 0 ? static_cast<double>(pages) * page_size : kInf;
-  if (p.count > kMaxSceneParticles || static_cast<double>(bytes) > 0.8 * memory) {
+  if (count > static_cast<double>(kMaxSceneParticles) || bytes > 0.8 * memory) {
     r.Fail("count", fmt::format("{} particles would need about {:.1f} GB of memory (this machine "
                                 "has {:.1f} GB, the limit is {} particles); use fewer particles",
-                                p.count, bytes / 1e9, memory / 1e9, kMaxSceneParticles));
+                                count, bytes / 1e9, memory / 1e9, kMaxSceneParticles));
   }
+  p.count = static_cast<std::int64_t>(count);
   if (r.Has("diameter_m")) {
     p.diameter.kind = DiameterDistributionKind::kConstant;
     p.diameter.diameter_m = r.Number("diameter_m", 1e-9, 100);
@@ -296,7 +302,17 @@ Scene SceneFromJson(const nlohmann::json& root, const std::filesystem::path& sou
   if (format != "bouncecal-scene/1") {
     r.Fail("format", "'" + format + "' is not a known scene format; expected bouncecal-scene/1");
   }
+  const bool named = r.Has("name");
   scene.name = r.String("name", source.empty() ? std::string("scene") : source.stem().string());
+  // The name becomes the default output folder (NAME_out) and plot titles: one path component.
+  if (named && (scene.name.empty() || scene.name == "." || scene.name == ".." ||
+                scene.name.find_first_of("/\\\"'`") != std::string::npos ||
+                std::any_of(scene.name.begin(), scene.name.end(),
+                            [](unsigned char c) { return c < 0x20 || c == 0x7f; }))) {
+    r.Fail("name",
+           "must be a non-empty file-name-like word (no slashes, quotes or control "
+           "characters): it names the output folder");
+  }
   r.String("description", "");
   scene.dimension = static_cast<int>(r.Integer("dimension", 2, 3, 3));
   ReadParticles(r.Object("particles"), scene);

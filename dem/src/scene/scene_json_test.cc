@@ -24,11 +24,11 @@ nlohmann::json Minimal() {
   })");
 }
 
-// The ConfigError message for a scene, or "" when it parses.
+// The InputError message for a scene (a malformed scene file), or "" when it parses.
 std::string ErrorOf(const nlohmann::json& json) {
   try {
     SceneFromJson(json, "scene.json");
-  } catch (const ConfigError& error) {
+  } catch (const InputError& error) {
     return error.what();
   }
   return "";
@@ -106,6 +106,24 @@ TEST(SceneJson, HugeParticleCountIsRefusedWithTheMemoryItNeeds) {
   const auto message = ErrorOf(json);
   EXPECT_TRUE(Mentions(message, "GB")) << message;
   EXPECT_TRUE(Mentions(message, "particles.count")) << message;
+}
+
+TEST(SceneJson, WholeNumbersMayBeWrittenAsFloatsButNotFractionsOrHugeIntegers) {
+  auto json = Minimal();
+  json["particles"]["count"] = 1e2;  // as the docs write max_attempts: 1e7
+  json["insertion"]["max_attempts"] = 1e7;
+  json["insertion"]["seed"] = 18446744073709551615ULL;  // above int64: must not wrap negative
+  EXPECT_TRUE(Mentions(ErrorOf(json), "insertion.seed: 18446744073709551615 is outside"))
+      << ErrorOf(json);
+  json["insertion"]["seed"] = 12;
+  const Scene scene = SceneFromJson(json, "scene.json");
+  EXPECT_EQ(scene.particles.count, 100);
+  EXPECT_EQ(scene.insertion.max_attempts, 10'000'000);
+  json["insertion"]["max_attempts"] = 2.5;
+  EXPECT_TRUE(Mentions(ErrorOf(json), "insertion.max_attempts: must be an integer"));
+  json["insertion"]["max_attempts"] = 1e300;
+  EXPECT_TRUE(Mentions(ErrorOf(json), "insertion.max_attempts: 1e+300 is outside"))
+      << ErrorOf(json);
 }
 
 TEST(SceneJson, RotationWithoutTangentialForceIsRejected) {

@@ -9,8 +9,9 @@ namespace bouncecal::calibrate {
 
 // The full fit result for `bouncecal calibrate --json`: at least {"law", "parameters",
 // "confidence_interval", "analytic": {"energy_loss_mean", "gamma_n"}, "objective", "residual",
-// "evaluations", "stop_reason"} (issue 4), plus the check, the information criteria, timing and
-// per-recording measured and simulated sequences.
+// "evaluations", "stop_reason"} (issue 4), plus the check, the information criteria and
+// per-recording measured and simulated sequences. No run times (fit_time_s, total_time_s): the
+// same input and seed give byte-identical JSON (issue 7); the terminal report prints them.
 nlohmann::json ToJson(const FitSummary& summary);
 
 // {"ranking": [fit, ...]} best first (by BIC), each fit as ToJson(FitSummary) plus "delta_bic".

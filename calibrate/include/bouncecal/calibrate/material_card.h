@@ -67,8 +67,8 @@ MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& optio
                               const std::vector<std::filesystem::path>& recordings);
 
 nlohmann::json ToJson(const MaterialCard& card);
-// Throws InputError naming `context` and the key for a wrong format or a malformed field; the
-// law is checked by dem::ContactLawConfigFromJson (ConfigError for bad parameter values).
+// Throws InputError naming `context` and the key for a wrong format or a malformed field,
+// including the law's (checked by dem::ContactLawConfigFromJson).
 MaterialCard MaterialCardFromJson(const nlohmann::json& object, std::string_view context);
 
 // Written atomically (AtomicFile): OutputError when the file cannot be written.

@@ -28,9 +28,9 @@ struct ExportMaterial {
   std::string source = "(in memory)";  // the card's path, for deck headers
 };
 
-// `context` (the card's path) prefixes every error. Throws InputError for a wrong format or a
-// missing/malformed "contact_law" or "ball" key (naming the key), ConfigError (from
-// dem::ContactLawConfigFromJson) for a law parameter out of its range.
+// `context` (the card's path) prefixes every error. Throws InputError for a wrong format, a
+// missing/malformed "contact_law" or "ball" key (naming the key) or a law parameter out of its
+// range (dem::ContactLawConfigFromJson): every problem of the card is a bad input file.
 ExportMaterial ExportMaterialFromJson(const nlohmann::json& card, std::string_view context);
 
 // Throws InputError when the file is missing or is not JSON, then as ExportMaterialFromJson.
