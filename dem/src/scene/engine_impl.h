@@ -32,16 +32,15 @@ class Engine final : public EngineBase<Dim> {
         scratch_(static_cast<std::size_t>(this->pool_->threads())) {}
 
   void ComputeForces() override {
-    PrepareStep();
-    PairForces();
-    const std::int32_t n = this->state_.size();
-    for (std::int32_t i = 0; i < n; ++i) GatherForce(i);
-    this->forces_valid_ = true;
+    this->EnterWorkingOrder();
+    ForcesInWorkingOrder();
+    this->LeaveWorkingOrder();
   }
 
   void Advance(std::int64_t steps) override {
     if (steps <= 0) return;
-    if (!this->forces_valid_) ComputeForces();
+    this->EnterWorkingOrder();
+    if (!this->forces_valid_) ForcesInWorkingOrder();
     const std::int32_t n = this->state_.size();
     const double dt = this->settings_.time_step_s;
     const double half_dt = 0.5 * dt;
@@ -82,12 +81,21 @@ class Engine final : public EngineBase<Dim> {
       ++this->steps_;
     }
     this->forces_valid_ = true;
+    this->LeaveWorkingOrder();
   }
 
  private:
   using V = Vec<Dim>;
   using S = Spin<Dim>;
   static double Square(double x) { return x * x; }
+
+  void ForcesInWorkingOrder() {
+    PrepareStep();
+    PairForces();
+    const std::int32_t n = this->state_.size();
+    for (std::int32_t i = 0; i < n; ++i) GatherForce(i);
+    this->forces_valid_ = true;
+  }
 
   void PrepareStep() {
     if (!this->pairs_valid_) {
