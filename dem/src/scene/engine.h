@@ -29,6 +29,10 @@ struct EngineSettings {
   // particle has moved skin/2. 0 rebuilds every step.
   double skin_m = 0;
   bool brute_force_pairs = false;  // list every pair i < j (tests only: O(N^2))
+  // Reorder the particles by grid cell at each rebuild (inside the engine only: state() keeps
+  // the order they were added in), so that neighbours are close in memory and each thread's
+  // range is a compact region. Changes the order of force sums, hence the last bits.
+  bool sort_by_cell = true;
   int threads = 1;
 };
 
@@ -71,7 +75,8 @@ class EngineBase {
   void AddParticle(const Vec<Dim>& position_m, const Vec<Dim>& velocity_mps, double radius_m,
                    double density_kg_per_m3, std::int32_t species);
 
-  // Forces and torques at the current positions and velocities (no integration).
+  // Forces and torques at the current positions and velocities (no integration). Outside
+  // these two calls state() is in the order the particles were added.
   virtual void ComputeForces() = 0;
   // `steps` velocity-Verlet steps; positions, velocities and forces are synchronised after it.
   virtual void Advance(std::int64_t steps) = 0;
@@ -80,6 +85,7 @@ class EngineBase {
   ParticleState<Dim>& mutable_state() { return state_; }
   const EngineSettings& settings() const { return settings_; }
   const std::vector<Wall<Dim>>& walls() const { return walls_; }
+  // The pair list and spring of pair p, in the engine's internal particle order (tests).
   const PairList& pairs() const { return pairs_; }
   std::int64_t steps() const { return steps_; }
   double time_s() const { return static_cast<double>(steps_) * settings_.time_step_s; }
@@ -88,13 +94,18 @@ class EngineBase {
   double KineticEnergyJ() const;
   // True once a position or velocity is not finite (the step was unstable).
   bool HasNonFiniteState() const;
-  // The tangential spring of pair p (tests).
   const Vec<Dim>& PairShear(std::size_t p) const { return pair_shear_[p]; }
 
  protected:
   // New pair list (grid or all pairs), carrying over the history of pairs that stay listed.
   void RebuildPairs(double reach_m);
   void UpdateWallNeighbours();
+  // The force loop runs on the particles in the internal order (order_); state_ is in the
+  // order they were added whenever the caller can see it. Both are idempotent.
+  void EnterWorkingOrder();
+  void LeaveWorkingOrder();
+  // Moves the particle at internal index from[k] to k (state, wall history, order_).
+  void PermuteParticles(const std::vector<std::int32_t>& from);
   double PairReachM(bool van_der_waals) const;
   Vec<Dim> Gravity() const;
 
@@ -121,6 +132,8 @@ class EngineBase {
   // before the next one. The others are skipped (their history is zero).
   std::vector<std::uint64_t> wall_near_;
   std::vector<Vec<Dim>> position_at_rebuild_;
+  std::vector<std::int32_t> order_;  // internal index -> index in the order of AddParticle
+  bool working_order_ = false;
   std::unique_ptr<WorkerPool> pool_;
   bool pairs_valid_ = false;
   bool forces_valid_ = false;

@@ -29,6 +29,7 @@ void EngineBase<Dim>::AddParticle(const Vec<Dim>& position_m, const Vec<Dim>& ve
   s.inverse_mass.push_back(1.0 / mass);
   s.inverse_inertia.push_back(1.0 / (0.4 * mass * radius_m * radius_m));
   s.species.push_back(species);
+  order_.push_back(s.size() - 1);  // the wall history below is in the internal order: appended
   wall_shear_.resize(static_cast<std::size_t>(s.size()) * walls_.size(), Vec<Dim>::Zero());
   wall_normal_history_.resize(wall_shear_.size());
   pairs_valid_ = false;
@@ -50,24 +51,34 @@ double EngineBase<Dim>::PairReachM(bool van_der_waals) const {
 template <int Dim>
 void EngineBase<Dim>::RebuildPairs(double reach_m) {
   const std::int32_t n = state_.size();
+  // from[k]: the internal index before this rebuild of the particle that is now k-th.
+  std::vector<std::int32_t> from;
+  if (settings_.sort_by_cell && !settings_.brute_force_pairs) {
+    from = CellOrder<Dim>(state_.position_m, state_.radius_m, reach_m);
+    PermuteParticles(from);
+  }
   PairList fresh = settings_.brute_force_pairs
                        ? AllPairs(n)
                        : GridPairs<Dim>(state_.position_m, state_.radius_m, reach_m);
-  // Both lists are sorted by (first, second): one merge walk carries the contact history over.
+  // Carry the contact history over: the old list is sorted by (first, second), so a pair is
+  // found by a binary search among the old pairs of its lower member. A pair whose members
+  // swapped order keeps its spring negated (it is the displacement of first relative to second).
   std::vector<Vec<Dim>> shear(fresh.size(), Vec<Dim>::Zero());
   std::vector<NormalHistory> normal(fresh.size());
-  std::size_t old = 0;
-  for (std::size_t p = 0; p < fresh.size() && old < pairs_.size(); ++p) {
-    while (old < pairs_.size() &&
-           (pairs_.first[old] < fresh.first[p] ||
-            (pairs_.first[old] == fresh.first[p] && pairs_.second[old] < fresh.second[p]))) {
-      ++old;
-    }
-    if (old < pairs_.size() && pairs_.first[old] == fresh.first[p] &&
-        pairs_.second[old] == fresh.second[p]) {
-      shear[p] = pair_shear_[old];
-      normal[p] = pair_normal_history_[old];
-    }
+  const auto old_particles = static_cast<std::int32_t>(pairs_.begin.size()) - 1;
+  for (std::size_t p = 0; p < fresh.size(); ++p) {
+    std::int32_t a = from.empty() ? fresh.first[p] : from[fresh.first[p]];
+    std::int32_t b = from.empty() ? fresh.second[p] : from[fresh.second[p]];
+    const bool swapped = a > b;
+    if (swapped) std::swap(a, b);
+    if (b >= old_particles) continue;  // added since the last rebuild: no history
+    const auto lo = pairs_.second.begin() + pairs_.begin[a];
+    const auto hi = pairs_.second.begin() + pairs_.begin[a + 1];
+    const auto it = std::lower_bound(lo, hi, b);
+    if (it == hi || *it != b) continue;
+    const auto old = static_cast<std::size_t>(it - pairs_.second.begin());
+    shear[p] = swapped ? -pair_shear_[old] : pair_shear_[old];
+    normal[p] = pair_normal_history_[old];
   }
   pairs_ = std::move(fresh);
   pair_shear_ = std::move(shear);
@@ -79,6 +90,78 @@ void EngineBase<Dim>::RebuildPairs(double reach_m) {
   position_at_rebuild_ = state_.position_m;
   pairs_valid_ = true;
   ++rebuilds_;
+}
+
+template <int Dim>
+void EngineBase<Dim>::PermuteParticles(const std::vector<std::int32_t>& from) {
+  auto permute = [&](auto& values, std::size_t stride) {
+    auto old = values;
+    for (std::size_t k = 0; k < from.size(); ++k) {
+      const auto source = static_cast<std::size_t>(from[k]);
+      for (std::size_t w = 0; w < stride; ++w) values[k * stride + w] = old[source * stride + w];
+    }
+  };
+  auto& s = state_;
+  permute(s.position_m, 1);
+  permute(s.velocity_mps, 1);
+  permute(s.force_n, 1);
+  permute(s.angular_velocity_radps, 1);
+  permute(s.torque_nm, 1);
+  permute(s.radius_m, 1);
+  permute(s.mass_kg, 1);
+  permute(s.inverse_mass, 1);
+  permute(s.inverse_inertia, 1);
+  permute(s.species, 1);
+  permute(order_, 1);
+  permute(wall_shear_, walls_.size());
+  permute(wall_normal_history_, walls_.size());
+}
+
+template <int Dim>
+void EngineBase<Dim>::EnterWorkingOrder() {
+  if (working_order_) return;
+  working_order_ = true;
+  bool identity = true;
+  for (std::size_t k = 0; k < order_.size() && identity; ++k)
+    identity = static_cast<std::size_t>(order_[k]) == k;
+  if (identity) return;
+  // PermuteParticles would also move the internal arrays: only the visible state moves here.
+  auto& s = state_;
+  auto gather = [&](auto& values) {
+    auto old = values;
+    for (std::size_t k = 0; k < order_.size(); ++k) values[k] = old[order_[k]];
+  };
+  gather(s.position_m);
+  gather(s.velocity_mps);
+  gather(s.force_n);
+  gather(s.angular_velocity_radps);
+  gather(s.torque_nm);
+  gather(s.radius_m);
+  gather(s.mass_kg);
+  gather(s.inverse_mass);
+  gather(s.inverse_inertia);
+  gather(s.species);
+}
+
+template <int Dim>
+void EngineBase<Dim>::LeaveWorkingOrder() {
+  if (!working_order_) return;
+  working_order_ = false;
+  auto& s = state_;
+  auto scatter = [&](auto& values) {
+    auto old = values;
+    for (std::size_t k = 0; k < order_.size(); ++k) values[order_[k]] = old[k];
+  };
+  scatter(s.position_m);
+  scatter(s.velocity_mps);
+  scatter(s.force_n);
+  scatter(s.angular_velocity_radps);
+  scatter(s.torque_nm);
+  scatter(s.radius_m);
+  scatter(s.mass_kg);
+  scatter(s.inverse_mass);
+  scatter(s.inverse_inertia);
+  scatter(s.species);
 }
 
 template <int Dim>

@@ -28,19 +28,19 @@ class Engine final : public EngineBase<Dim> {
       : EngineBase<Dim>(settings, std::move(walls)),
         law_(std::move(law)),
         gravity_(this->Gravity()),
+        shear_per_force_m_per_n_(1.0 / -settings.tangential_stiffness_n_per_m),
         scratch_(static_cast<std::size_t>(this->pool_->threads())) {}
 
   void ComputeForces() override {
-    PrepareStep();
-    PairForces();
-    const std::int32_t n = this->state_.size();
-    for (std::int32_t i = 0; i < n; ++i) GatherForce(i);
-    this->forces_valid_ = true;
+    this->EnterWorkingOrder();
+    ForcesInWorkingOrder();
+    this->LeaveWorkingOrder();
   }
 
   void Advance(std::int64_t steps) override {
     if (steps <= 0) return;
-    if (!this->forces_valid_) ComputeForces();
+    this->EnterWorkingOrder();
+    if (!this->forces_valid_) ForcesInWorkingOrder();
     const std::int32_t n = this->state_.size();
     const double dt = this->settings_.time_step_s;
     const double half_dt = 0.5 * dt;
@@ -81,12 +81,21 @@ class Engine final : public EngineBase<Dim> {
       ++this->steps_;
     }
     this->forces_valid_ = true;
+    this->LeaveWorkingOrder();
   }
 
  private:
   using V = Vec<Dim>;
   using S = Spin<Dim>;
   static double Square(double x) { return x * x; }
+
+  void ForcesInWorkingOrder() {
+    PrepareStep();
+    PairForces();
+    const std::int32_t n = this->state_.size();
+    for (std::int32_t i = 0; i < n; ++i) GatherForce(i);
+    this->forces_valid_ = true;
+  }
 
   void PrepareStep() {
     if (!this->pairs_valid_) {
@@ -146,7 +155,7 @@ class Engine final : public EngineBase<Dim> {
     const double f2 = force.squaredNorm();
     if (f2 > cap * cap) {
       force *= cap / std::sqrt(f2);
-      shear = force / -ks;
+      shear = force * shear_per_force_m_per_n_;  // = force / -ks, the division taken once
     }
     return force;
   }
@@ -193,8 +202,10 @@ class Engine final : public EngineBase<Dim> {
             if constexpr (Phys::kTangential) {
               // The spring of a pair that does not touch is almost always zero already: test
               // for the rare one to clear (a predictable branch) instead of writing every one.
+              // `&`, not `&&`: whether a listed pair touches is random, so a short-circuit jump
+              // on it would be mispredicted about every third pair.
               auto& shear = this->pair_shear_[static_cast<std::size_t>(p)];
-              if (!interacts && NonZeroBits(shear)) shear = V::Zero();
+              if (!interacts & NonZeroBits(shear)) shear = V::Zero();
             }
             if constexpr (Law::kNeedsHistory) {
               if (!interacts) this->pair_normal_history_[static_cast<std::size_t>(p)] = {};
@@ -286,8 +297,10 @@ class Engine final : public EngineBase<Dim> {
       const V n_ij = t.normal[k] * t.inverse[k];  // from j to i; as d / dist
       t.normal[k] = n_ij;
       const double overlap = terms.radius_sum_m - t.dist[k];
-      t.overlap[k] = overlap;
-      t.effective_radius[k] = terms.radius_m;
+      if constexpr (Phys::kVanDerWaals) {  // else R_eff is not used: skip its division
+        t.overlap[k] = overlap;
+        t.effective_radius[k] = terms.radius_m;
+      }
       t.touching[k] = overlap > 0;
       t.old2[k] = 1;
       t.new2[k] = 1;
@@ -426,7 +439,8 @@ class Engine final : public EngineBase<Dim> {
 
   Law law_;
   V gravity_;
-  std::vector<Scratch> scratch_;  // one per pool chunk
+  double shear_per_force_m_per_n_;  // 1 / -k_t: the spring of a sliding contact from its force
+  std::vector<Scratch> scratch_;    // one per pool chunk
 };
 
 // Picks the physics flags at run time once, so each scene runs one specialised loop.

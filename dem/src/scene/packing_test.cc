@@ -49,11 +49,14 @@ TEST(RunPacking, SmallPourComesToRestAtAPhysicalDensity) {
   ASSERT_EQ(summary.stop_reason, PackStopReason::kDuration) << summary.message;
   EXPECT_EQ(summary.particles, 120);
   EXPECT_EQ(summary.steps, 50000);
-  // At rest: the pour released about 120 m g 5 cm of potential energy; less than 1e-5 of it is
-  // left as motion (a mean speed of about 1 mm/s; the undamped tangential springs keep a
-  // small jitter, as in LAMMPS gran/hooke/history without tangential damping).
+  // At rest: the pour released about 120 m g 5 cm of potential energy (0.24 J; the flow peaks
+  // at 0.14 J of motion); less than 1e-4 of it is left (a mean speed of about 3 mm/s). The
+  // residue at 0.5 s is set by the last small rearrangements, which are chaotic: over seeds 1-4
+  // and both particle orderings it was 2e-9 to 4.8e-6 J, so the bound keeps a 5x margin and is
+  // still four orders below the flowing state. (The undamped tangential springs keep a small
+  // jitter, as in LAMMPS gran/hooke/history without tangential damping.)
   const double m = 7800 * 3.14159265358979 / 6 * 1e-6;
-  EXPECT_LT(summary.kinetic_energy_j, 1e-5 * 120 * m * 9.81 * 0.05);
+  EXPECT_LT(summary.kinetic_energy_j, 1e-4 * 120 * m * 9.81 * 0.05);
   // Poured frictional spheres in a box 6 d wide: between random loose packing near walls
   // (about 0.5; the walls loosen the first layers) and random close packing (0.64).
   EXPECT_GT(summary.packing_density, 0.50);

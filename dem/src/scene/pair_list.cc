@@ -42,34 +42,51 @@ PairList AllPairs(std::int32_t n) {
   return list;
 }
 
+namespace {
+
+// A uniform grid of cells at least 2 r_max + reach_m wide over the particles' bounding box.
 template <int Dim>
-PairList GridPairs(const std::vector<Vec<Dim>>& position_m, const std::vector<double>& radius_m,
-                   double reach_m) {
-  const auto n = static_cast<std::int32_t>(position_m.size());
-  PairList list;
-  if (n == 0) {
-    list.BuildIndex(0);
-    return list;
+struct CellGrid {
+  bool valid = false;  // false: a blown-up state (non-finite or astronomically far positions)
+  Vec<Dim> lo = Vec<Dim>::Zero();
+  std::array<std::int64_t, Dim> dims{};
+  double inv_cell = 0;
+  std::int64_t total_cells = 1;
+
+  std::array<std::int64_t, Dim> Coord(const Vec<Dim>& x) const {
+    std::array<std::int64_t, Dim> c{};
+    for (int d = 0; d < Dim; ++d) {
+      c[d] = std::clamp<std::int64_t>(static_cast<std::int64_t>((x[d] - lo[d]) * inv_cell), 0,
+                                      dims[d] - 1);
+    }
+    return c;
   }
+  std::int64_t Index(const std::array<std::int64_t, Dim>& c) const {
+    std::int64_t index = 0;
+    for (int d = Dim - 1; d >= 0; --d) index = index * dims[d] + c[d];
+    return index;
+  }
+};
+
+template <int Dim>
+CellGrid<Dim> MakeCellGrid(const std::vector<Vec<Dim>>& position_m,
+                           const std::vector<double>& radius_m, double reach_m) {
+  const auto n = static_cast<std::int32_t>(position_m.size());
+  CellGrid<Dim> grid;
+  if (n == 0) return grid;
   Vec<Dim> lo = position_m[0];
   Vec<Dim> hi = position_m[0];
   double r_max = 0;
   for (std::int32_t i = 0; i < n; ++i) {
-    if (!position_m[i].allFinite()) {
-      list.BuildIndex(n);
-      return list;
-    }
+    if (!position_m[i].allFinite()) return grid;
     lo = lo.cwiseMin(position_m[i]);
     hi = hi.cwiseMax(position_m[i]);
     r_max = std::max(r_max, radius_m[i]);
   }
-  // A blown-up run (non-finite or astronomically far positions) gets no pairs; the engine
-  // reports it as unstable at its next check instead of hanging here.
+  // A blown-up run gets no pairs; the engine reports it as unstable at its next check instead
+  // of hanging here.
   for (int d = 0; d < Dim; ++d) {
-    if (!(hi[d] - lo[d] <= 1e12)) {
-      list.BuildIndex(n);
-      return list;
-    }
+    if (!(hi[d] - lo[d] <= 1e12)) return grid;
   }
   double cell_m = 2 * r_max + reach_m;
   // A particle flung far away must not make the grid huge: widen the cells instead (the pairs
@@ -81,26 +98,52 @@ PairList GridPairs(const std::vector<Vec<Dim>>& position_m, const std::vector<do
     if (cells <= max_cells) break;
     cell_m *= 1.5;
   }
-  std::array<std::int64_t, Dim> dims{};
+  grid.valid = true;
+  grid.lo = lo;
   for (int d = 0; d < Dim; ++d) {
-    dims[d] = static_cast<std::int64_t>(std::floor((hi[d] - lo[d]) / cell_m)) + 1;
+    grid.dims[d] = static_cast<std::int64_t>(std::floor((hi[d] - lo[d]) / cell_m)) + 1;
+    grid.total_cells *= grid.dims[d];
   }
-  const double inv_cell = 1.0 / cell_m;
-  auto cell_coord = [&](const Vec<Dim>& x) {
-    std::array<std::int64_t, Dim> c{};
-    for (int d = 0; d < Dim; ++d) {
-      c[d] = std::clamp<std::int64_t>(static_cast<std::int64_t>((x[d] - lo[d]) * inv_cell), 0,
-                                      dims[d] - 1);
-    }
-    return c;
-  };
-  auto cell_index = [&](const std::array<std::int64_t, Dim>& c) {
-    std::int64_t index = 0;
-    for (int d = Dim - 1; d >= 0; --d) index = index * dims[d] + c[d];
-    return index;
-  };
-  std::int64_t total_cells = 1;
-  for (int d = 0; d < Dim; ++d) total_cells *= dims[d];
+  grid.inv_cell = 1.0 / cell_m;
+  return grid;
+}
+
+}  // namespace
+
+template <int Dim>
+std::vector<std::int32_t> CellOrder(const std::vector<Vec<Dim>>& position_m,
+                                    const std::vector<double>& radius_m, double reach_m) {
+  const auto n = static_cast<std::int32_t>(position_m.size());
+  std::vector<std::int32_t> order(static_cast<std::size_t>(n));
+  for (std::int32_t i = 0; i < n; ++i) order[static_cast<std::size_t>(i)] = i;
+  const CellGrid<Dim> grid = MakeCellGrid<Dim>(position_m, radius_m, reach_m);
+  if (!grid.valid) return order;
+  std::vector<std::int64_t> cell_of(static_cast<std::size_t>(n));
+  std::vector<std::int32_t> cell_start(static_cast<std::size_t>(grid.total_cells) + 1, 0);
+  for (std::int32_t i = 0; i < n; ++i) {
+    cell_of[i] = grid.Index(grid.Coord(position_m[i]));
+    ++cell_start[static_cast<std::size_t>(cell_of[i]) + 1];
+  }
+  for (std::int64_t c = 0; c < grid.total_cells; ++c) cell_start[c + 1] += cell_start[c];
+  for (std::int32_t i = 0; i < n; ++i)
+    order[static_cast<std::size_t>(cell_start[cell_of[i]]++)] = i;
+  return order;
+}
+
+template <int Dim>
+PairList GridPairs(const std::vector<Vec<Dim>>& position_m, const std::vector<double>& radius_m,
+                   double reach_m) {
+  const auto n = static_cast<std::int32_t>(position_m.size());
+  PairList list;
+  const CellGrid<Dim> grid = MakeCellGrid<Dim>(position_m, radius_m, reach_m);
+  if (!grid.valid) {
+    list.BuildIndex(n);
+    return list;
+  }
+  const auto& dims = grid.dims;
+  auto cell_coord = [&](const Vec<Dim>& x) { return grid.Coord(x); };
+  auto cell_index = [&](const std::array<std::int64_t, Dim>& c) { return grid.Index(c); };
+  const std::int64_t total_cells = grid.total_cells;
 
   // Counting sort of particles by cell; within a cell particles stay in index order.
   std::vector<std::int64_t> cell_of(static_cast<std::size_t>(n));
@@ -154,6 +197,10 @@ PairList GridPairs(const std::vector<Vec<Dim>>& position_m, const std::vector<do
   return list;
 }
 
+template std::vector<std::int32_t> CellOrder<2>(const std::vector<Vec<2>>&,
+                                                const std::vector<double>&, double);
+template std::vector<std::int32_t> CellOrder<3>(const std::vector<Vec<3>>&,
+                                                const std::vector<double>&, double);
 template PairList GridPairs<2>(const std::vector<Vec<2>>&, const std::vector<double>&, double);
 template PairList GridPairs<3>(const std::vector<Vec<3>>&, const std::vector<double>&, double);
 

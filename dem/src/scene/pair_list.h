@@ -27,6 +27,13 @@ struct PairList {
 // Every pair i < j: the O(N^2) reference the cell grid is tested against.
 PairList AllPairs(std::int32_t n);
 
+// The particles ordered by the cell of the grid GridPairs uses (x fastest, then y, then z),
+// stable within a cell: order[k] is the particle to put k-th. Neighbours then sit close together
+// in memory, and a thread's contiguous range of particles is a compact region.
+template <int Dim>
+std::vector<std::int32_t> CellOrder(const std::vector<Vec<Dim>>& position_m,
+                                    const std::vector<double>& radius_m, double reach_m);
+
 // Pairs whose surfaces are closer than `reach_m` (centre distance < r_i + r_j + reach_m), found
 // with a uniform cell grid of cells at least 2 r_max + reach_m wide. Deterministic: the result
 // does not depend on the thread count.
