@@ -323,7 +323,9 @@ std::vector<Impact> ExtendSequencesWithTentative(const std::vector<Impact>& impa
     // of the sequence's last few ratios): re-estimating it from adopted, weakly timed impacts
     // lets one mistimed adoption steer the next window and walk the chain to ratios near 1.
     std::vector<double> ratios;
-    for (size_t k = members.size() >= 6 ? members.size() - 5 : 2; k < members.size(); ++k) {
+    // The last five ratios at most; the first ratio needs members[0..2], so k starts at 2.
+    for (size_t k = std::max<size_t>(2, members.size() - std::min<size_t>(members.size(), 5));
+         k < members.size(); ++k) {
       ratios.push_back((onset(members[k]) - onset(members[k - 1])) /
                        (onset(members[k - 1]) - onset(members[k - 2])));
     }
