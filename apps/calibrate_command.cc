@@ -14,6 +14,7 @@
 #include "bouncecal/error.h"
 #include "calibrate_cli_options.h"
 #include "calibrate_report.h"
+#include "card_creation_time.h"
 #include "commands.h"
 #include "plot/gnuplot_plot.h"
 
@@ -30,6 +31,8 @@ struct CalibrateCommandOptions : CalibrateCliOptions {
 
 void Run(const CalibrateCommandOptions& cli) {
   if (!cli.plot.empty()) CheckPlotTarget(cli.plot);
+  // Read before the fit so a malformed SOURCE_DATE_EPOCH fails at once, not after minutes.
+  const std::time_t card_created_at = CardCreationTimeFromEnvironment();
   const auto options = cli.FitOptions(/*validate_law=*/!cli.compare_laws);
   const auto sequences = cli.LoadSequences();
 
@@ -46,7 +49,8 @@ void Run(const CalibrateCommandOptions& cli) {
     if (!cli.plot.empty()) PlotFit(cli.plot, comparison.fits.front(), options);
     if (!cli.card.empty()) {
       calibrate::WriteMaterialCard(
-          cli.card, calibrate::MakeMaterialCard(comparison.fits.front(), options, cli.inputs));
+          cli.card, calibrate::MakeMaterialCard(comparison.fits.front(), options, cli.inputs,
+                                                card_created_at));
       fmt::print("material card of the best law written to {}\n", cli.card.string());
     }
     return;
@@ -59,8 +63,8 @@ void Run(const CalibrateCommandOptions& cli) {
     fmt::print("JSON written to {}\n", cli.json.string());
   }
   if (!cli.card.empty()) {
-    calibrate::WriteMaterialCard(cli.card,
-                                 calibrate::MakeMaterialCard(summary, options, cli.inputs));
+    calibrate::WriteMaterialCard(
+        cli.card, calibrate::MakeMaterialCard(summary, options, cli.inputs, card_created_at));
     fmt::print("material card written to {}\n", cli.card.string());
   }
   if (!cli.plot.empty()) {

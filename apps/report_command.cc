@@ -12,6 +12,7 @@
 #include "calibrate_cli_options.h"
 #include "calibrate_report.h"
 #include "calibration_html.h"
+#include "card_creation_time.h"
 #include "commands.h"
 
 namespace bouncecal::apps {
@@ -43,6 +44,7 @@ void Run(const ReportCommandOptions& cli, const std::string& command_line) {
     throw ConfigError("-o/--output '" + cli.output.string() +
                       "' must end in .html (the report is one HTML page)");
   }
+  const std::time_t card_created_at = CardCreationTimeFromEnvironment();
   const auto options = cli.FitOptions();
   const auto sequences = cli.LoadSequences();
   const auto summary = calibrate::Fit(sequences, options);
@@ -51,7 +53,7 @@ void Run(const ReportCommandOptions& cli, const std::string& command_line) {
   content.command_line = command_line;
   content.summary = summary;
   content.options = options;
-  content.card = calibrate::MakeMaterialCard(summary, options, cli.inputs);
+  content.card = calibrate::MakeMaterialCard(summary, options, cli.inputs, card_created_at);
   content.card_json = calibrate::ToJson(content.card).dump(2);
   content.fit_json = calibrate::ToJson(summary).dump(2);
   content.figures.emplace_back(

@@ -1,5 +1,6 @@
 #include <benchmark/benchmark.h>
 
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -39,7 +40,8 @@ void Calibrate(const std::vector<std::filesystem::path>& inputs, calibrate::FitO
                const std::filesystem::path& card) {
   const auto sequences = calibrate::LoadSequences(inputs);
   const auto summary = calibrate::Fit(sequences, options);
-  calibrate::WriteMaterialCard(card, calibrate::MakeMaterialCard(summary, options, inputs));
+  calibrate::WriteMaterialCard(
+      card, calibrate::MakeMaterialCard(summary, options, inputs, std::time(nullptr)));
   benchmark::DoNotOptimize(summary.residual);
 }
 

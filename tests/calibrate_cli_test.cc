@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.h"
@@ -37,6 +38,38 @@ TEST(CalibrateCli, ShippedSampleGivesGammaNearTheFormulaWithJsonAndCard) {
   EXPECT_EQ(nlohmann::json::parse(card_in)["format"], "bouncecal-material/1");
   std::filesystem::remove(json);
   std::filesystem::remove(card);
+}
+
+std::string ReadFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// The reproducible-builds convention: with SOURCE_DATE_EPOCH set, the card records that time and
+// two runs give byte-identical cards (without it, created_utc is the wall clock).
+TEST(CalibrateCli, SourceDateEpochMakesTheCardByteIdentical) {
+  const auto first = Temp("epoch_1.json"), second = Temp("epoch_2.json");
+  const std::string environment = "SOURCE_DATE_EPOCH=1700000000";
+  const std::string arguments = "calibrate " + Sample() + " --bootstrap 0 --card ";
+  ASSERT_EQ(RunBouncecal(arguments + first.string(), environment).exit_status, 0);
+  ASSERT_EQ(RunBouncecal(arguments + second.string(), environment).exit_status, 0);
+  const auto card = ReadFile(first);
+  EXPECT_EQ(card, ReadFile(second));
+  EXPECT_EQ(nlohmann::json::parse(card)["created_utc"], "2023-11-14T22:13:20Z");
+  std::filesystem::remove(first);
+  std::filesystem::remove(second);
+}
+
+TEST(CalibrateCli, MalformedSourceDateEpochIsAnOptionErrorBeforeTheFit) {
+  const auto card = Temp("epoch_bad.json");
+  for (const char* value : {"yesterday", "-5", "1e9", "99999999999999"}) {
+    const auto result =
+        RunBouncecal("calibrate " + Sample() + " --bootstrap 0 --card " + card.string(),
+                     std::string("SOURCE_DATE_EPOCH=") + value);
+    EXPECT_EQ(result.exit_status, 3) << value << ": " << result.output;
+    EXPECT_NE(result.output.find("SOURCE_DATE_EPOCH"), std::string::npos) << result.output;
+    EXPECT_FALSE(std::filesystem::exists(card)) << value;
+  }
 }
 
 TEST(CalibrateCli, MissingRecordingExitsWithStatus2) {

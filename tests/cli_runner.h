@@ -16,9 +16,11 @@ struct CliResult {
 };
 
 // Runs the built bouncecal executable with the given argument string (shell-quoted by the
-// caller) and captures what it prints.
-inline CliResult RunBouncecal(const std::string& arguments) {
-  const std::string command = std::string(BOUNCECAL_EXECUTABLE) + " " + arguments + " 2>&1";
+// caller) and captures what it prints. `environment` holds shell assignments for that run only
+// (e.g. "SOURCE_DATE_EPOCH=0"), so the test process's own environment is never changed.
+inline CliResult RunBouncecal(const std::string& arguments, const std::string& environment = "") {
+  const std::string command =
+      environment + " " + std::string(BOUNCECAL_EXECUTABLE) + " " + arguments + " 2>&1";
   CliResult result;
   FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return result;

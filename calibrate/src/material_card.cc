@@ -92,17 +92,17 @@ std::optional<bool> BoolAt(const nlohmann::json& object, const char* key,
 
 }  // namespace
 
-std::string UtcTimestamp() {
-  const std::time_t now = std::time(nullptr);
+std::string UtcTimestamp(std::time_t seconds_since_epoch) {
   std::tm utc{};
-  gmtime_r(&now, &utc);
+  gmtime_r(&seconds_since_epoch, &utc);
   char text[32];
   std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
   return text;
 }
 
 MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& options,
-                              const std::vector<std::filesystem::path>& recordings) {
+                              const std::vector<std::filesystem::path>& recordings,
+                              std::time_t created_at) {
   MaterialCard card;
   card.law = summary.law;
   card.ball = options.ball;
@@ -134,7 +134,7 @@ MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& optio
   for (const auto& path : recordings)
     card.recordings.push_back({path.filename().string(), FileContentHash(path)});
   card.tool_version = std::string(Version());
-  card.created_utc = UtcTimestamp();
+  card.created_utc = UtcTimestamp(created_at);
   return card;
 }
 

@@ -1,6 +1,7 @@
 #ifndef BOUNCECAL_CALIBRATE_MATERIAL_CARD_H_
 #define BOUNCECAL_CALIBRATE_MATERIAL_CARD_H_
 
+#include <ctime>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -62,9 +63,11 @@ struct MaterialCard {
 };
 
 // The card of a fit; hashes each recording file (InputError if one cannot be read) and stamps
-// the tool version and the current UTC time.
+// the tool version and `created_at` (seconds since 1970-01-01 UTC). The caller chooses the time
+// so a build can pin it (SOURCE_DATE_EPOCH) and the card becomes reproducible.
 MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& options,
-                              const std::vector<std::filesystem::path>& recordings);
+                              const std::vector<std::filesystem::path>& recordings,
+                              std::time_t created_at);
 
 nlohmann::json ToJson(const MaterialCard& card);
 // Throws InputError naming `context` and the key for a wrong format or a malformed field,
@@ -76,8 +79,8 @@ void WriteMaterialCard(const std::filesystem::path& path, const MaterialCard& ca
 // InputError when the file is missing, not JSON or not a material card.
 MaterialCard ReadMaterialCard(const std::filesystem::path& path);
 
-// Current UTC time as ISO 8601 with a Z suffix.
-std::string UtcTimestamp();
+// `seconds_since_epoch` as ISO 8601 UTC with a Z suffix, e.g. 2026-11-21T18:20:00Z.
+std::string UtcTimestamp(std::time_t seconds_since_epoch);
 
 }  // namespace bouncecal::calibrate
 

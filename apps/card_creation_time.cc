@@ -1,0 +1,36 @@
+#include "card_creation_time.h"
+
+#include <charconv>
+#include <cstdlib>
+#include <string>
+
+#include "bouncecal/error.h"
+
+namespace bouncecal::apps {
+
+namespace {
+// 9999-12-31T23:59:59Z: the last second a four-digit ISO 8601 year can show.
+constexpr long long kLastFourDigitYearSecond = 253402300799LL;
+}  // namespace
+
+std::time_t CardCreationTime(std::optional<std::string_view> source_date_epoch) {
+  if (!source_date_epoch) return std::time(nullptr);
+  const std::string_view text = *source_date_epoch;
+  long long seconds = -1;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), seconds);
+  if (text.empty() || error != std::errc() || end != text.data() + text.size() || seconds < 0 ||
+      seconds > kLastFourDigitYearSecond) {
+    throw ConfigError("SOURCE_DATE_EPOCH='" + std::string(text) +
+                      "' is not a whole number of seconds since 1970-01-01 UTC in 0.." +
+                      std::to_string(kLastFourDigitYearSecond) +
+                      "; unset it or set it to e.g. $(git log -1 --format=%ct)");
+  }
+  return static_cast<std::time_t>(seconds);
+}
+
+std::time_t CardCreationTimeFromEnvironment() {
+  const char* value = std::getenv("SOURCE_DATE_EPOCH");
+  return CardCreationTime(value ? std::optional<std::string_view>(value) : std::nullopt);
+}
+
+}  // namespace bouncecal::apps
