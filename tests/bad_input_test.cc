@@ -436,6 +436,10 @@ TEST_F(BadScene, MissingOrGarbledStartPositionsFilesNameThatFile) {
   const fs::path lammps_scene = WriteScene("from_lammps.json", scene);
   Write("start.data", "LAMMPS data\n\n2 atoms\n\nAtoms # sphere\n\n1 1 0.01 7800 0 0 0.01\n");
   ExpectSceneRefused(lammps_scene, "holds 1 of the 2 atoms", folder_ / "start.data");
+  // The header's count is judged by memory before any atom is read, as the scene's count is.
+  Write("start.data", "LAMMPS data\n\n3000000000 atoms\n\nAtoms # sphere\n\n");
+  ExpectSceneRefused(lammps_scene, "3000000000 particles would need about 4200.0 GB",
+                     folder_ / "start.data");
 }
 
 TEST_F(BadScene, ANameThatIsNotAFolderNameIsRefused) {

@@ -246,6 +246,13 @@ std::int64_t ParseWhole(const std::string& text, const std::filesystem::path& pa
 
 constexpr double kMaxSpecies = 1e6;
 
+// The scene's count check (ParticleCountProblem) applied to a start-positions file.
+void RefuseCount(const std::filesystem::path& path, double count, int dimension) {
+  if (const auto problem = ParticleCountProblem(count, dimension)) {
+    throw InputError(path.string() + ": " + *problem + "; use a file with fewer particles");
+  }
+}
+
 std::vector<NewParticle> ReadCsv(std::ifstream& in, const std::filesystem::path& path,
                                  int dimension) {
   std::string line;
@@ -298,6 +305,10 @@ std::vector<NewParticle> ReadCsv(std::ifstream& in, const std::filesystem::path&
                        ": diameter must be > 0 and species >= 0");
     }
     out.push_back(p);
+    // Checked while reading so a runaway file is refused before it fills memory.
+    if (out.size() > static_cast<std::size_t>(kMaxSceneParticles)) {
+      RefuseCount(path, static_cast<double>(out.size()), dimension);
+    }
   }
   return out;
 }
@@ -318,6 +329,7 @@ std::vector<NewParticle> ReadLammpsData(std::ifstream& in, const std::filesystem
   if (atoms < 0) {
     throw InputError(path.string() + ": no 'N atoms' header line; expected a LAMMPS data file");
   }
+  RefuseCount(path, static_cast<double>(atoms), dimension);
   std::vector<std::pair<std::int64_t, NewParticle>> read;
   while (static_cast<std::int64_t>(read.size()) < atoms && std::getline(in, line)) {
     ++line_no;
@@ -359,8 +371,10 @@ std::vector<NewParticle> ReadParticleFile(const std::filesystem::path& path, int
     throw InputError(path.string() + ": cannot open the particle file; check insertion.file");
   }
   const auto ext = path.extension().string();
-  if (ext == ".csv" || ext == ".CSV") return ReadCsv(in, path, dimension);
-  return ReadLammpsData(in, path, dimension);
+  auto particles = ext == ".csv" || ext == ".CSV" ? ReadCsv(in, path, dimension)
+                                                  : ReadLammpsData(in, path, dimension);
+  RefuseCount(path, static_cast<double>(particles.size()), dimension);
+  return particles;
 }
 
 }  // namespace bouncecal::dem::scene

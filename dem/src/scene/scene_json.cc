@@ -43,14 +43,8 @@ void ReadParticles(JsonReader r, Scene& scene) {
   // would need rather than by an integer range.
   const double count = r.Number("count", 1, std::numeric_limits<double>::max());
   if (count != std::floor(count)) r.Fail("count", "must be a whole number of particles");
-  const double bytes = count * static_cast<double>(EstimatedBytesPerParticle(scene.dimension));
-  const long pages = sysconf(_SC_PHYS_PAGES);
-  const long page_size = sysconf(_SC_PAGE_SIZE);
-  const double memory = pages > 0 && page_size > 0 ? static_cast<double>(pages) * page_size : kInf;
-  if (count > static_cast<double>(kMaxSceneParticles) || bytes > 0.8 * memory) {
-    r.Fail("count", fmt::format("{} particles would need about {:.1f} GB of memory (this machine "
-                                "has {:.1f} GB, the limit is {} particles); use fewer particles",
-                                count, bytes / 1e9, memory / 1e9, kMaxSceneParticles));
+  if (const auto problem = ParticleCountProblem(count, scene.dimension)) {
+    r.Fail("count", *problem + "; use fewer particles");
   }
   p.count = static_cast<std::int64_t>(count);
   if (r.Has("diameter_m")) {
@@ -267,6 +261,21 @@ double DiameterDistribution::MeanVolumeM3(int dimension) const {
 std::int64_t EstimatedBytesPerParticle(int dimension) {
   // State (~20 doubles), wall history (6 walls), ~8 listed pairs of 12 doubles each, grid.
   return dimension == 3 ? 1400 : 800;
+}
+
+std::optional<std::string> ParticleCountProblem(double count, int dimension) {
+  const double bytes = count * static_cast<double>(EstimatedBytesPerParticle(dimension));
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long page_size = sysconf(_SC_PAGE_SIZE);
+  const double memory = pages > 0 && page_size > 0 ? static_cast<double>(pages) * page_size : kInf;
+  // 0.8: the rest of the process (outputs, measurement buffers) and the system need room too.
+  if (count <= static_cast<double>(kMaxSceneParticles) && bytes <= 0.8 * memory) {
+    return std::nullopt;
+  }
+  return fmt::format(
+      "{} particles would need about {:.1f} GB of memory (this machine has {:.1f} GB, the limit "
+      "is {} particles)",
+      count, bytes / 1e9, memory / 1e9, kMaxSceneParticles);
 }
 
 std::string_view ToString(ContainerKind kind) {

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -146,6 +147,10 @@ struct Scene {
 inline constexpr std::int64_t kMaxSceneParticles = 20'000'000;
 // Bytes the engine needs per particle (state, neighbour lists, contact history), for the check.
 std::int64_t EstimatedBytesPerParticle(int dimension);
+// Why `count` particles cannot be simulated here ("N particles would need about X GB of memory
+// (this machine has Y GB, the limit is Z particles)"), or nullopt when they can. A double, so
+// absurd counts (1e12, 2^64) are judged by the memory they need, not by an integer range.
+std::optional<std::string> ParticleCountProblem(double count, int dimension);
 
 // Reads a scene file. Throws InputError when the file is missing or not JSON, ConfigError (one
 // line naming the file and the key) for unknown keys, missing fields, wrong types and values
