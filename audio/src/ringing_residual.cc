@@ -35,7 +35,6 @@ RingingResidual::RingingResidual(int sample_rate_hz, double band_low_hz, double 
     : window_(std::max(kMinWindow, static_cast<int>(std::bit_floor(static_cast<unsigned>(
                                        std::lround(1.5 * kWindowS * sample_rate_hz)))))),
       hop_(window_ / kHopsPerWindow),
-      buffer_(static_cast<std::size_t>(window_)),
       taper_(static_cast<std::size_t>(window_)),
       fft_(window_) {
   const double bin_hz = static_cast<double>(sample_rate_hz) / window_;
@@ -53,7 +52,11 @@ RingingResidual::RingingResidual(int sample_rate_hz, double band_low_hz, double 
   lookback_frames_ = std::max<std::size_t>(
       2, static_cast<std::size_t>(std::lround(kLookbackS * sample_rate_hz / hop_)));
   slots_.resize(lookback_frames_ + skip_frames_ + 1 + kMaxQueryAgeFrames);
-  windows_.assign(slots_.size() * buffer_.size(), 0.0f);
+  // The oldest frame a slot can hold starts slots * hop samples before the newest one, which
+  // ends window_ samples after its start; a run pushed at once is at most a window.
+  stream_keep_ = slots_.size() * static_cast<std::size_t>(hop_) + static_cast<std::size_t>(window_);
+  // Four times that, so compaction copies about a third of the samples it makes room for.
+  stream_.reserve(4 * stream_keep_);
   powers_.assign(slots_.size() * bins_, 0.0f);
   reference_.assign(bins_, 0.0f);
   // Periodic Hann window: its low side lobes keep a loud mode out of the neighbouring bins.
@@ -66,7 +69,6 @@ RingingResidual::RingingResidual(int sample_rate_hz, double band_low_hz, double 
 void RingingResidual::CompleteFrame() {
   const std::int64_t t = frames_++;
   const std::size_t slot = SlotOf(t);
-  std::copy(buffer_.begin(), buffer_.end(), windows_.begin() + slot * buffer_.size());
   slots_[slot] = Slot{};
   // The noise estimate is needed once per window length (frames that far apart share no
   // samples, and the floor built from these estimates, minimum statistics over seconds, needs no
@@ -80,8 +82,15 @@ void RingingResidual::CompleteFrame() {
     // has mean power 3/8 N s^2.
     noise_power_ = quartile / kQuartileOfMean / (0.375 * window_);
   }
-  std::copy(buffer_.begin() + hop_, buffer_.end(), buffer_.begin());
   fill_ = window_ - hop_;
+}
+
+void RingingResidual::Compact() {
+  if (stream_.size() <= stream_keep_) return;
+  const std::size_t drop = stream_.size() - stream_keep_;
+  std::copy(stream_.begin() + static_cast<std::ptrdiff_t>(drop), stream_.end(), stream_.begin());
+  stream_.resize(stream_keep_);
+  stream_begin_ += static_cast<std::int64_t>(drop);
 }
 
 bool RingingResidual::Valid(std::int64_t frame) const {
@@ -94,9 +103,9 @@ const float* RingingResidual::Powers(std::int64_t frame) {
   const std::size_t slot = SlotOf(frame);
   float* powers = powers_.data() + slot * bins_;
   if (slots_[slot].spectrum_frame == frame) return powers;
-  const float* samples = windows_.data() + slot * buffer_.size();
+  const float* samples = stream_.data() + (frame * hop_ - stream_begin_);
   auto real = fft_.real();
-  for (std::size_t i = 0; i < buffer_.size(); ++i) real[i] = samples[i] * taper_[i];
+  for (std::size_t i = 0; i < taper_.size(); ++i) real[i] = samples[i] * taper_[i];
   fft_.Forward();
   const auto spectrum = fft_.spectrum();
   for (std::size_t k = 0; k < bins_; ++k) powers[k] = std::norm(spectrum[first_bin_ + k]);
