@@ -121,6 +121,7 @@ class ImpactDetector::Impl {
         peak_frames_(std::max(attack_frames_ + 1, Frames(kPeakSearchMs))),
         max_open_frames_(std::max(peak_frames_, Frames(std::min(options.min_gap_ms, kMaxOpenMs)))),
         secondary_threshold_db_(kSecondaryRiseFraction * options.rise_threshold_db),
+        secondary_rise_ratio_(std::pow(10.0, 0.1 * secondary_threshold_db_) * (1.0 - 1e-6)),
         residual_(sample_rate_hz, options.band_low_hz, options.band_high_hz),
         residual_band_(filter_.output_count()) {
     const auto ring = static_cast<std::size_t>(lookback_frames_ + max_open_frames_ + peak_frames_ +
@@ -290,6 +291,21 @@ class ImpactDetector::Impl {
   static double Rise(Band& band) {
     return band.ahead_db(band.ahead.max()) - band.reference_db(band.reference.max());
   }
+  // Whether some band's rise might reach the secondary threshold, tested on the powers: outside
+  // candidates the rises only matter there, and the dB conversions they need were a third of
+  // OnFrame (the attack window's maximum changes almost every frame in noise). The margin
+  // covers PowerToDb's 1e-9 dB, so every frame whose rise in dB reaches the threshold passes
+  // and the decisions are exactly those of comparing every rise.
+  bool AnyBandMayRise() const {
+    for (std::size_t b = 0; b < residual_band_; ++b) {
+      const Band& band = bands_[b];
+      if (std::max(band.ahead.max(), kTinyPower) >=
+          secondary_rise_ratio_ * std::max(band.reference.max(), kTinyPower)) {
+        return true;
+      }
+    }
+    return false;
+  }
 
   void OnFrame(std::size_t block_frame) {
     const std::int64_t n = frame_count_++;
@@ -325,18 +341,6 @@ class ImpactDetector::Impl {
     // first lookback of the file has no reference: the start of the file is not an impact.
     const std::int64_t m = n - attack_frames_;
     if (m < lookback_frames_) return;
-    // The ringing residual (last band) is a further rise measure: inside a long-ringing tail a
-    // weaker impact adds little energy to any band but is new energy the decay of the tail
-    // does not predict. The onset is picked in the filtered band that rose most.
-    double band_rise_db = -std::numeric_limits<double>::infinity();
-    std::size_t rising_band = 0;
-    for (std::size_t b = 0; b < residual_band_; ++b) {
-      const double rise = Rise(bands_[b]);
-      if (rise > band_rise_db) {
-        band_rise_db = rise;
-        rising_band = b;
-      }
-    }
     // The residual only matters where a tail is there to hide a rise: where the main band's
     // recent level is near the noise, the band rises are as sensitive and the residual would
     // only split a hit that builds up slowly into two candidates. The noise is the residual's
@@ -353,6 +357,23 @@ class ImpactDetector::Impl {
     const double residual_rise_db = novelty_rise_db >= secondary_threshold_db_
                                         ? novelty_rise_db
                                         : -std::numeric_limits<double>::infinity();
+    // The ringing residual (above) is a further rise measure: inside a long-ringing tail a
+    // weaker impact adds little energy to any band but is new energy the decay of the tail
+    // does not predict. The onset is picked in the filtered band that rose most. The band rises
+    // are needed in a candidate, where one may open, and where the residual opens one (its band
+    // and rise then come from them).
+    double band_rise_db = -std::numeric_limits<double>::infinity();
+    std::size_t rising_band = 0;
+    if (open_ || (residual_armed_ && residual_rise_db >= secondary_threshold_db_) ||
+        AnyBandMayRise()) {
+      for (std::size_t b = 0; b < residual_band_; ++b) {
+        const double rise = Rise(bands_[b]);
+        if (rise > band_rise_db) {
+          band_rise_db = rise;
+          rising_band = b;
+        }
+      }
+    }
     // A residual frame spans a few ms, so after a hit it stays above its pre-hit reference for
     // that long: the residual opens a candidate only after it has fallen back below the
     // threshold once (hysteresis), never on the lingering frames of the last candidate.
@@ -611,6 +632,7 @@ class ImpactDetector::Impl {
   std::int64_t peak_frames_;
   std::int64_t max_open_frames_;
   double secondary_threshold_db_;
+  double secondary_rise_ratio_;  // its power ratio, less a margin (see AnyBandMayRise)
   RingingResidual residual_;
   std::size_t residual_band_;
   double residual_noise_power_ = std::numeric_limits<double>::quiet_NaN();
