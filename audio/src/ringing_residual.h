@@ -87,7 +87,7 @@ class RingingResidual {
   void Compact();  // drops the stream samples no queryable frame needs
   bool Valid(std::int64_t frame) const;
   std::size_t SlotOf(std::int64_t frame) const {
-    return static_cast<std::size_t>(frame % static_cast<std::int64_t>(slots_.size()));
+    return static_cast<std::size_t>(frame) & (slots_.size() - 1);
   }
   // Bin powers of `frame` (computing its FFT from the stored window if not done yet).
   const float* Powers(std::int64_t frame);
