@@ -139,6 +139,7 @@ class ImpactDetector::Impl {
         max_open_frames_(std::max(peak_frames_, Frames(std::min(options.min_gap_ms, kMaxOpenMs)))),
         secondary_threshold_db_(kSecondaryRiseFraction * options.rise_threshold_db),
         secondary_rise_ratio_(std::pow(10.0, 0.1 * secondary_threshold_db_) * (1.0 - 1e-6)),
+        tail_ratio_(std::pow(10.0, 0.1 * options.rise_threshold_db)),
         residual_(sample_rate_hz, options.band_low_hz, options.band_high_hz),
         residual_band_(filter_.output_count()) {
     const auto ring = static_cast<std::size_t>(lookback_frames_ + max_open_frames_ + peak_frames_ +
@@ -368,10 +369,21 @@ class ImpactDetector::Impl {
     // floor: under continuous ringing the band's own minimum-statistics floor is the ringing.
     // (The tail test costs a log per frame, so it is only made when the novelty could count.)
     const Band& residual = bands_[residual_band_];
-    const bool tail_present =
-        options_.ringing_residual && residual.floor.started() &&
-        bands_[0].reference_db(bands_[0].reference.max()) - residual.floor.db() >=
-            options_.rise_threshold_db;
+    bool tail_present = false;
+    if (options_.ringing_residual && residual.floor.started()) {
+      // Decided on the powers (the same clamps as ToDb and NoiseFloor::db) where they are
+      // clearly apart, in dB only within a margin around the threshold that covers
+      // PowerToDb's 1e-9 dB: the same decision as in dB, without the conversions and their
+      // data-dependent branches in every frame.
+      const double reference = std::max(bands_[0].reference.max(), kTinyPower);
+      const double floor = std::max(residual.floor.power(), kTinyPower) * tail_ratio_;
+      if (reference >= floor * (1.0 + 1e-6)) {
+        tail_present = true;
+      } else if (reference >= floor * (1.0 - 1e-6)) {
+        tail_present = bands_[0].reference_db(bands_[0].reference.max()) - residual.floor.db() >=
+                       options_.rise_threshold_db;
+      }
+    }
     const double novelty_rise_db =
         tail_present ? ResidualNoveltyDb(m, n) * options_.rise_threshold_db / kNoveltyAtThresholdDb
                      : -std::numeric_limits<double>::infinity();
@@ -654,6 +666,7 @@ class ImpactDetector::Impl {
   std::int64_t max_open_frames_;
   double secondary_threshold_db_;
   double secondary_rise_ratio_;  // its power ratio, less a margin (see AnyBandMayRise)
+  double tail_ratio_;            // the power ratio of rise_threshold_db (see OnFrame)
   RingingResidual residual_;
   std::size_t residual_band_;
   double residual_noise_power_ = std::numeric_limits<double>::quiet_NaN();
