@@ -53,10 +53,10 @@ class BandFilter {
   std::vector<std::vector<std::complex<float>>> kernel_spectra_;
   std::vector<std::complex<float>> input_spectrum_;
   std::vector<std::vector<float>> single_;  // scratch for the one-output overloads
-  std::vector<float> input_;  // last kernel_.size()-1 samples of history + pending new samples
-  size_t history_ = 0;        // kernel_.size() - 1
-  size_t block_ = 0;          // new samples per FFT
-  long long pending_ = 0;     // new samples waiting in input_
+  // The input is kept in fft_->real(): history_ samples of history + pending_ new samples.
+  size_t history_ = 0;     // the longest kernel's size - 1
+  size_t block_ = 0;       // new samples per FFT
+  long long pending_ = 0;  // new samples waiting in input_
 };
 
 // The kernel alone (for tests and documentation). extra_high_pass_hz > 0 cascades one more

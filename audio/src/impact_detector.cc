@@ -53,6 +53,23 @@ constexpr double kHistoryS = 0.1;
 
 double ToDb(double power) { return PowerToDb(std::max(power, kTinyPower)); }
 
+// Sum of x^2 in double (each square exact) in four interleaved partial sums: one running sum is
+// a chain of dependent additions, four times the latency per sample, and it was the detector's
+// largest single cost outside the FFTs. The order of the additions changes the sum by a few
+// units in the last place of a double only.
+double SumOfSquares(std::span<const float> x) {
+  double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+  std::size_t i = 0;
+  for (; i + 4 <= x.size(); i += 4) {
+    s0 += double{x[i]} * x[i];
+    s1 += double{x[i + 1]} * x[i + 1];
+    s2 += double{x[i + 2]} * x[i + 2];
+    s3 += double{x[i + 3]} * x[i + 3];
+  }
+  for (; i < x.size(); ++i) s0 += double{x[i]} * x[i];
+  return (s0 + s1) + (s2 + s3);
+}
+
 void Require(bool ok, const std::string& what) {
   if (!ok) throw ConfigError(what);
 }
@@ -121,6 +138,8 @@ class ImpactDetector::Impl {
         peak_frames_(std::max(attack_frames_ + 1, Frames(kPeakSearchMs))),
         max_open_frames_(std::max(peak_frames_, Frames(std::min(options.min_gap_ms, kMaxOpenMs)))),
         secondary_threshold_db_(kSecondaryRiseFraction * options.rise_threshold_db),
+        secondary_rise_ratio_(std::pow(10.0, 0.1 * secondary_threshold_db_) * (1.0 - 1e-6)),
+        tail_ratio_(std::pow(10.0, 0.1 * options.rise_threshold_db)),
         residual_(sample_rate_hz, options.band_low_hz, options.band_high_hz),
         residual_band_(filter_.output_count()) {
     const auto ring = static_cast<std::size_t>(lookback_frames_ + max_open_frames_ + peak_frames_ +
@@ -240,11 +259,15 @@ class ImpactDetector::Impl {
       Band& band = bands_[b];
       band.samples.PushBlock(blocks_[b]);
       band.frame_powers.clear();
-      std::int64_t fill = fill_at_start;
+      const auto hop = static_cast<std::size_t>(hop_);
+      auto fill = static_cast<std::size_t>(fill_at_start);
       double power = band.power;
-      for (float y : blocks_[b]) {
-        power += double{y} * y;
-        if (++fill == hop_) {
+      for (std::size_t at = 0; at < count;) {
+        const std::size_t take = std::min(count - at, hop - fill);
+        power += SumOfSquares(std::span<const float>(blocks_[b]).subspan(at, take));
+        at += take;
+        fill += take;
+        if (fill == hop) {
           band.frame_powers.push_back(power / static_cast<double>(hop_));
           power = 0;
           fill = 0;
@@ -290,6 +313,21 @@ class ImpactDetector::Impl {
   static double Rise(Band& band) {
     return band.ahead_db(band.ahead.max()) - band.reference_db(band.reference.max());
   }
+  // Whether some band's rise might reach the secondary threshold, tested on the powers: outside
+  // candidates the rises only matter there, and the dB conversions they need were a third of
+  // OnFrame (the attack window's maximum changes almost every frame in noise). The margin
+  // covers PowerToDb's 1e-9 dB, so every frame whose rise in dB reaches the threshold passes
+  // and the decisions are exactly those of comparing every rise.
+  bool AnyBandMayRise() const {
+    for (std::size_t b = 0; b < residual_band_; ++b) {
+      const Band& band = bands_[b];
+      if (std::max(band.ahead.max(), kTinyPower) >=
+          secondary_rise_ratio_ * std::max(band.reference.max(), kTinyPower)) {
+        return true;
+      }
+    }
+    return false;
+  }
 
   void OnFrame(std::size_t block_frame) {
     const std::int64_t n = frame_count_++;
@@ -325,34 +363,50 @@ class ImpactDetector::Impl {
     // first lookback of the file has no reference: the start of the file is not an impact.
     const std::int64_t m = n - attack_frames_;
     if (m < lookback_frames_) return;
-    // The ringing residual (last band) is a further rise measure: inside a long-ringing tail a
-    // weaker impact adds little energy to any band but is new energy the decay of the tail
-    // does not predict. The onset is picked in the filtered band that rose most.
-    double band_rise_db = -std::numeric_limits<double>::infinity();
-    std::size_t rising_band = 0;
-    for (std::size_t b = 0; b < residual_band_; ++b) {
-      const double rise = Rise(bands_[b]);
-      if (rise > band_rise_db) {
-        band_rise_db = rise;
-        rising_band = b;
-      }
-    }
     // The residual only matters where a tail is there to hide a rise: where the main band's
     // recent level is near the noise, the band rises are as sensitive and the residual would
     // only split a hit that builds up slowly into two candidates. The noise is the residual's
     // floor: under continuous ringing the band's own minimum-statistics floor is the ringing.
     // (The tail test costs a log per frame, so it is only made when the novelty could count.)
     const Band& residual = bands_[residual_band_];
-    const bool tail_present =
-        options_.ringing_residual && residual.floor.started() &&
-        bands_[0].reference_db(bands_[0].reference.max()) - residual.floor.db() >=
-            options_.rise_threshold_db;
+    bool tail_present = false;
+    if (options_.ringing_residual && residual.floor.started()) {
+      // Decided on the powers (the same clamps as ToDb and NoiseFloor::db) where they are
+      // clearly apart, in dB only within a margin around the threshold that covers
+      // PowerToDb's 1e-9 dB: the same decision as in dB, without the conversions and their
+      // data-dependent branches in every frame.
+      const double reference = std::max(bands_[0].reference.max(), kTinyPower);
+      const double floor = std::max(residual.floor.power(), kTinyPower) * tail_ratio_;
+      if (reference >= floor * (1.0 + 1e-6)) {
+        tail_present = true;
+      } else if (reference >= floor * (1.0 - 1e-6)) {
+        tail_present = bands_[0].reference_db(bands_[0].reference.max()) - residual.floor.db() >=
+                       options_.rise_threshold_db;
+      }
+    }
     const double novelty_rise_db =
         tail_present ? ResidualNoveltyDb(m, n) * options_.rise_threshold_db / kNoveltyAtThresholdDb
                      : -std::numeric_limits<double>::infinity();
     const double residual_rise_db = novelty_rise_db >= secondary_threshold_db_
                                         ? novelty_rise_db
                                         : -std::numeric_limits<double>::infinity();
+    // The ringing residual (above) is a further rise measure: inside a long-ringing tail a
+    // weaker impact adds little energy to any band but is new energy the decay of the tail
+    // does not predict. The onset is picked in the filtered band that rose most. The band rises
+    // are needed in a candidate, where one may open, and where the residual opens one (its band
+    // and rise then come from them).
+    double band_rise_db = -std::numeric_limits<double>::infinity();
+    std::size_t rising_band = 0;
+    if (open_ || (residual_armed_ && residual_rise_db >= secondary_threshold_db_) ||
+        AnyBandMayRise()) {
+      for (std::size_t b = 0; b < residual_band_; ++b) {
+        const double rise = Rise(bands_[b]);
+        if (rise > band_rise_db) {
+          band_rise_db = rise;
+          rising_band = b;
+        }
+      }
+    }
     // A residual frame spans a few ms, so after a hit it stays above its pre-hit reference for
     // that long: the residual opens a candidate only after it has fallen back below the
     // threshold once (hysteresis), never on the lingering frames of the last candidate.
@@ -611,6 +665,8 @@ class ImpactDetector::Impl {
   std::int64_t peak_frames_;
   std::int64_t max_open_frames_;
   double secondary_threshold_db_;
+  double secondary_rise_ratio_;  // its power ratio, less a margin (see AnyBandMayRise)
+  double tail_ratio_;            // the power ratio of rise_threshold_db (see OnFrame)
   RingingResidual residual_;
   std::size_t residual_band_;
   double residual_noise_power_ = std::numeric_limits<double>::quiet_NaN();

@@ -23,8 +23,7 @@ void NoiseFloor::Rotate() {
 }
 
 double NoiseFloor::db() const {
-  double floor = started_ ? current_min_ : 0.0;
-  if (stored_ > 0) floor = std::min(floor, stored_min_);
+  const double floor = power();
   // The detector asks every frame; the floor changes far less often.
   if (floor != cached_floor_) {
     cached_floor_ = floor;

@@ -30,6 +30,12 @@ class NoiseFloor {
   }
   // The floor in dB re full scale (power 1); -140 dB for digital silence.
   double db() const;
+  // The floor as a power (before the -140 dB clamp of db()); 0 before the first Add.
+  double power() const {
+    double floor = started_ ? current_min_ : 0.0;
+    if (stored_ > 0) floor = std::min(floor, stored_min_);
+    return floor;
+  }
   // False until the first Add: db() then reads -140 dB, which is no measurement.
   bool started() const { return started_; }
 

@@ -27,13 +27,18 @@ class RealFft {
   std::span<std::complex<float>> spectrum() {
     return {reinterpret_cast<std::complex<float>*>(spectrum_), static_cast<size_t>(size_ / 2 + 1)};
   }
-  void Forward();  // real() -> spectrum()
+  void Forward();  // real() -> spectrum(); real() is preserved
   // spectrum() -> real(), unnormalised: the result is size() times the original signal.
+  // spectrum() is destroyed (FFTW's default for complex-to-real transforms).
   void Inverse();
+  // The same into output() instead, so real() keeps the forward transform's input.
+  void InverseToOutput();
+  std::span<float> output() { return {output_, static_cast<size_t>(size_)}; }
 
  private:
   int size_ = 0;
   float* real_ = nullptr;
+  float* output_ = nullptr;  // allocated like real_, so the inverse plan runs on it unchanged
   fftwf_complex* spectrum_ = nullptr;
   fftwf_plan forward_ = nullptr;
   fftwf_plan inverse_ = nullptr;

@@ -48,7 +48,8 @@ class RingingResidual {
   std::size_t samples_to_frame() const { return static_cast<std::size_t>(window_ - fill_); }
   // Feeds at most samples_to_frame() samples at once; true when they completed a frame.
   bool PushRun(std::span<const float> samples) {
-    std::copy(samples.begin(), samples.end(), buffer_.begin() + fill_);
+    if (stream_.size() + samples.size() > stream_.capacity()) Compact();
+    stream_.insert(stream_.end(), samples.begin(), samples.end());
     fill_ += static_cast<int>(samples.size());
     if (fill_ < window_) return false;
     CompleteFrame();
@@ -83,9 +84,10 @@ class RingingResidual {
     double novelty_db = 0;
   };
   void CompleteFrame();
+  void Compact();  // drops the stream samples no queryable frame needs
   bool Valid(std::int64_t frame) const;
   std::size_t SlotOf(std::int64_t frame) const {
-    return static_cast<std::size_t>(frame % static_cast<std::int64_t>(slots_.size()));
+    return static_cast<std::size_t>(frame) & (slots_.size() - 1);
   }
   // Bin powers of `frame` (computing its FFT from the stored window if not done yet).
   const float* Powers(std::int64_t frame);
@@ -97,12 +99,17 @@ class RingingResidual {
   std::size_t bins_ = 0;  // in the band
   std::size_t lookback_frames_ = 0;
   std::size_t skip_frames_ = 0;
-  std::vector<float> buffer_;
   std::vector<float> taper_;
-  // Per slot (a ring of the last lookback + skip + 1 + kMaxQueryAgeFrames frames): the frame's
-  // samples, frame-major, and its band's bin powers once computed.
+  // The recent input, appended in place: frame t is stream_[t * hop - stream_begin_ ...] for
+  // window_ samples. A frame's window is read from here only when its spectrum is needed
+  // (copying every window out and shifting a frame buffer cost 5 float copies per sample).
+  // When the capacity is reached the samples older than every queryable frame are dropped.
+  std::vector<float> stream_;
+  std::int64_t stream_begin_ = 0;  // absolute index of stream_[0]
+  std::size_t stream_keep_ = 0;    // samples the oldest queryable frame can need
+  // Per slot (a ring of the last lookback + skip + 1 + kMaxQueryAgeFrames frames): its band's
+  // bin powers once computed.
   std::vector<Slot> slots_;
-  std::vector<float> windows_;
   std::vector<float> powers_;
   std::vector<float> reference_;
   std::vector<float> sorted_;
