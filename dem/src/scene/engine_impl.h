@@ -186,11 +186,9 @@ class Engine final : public EngineBase<Dim> {
   // Each chunk of the pair list runs in stages. The first only measures distances (most listed
   // pairs are within the skin but not touching), zeroes their results and collects the pairs
   // that interact, without a data-dependent branch. The interacting pairs then go through the
-  // contact laws in blocks of kBlock, stage by stage: a contact is one long chain of dependent
-  // square roots and divisions, so each chain is cut where it needs one and the square roots
-  // and divisions of the whole block are taken together (independent, so they overlap in the
-  // pipeline, two per SSE2 instruction). The arithmetic of each pair is the same as a one-pass
-  // loop and does not depend on the chunking: results are the same for every thread count.
+  // contact laws in blocks of kBlock (ContactBlock: vectorised across contacts). The
+  // arithmetic of each pair is the same as a one-pass loop and does not depend on the chunking
+  // or the blocking: results are the same for every thread count.
   void PairForces() {
     this->pool_->ParallelFor(
         static_cast<std::int64_t>(this->pairs_.size()),
@@ -462,9 +460,8 @@ class Engine final : public EngineBase<Dim> {
         const double r_i = t.radius_i[k];
         const double r_j = t.radius_j[k];
         const double effective_radius_m = r_i * r_j / (r_i + r_j);
-        // Hamaker (1937), floored gap: see AddVanDerWaals.
-        const double gap = std::max(-t.overlap[k], min_gap_m);
-        const double attraction = hamaker_j * effective_radius_m / (6 * gap * gap);
+        const double attraction =
+            VanDerWaalsForceN(t.overlap[k], effective_radius_m, hamaker_j, min_gap_m);
         for (int c = 0; c < Dim; ++c) force[c] -= attraction * t.normal[c][k];
       }
       for (int c = 0; c < Dim; ++c) t.force[c][k] = force[c];
@@ -512,17 +509,12 @@ class Engine final : public EngineBase<Dim> {
 
   // Hamaker (1937) sphere-sphere attraction for gaps h << R: F = A R_eff / (6 h^2), i.e.
   // A R / (12 h^2) for equal spheres (paper 004 eq. 2). It diverges at contact, so the gap is
-  // floored at vdw_min_gap_m (an interatomic distance, Israelachvili ch. 13).
-  void AddVanDerWaals(V& force, double overlap, double effective_radius_m, const V& n) const {
-    if constexpr (Phys::kVanDerWaals) {
-      const double gap = std::max(-overlap, this->settings_.vdw_min_gap_m);
-      force -= (this->settings_.hamaker_j * effective_radius_m / (6 * gap * gap)) * n;
-    }
-  }
-
-  void ResetPairHistory(std::size_t p) {
-    if constexpr (Phys::kTangential) this->pair_shear_[p].setZero();
-    if constexpr (Law::kNeedsHistory) this->pair_normal_history_[p] = NormalHistory{};
+  // floored at vdw_min_gap_m (an interatomic distance, Israelachvili ch. 13). Magnitude, towards
+  // the other particle.
+  static double VanDerWaalsForceN(double overlap_m, double effective_radius_m, double hamaker_j,
+                                  double min_gap_m) {
+    const double gap = std::max(-overlap_m, min_gap_m);
+    return hamaker_j * effective_radius_m / (6 * gap * gap);
   }
 
   // Sum of the pair forces of particle i in a fixed order, plus walls, gravity and damping;
