@@ -33,6 +33,9 @@ struct EngineSettings {
   // the order they were added in), so that neighbours are close in memory and each thread's
   // range is a compact region. Changes the order of force sums, hence the last bits.
   bool sort_by_cell = true;
+  // Run the contact arithmetic's AVX2 build when the CPU has AVX2. The results are the same
+  // bit for bit; false forces the baseline build (tests compare the two).
+  bool allow_avx2 = true;
   int threads = 1;
 };
 
@@ -140,6 +143,9 @@ class EngineBase {
   std::int64_t steps_ = 0;
   std::int64_t rebuilds_ = 0;
 };
+
+// True when this CPU (and OS) can run the AVX2 build of the contact arithmetic.
+bool CpuHasAvx2();
 
 // The engine for a scene: the law variant and physics flags become template arguments here.
 template <int Dim>

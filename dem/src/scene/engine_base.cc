@@ -5,6 +5,14 @@
 
 namespace bouncecal::dem::scene {
 
+bool CpuHasAvx2() {
+#if (defined(__x86_64__) || defined(__i386__)) && defined(__GNUC__)
+  return __builtin_cpu_supports("avx2");  // also checks that the OS saves the AVX registers
+#else
+  return false;
+#endif
+}
+
 template <int Dim>
 EngineBase<Dim>::EngineBase(const EngineSettings& settings, std::vector<Wall<Dim>> walls)
     : settings_(settings),

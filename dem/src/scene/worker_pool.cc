@@ -18,7 +18,7 @@ inline void CpuRelax() {
 
 WorkerPool::WorkerPool(int threads) {
   for (int chunk = 1; chunk < threads; ++chunk) {
-    workers_.emplace_back([this, chunk] { WorkerLoop(chunk); });
+    workers_.emplace_back([this] { WorkerLoop(); });
   }
 }
 
@@ -36,6 +36,19 @@ void WorkerPool::RunChunk(int chunk) {
   if (end > begin) (*body_)(chunk, begin, end);
 }
 
+void WorkerPool::RunClaimedChunks(std::uint64_t generation) {
+  const int chunks = threads();
+  std::uint64_t claim = claim_.load(std::memory_order_acquire);
+  for (;;) {
+    if ((claim >> 16) != generation || static_cast<int>(claim & 0xffff) >= chunks) return;
+    if (claim_.compare_exchange_weak(claim, claim + 1, std::memory_order_acq_rel)) {
+      RunChunk(static_cast<int>(claim & 0xffff));
+      if (done_.fetch_add(1, std::memory_order_acq_rel) + 1 == chunks) done_.notify_all();
+      claim = claim_.load(std::memory_order_acquire);
+    }
+  }
+}
+
 void WorkerPool::ParallelFor(std::int64_t n,
                              const std::function<void(int, std::int64_t, std::int64_t)>& body) {
   // Small loops run on the caller: waking a sleeping worker costs microseconds on an idle
@@ -46,22 +59,26 @@ void WorkerPool::ParallelFor(std::int64_t n,
   }
   body_ = &body;
   n_ = n;
-  pending_.store(static_cast<int>(workers_.size()), std::memory_order_relaxed);
-  generation_.fetch_add(1, std::memory_order_acq_rel);  // publishes body_ and n_
+  done_.store(0, std::memory_order_relaxed);
+  const std::uint64_t generation = generation_.load(std::memory_order_relaxed) + 1;
+  claim_.store(generation << 16, std::memory_order_release);  // publishes body_, n_ and done_
+  generation_.store(generation, std::memory_order_release);
   generation_.notify_all();
-  RunChunk(0);
+  RunClaimedChunks(generation);
+  // Only chunks a worker is running are left: wait for them.
+  const int chunks = threads();
   int spins = 0;
-  for (int left = pending_.load(std::memory_order_acquire); left != 0;
-       left = pending_.load(std::memory_order_acquire)) {
+  for (int done = done_.load(std::memory_order_acquire); done != chunks;
+       done = done_.load(std::memory_order_acquire)) {
     if (++spins < kSpinIterations) {
       CpuRelax();
     } else {
-      pending_.wait(left, std::memory_order_acquire);
+      done_.wait(done, std::memory_order_acquire);
     }
   }
 }
 
-void WorkerPool::WorkerLoop(int chunk) {
+void WorkerPool::WorkerLoop() {
   std::uint64_t seen = 0;
   for (;;) {
     int spins = 0;
@@ -76,8 +93,7 @@ void WorkerPool::WorkerLoop(int chunk) {
     }
     seen = now;
     if (stop_.load(std::memory_order_acquire)) return;
-    RunChunk(chunk);
-    if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) pending_.notify_all();
+    RunClaimedChunks(now);
   }
 }
 

@@ -13,7 +13,10 @@ namespace bouncecal::dem::scene {
 // thousand particles takes ~100 us, so the hand-off must be cheap, yet the machine may be shared:
 // OpenMP's default spin-waiting made a 2-thread run 20x slower than 1 thread on a loaded 2-core
 // machine. Workers here spin briefly, then sleep on a futex (C++20 atomic wait).
-// Chunks are fixed contiguous ranges, so work splits identically on every run.
+// Chunks are fixed contiguous ranges, so work splits identically on every run, but any thread
+// may run any chunk: each thread claims the next unclaimed one, so when the machine is busy and
+// a worker has no core, the caller runs its chunk instead of waiting a scheduler slice for it
+// (callers' results depend on the chunk, never on the thread that ran it).
 class WorkerPool {
  public:
   explicit WorkerPool(int threads);
@@ -23,18 +26,24 @@ class WorkerPool {
 
   int threads() const { return static_cast<int>(workers_.size()) + 1; }
 
-  // Calls body(chunk, begin, end) for threads() contiguous chunks of [0, n); the calling
-  // thread runs chunk 0. Returns when every chunk is done.
+  // Calls body(chunk, begin, end) once for each of threads() contiguous chunks of [0, n), on
+  // whichever thread claims the chunk first; one chunk runs on one thread. Returns when every
+  // chunk is done.
   void ParallelFor(std::int64_t n,
                    const std::function<void(int, std::int64_t, std::int64_t)>& body);
 
  private:
-  void WorkerLoop(int chunk);
+  void WorkerLoop();
   void RunChunk(int chunk);
+  // Claims and runs chunks of the loop published as `generation` until none is left.
+  void RunClaimedChunks(std::uint64_t generation);
 
   std::vector<std::thread> workers_;
   std::atomic<std::uint64_t> generation_{0};
-  std::atomic<int> pending_{0};
+  // generation << 16 | next unclaimed chunk: a late worker cannot claim a chunk of a newer loop
+  // as one of the loop it woke for.
+  std::atomic<std::uint64_t> claim_{0};
+  std::atomic<int> done_{0};  // chunks finished in the current loop
   std::atomic<bool> stop_{false};
   const std::function<void(int, std::int64_t, std::int64_t)>* body_ = nullptr;
   std::int64_t n_ = 0;
