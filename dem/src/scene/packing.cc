@@ -228,6 +228,7 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
   summary.kinetic_energy_j = engine->KineticEnergyJ();
   if (summary.stop_reason == PackStopReason::kDuration) {
     summary.packing_density = PackingDensity(summary.final_state, scene);
+    summary.packing_density_by_count = CentreCountDensity(summary.final_state, scene);
     summary.coordination = Coordination(summary.final_state, scene);
     const double bin = scene.measurement.profile_bin_m > 0
                            ? scene.measurement.profile_bin_m
