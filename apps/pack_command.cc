@@ -48,6 +48,7 @@ nlohmann::json SummaryJson(const dem::Scene& scene, const dem::PackSummary& s) {
   j["stop_reason"] = std::string(dem::ToString(s.stop_reason));
   j["message"] = s.message;
   j["packing_density"] = s.packing_density;
+  j["packing_density_by_count"] = s.packing_density_by_count;
   j["mean_coordination"] = s.coordination.mean;
   j["coordination_histogram"] = s.coordination.histogram;
   j["coordination_particles"] = s.coordination.particles;

@@ -27,6 +27,10 @@ PackingDeckSpec PackingDeckSpecFromScene(const dem::Scene& scene) {
   if (scene.physics.local_damping) {
     refuse("physics.local_damping", "Cundall's local damping has no counterpart in either engine");
   }
+  if (scene.physics.stop_at_first_contact) {
+    refuse("physics.stop_at_first_contact",
+           "zeroing velocities at the first collision has no counterpart in either engine");
+  }
   if (scene.insertion.kind == dem::InsertionKind::kFile) {
     refuse("insertion.type", "file insertion is not exported; read the positions with read_data");
   }

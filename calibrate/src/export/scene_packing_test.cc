@@ -70,6 +70,9 @@ TEST(PackingDeckSpecFromScene, WhatTheDecksCannotExpressIsAConfigErrorNamingTheK
         << error.what();
   }
   json = PaperPour();
+  json["physics"]["stop_at_first_contact"] = true;
+  EXPECT_THROW(PackingDeckSpecFromScene(dem::SceneFromJson(json, "pour.json")), ConfigError);
+  json = PaperPour();
   json["insertion"]["region"]["center_m"] = {1.05, 2};
   EXPECT_THROW(PackingDeckSpecFromScene(dem::SceneFromJson(json, "pour.json")), ConfigError);
 }

@@ -25,6 +25,9 @@ struct EngineSettings {
   double vdw_min_gap_m = 4e-10;
   double vdw_cutoff_gap_m = 1e-6;
   double local_damping = 0.7;
+  // Paper 004 (sections 2 and 3.1): a particle's velocity is set to zero at its first collision
+  // (with a particle or a wall), once per particle. See first_contact_stop.cc.
+  bool stop_at_first_contact = false;
   // Verlet skin: pairs closer than r_i + r_j + skin are listed and the list is rebuilt once any
   // particle has moved skin/2. 0 rebuilds every step.
   double skin_m = 0;
@@ -98,6 +101,9 @@ class EngineBase {
   // True once a position or velocity is not finite (the step was unstable).
   bool HasNonFiniteState() const;
   const Vec<Dim>& PairShear(std::size_t p) const { return pair_shear_[p]; }
+  // Particles that have not collided yet; only tracked with settings().stop_at_first_contact
+  // (otherwise every particle counts as untouched).
+  std::int64_t untouched() const { return untouched_; }
 
  protected:
   // New pair list (grid or all pairs), carrying over the history of pairs that stay listed.
@@ -111,6 +117,10 @@ class EngineBase {
   void PermuteParticles(const std::vector<std::int32_t>& from);
   double PairReachM(bool van_der_waals) const;
   Vec<Dim> Gravity() const;
+  // With stop_at_first_contact: zeroes the velocity and spin of every particle that overlaps a
+  // particle or wall for the first time. Call in the working order with a valid pair list,
+  // after the drift and before the forces (first_contact_stop.cc).
+  void StopFirstContacts();
 
   // Per listed pair, written every step: the force on the first particle and n x F_t (the
   // torque on a member is -radius * twist). One record so the gather touches one cache line.
@@ -142,6 +152,10 @@ class EngineBase {
   bool forces_valid_ = false;
   std::int64_t steps_ = 0;
   std::int64_t rebuilds_ = 0;
+  // Paper 004's first-contact stop: per particle in the order of AddParticle, whether it has
+  // collided (only updated when settings_.stop_at_first_contact is on), and how many have not.
+  std::vector<std::uint8_t> touched_;
+  std::int64_t untouched_ = 0;
 };
 
 // True when this CPU (and OS) can run the AVX2 build of the contact arithmetic.

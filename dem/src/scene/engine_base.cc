@@ -38,6 +38,8 @@ void EngineBase<Dim>::AddParticle(const Vec<Dim>& position_m, const Vec<Dim>& ve
   s.inverse_inertia.push_back(1.0 / (0.4 * mass * radius_m * radius_m));
   s.species.push_back(species);
   order_.push_back(s.size() - 1);  // the wall history below is in the internal order: appended
+  touched_.push_back(0);
+  ++untouched_;
   wall_shear_.resize(static_cast<std::size_t>(s.size()) * walls_.size(), Vec<Dim>::Zero());
   wall_normal_history_.resize(wall_shear_.size());
   pairs_valid_ = false;

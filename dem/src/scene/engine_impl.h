@@ -70,6 +70,7 @@ class Engine final : public EngineBase<Dim> {
         this->pairs_valid_ = false;
       }
       PrepareStep();
+      if (this->settings_.stop_at_first_contact) this->StopFirstContacts();
       PairForces();
       const bool last = step + 1 == steps;
       std::fill(chunk_move2.begin(), chunk_move2.end(), 0.0);

@@ -44,6 +44,7 @@ std::string DescribePhysics(const Scene& scene) {
   if (scene.physics.rotation) text += "+rotation";
   if (scene.physics.van_der_waals) text += "+vdw";
   if (scene.physics.local_damping) text += "+local-damping";
+  if (scene.physics.stop_at_first_contact) text += "+first-contact-stop";
   return text;
 }
 
@@ -134,6 +135,7 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
   settings.vdw_min_gap_m = m.vdw_min_gap_m;
   settings.vdw_cutoff_gap_m = m.vdw_cutoff_gap_m;
   settings.local_damping = m.local_damping;
+  settings.stop_at_first_contact = scene.physics.stop_at_first_contact;
   settings.skin_m = options.skin_diameters * scene.particles.diameter.MaxDiameterM();
   settings.brute_force_pairs = options.brute_force_pairs;
   settings.threads = options.threads;
@@ -226,6 +228,7 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
   summary.kinetic_energy_j = engine->KineticEnergyJ();
   if (summary.stop_reason == PackStopReason::kDuration) {
     summary.packing_density = PackingDensity(summary.final_state, scene);
+    summary.packing_density_by_count = CentreCountDensity(summary.final_state, scene);
     summary.coordination = Coordination(summary.final_state, scene);
     const double bin = scene.measurement.profile_bin_m > 0
                            ? scene.measurement.profile_bin_m

@@ -139,6 +139,28 @@ double PackingDensity(const ParticleSnapshot& snapshot, const Scene& scene) {
   return solid / area;
 }
 
+double CentreCountDensity(const ParticleSnapshot& snapshot, const Scene& scene) {
+  const auto& m = scene.measurement;
+  const double region =
+      scene.dimension == 3
+          ? (m.band_max_m - m.band_min_m) * ContainerCrossSection(scene)
+          : (m.window_max_m[0] - m.window_min_m[0]) * (m.window_max_m[1] - m.window_min_m[1]);
+  if (!(region > 0)) {
+    throw ConfigError(Where(scene) + (scene.dimension == 3
+                                          ? ": measurement.band_m is empty; give [low, high] "
+                                            "heights in m"
+                                          : ": measurement.window is empty; give min_m and max_m "
+                                            "corners in m"));
+  }
+  double solid = 0;
+  for (std::size_t i = 0; i < snapshot.size(); ++i) {
+    if (!InMeasurementRegion(snapshot.position_m[i], scene)) continue;
+    const double r = snapshot.radius_m[i];
+    solid += scene.dimension == 3 ? 4.0 / 3.0 * kPi * r * r * r : kPi * r * r;
+  }
+  return solid / region;
+}
+
 DensityProfile DensityProfileVsHeight(const ParticleSnapshot& snapshot, const Scene& scene,
                                       double bin_m) {
   if (!(bin_m > 0)) throw ConfigError(Where(scene) + ": profile bin must be > 0 m");

@@ -131,6 +131,21 @@ TEST(PackingDensity, SquareLatticeOfDisksIsPiOverFour) {
   EXPECT_NEAR(PackingDensity(Lattice(2), LatticeScene(2)), kPi / 4, 1e-12);
 }
 
+TEST(CentreCountDensity, CountsWholeParticlesWhoseCentresLieInTheWindow) {
+  Scene scene = LatticeScene(2);
+  // Edges on lattice-cell boundaries: both estimators see whole cells, so both give pi/4.
+  EXPECT_NEAR(CentreCountDensity(Lattice(2), scene), kPi / 4, 1e-12);
+  // A 0.32 x 0.32 window from (0.2, 0.2) holds the centres 0.25, 0.35, 0.45 in each direction:
+  // 9 whole disks of radius 0.05 over 0.1024; the exact areas add the slivers (0.02 deep) of the
+  // next row and column of disks, 0.756 against 0.690.
+  scene.measurement.window_max_m = {0.52, 0.52, 0};
+  const double count = 9 * kPi * 0.05 * 0.05 / (0.32 * 0.32);
+  EXPECT_NEAR(CentreCountDensity(Lattice(2), scene), count, 1e-12);
+  EXPECT_GT(PackingDensity(Lattice(2), scene), count + 0.05);
+  // 3D: the band 0.2-0.6 holds four layers of centres (0.25..0.55): pi/6 again.
+  EXPECT_NEAR(CentreCountDensity(Lattice(3), LatticeScene(3)), kPi / 6, 1e-12);
+}
+
 TEST(DensityProfile, SimpleCubicLatticeAveragesToPiOverSixPerLayer) {
   const auto profile = DensityProfileVsHeight(Lattice(3), LatticeScene(3), 0.1);
   // The top may round to one ulp above 1 m and open an eleventh, empty bin.

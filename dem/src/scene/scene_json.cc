@@ -205,6 +205,7 @@ void ReadPhysics(JsonReader r, Scene& scene) {
   p.rotation = r.Boolean("rotation", p.tangential);
   p.van_der_waals = r.Boolean("van_der_waals", false);
   p.local_damping = r.Boolean("local_damping", false);
+  p.stop_at_first_contact = r.Boolean("stop_at_first_contact", false);
   if (p.rotation && !p.tangential) {
     r.Fail("rotation", "needs tangential: true (only the tangential force makes torque)");
   }

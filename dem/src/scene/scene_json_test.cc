@@ -47,6 +47,7 @@ TEST(SceneJson, MinimalSceneTakesDocumentedDefaults) {
   EXPECT_TRUE(scene.physics.rotation);
   EXPECT_FALSE(scene.physics.van_der_waals);
   EXPECT_FALSE(scene.physics.local_damping);
+  EXPECT_FALSE(scene.physics.stop_at_first_contact);
   EXPECT_EQ(scene.measurement.contact_tolerance, 1.0005);
   EXPECT_EQ(scene.outputs.directory, std::filesystem::path("dir/scene_out"));
   EXPECT_EQ(scene.material.law.kind, ContactLawKind::kWaltonBraun);

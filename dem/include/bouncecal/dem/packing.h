@@ -62,6 +62,7 @@ struct PackSummary {
   double particle_steps_per_s = 0;
   int threads = 1;
   double packing_density = 0;
+  double packing_density_by_count = 0;  // CentreCountDensity: paper 004's estimator
   double kinetic_energy_j = 0;
   CoordinationStats coordination;
   DensityProfile profile;

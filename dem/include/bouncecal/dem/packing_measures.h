@@ -34,6 +34,13 @@ double DiskRectangleAreaM2(double center_x_m, double center_y_m, double radius_m
 // Throws ConfigError when the scene has no band/window or no finite cross-section.
 double PackingDensity(const ParticleSnapshot& snapshot, const Scene& scene);
 
+// Paper 004's own estimator (its section 2): count the particles whose centres lie in the window
+// (2D) or band (3D) and divide their whole areas (volumes) by the window's (the band's). Equal to
+// PackingDensity on average in a homogeneous packing, but it jumps by one particle's share when a
+// centre crosses an edge, so layers aligned with an edge bias it (by several % in ordered 2D
+// packings). Same ConfigErrors as PackingDensity.
+double CentreCountDensity(const ParticleSnapshot& snapshot, const Scene& scene);
+
 struct DensityProfile {
   std::vector<double> height_m;  // bin centres (z in 3D, y in 2D)
   std::vector<double> density;   // solid fraction of each horizontal slab of the container

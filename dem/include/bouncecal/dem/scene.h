@@ -108,6 +108,8 @@ struct PhysicsSpec {
   bool rotation = true;        // integrate angular velocity (needs tangential to do anything)
   bool van_der_waals = false;  // Hamaker attraction between particles
   bool local_damping = false;  // Cundall local non-viscous damping
+  // Paper 004: a particle's velocity is set to zero at its first collision (once per particle).
+  bool stop_at_first_contact = false;
 };
 
 struct MeasurementSpec {
