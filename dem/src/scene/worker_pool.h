@@ -12,7 +12,7 @@ namespace bouncecal::dem::scene {
 // Persistent threads for the two short parallel loops of every DEM step. A step of a few
 // thousand particles takes ~100 us, so the hand-off must be cheap, yet the machine may be shared:
 // OpenMP's default spin-waiting made a 2-thread run 20x slower than 1 thread on a loaded 2-core
-// machine. Workers here spin briefly, then sleep on a futex (C++20 atomic wait).
+// machine. Waiters poll for up to ~100 us, then sleep on a futex (C++20 atomic wait).
 // Chunks are fixed contiguous ranges, so work splits identically on every run, but any thread
 // may run any chunk: each thread claims the next unclaimed one, so when the machine is busy and
 // a worker has no core, the caller runs its chunk instead of waiting a scheduler slice for it
