@@ -59,14 +59,14 @@ WorkerPool::~WorkerPool() {
 }
 
 void WorkerPool::RunChunk(int chunk) {
-  const std::int64_t count = threads();
+  const std::int64_t count = chunks();
   const std::int64_t begin = n_ * chunk / count;
   const std::int64_t end = n_ * (chunk + 1) / count;
   if (end > begin) (*body_)(chunk, begin, end);
 }
 
 void WorkerPool::RunClaimedChunks(std::uint64_t generation) {
-  const int chunks = threads();
+  const int chunks = this->chunks();
   std::uint64_t claim = claim_.load(std::memory_order_acquire);
   for (;;) {
     if ((claim >> 16) != generation || static_cast<int>(claim & 0xffff) >= chunks) return;
@@ -95,7 +95,7 @@ void WorkerPool::ParallelFor(std::int64_t n,
   generation_.notify_all();
   RunClaimedChunks(generation);
   // Only chunks a worker is running are left: wait for them.
-  const int chunks = threads();
+  const int chunks = this->chunks();
   for (int done = done_.load(std::memory_order_acquire); done != chunks;) {
     done = WaitForChange(done_, done);
   }

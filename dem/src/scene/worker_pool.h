@@ -25,14 +25,20 @@ class WorkerPool {
   WorkerPool& operator=(const WorkerPool&) = delete;
 
   int threads() const { return static_cast<int>(workers_.size()) + 1; }
+  // Chunks per loop: several per thread, so that a thread whose chunks are cheap (falling
+  // particles with few contacts) claims more of them instead of waiting at the barrier for one
+  // holding the dense bottom of a pour. Callers size per-chunk scratch by this.
+  int chunks() const { return workers_.empty() ? 1 : threads() * kChunksPerThread; }
 
-  // Calls body(chunk, begin, end) once for each of threads() contiguous chunks of [0, n), on
+  // Calls body(chunk, begin, end) once for each of chunks() contiguous chunks of [0, n), on
   // whichever thread claims the chunk first; one chunk runs on one thread. Returns when every
   // chunk is done.
   void ParallelFor(std::int64_t n,
                    const std::function<void(int, std::int64_t, std::int64_t)>& body);
 
  private:
+  static constexpr int kChunksPerThread = 4;
+
   void WorkerLoop();
   void RunChunk(int chunk);
   // Claims and runs chunks of the loop published as `generation` until none is left.
