@@ -34,7 +34,7 @@ class Engine final : public EngineBase<Dim> {
         gravity_(this->Gravity()),
         use_avx2_(settings.allow_avx2 && CpuHasAvx2()),
         shear_per_force_m_per_n_(1.0 / -settings.tangential_stiffness_n_per_m),
-        scratch_(static_cast<std::size_t>(this->pool_->threads())) {}
+        scratch_(static_cast<std::size_t>(this->pool_->chunks())) {}
 
   void ComputeForces() override {
     this->EnterWorkingOrder();
@@ -50,7 +50,7 @@ class Engine final : public EngineBase<Dim> {
     const double dt = this->settings_.time_step_s;
     const double half_dt = 0.5 * dt;
     auto& pool = *this->pool_;
-    std::vector<double> chunk_move2(static_cast<std::size_t>(pool.threads()), 0.0);
+    std::vector<double> chunk_move2(static_cast<std::size_t>(pool.chunks()), 0.0);
     // Velocity Verlet (Verlet 1967; Allen & Tildesley ch. 3) with the closing half kick of one
     // step fused into the opening half kick and drift of the next, so a step costs two passes.
     auto kick_drift = [&](int chunk, std::int64_t begin, std::int64_t end) {

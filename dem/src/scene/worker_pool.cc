@@ -1,17 +1,46 @@
 #include "scene/worker_pool.h"
 
+#include <chrono>
+
 namespace bouncecal::dem::scene {
 namespace {
 
-// About 5-10 us of polling before sleeping: long enough to catch the next loop of the same
-// step without a system call, short enough to give the core away on a busy machine.
-constexpr int kSpinIterations = 200;
+// Polling budget before sleeping on the futex. A step of a few thousand particles is
+// ~100-300 us and its serial part (neighbour rebuild, first-contact stop) up to ~1 ms, while a
+// futex wake-up costs tens of microseconds in a VM: with ~5-10 us of polling (200 pauses) a
+// 2-thread run lost a quarter of its CPU to sleeping and waking. Polling for up to kSpinBudget
+// catches the next loop of the same or the next step without a system call; on a busy machine
+// a waiter still gives its core away after that long, a small fraction of a scheduler slice.
+constexpr auto kSpinBudget = std::chrono::microseconds(100);
+// The clock is read once per this many pauses (~1-2 us), so polling does not hammer it.
+constexpr int kPausesPerClockRead = 32;
 constexpr std::int64_t kMinItemsPerThread = 512;
 
 inline void CpuRelax() {
 #if defined(__x86_64__) || defined(__i386__)
   __builtin_ia32_pause();
 #endif
+}
+
+// Polls until `value` differs from `old` for up to kSpinBudget, then sleeps until it does.
+template <typename T>
+T WaitForChange(const std::atomic<T>& value, T old) {
+  T now = value.load(std::memory_order_acquire);
+  if (now != old) return now;
+  const auto deadline = std::chrono::steady_clock::now() + kSpinBudget;
+  for (;;) {
+    for (int i = 0; i < kPausesPerClockRead; ++i) {
+      CpuRelax();
+      now = value.load(std::memory_order_acquire);
+      if (now != old) return now;
+    }
+    if (std::chrono::steady_clock::now() >= deadline) break;
+  }
+  for (;;) {
+    value.wait(old, std::memory_order_acquire);
+    now = value.load(std::memory_order_acquire);
+    if (now != old) return now;
+  }
 }
 
 }  // namespace
@@ -30,14 +59,14 @@ WorkerPool::~WorkerPool() {
 }
 
 void WorkerPool::RunChunk(int chunk) {
-  const std::int64_t count = threads();
+  const std::int64_t count = chunks();
   const std::int64_t begin = n_ * chunk / count;
   const std::int64_t end = n_ * (chunk + 1) / count;
   if (end > begin) (*body_)(chunk, begin, end);
 }
 
 void WorkerPool::RunClaimedChunks(std::uint64_t generation) {
-  const int chunks = threads();
+  const int chunks = this->chunks();
   std::uint64_t claim = claim_.load(std::memory_order_acquire);
   for (;;) {
     if ((claim >> 16) != generation || static_cast<int>(claim & 0xffff) >= chunks) return;
@@ -66,31 +95,16 @@ void WorkerPool::ParallelFor(std::int64_t n,
   generation_.notify_all();
   RunClaimedChunks(generation);
   // Only chunks a worker is running are left: wait for them.
-  const int chunks = threads();
-  int spins = 0;
-  for (int done = done_.load(std::memory_order_acquire); done != chunks;
-       done = done_.load(std::memory_order_acquire)) {
-    if (++spins < kSpinIterations) {
-      CpuRelax();
-    } else {
-      done_.wait(done, std::memory_order_acquire);
-    }
+  const int chunks = this->chunks();
+  for (int done = done_.load(std::memory_order_acquire); done != chunks;) {
+    done = WaitForChange(done_, done);
   }
 }
 
 void WorkerPool::WorkerLoop() {
   std::uint64_t seen = 0;
   for (;;) {
-    int spins = 0;
-    std::uint64_t now = generation_.load(std::memory_order_acquire);
-    while (now == seen) {
-      if (++spins < kSpinIterations) {
-        CpuRelax();
-      } else {
-        generation_.wait(seen, std::memory_order_acquire);
-      }
-      now = generation_.load(std::memory_order_acquire);
-    }
+    const std::uint64_t now = WaitForChange(generation_, seen);
     seen = now;
     if (stop_.load(std::memory_order_acquire)) return;
     RunClaimedChunks(now);

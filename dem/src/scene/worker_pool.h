@@ -12,7 +12,7 @@ namespace bouncecal::dem::scene {
 // Persistent threads for the two short parallel loops of every DEM step. A step of a few
 // thousand particles takes ~100 us, so the hand-off must be cheap, yet the machine may be shared:
 // OpenMP's default spin-waiting made a 2-thread run 20x slower than 1 thread on a loaded 2-core
-// machine. Workers here spin briefly, then sleep on a futex (C++20 atomic wait).
+// machine. Waiters poll for up to ~100 us, then sleep on a futex (C++20 atomic wait).
 // Chunks are fixed contiguous ranges, so work splits identically on every run, but any thread
 // may run any chunk: each thread claims the next unclaimed one, so when the machine is busy and
 // a worker has no core, the caller runs its chunk instead of waiting a scheduler slice for it
@@ -25,14 +25,20 @@ class WorkerPool {
   WorkerPool& operator=(const WorkerPool&) = delete;
 
   int threads() const { return static_cast<int>(workers_.size()) + 1; }
+  // Chunks per loop: several per thread, so that a thread whose chunks are cheap (falling
+  // particles with few contacts) claims more of them instead of waiting at the barrier for one
+  // holding the dense bottom of a pour. Callers size per-chunk scratch by this.
+  int chunks() const { return workers_.empty() ? 1 : threads() * kChunksPerThread; }
 
-  // Calls body(chunk, begin, end) once for each of threads() contiguous chunks of [0, n), on
+  // Calls body(chunk, begin, end) once for each of chunks() contiguous chunks of [0, n), on
   // whichever thread claims the chunk first; one chunk runs on one thread. Returns when every
   // chunk is done.
   void ParallelFor(std::int64_t n,
                    const std::function<void(int, std::int64_t, std::int64_t)>& body);
 
  private:
+  static constexpr int kChunksPerThread = 4;
+
   void WorkerLoop();
   void RunChunk(int chunk);
   // Claims and runs chunks of the loop published as `generation` until none is left.
