@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cstdlib>
 #include <string>
+#include <string_view>
 
 #include "bouncecal/error.h"
 
@@ -13,9 +14,10 @@ namespace {
 constexpr long long kLastFourDigitYearSecond = 253402300799LL;
 }  // namespace
 
-std::time_t CardCreationTime(std::optional<std::string_view> source_date_epoch) {
-  if (!source_date_epoch) return std::time(nullptr);
-  const std::string_view text = *source_date_epoch;
+std::time_t CardCreationTimeFromEnvironment() {
+  const char* value = std::getenv("SOURCE_DATE_EPOCH");
+  if (value == nullptr) return std::time(nullptr);
+  const std::string_view text = value;
   long long seconds = -1;
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), seconds);
   if (text.empty() || error != std::errc() || end != text.data() + text.size() || seconds < 0 ||
@@ -26,11 +28,6 @@ std::time_t CardCreationTime(std::optional<std::string_view> source_date_epoch) 
                       "; unset it or set it to e.g. $(git log -1 --format=%ct)");
   }
   return static_cast<std::time_t>(seconds);
-}
-
-std::time_t CardCreationTimeFromEnvironment() {
-  const char* value = std::getenv("SOURCE_DATE_EPOCH");
-  return CardCreationTime(value ? std::optional<std::string_view>(value) : std::nullopt);
 }
 
 }  // namespace bouncecal::apps

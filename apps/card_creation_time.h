@@ -2,18 +2,13 @@
 #define BOUNCECAL_APPS_CARD_CREATION_TIME_H_
 
 #include <ctime>
-#include <optional>
-#include <string_view>
 
 namespace bouncecal::apps {
 
-// The time a material card records: SOURCE_DATE_EPOCH when the environment sets it (the
-// reproducible-builds convention, so two runs give byte-identical cards), otherwise now.
-// `source_date_epoch` is the variable's value, nullopt when unset. A value that is not a whole
-// number of seconds in 0 .. 253402300799 (year 9999) is a ConfigError, as the convention asks.
-std::time_t CardCreationTime(std::optional<std::string_view> source_date_epoch);
-
-// Reads SOURCE_DATE_EPOCH from the environment of this process.
+// The time a material card records: SOURCE_DATE_EPOCH when this process's environment sets it
+// (the reproducible-builds convention, so two runs give byte-identical cards), otherwise now.
+// A value that is not a whole number of seconds in 0 .. 253402300799 (year 9999) is a
+// ConfigError, as the convention asks.
 std::time_t CardCreationTimeFromEnvironment();
 
 }  // namespace bouncecal::apps

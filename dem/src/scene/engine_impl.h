@@ -389,6 +389,15 @@ class Engine final : public EngineBase<Dim> {
     }
   }
 
+  // The law's view of block contact k: reduced mass and effective radius of the pair.
+  [[gnu::always_inline]] static inline NormalContact ContactAt(const Scratch& t, int k) {
+    const double r_i = t.radius_i[k];
+    const double r_j = t.radius_j[k];
+    const double m_i = t.mass_i[k];
+    const double m_j = t.mass_j[k];
+    return {t.overlap[k], t.overlap_rate[k], m_i * m_j / (m_i + m_j), r_i * r_j / (r_i + r_j)};
+  }
+
   // Stage 2: the normal law. A separate loop, so a law that does not vectorise does not stop
   // the stages around it. Every contact is evaluated; the non-touching ones are dropped in
   // stage 3 (the laws return 0 or a value that is discarded for them).
@@ -398,14 +407,8 @@ class Engine final : public EngineBase<Dim> {
       // which would stop the vectoriser.
       const Law law = law_;
       for (int k = 0; k < n; ++k) {
-        const double r_i = t.radius_i[k];
-        const double r_j = t.radius_j[k];
-        const double m_i = t.mass_i[k];
-        const double m_j = t.mass_j[k];
-        const NormalContact contact{t.overlap[k], t.overlap_rate[k], m_i * m_j / (m_i + m_j),
-                                    r_i * r_j / (r_i + r_j)};
         NormalHistory none{};
-        t.normal_force[k] = law.NormalForce(contact, none);
+        t.normal_force[k] = law.NormalForce(ContactAt(t, k), none);
       }
     }
   }
@@ -474,14 +477,8 @@ class Engine final : public EngineBase<Dim> {
     for (int k = 0; k < n; ++k) {
       t.normal_force[k] = 0;
       if (!(t.overlap[k] > 0)) continue;
-      const double r_i = t.radius_i[k];
-      const double r_j = t.radius_j[k];
-      const double m_i = t.mass_i[k];
-      const double m_j = t.mass_j[k];
-      const NormalContact contact{t.overlap[k], t.overlap_rate[k], m_i * m_j / (m_i + m_j),
-                                  r_i * r_j / (r_i + r_j)};
       t.normal_force[k] = law_.NormalForce(
-          contact, this->pair_normal_history_[static_cast<std::size_t>(t.pair[k])]);
+          ContactAt(t, k), this->pair_normal_history_[static_cast<std::size_t>(t.pair[k])]);
     }
   }
 
