@@ -154,6 +154,7 @@ class ImpactDetector::Impl {
     }
     // The ringing residual has no sample stream of its own: a token history.
     bands_.emplace_back(1, ring, frame_s_, 1, 1);
+    sink_ = [this](std::size_t band, std::span<const float> samples) { Take(band, samples); };
     result_.sample_rate_hz = sample_rate_hz;
   }
 
@@ -164,15 +165,15 @@ class ImpactDetector::Impl {
     for (std::size_t at = 0; at < samples.size(); at += piece) {
       const auto part = samples.subspan(at, std::min(piece, samples.size() - at));
       raw_.PushBlock(part);
-      for (auto& block : blocks_) block.clear();
-      filter_.Process(part, blocks_);
+      delivered_ = 0;
+      filter_.Process(part, sink_);
       Consume();
     }
   }
 
   DetectionResult Finish() {
-    for (auto& block : blocks_) block.clear();
-    filter_.Finish(blocks_);
+    delivered_ = 0;
+    filter_.Finish(sink_);
     Consume();
     if (open_) CloseCandidate();
     EmitPending();
@@ -250,47 +251,52 @@ class ImpactDetector::Impl {
     return std::max<std::int64_t>(1, std::llround(ms * 1e-3 * rate_ / static_cast<double>(hop_)));
   }
 
-  // Band by band (cache-friendly loops), then frame by frame: each band's history takes the
-  // whole block and its frame energies are collected before the frames are examined.
-  void Consume() {
-    const std::size_t count = blocks_.empty() ? 0 : blocks_[0].size();
-    const std::int64_t fill_at_start = frame_fill_;
-    for (std::size_t b = 0; b < blocks_.size(); ++b) {
-      Band& band = bands_[b];
-      band.samples.PushBlock(blocks_[b]);
-      band.frame_powers.clear();
-      const auto hop = static_cast<std::size_t>(hop_);
-      auto fill = static_cast<std::size_t>(fill_at_start);
-      double power = band.power;
-      for (std::size_t at = 0; at < count;) {
-        const std::size_t take = std::min(count - at, hop - fill);
-        power += SumOfSquares(std::span<const float>(blocks_[b]).subspan(at, take));
-        at += take;
-        fill += take;
-        if (fill == hop) {
-          band.frame_powers.push_back(power / static_cast<double>(hop_));
-          power = 0;
-          fill = 0;
-        }
+  // One band's share of a filtered block, straight from the filter's buffer (no intermediate
+  // copy): its history takes the whole block and its frame energies are collected, band by
+  // band (cache-friendly loops), before Consume examines the frames. Every band's block covers
+  // the same samples, so each starts at the frame fill Consume left.
+  void Take(std::size_t b, std::span<const float> samples) {
+    Band& band = bands_[b];
+    band.samples.PushBlock(samples);
+    band.frame_powers.clear();
+    const auto hop = static_cast<std::size_t>(hop_);
+    auto fill = static_cast<std::size_t>(frame_fill_);
+    double power = band.power;
+    for (std::size_t at = 0; at < samples.size();) {
+      const std::size_t take = std::min(samples.size() - at, hop - fill);
+      power += SumOfSquares(samples.subspan(at, take));
+      at += take;
+      fill += take;
+      if (fill == hop) {
+        band.frame_powers.push_back(power / static_cast<double>(hop_));
+        power = 0;
+        fill = 0;
       }
-      band.power = power;
     }
-    // The residual is computed on the main band; each envelope frame records the latest
-    // residual frame that ended in it or before (a frame completed by a sample counts for that
-    // sample's envelope frame), and the noise under the ringing it held. The envelope frames are
-    // examined as they complete, so the residual still holds the frames they ask about.
-    const bool use_residual = options_.ringing_residual && !blocks_.empty();
-    std::int64_t fill = fill_at_start;
+    band.power = power;
+    delivered_ = samples.size();
+  }
+
+  // Frame by frame over the samples the filter delivered (see Take).
+  void Consume() {
+    const std::size_t count = delivered_;
+    // The residual is computed on the main band, read from its history (in at most two views
+    // where the ring wraps); each envelope frame records the latest residual frame that ended
+    // in it or before (a frame completed by a sample counts for that sample's envelope frame),
+    // and the noise under the ringing it held. The envelope frames are examined as they
+    // complete, so the residual still holds the frames they ask about.
+    const bool use_residual = options_.ringing_residual;
+    const SampleHistory<float>& main = bands_[0].samples;
+    const std::int64_t first = main.end() - static_cast<std::int64_t>(count);
+    std::int64_t fill = frame_fill_;
     std::size_t frame = 0;
-    const std::span<const float> block(blocks_.empty() ? std::span<const float>()
-                                                       : std::span<const float>(blocks_[0]));
     for (std::size_t at = 0; at < count;) {
       std::size_t run = std::min(count - at, static_cast<std::size_t>(hop_ - fill));
       if (use_residual) {
-        run = std::min(run, residual_.samples_to_frame());
-        if (residual_.PushRun(block.subspan(at, run))) {
-          residual_noise_power_ = residual_.noise_power();
-        }
+        const auto view = main.Contiguous(first + static_cast<std::int64_t>(at),
+                                          std::min(run, residual_.samples_to_frame()));
+        run = view.size();
+        if (residual_.PushRun(view)) residual_noise_power_ = residual_.noise_power();
       }
       at += run;
       fill += static_cast<std::int64_t>(run);
@@ -654,7 +660,8 @@ class ImpactDetector::Impl {
   DetectorOptions options_;
   BandFilter filter_;
   SampleHistory<float> raw_;
-  std::vector<std::vector<float>> blocks_;
+  BandFilter::Sink sink_;      // Take, for the filter
+  std::size_t delivered_ = 0;  // samples of the block the filter delivered last (0: none)
   std::vector<Band> bands_;
   std::vector<float> window_;
   std::int64_t hop_;
