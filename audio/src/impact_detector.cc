@@ -140,20 +140,9 @@ class ImpactDetector::Impl {
         secondary_threshold_db_(kSecondaryRiseFraction * options.rise_threshold_db),
         secondary_rise_ratio_(std::pow(10.0, 0.1 * secondary_threshold_db_) * (1.0 - 1e-6)),
         tail_ratio_(std::pow(10.0, 0.1 * options.rise_threshold_db)),
-        residual_(sample_rate_hz, options.band_low_hz, options.band_high_hz),
+        bands_(MakeBands()),
+        residual_(sample_rate_hz, options.band_low_hz, options.band_high_hz, &bands_[0].samples),
         residual_band_(filter_.output_count()) {
-    const auto ring = static_cast<std::size_t>(lookback_frames_ + max_open_frames_ + peak_frames_ +
-                                               attack_frames_ + 8);
-    // The windows of Rise: [m, n] and [m - lookback, m - skip].
-    const auto ahead_frames = static_cast<std::size_t>(attack_frames_ + 1);
-    const auto reference_frames = static_cast<std::size_t>(lookback_frames_ - skip_frames_ + 1);
-    for (std::size_t b = 0; b < filter_.output_count(); ++b) {
-      bands_.emplace_back(
-          static_cast<std::size_t>(Samples(kHistoryS)) + filter_.max_latency_samples(), ring,
-          frame_s_, ahead_frames, reference_frames);
-    }
-    // The ringing residual has no sample stream of its own: a token history.
-    bands_.emplace_back(1, ring, frame_s_, 1, 1);
     sink_ = [this](std::size_t band, std::span<const float> samples) { Take(band, samples); };
     result_.sample_rate_hz = sample_rate_hz;
   }
@@ -233,6 +222,29 @@ class ImpactDetector::Impl {
     MaxDb reference_db;
   };
 
+  // The detection bands (filter outputs) and, last, the ringing residual's band.
+  std::vector<Band> MakeBands() const {
+    const auto ring = static_cast<std::size_t>(lookback_frames_ + max_open_frames_ + peak_frames_ +
+                                               attack_frames_ + 8);
+    // The windows of Rise: [m, n] and [m - lookback, m - skip].
+    const auto ahead_frames = static_cast<std::size_t>(attack_frames_ + 1);
+    const auto reference_frames = static_cast<std::size_t>(lookback_frames_ - skip_frames_ + 1);
+    // A band's history holds a whole filter block ahead of the frames being examined; the main
+    // band's also serves the ringing residual, which reads its recent frames from it.
+    const auto picker_history = static_cast<std::size_t>(Samples(kHistoryS));
+    std::vector<Band> bands;
+    for (std::size_t b = 0; b < filter_.output_count(); ++b) {
+      const std::size_t history =
+          b == 0 ? std::max(picker_history, RingingResidual::HistorySamples(rate_))
+                 : picker_history;
+      bands.emplace_back(history + filter_.max_latency_samples(), ring, frame_s_, ahead_frames,
+                         reference_frames);
+    }
+    // The ringing residual has no sample stream of its own: a token history.
+    bands.emplace_back(1, ring, frame_s_, 1, 1);
+    return bands;
+  }
+
   static std::vector<double> DetectionBands(int rate, const DetectorOptions& options) {
     std::vector<double> edges;
     for (double hz : kDetectionBandsHz) {
@@ -280,23 +292,19 @@ class ImpactDetector::Impl {
   // Frame by frame over the samples the filter delivered (see Take).
   void Consume() {
     const std::size_t count = delivered_;
-    // The residual is computed on the main band, read from its history (in at most two views
-    // where the ring wraps); each envelope frame records the latest residual frame that ended
-    // in it or before (a frame completed by a sample counts for that sample's envelope frame),
-    // and the noise under the ringing it held. The envelope frames are examined as they
-    // complete, so the residual still holds the frames they ask about.
+    // The residual is computed on the main band, which it reads from that band's history as far
+    // as it is advanced; each envelope frame records the latest residual frame that ended in it
+    // or before (a frame completed by a sample counts for that sample's envelope frame), and
+    // the noise under the ringing it held. The envelope frames are examined as they complete,
+    // so the residual still holds the frames they ask about.
     const bool use_residual = options_.ringing_residual;
-    const SampleHistory<float>& main = bands_[0].samples;
-    const std::int64_t first = main.end() - static_cast<std::int64_t>(count);
     std::int64_t fill = frame_fill_;
     std::size_t frame = 0;
     for (std::size_t at = 0; at < count;) {
       std::size_t run = std::min(count - at, static_cast<std::size_t>(hop_ - fill));
       if (use_residual) {
-        const auto view = main.Contiguous(first + static_cast<std::int64_t>(at),
-                                          std::min(run, residual_.samples_to_frame()));
-        run = view.size();
-        if (residual_.PushRun(view)) residual_noise_power_ = residual_.noise_power();
+        run = std::min(run, residual_.samples_to_frame());
+        if (residual_.Advance(run)) residual_noise_power_ = residual_.noise_power();
       }
       at += run;
       fill += static_cast<std::int64_t>(run);
@@ -662,7 +670,6 @@ class ImpactDetector::Impl {
   SampleHistory<float> raw_;
   BandFilter::Sink sink_;      // Take, for the filter
   std::size_t delivered_ = 0;  // samples of the block the filter delivered last (0: none)
-  std::vector<Band> bands_;
   std::vector<float> window_;
   std::int64_t hop_;
   double frame_s_;
@@ -674,6 +681,8 @@ class ImpactDetector::Impl {
   double secondary_threshold_db_;
   double secondary_rise_ratio_;  // its power ratio, less a margin (see AnyBandMayRise)
   double tail_ratio_;            // the power ratio of rise_threshold_db (see OnFrame)
+  // Declared after the members MakeBands reads; the residual reads bands_[0]'s history.
+  std::vector<Band> bands_;
   RingingResidual residual_;
   std::size_t residual_band_;
   double residual_noise_power_ = std::numeric_limits<double>::quiet_NaN();
