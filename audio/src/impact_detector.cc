@@ -211,21 +211,41 @@ class ImpactDetector::Impl {
     NoiseFloor floor;
     double power = 0;                  // of the frame being filled
     std::vector<double> frame_powers;  // mean squares of the frames completed by this block
+    // Per frame of this block, the window maxima and the floor as they stood at that frame:
+    // Take runs the windows and the floor over the whole block in one tight loop per band, and
+    // OnFrame reads the state of the frame it examines from here.
+    std::vector<double> ahead_maxima;
+    std::vector<double> reference_maxima;
+    std::vector<double> floor_powers;
     double Power(std::int64_t frame) const {
       return frame_powers_ring[static_cast<std::size_t>(frame) & mask];
     }
     double Db(std::int64_t frame) const { return ToDb(Power(frame)); }
-    // Maxima of the attack window [m, n] and the lookback [m - lookback, m - skip] (see Rise).
+    // Maxima of the attack window [m, n] and the lookback [m - lookback, m - skip] (see Rise),
+    // as they stand after the block's last frame.
     WindowMax ahead;
     WindowMax reference;
     MaxDb ahead_db;
     MaxDb reference_db;
+    // The state at frame k of the block while Consume examines it (k >= 0), else the latest.
+    double AheadMax(std::ptrdiff_t k) const {
+      return k < 0 ? ahead.max() : ahead_maxima[static_cast<std::size_t>(k)];
+    }
+    double ReferenceMax(std::ptrdiff_t k) const {
+      return k < 0 ? reference.max() : reference_maxima[static_cast<std::size_t>(k)];
+    }
+    double FloorDb(std::ptrdiff_t k) const {
+      return k < 0 ? floor.db() : NoiseFloor::ToDb(floor_powers[static_cast<std::size_t>(k)]);
+    }
   };
 
   // The detection bands (filter outputs) and, last, the ringing residual's band.
   std::vector<Band> MakeBands() const {
-    const auto ring = static_cast<std::size_t>(lookback_frames_ + max_open_frames_ + peak_frames_ +
-                                               attack_frames_ + 8);
+    // The frames a candidate and the windows read, plus a whole filter block: Take enters a
+    // block's frames before they are examined.
+    const auto ring = static_cast<std::size_t>(
+        lookback_frames_ + max_open_frames_ + peak_frames_ + attack_frames_ + 8 +
+        static_cast<std::int64_t>(filter_.max_latency_samples()) / hop_ + 1);
     // The windows of Rise: [m, n] and [m - lookback, m - skip].
     const auto ahead_frames = static_cast<std::size_t>(attack_frames_ + 1);
     const auto reference_frames = static_cast<std::size_t>(lookback_frames_ - skip_frames_ + 1);
@@ -287,6 +307,28 @@ class ImpactDetector::Impl {
     }
     band.power = power;
     delivered_ = samples.size();
+    // The frame ring, the floor and the rise windows of the block's frames, and whether the
+    // band may rise there (see AnyBandMayRise): none of it depends on the decisions OnFrame
+    // makes, so it runs here in one loop per band instead of interleaved with them.
+    const std::size_t frames = band.frame_powers.size();
+    band.ahead_maxima.resize(frames);
+    band.reference_maxima.resize(frames);
+    band.floor_powers.resize(frames);
+    if (b == 0) may_rise_.assign(frames, 0);
+    for (std::size_t k = 0; k < frames; ++k) {
+      const std::int64_t n = frame_count_ + static_cast<std::int64_t>(k);
+      const double frame_power = band.frame_powers[k];
+      band.frame_powers_ring[static_cast<std::size_t>(n) & band.mask] = frame_power;
+      band.floor.Add(frame_power);
+      UpdateWindows(band, n);
+      const double ahead = band.ahead.max();
+      const double reference = band.reference.max();
+      band.ahead_maxima[k] = ahead;
+      band.reference_maxima[k] = reference;
+      band.floor_powers[k] = band.floor.power();
+      may_rise_[k] |= static_cast<char>(std::max(ahead, kTinyPower) >=
+                                        secondary_rise_ratio_ * std::max(reference, kTinyPower));
+    }
   }
 
   // Frame by frame over the samples the filter delivered (see Take).
@@ -309,10 +351,12 @@ class ImpactDetector::Impl {
       at += run;
       fill += static_cast<std::int64_t>(run);
       if (fill == hop_) {
-        OnFrame(frame++);
+        frame_in_block_ = static_cast<std::ptrdiff_t>(frame++);
+        OnFrame();
         fill = 0;
       }
     }
+    frame_in_block_ = -1;
     frame_fill_ = fill;
   }
 
@@ -324,34 +368,21 @@ class ImpactDetector::Impl {
     const std::int64_t entering = m - skip_frames_;
     if (entering >= 0) band.reference.Push(band.Power(entering));
   }
-  static double Rise(Band& band) {
-    return band.ahead_db(band.ahead.max()) - band.reference_db(band.reference.max());
+  double Rise(Band& band) const {
+    return band.ahead_db(band.AheadMax(frame_in_block_)) -
+           band.reference_db(band.ReferenceMax(frame_in_block_));
   }
   // Whether some band's rise might reach the secondary threshold, tested on the powers: outside
   // candidates the rises only matter there, and the dB conversions they need were a third of
   // OnFrame (the attack window's maximum changes almost every frame in noise). The margin
   // covers PowerToDb's 1e-9 dB, so every frame whose rise in dB reaches the threshold passes
   // and the decisions are exactly those of comparing every rise.
-  bool AnyBandMayRise() const {
-    for (std::size_t b = 0; b < residual_band_; ++b) {
-      const Band& band = bands_[b];
-      if (std::max(band.ahead.max(), kTinyPower) >=
-          secondary_rise_ratio_ * std::max(band.reference.max(), kTinyPower)) {
-        return true;
-      }
-    }
-    return false;
-  }
+  // (Computed band by band in Take.)
+  bool AnyBandMayRise() const { return may_rise_[static_cast<std::size_t>(frame_in_block_)] != 0; }
 
-  void OnFrame(std::size_t block_frame) {
+  // Frame frame_in_block_ of the block: the detection bands' frames are already entered (Take).
+  void OnFrame() {
     const std::int64_t n = frame_count_++;
-    for (std::size_t b = 0; b < residual_band_; ++b) {
-      Band& band = bands_[b];
-      const double power = band.frame_powers[block_frame];
-      band.frame_powers_ring[static_cast<std::size_t>(n) & band.mask] = power;
-      band.floor.Add(power);
-      UpdateWindows(band, n);
-    }
     {
       // The residual band holds the latest residual frame (its novelty is computed only where
       // it is asked for, see ResidualNoveltyDb) and, as its floor, the noise under the ringing;
@@ -389,13 +420,14 @@ class ImpactDetector::Impl {
       // clearly apart, in dB only within a margin around the threshold that covers
       // PowerToDb's 1e-9 dB: the same decision as in dB, without the conversions and their
       // data-dependent branches in every frame.
-      const double reference = std::max(bands_[0].reference.max(), kTinyPower);
+      const double reference = std::max(bands_[0].ReferenceMax(frame_in_block_), kTinyPower);
       const double floor = std::max(residual.floor.power(), kTinyPower) * tail_ratio_;
       if (reference >= floor * (1.0 + 1e-6)) {
         tail_present = true;
       } else if (reference >= floor * (1.0 - 1e-6)) {
-        tail_present = bands_[0].reference_db(bands_[0].reference.max()) - residual.floor.db() >=
-                       options_.rise_threshold_db;
+        tail_present =
+            bands_[0].reference_db(bands_[0].ReferenceMax(frame_in_block_)) - residual.floor.db() >=
+            options_.rise_threshold_db;
       }
     }
     const double novelty_rise_db =
@@ -501,7 +533,7 @@ class ImpactDetector::Impl {
     for (std::int64_t i = candidate_frame_ + 1; i <= last_frame; ++i) {
       band_peak_db = std::max(band_peak_db, band.Db(i));
     }
-    const double snr_db = band_peak_db - band.floor.db();
+    const double snr_db = band_peak_db - band.FloorDb(frame_in_block_);
     // Under continuous ringing the minimum-statistics floor of every band is the ringing, not
     // the noise; the ringing residual's floor stays at the noise, so passing in it also counts.
     // snr_db itself stays the band's, so the channel choice compares like with like.
@@ -668,8 +700,10 @@ class ImpactDetector::Impl {
   DetectorOptions options_;
   BandFilter filter_;
   SampleHistory<float> raw_;
-  BandFilter::Sink sink_;      // Take, for the filter
-  std::size_t delivered_ = 0;  // samples of the block the filter delivered last (0: none)
+  BandFilter::Sink sink_;               // Take, for the filter
+  std::size_t delivered_ = 0;           // samples of the block the filter delivered last (0: none)
+  std::vector<char> may_rise_;          // per frame of the block: some band may rise (see Take)
+  std::ptrdiff_t frame_in_block_ = -1;  // the frame Consume examines, -1 outside
   std::vector<float> window_;
   std::int64_t hop_;
   double frame_s_;

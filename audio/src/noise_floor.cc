@@ -27,9 +27,11 @@ double NoiseFloor::db() const {
   // The detector asks every frame; the floor changes far less often.
   if (floor != cached_floor_) {
     cached_floor_ = floor;
-    cached_db_ = PowerToDb(std::max(floor, 1e-14));
+    cached_db_ = ToDb(floor);
   }
   return cached_db_;
 }
+
+double NoiseFloor::ToDb(double power) { return PowerToDb(std::max(power, 1e-14)); }
 
 }  // namespace bouncecal::audio

@@ -30,6 +30,8 @@ class NoiseFloor {
   }
   // The floor in dB re full scale (power 1); -140 dB for digital silence.
   double db() const;
+  // The dB db() gives for a floor of this power (as read from power()).
+  static double ToDb(double power);
   // The floor as a power (before the -140 dB clamp of db()); 0 before the first Add.
   double power() const {
     double floor = started_ ? current_min_ : 0.0;
