@@ -294,16 +294,26 @@ class ImpactDetector::Impl {
     const auto hop = static_cast<std::size_t>(hop_);
     auto fill = static_cast<std::size_t>(frame_fill_);
     double power = band.power;
-    for (std::size_t at = 0; at < samples.size();) {
-      const std::size_t take = std::min(samples.size() - at, hop - fill);
-      power += SumOfSquares(samples.subspan(at, take));
-      at += take;
-      fill += take;
-      if (fill == hop) {
-        band.frame_powers.push_back(power / static_cast<double>(hop_));
-        power = 0;
-        fill = 0;
+    // The frame the last block left unfinished, the whole frames in a plain loop, and the start
+    // of the next one: the same sums in the same order as frame by frame.
+    std::size_t at = std::min(samples.size(), fill > 0 ? hop - fill : 0);
+    power += SumOfSquares(samples.first(at));
+    fill += at;
+    if (fill == hop) {
+      band.frame_powers.push_back(power / static_cast<double>(hop_));
+      power = 0;
+      fill = 0;
+    }
+    if (fill == 0) {
+      const std::size_t whole = (samples.size() - at) / hop;
+      const std::size_t first_frame = band.frame_powers.size();
+      band.frame_powers.resize(first_frame + whole);
+      for (std::size_t k = 0; k < whole; ++k, at += hop) {
+        band.frame_powers[first_frame + k] =
+            SumOfSquares(samples.subspan(at, hop)) / static_cast<double>(hop_);
       }
+      power = SumOfSquares(samples.subspan(at));
+      fill = samples.size() - at;
     }
     band.power = power;
     delivered_ = samples.size();
