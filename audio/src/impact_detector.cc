@@ -326,18 +326,27 @@ class ImpactDetector::Impl {
     band.floor_powers.resize(frames);
     if (b == 0) may_rise_.assign(frames, 0);
     for (std::size_t k = 0; k < frames; ++k) {
-      const std::int64_t n = frame_count_ + static_cast<std::int64_t>(k);
-      const double frame_power = band.frame_powers[k];
-      band.frame_powers_ring[static_cast<std::size_t>(n) & band.mask] = frame_power;
-      band.floor.Add(frame_power);
-      UpdateWindows(band, n);
-      const double ahead = band.ahead.max();
-      const double reference = band.reference.max();
-      band.ahead_maxima[k] = ahead;
-      band.reference_maxima[k] = reference;
-      band.floor_powers[k] = band.floor.power();
-      may_rise_[k] |= static_cast<char>(std::max(ahead, kTinyPower) >=
-                                        secondary_rise_ratio_ * std::max(reference, kTinyPower));
+      const auto n = static_cast<std::size_t>(frame_count_) + k;
+      band.frame_powers_ring[n & band.mask] = band.frame_powers[k];
+    }
+    band.floor.AddBlock(band.frame_powers, band.floor_powers.data());
+    // Rise of frame m = n - attack: the attack window [m, n] takes frame n, the lookback
+    // [m - lookback, m - skip] frame m - skip once that exists (see Rise). The ring holds
+    // those frames: the lookback's newest is at least attack + skip frames old.
+    band.ahead.PushBlock(band.frame_powers, band.ahead_maxima.data());
+    const std::int64_t lag = attack_frames_ + skip_frames_;
+    const auto before_first = static_cast<std::size_t>(
+        std::clamp<std::int64_t>(lag - frame_count_, 0, static_cast<std::int64_t>(frames)));
+    std::fill_n(band.reference_maxima.begin(), before_first, band.reference.max());
+    entering_.resize(frames - before_first);
+    for (std::size_t k = before_first; k < frames; ++k) {
+      entering_[k - before_first] = band.Power(frame_count_ + static_cast<std::int64_t>(k) - lag);
+    }
+    band.reference.PushBlock(entering_, band.reference_maxima.data() + before_first);
+    for (std::size_t k = 0; k < frames; ++k) {
+      may_rise_[k] |=
+          static_cast<char>(std::max(band.ahead_maxima[k], kTinyPower) >=
+                            secondary_rise_ratio_ * std::max(band.reference_maxima[k], kTinyPower));
     }
   }
 
@@ -371,13 +380,7 @@ class ImpactDetector::Impl {
   }
 
   // Rise of frame m = n - attack of one band: its loudest frame in the attack window [m, n]
-  // against the loudest frame of the lookback [m - lookback, m - skip].
-  void UpdateWindows(Band& band, std::int64_t n) const {
-    const std::int64_t m = n - attack_frames_;
-    band.ahead.Push(band.Power(n));
-    const std::int64_t entering = m - skip_frames_;
-    if (entering >= 0) band.reference.Push(band.Power(entering));
-  }
+  // against the loudest frame of the lookback [m - lookback, m - skip] (windows kept by Take).
   double Rise(Band& band) const {
     return band.ahead_db(band.AheadMax(frame_in_block_)) -
            band.reference_db(band.ReferenceMax(frame_in_block_));
@@ -713,6 +716,7 @@ class ImpactDetector::Impl {
   BandFilter::Sink sink_;               // Take, for the filter
   std::size_t delivered_ = 0;           // samples of the block the filter delivered last (0: none)
   std::vector<char> may_rise_;          // per frame of the block: some band may rise (see Take)
+  std::vector<double> entering_;        // Take's scratch: the frames entering a band's lookback
   std::ptrdiff_t frame_in_block_ = -1;  // the frame Consume examines, -1 outside
   std::vector<float> window_;
   std::int64_t hop_;
