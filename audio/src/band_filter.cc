@@ -128,8 +128,7 @@ BandFilter::BandFilter(int sample_rate_hz, double low_hz, double high_hz,
 
 BandFilter::~BandFilter() = default;
 
-void BandFilter::FilterBlock(std::vector<std::vector<float>>& outputs, size_t valid) {
-  outputs.resize(kernel_spectra_.size());
+void BandFilter::FilterBlock(const Sink& sink, size_t valid) {
   auto real = fft_->real();
   const size_t filled = history_ + valid;
   std::fill(real.begin() + static_cast<std::ptrdiff_t>(filled), real.end(), 0.0f);
@@ -150,9 +149,7 @@ void BandFilter::FilterBlock(std::vector<std::vector<float>>& outputs, size_t va
     // samples start the next block without another copy of the whole block.
     fft_->InverseToOutput();
     // Overlap-save: the first history_ outputs are circularly aliased; the rest are exact.
-    outputs[band].insert(outputs[band].end(),
-                         output.begin() + static_cast<std::ptrdiff_t>(history_),
-                         output.begin() + static_cast<std::ptrdiff_t>(filled));
+    sink(band, output.subspan(history_, valid));
   }
   // Keep the newest history_ inputs for the next block.
   std::copy(real.begin() + static_cast<std::ptrdiff_t>(valid),
@@ -160,7 +157,7 @@ void BandFilter::FilterBlock(std::vector<std::vector<float>>& outputs, size_t va
   pending_ = 0;
 }
 
-void BandFilter::Process(std::span<const float> input, std::vector<std::vector<float>>& outputs) {
+void BandFilter::Process(std::span<const float> input, const Sink& sink) {
   size_t at = 0;
   while (at < input.size()) {
     const size_t take = std::min(block_ - static_cast<size_t>(pending_), input.size() - at);
@@ -169,12 +166,31 @@ void BandFilter::Process(std::span<const float> input, std::vector<std::vector<f
               fft_->real().begin() + static_cast<std::ptrdiff_t>(history_) + pending_);
     pending_ += static_cast<long long>(take);
     at += take;
-    if (static_cast<size_t>(pending_) == block_) FilterBlock(outputs, block_);
+    if (static_cast<size_t>(pending_) == block_) FilterBlock(sink, block_);
   }
 }
 
+void BandFilter::Finish(const Sink& sink) {
+  if (pending_ > 0) FilterBlock(sink, static_cast<size_t>(pending_));
+}
+
+namespace {
+
+BandFilter::Sink AppendTo(std::vector<std::vector<float>>& outputs, std::size_t count) {
+  outputs.resize(count);
+  return [&outputs](std::size_t output, std::span<const float> samples) {
+    outputs[output].insert(outputs[output].end(), samples.begin(), samples.end());
+  };
+}
+
+}  // namespace
+
+void BandFilter::Process(std::span<const float> input, std::vector<std::vector<float>>& outputs) {
+  Process(input, AppendTo(outputs, kernel_spectra_.size()));
+}
+
 void BandFilter::Finish(std::vector<std::vector<float>>& outputs) {
-  if (pending_ > 0) FilterBlock(outputs, static_cast<size_t>(pending_));
+  Finish(AppendTo(outputs, kernel_spectra_.size()));
 }
 
 void BandFilter::Process(std::span<const float> input, std::vector<float>& output) {

@@ -2,6 +2,7 @@
 #define BOUNCECAL_AUDIO_SRC_BAND_FILTER_H_
 
 #include <complex>
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -39,6 +40,12 @@ class BandFilter {
   // The same for all outputs: outputs[0] is the band, outputs[1 + i] the extra high-passes.
   void Process(std::span<const float> input, std::vector<std::vector<float>>& outputs);
   void Finish(std::vector<std::vector<float>>& outputs);
+  // Receives, for every block completed, each output's new samples in output order: a view of
+  // the filter's own buffer, valid only during the call, so a consumer can take them straight
+  // into its own storage without an intermediate copy.
+  using Sink = std::function<void(std::size_t output, std::span<const float> samples)>;
+  void Process(std::span<const float> input, const Sink& sink);
+  void Finish(const Sink& sink);
 
   const std::vector<float>& kernel() const { return kernel_; }
   std::size_t output_count() const { return kernel_spectra_.size(); }
@@ -46,7 +53,7 @@ class BandFilter {
   std::size_t max_latency_samples() const { return block_; }
 
  private:
-  void FilterBlock(std::vector<std::vector<float>>& outputs, size_t valid);
+  void FilterBlock(const Sink& sink, size_t valid);
 
   std::vector<float> kernel_;
   std::unique_ptr<RealFft> fft_;

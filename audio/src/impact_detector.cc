@@ -140,20 +140,10 @@ class ImpactDetector::Impl {
         secondary_threshold_db_(kSecondaryRiseFraction * options.rise_threshold_db),
         secondary_rise_ratio_(std::pow(10.0, 0.1 * secondary_threshold_db_) * (1.0 - 1e-6)),
         tail_ratio_(std::pow(10.0, 0.1 * options.rise_threshold_db)),
-        residual_(sample_rate_hz, options.band_low_hz, options.band_high_hz),
+        bands_(MakeBands()),
+        residual_(sample_rate_hz, options.band_low_hz, options.band_high_hz, &bands_[0].samples),
         residual_band_(filter_.output_count()) {
-    const auto ring = static_cast<std::size_t>(lookback_frames_ + max_open_frames_ + peak_frames_ +
-                                               attack_frames_ + 8);
-    // The windows of Rise: [m, n] and [m - lookback, m - skip].
-    const auto ahead_frames = static_cast<std::size_t>(attack_frames_ + 1);
-    const auto reference_frames = static_cast<std::size_t>(lookback_frames_ - skip_frames_ + 1);
-    for (std::size_t b = 0; b < filter_.output_count(); ++b) {
-      bands_.emplace_back(
-          static_cast<std::size_t>(Samples(kHistoryS)) + filter_.max_latency_samples(), ring,
-          frame_s_, ahead_frames, reference_frames);
-    }
-    // The ringing residual has no sample stream of its own: a token history.
-    bands_.emplace_back(1, ring, frame_s_, 1, 1);
+    sink_ = [this](std::size_t band, std::span<const float> samples) { Take(band, samples); };
     result_.sample_rate_hz = sample_rate_hz;
   }
 
@@ -164,15 +154,15 @@ class ImpactDetector::Impl {
     for (std::size_t at = 0; at < samples.size(); at += piece) {
       const auto part = samples.subspan(at, std::min(piece, samples.size() - at));
       raw_.PushBlock(part);
-      for (auto& block : blocks_) block.clear();
-      filter_.Process(part, blocks_);
+      delivered_ = 0;
+      filter_.Process(part, sink_);
       Consume();
     }
   }
 
   DetectionResult Finish() {
-    for (auto& block : blocks_) block.clear();
-    filter_.Finish(blocks_);
+    delivered_ = 0;
+    filter_.Finish(sink_);
     Consume();
     if (open_) CloseCandidate();
     EmitPending();
@@ -221,16 +211,59 @@ class ImpactDetector::Impl {
     NoiseFloor floor;
     double power = 0;                  // of the frame being filled
     std::vector<double> frame_powers;  // mean squares of the frames completed by this block
+    // Per frame of this block, the window maxima and the floor as they stood at that frame:
+    // Take runs the windows and the floor over the whole block in one tight loop per band, and
+    // OnFrame reads the state of the frame it examines from here.
+    std::vector<double> ahead_maxima;
+    std::vector<double> reference_maxima;
+    std::vector<double> floor_powers;
     double Power(std::int64_t frame) const {
       return frame_powers_ring[static_cast<std::size_t>(frame) & mask];
     }
     double Db(std::int64_t frame) const { return ToDb(Power(frame)); }
-    // Maxima of the attack window [m, n] and the lookback [m - lookback, m - skip] (see Rise).
+    // Maxima of the attack window [m, n] and the lookback [m - lookback, m - skip] (see Rise),
+    // as they stand after the block's last frame.
     WindowMax ahead;
     WindowMax reference;
     MaxDb ahead_db;
     MaxDb reference_db;
+    // The state at frame k of the block while Consume examines it (k >= 0), else the latest.
+    double AheadMax(std::ptrdiff_t k) const {
+      return k < 0 ? ahead.max() : ahead_maxima[static_cast<std::size_t>(k)];
+    }
+    double ReferenceMax(std::ptrdiff_t k) const {
+      return k < 0 ? reference.max() : reference_maxima[static_cast<std::size_t>(k)];
+    }
+    double FloorDb(std::ptrdiff_t k) const {
+      return k < 0 ? floor.db() : NoiseFloor::ToDb(floor_powers[static_cast<std::size_t>(k)]);
+    }
   };
+
+  // The detection bands (filter outputs) and, last, the ringing residual's band.
+  std::vector<Band> MakeBands() const {
+    // The frames a candidate and the windows read, plus a whole filter block: Take enters a
+    // block's frames before they are examined.
+    const auto ring = static_cast<std::size_t>(
+        lookback_frames_ + max_open_frames_ + peak_frames_ + attack_frames_ + 8 +
+        static_cast<std::int64_t>(filter_.max_latency_samples()) / hop_ + 1);
+    // The windows of Rise: [m, n] and [m - lookback, m - skip].
+    const auto ahead_frames = static_cast<std::size_t>(attack_frames_ + 1);
+    const auto reference_frames = static_cast<std::size_t>(lookback_frames_ - skip_frames_ + 1);
+    // A band's history holds a whole filter block ahead of the frames being examined; the main
+    // band's also serves the ringing residual, which reads its recent frames from it.
+    const auto picker_history = static_cast<std::size_t>(Samples(kHistoryS));
+    std::vector<Band> bands;
+    for (std::size_t b = 0; b < filter_.output_count(); ++b) {
+      const std::size_t history =
+          b == 0 ? std::max(picker_history, RingingResidual::HistorySamples(rate_))
+                 : picker_history;
+      bands.emplace_back(history + filter_.max_latency_samples(), ring, frame_s_, ahead_frames,
+                         reference_frames);
+    }
+    // The ringing residual has no sample stream of its own: a token history.
+    bands.emplace_back(1, ring, frame_s_, 1, 1);
+    return bands;
+  }
 
   static std::vector<double> DetectionBands(int rate, const DetectorOptions& options) {
     std::vector<double> edges;
@@ -250,94 +283,119 @@ class ImpactDetector::Impl {
     return std::max<std::int64_t>(1, std::llround(ms * 1e-3 * rate_ / static_cast<double>(hop_)));
   }
 
-  // Band by band (cache-friendly loops), then frame by frame: each band's history takes the
-  // whole block and its frame energies are collected before the frames are examined.
-  void Consume() {
-    const std::size_t count = blocks_.empty() ? 0 : blocks_[0].size();
-    const std::int64_t fill_at_start = frame_fill_;
-    for (std::size_t b = 0; b < blocks_.size(); ++b) {
-      Band& band = bands_[b];
-      band.samples.PushBlock(blocks_[b]);
-      band.frame_powers.clear();
-      const auto hop = static_cast<std::size_t>(hop_);
-      auto fill = static_cast<std::size_t>(fill_at_start);
-      double power = band.power;
-      for (std::size_t at = 0; at < count;) {
-        const std::size_t take = std::min(count - at, hop - fill);
-        power += SumOfSquares(std::span<const float>(blocks_[b]).subspan(at, take));
-        at += take;
-        fill += take;
-        if (fill == hop) {
-          band.frame_powers.push_back(power / static_cast<double>(hop_));
-          power = 0;
-          fill = 0;
-        }
-      }
-      band.power = power;
+  // One band's share of a filtered block, straight from the filter's buffer (no intermediate
+  // copy): its history takes the whole block and its frame energies are collected, band by
+  // band (cache-friendly loops), before Consume examines the frames. Every band's block covers
+  // the same samples, so each starts at the frame fill Consume left.
+  void Take(std::size_t b, std::span<const float> samples) {
+    Band& band = bands_[b];
+    band.samples.PushBlock(samples);
+    band.frame_powers.clear();
+    const auto hop = static_cast<std::size_t>(hop_);
+    auto fill = static_cast<std::size_t>(frame_fill_);
+    double power = band.power;
+    // The frame the last block left unfinished, the whole frames in a plain loop, and the start
+    // of the next one: the same sums in the same order as frame by frame.
+    std::size_t at = std::min(samples.size(), fill > 0 ? hop - fill : 0);
+    power += SumOfSquares(samples.first(at));
+    fill += at;
+    if (fill == hop) {
+      band.frame_powers.push_back(power / static_cast<double>(hop_));
+      power = 0;
+      fill = 0;
     }
-    // The residual is computed on the main band; each envelope frame records the latest
-    // residual frame that ended in it or before (a frame completed by a sample counts for that
-    // sample's envelope frame), and the noise under the ringing it held. The envelope frames are
-    // examined as they complete, so the residual still holds the frames they ask about.
-    const bool use_residual = options_.ringing_residual && !blocks_.empty();
-    std::int64_t fill = fill_at_start;
+    if (fill == 0) {
+      const std::size_t whole = (samples.size() - at) / hop;
+      const std::size_t first_frame = band.frame_powers.size();
+      band.frame_powers.resize(first_frame + whole);
+      for (std::size_t k = 0; k < whole; ++k, at += hop) {
+        band.frame_powers[first_frame + k] =
+            SumOfSquares(samples.subspan(at, hop)) / static_cast<double>(hop_);
+      }
+      power = SumOfSquares(samples.subspan(at));
+      fill = samples.size() - at;
+    }
+    band.power = power;
+    delivered_ = samples.size();
+    // The frame ring, the floor and the rise windows of the block's frames, and whether the
+    // band may rise there (see AnyBandMayRise): none of it depends on the decisions OnFrame
+    // makes, so it runs here in one loop per band instead of interleaved with them.
+    const std::size_t frames = band.frame_powers.size();
+    band.ahead_maxima.resize(frames);
+    band.reference_maxima.resize(frames);
+    band.floor_powers.resize(frames);
+    if (b == 0) may_rise_.assign(frames, 0);
+    for (std::size_t k = 0; k < frames; ++k) {
+      const auto n = static_cast<std::size_t>(frame_count_) + k;
+      band.frame_powers_ring[n & band.mask] = band.frame_powers[k];
+    }
+    band.floor.AddBlock(band.frame_powers, band.floor_powers.data());
+    // Rise of frame m = n - attack: the attack window [m, n] takes frame n, the lookback
+    // [m - lookback, m - skip] frame m - skip once that exists (see Rise). The ring holds
+    // those frames: the lookback's newest is at least attack + skip frames old.
+    band.ahead.PushBlock(band.frame_powers, band.ahead_maxima.data());
+    const std::int64_t lag = attack_frames_ + skip_frames_;
+    const auto before_first = static_cast<std::size_t>(
+        std::clamp<std::int64_t>(lag - frame_count_, 0, static_cast<std::int64_t>(frames)));
+    std::fill_n(band.reference_maxima.begin(), before_first, band.reference.max());
+    entering_.resize(frames - before_first);
+    for (std::size_t k = before_first; k < frames; ++k) {
+      entering_[k - before_first] = band.Power(frame_count_ + static_cast<std::int64_t>(k) - lag);
+    }
+    band.reference.PushBlock(entering_, band.reference_maxima.data() + before_first);
+    for (std::size_t k = 0; k < frames; ++k) {
+      may_rise_[k] |=
+          static_cast<char>(std::max(band.ahead_maxima[k], kTinyPower) >=
+                            secondary_rise_ratio_ * std::max(band.reference_maxima[k], kTinyPower));
+    }
+  }
+
+  // Frame by frame over the samples the filter delivered (see Take).
+  void Consume() {
+    const std::size_t count = delivered_;
+    // The residual is computed on the main band, which it reads from that band's history as far
+    // as it is advanced; each envelope frame records the latest residual frame that ended in it
+    // or before (a frame completed by a sample counts for that sample's envelope frame), and
+    // the noise under the ringing it held. The envelope frames are examined as they complete,
+    // so the residual still holds the frames they ask about.
+    const bool use_residual = options_.ringing_residual;
+    std::int64_t fill = frame_fill_;
     std::size_t frame = 0;
-    const std::span<const float> block(blocks_.empty() ? std::span<const float>()
-                                                       : std::span<const float>(blocks_[0]));
     for (std::size_t at = 0; at < count;) {
       std::size_t run = std::min(count - at, static_cast<std::size_t>(hop_ - fill));
       if (use_residual) {
         run = std::min(run, residual_.samples_to_frame());
-        if (residual_.PushRun(block.subspan(at, run))) {
-          residual_noise_power_ = residual_.noise_power();
-        }
+        if (residual_.Advance(run)) residual_noise_power_ = residual_.noise_power();
       }
       at += run;
       fill += static_cast<std::int64_t>(run);
       if (fill == hop_) {
-        OnFrame(frame++);
+        frame_in_block_ = static_cast<std::ptrdiff_t>(frame++);
+        OnFrame();
         fill = 0;
       }
     }
+    frame_in_block_ = -1;
     frame_fill_ = fill;
   }
 
   // Rise of frame m = n - attack of one band: its loudest frame in the attack window [m, n]
-  // against the loudest frame of the lookback [m - lookback, m - skip].
-  void UpdateWindows(Band& band, std::int64_t n) const {
-    const std::int64_t m = n - attack_frames_;
-    band.ahead.Push(band.Power(n));
-    const std::int64_t entering = m - skip_frames_;
-    if (entering >= 0) band.reference.Push(band.Power(entering));
-  }
-  static double Rise(Band& band) {
-    return band.ahead_db(band.ahead.max()) - band.reference_db(band.reference.max());
+  // against the loudest frame of the lookback [m - lookback, m - skip] (windows kept by Take).
+  double Rise(Band& band) const {
+    return band.ahead_db(band.AheadMax(frame_in_block_)) -
+           band.reference_db(band.ReferenceMax(frame_in_block_));
   }
   // Whether some band's rise might reach the secondary threshold, tested on the powers: outside
   // candidates the rises only matter there, and the dB conversions they need were a third of
   // OnFrame (the attack window's maximum changes almost every frame in noise). The margin
   // covers PowerToDb's 1e-9 dB, so every frame whose rise in dB reaches the threshold passes
   // and the decisions are exactly those of comparing every rise.
-  bool AnyBandMayRise() const {
-    for (std::size_t b = 0; b < residual_band_; ++b) {
-      const Band& band = bands_[b];
-      if (std::max(band.ahead.max(), kTinyPower) >=
-          secondary_rise_ratio_ * std::max(band.reference.max(), kTinyPower)) {
-        return true;
-      }
-    }
-    return false;
-  }
+  // (Computed band by band in Take.)
+  bool AnyBandMayRise() const { return may_rise_[static_cast<std::size_t>(frame_in_block_)] != 0; }
 
-  void OnFrame(std::size_t block_frame) {
+  // Frame frame_in_block_ of the block: the detection bands' frames are already entered (Take).
+  void OnFrame() {
     const std::int64_t n = frame_count_++;
-    for (std::size_t b = 0; b < residual_band_; ++b) {
-      Band& band = bands_[b];
-      const double power = band.frame_powers[block_frame];
-      band.frame_powers_ring[static_cast<std::size_t>(n) & band.mask] = power;
-      band.floor.Add(power);
-      UpdateWindows(band, n);
-    }
     {
       // The residual band holds the latest residual frame (its novelty is computed only where
       // it is asked for, see ResidualNoveltyDb) and, as its floor, the noise under the ringing;
@@ -375,13 +433,14 @@ class ImpactDetector::Impl {
       // clearly apart, in dB only within a margin around the threshold that covers
       // PowerToDb's 1e-9 dB: the same decision as in dB, without the conversions and their
       // data-dependent branches in every frame.
-      const double reference = std::max(bands_[0].reference.max(), kTinyPower);
+      const double reference = std::max(bands_[0].ReferenceMax(frame_in_block_), kTinyPower);
       const double floor = std::max(residual.floor.power(), kTinyPower) * tail_ratio_;
       if (reference >= floor * (1.0 + 1e-6)) {
         tail_present = true;
       } else if (reference >= floor * (1.0 - 1e-6)) {
-        tail_present = bands_[0].reference_db(bands_[0].reference.max()) - residual.floor.db() >=
-                       options_.rise_threshold_db;
+        tail_present =
+            bands_[0].reference_db(bands_[0].ReferenceMax(frame_in_block_)) - residual.floor.db() >=
+            options_.rise_threshold_db;
       }
     }
     const double novelty_rise_db =
@@ -487,7 +546,7 @@ class ImpactDetector::Impl {
     for (std::int64_t i = candidate_frame_ + 1; i <= last_frame; ++i) {
       band_peak_db = std::max(band_peak_db, band.Db(i));
     }
-    const double snr_db = band_peak_db - band.floor.db();
+    const double snr_db = band_peak_db - band.FloorDb(frame_in_block_);
     // Under continuous ringing the minimum-statistics floor of every band is the ringing, not
     // the noise; the ringing residual's floor stays at the noise, so passing in it also counts.
     // snr_db itself stays the band's, so the channel choice compares like with like.
@@ -654,8 +713,11 @@ class ImpactDetector::Impl {
   DetectorOptions options_;
   BandFilter filter_;
   SampleHistory<float> raw_;
-  std::vector<std::vector<float>> blocks_;
-  std::vector<Band> bands_;
+  BandFilter::Sink sink_;               // Take, for the filter
+  std::size_t delivered_ = 0;           // samples of the block the filter delivered last (0: none)
+  std::vector<char> may_rise_;          // per frame of the block: some band may rise (see Take)
+  std::vector<double> entering_;        // Take's scratch: the frames entering a band's lookback
+  std::ptrdiff_t frame_in_block_ = -1;  // the frame Consume examines, -1 outside
   std::vector<float> window_;
   std::int64_t hop_;
   double frame_s_;
@@ -667,6 +729,8 @@ class ImpactDetector::Impl {
   double secondary_threshold_db_;
   double secondary_rise_ratio_;  // its power ratio, less a margin (see AnyBandMayRise)
   double tail_ratio_;            // the power ratio of rise_threshold_db (see OnFrame)
+  // Declared after the members MakeBands reads; the residual reads bands_[0]'s history.
+  std::vector<Band> bands_;
   RingingResidual residual_;
   std::size_t residual_band_;
   double residual_noise_power_ = std::numeric_limits<double>::quiet_NaN();

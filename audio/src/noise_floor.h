@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <span>
 #include <vector>
 
 namespace bouncecal::audio {
@@ -28,8 +29,13 @@ class NoiseFloor {
     }
     if (++filled_ == subwindow_frames_) Rotate();
   }
+  // Add for each of powers in turn, writing power() after each to floors (as many): the state
+  // in locals between the sub-window rotations, not a chain through the members.
+  void AddBlock(std::span<const double> powers, double* floors);
   // The floor in dB re full scale (power 1); -140 dB for digital silence.
   double db() const;
+  // The dB db() gives for a floor of this power (as read from power()).
+  static double ToDb(double power);
   // The floor as a power (before the -140 dB clamp of db()); 0 before the first Add.
   double power() const {
     double floor = started_ ? current_min_ : 0.0;

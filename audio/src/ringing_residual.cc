@@ -28,13 +28,42 @@ constexpr double kLookbackS = 0.02;
 constexpr float kTinyPower = 1e-30f;
 // Lower quartile of an exponential distribution (the power of a noise bin): ln(4/3) of its mean.
 constexpr double kQuartileOfMean = 0.28768207245178085;
+// A frame whose window overlaps the current one by more than half shares the onset's samples,
+// so the reference skips it: with a hop of a third, the frame just before.
+constexpr std::size_t kSkipFrames = (kHopsPerWindow - 1) / 2;
+
+// The power of two within a factor 2/3 .. 4/3 of kWindowS.
+int WindowOf(int sample_rate_hz) {
+  return std::max(kMinWindow, static_cast<int>(std::bit_floor(static_cast<unsigned>(
+                                  std::lround(1.5 * kWindowS * sample_rate_hz)))));
+}
+
+std::size_t LookbackFramesOf(int sample_rate_hz, int hop) {
+  return std::max<std::size_t>(
+      2, static_cast<std::size_t>(std::lround(kLookbackS * sample_rate_hz / hop)));
+}
+
+// A power of two, so a frame's slot is a mask, not a 64-bit division (which took 15 % of
+// Powers).
+std::size_t SlotsOf(std::size_t lookback_frames) {
+  return std::bit_ceil(lookback_frames + kSkipFrames + 1 +
+                       static_cast<std::size_t>(RingingResidual::kMaxQueryAgeFrames));
+}
 
 }  // namespace
 
-RingingResidual::RingingResidual(int sample_rate_hz, double band_low_hz, double band_high_hz)
-    // The power of two within a factor 2/3 .. 4/3 of kWindowS.
-    : window_(std::max(kMinWindow, static_cast<int>(std::bit_floor(static_cast<unsigned>(
-                                       std::lround(1.5 * kWindowS * sample_rate_hz)))))),
+std::size_t RingingResidual::HistorySamples(int sample_rate_hz) {
+  // The oldest frame a slot can hold starts slots * hop samples before the newest one, which
+  // ends a window after its start; a run pushed at once is at most a window.
+  const int window = WindowOf(sample_rate_hz);
+  const int hop = window / kHopsPerWindow;
+  return SlotsOf(LookbackFramesOf(sample_rate_hz, hop)) * static_cast<std::size_t>(hop) +
+         static_cast<std::size_t>(window);
+}
+
+RingingResidual::RingingResidual(int sample_rate_hz, double band_low_hz, double band_high_hz,
+                                 const SampleHistory<float>* source)
+    : window_(WindowOf(sample_rate_hz)),
       hop_(window_ / kHopsPerWindow),
       taper_(static_cast<std::size_t>(window_)),
       fft_(window_) {
@@ -47,19 +76,15 @@ RingingResidual::RingingResidual(int sample_rate_hz, double band_low_hz, double 
           ? std::min(all_bins, static_cast<std::size_t>(std::floor(band_high_hz / bin_hz)) + 1)
           : all_bins - 1;  // the Nyquist bin is real-only: half the statistics of the others
   bins_ = end_bin > first_bin_ ? end_bin - first_bin_ : 0;
-  // A frame whose window overlaps the current one by more than half shares the onset's
-  // samples, so the reference skips it: with a hop of a third, the frame just before.
-  skip_frames_ = static_cast<std::size_t>((kHopsPerWindow - 1) / 2);
-  lookback_frames_ = std::max<std::size_t>(
-      2, static_cast<std::size_t>(std::lround(kLookbackS * sample_rate_hz / hop_)));
-  // A power of two, so a frame's slot is a mask, not a 64-bit division (which took 15 % of
-  // Powers).
-  slots_.resize(std::bit_ceil(lookback_frames_ + skip_frames_ + 1 + kMaxQueryAgeFrames));
-  // The oldest frame a slot can hold starts slots * hop samples before the newest one, which
-  // ends window_ samples after its start; a run pushed at once is at most a window.
-  stream_keep_ = slots_.size() * static_cast<std::size_t>(hop_) + static_cast<std::size_t>(window_);
-  // Four times that, so compaction copies about a third of the samples it makes room for.
-  stream_.reserve(4 * stream_keep_);
+  skip_frames_ = kSkipFrames;
+  lookback_frames_ = LookbackFramesOf(sample_rate_hz, hop_);
+  slots_.resize(SlotsOf(lookback_frames_));
+  history_samples_ = HistorySamples(sample_rate_hz);
+  if (source == nullptr) {
+    own_.emplace(history_samples_ + static_cast<std::size_t>(window_));
+    source = &*own_;
+  }
+  source_ = source;
   powers_.assign(slots_.size() * bins_, 0.0f);
   reference_.assign(bins_, 0.0f);
   // Periodic Hann window: its low side lobes keep a loud mode out of the neighbouring bins.
@@ -88,14 +113,6 @@ void RingingResidual::CompleteFrame() {
   fill_ = window_ - hop_;
 }
 
-void RingingResidual::Compact() {
-  if (stream_.size() <= stream_keep_) return;
-  const std::size_t drop = stream_.size() - stream_keep_;
-  std::copy(stream_.begin() + static_cast<std::ptrdiff_t>(drop), stream_.end(), stream_.begin());
-  stream_.resize(stream_keep_);
-  stream_begin_ += static_cast<std::int64_t>(drop);
-}
-
 bool RingingResidual::Valid(std::int64_t frame) const {
   // The reference of frame t is the lookback ending skip + 1 frames before it.
   const std::int64_t j = frame - static_cast<std::int64_t>(skip_frames_) - 1;
@@ -106,9 +123,14 @@ const float* RingingResidual::Powers(std::int64_t frame) {
   const std::size_t slot = SlotOf(frame);
   float* powers = powers_.data() + slot * bins_;
   if (slots_[slot].spectrum_frame == frame) return powers;
-  const float* samples = stream_.data() + (frame * hop_ - stream_begin_);
+  // The window in at most two views, where the source's ring wraps.
   auto real = fft_.real();
-  for (std::size_t i = 0; i < taper_.size(); ++i) real[i] = samples[i] * taper_[i];
+  const std::int64_t start = frame * hop_;
+  for (std::size_t i = 0; i < taper_.size();) {
+    const auto view = source_->Contiguous(start + static_cast<std::int64_t>(i), taper_.size() - i);
+    for (std::size_t k = 0; k < view.size(); ++k) real[i + k] = view[k] * taper_[i + k];
+    i += view.size();
+  }
   fft_.Forward();
   const auto spectrum = fft_.spectrum();
   for (std::size_t k = 0; k < bins_; ++k) powers[k] = std::norm(spectrum[first_bin_ + k]);

@@ -3,10 +3,12 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "real_fft.h"
+#include "sample_history.h"
 
 namespace bouncecal::audio {
 
@@ -37,24 +39,40 @@ class RingingResidual {
   // enough to resolve most plate modes, and short against the 30 ms of the shortest bounce
   // flights worth timing. Hop a third of it. Bins outside [band_low_hz, band_high_hz]
   // (band_high_hz <= 0: up to Nyquist) are ignored.
-  RingingResidual(int sample_rate_hz, double band_low_hz, double band_high_hz);
+  //
+  // With a source, the residual keeps no samples of its own: the caller pushes the signal into
+  // that history (which must hold at least history_samples() samples before the newest one the
+  // residual was advanced to, plus whatever the caller pushes ahead of it) and tells the
+  // residual how far to read with Advance(). Without one, Push/PushRun keep a history inside.
+  RingingResidual(int sample_rate_hz, double band_low_hz, double band_high_hz,
+                  const SampleHistory<float>* source = nullptr);
+  RingingResidual(const RingingResidual&) = delete;
+  RingingResidual& operator=(const RingingResidual&) = delete;
 
   int window_samples() const { return window_; }
   int hop_samples() const { return hop_; }
   // Feeds one sample (of the band-filtered signal); true when a frame completed. Its results are
-  // then read from novelty_db(), noise_power() and valid().
+  // then read from novelty_db(), noise_power() and valid(). Only without a source.
   bool Push(float sample) { return PushRun({&sample, 1}); }
   // Samples still needed to complete the next frame.
   std::size_t samples_to_frame() const { return static_cast<std::size_t>(window_ - fill_); }
-  // Feeds at most samples_to_frame() samples at once; true when they completed a frame.
+  // Feeds at most samples_to_frame() samples at once; true when they completed a frame. Only
+  // without a source.
   bool PushRun(std::span<const float> samples) {
-    if (stream_.size() + samples.size() > stream_.capacity()) Compact();
-    stream_.insert(stream_.end(), samples.begin(), samples.end());
-    fill_ += static_cast<int>(samples.size());
+    own_->PushBlock(samples);
+    return Advance(samples.size());
+  }
+  // With a source: the next `count` (at most samples_to_frame()) samples are in it; true when
+  // they completed a frame.
+  bool Advance(std::size_t count) {
+    fill_ += static_cast<int>(count);
     if (fill_ < window_) return false;
     CompleteFrame();
     return true;
   }
+  // How many of the newest samples a source must hold (see the constructor).
+  std::size_t history_samples() const { return history_samples_; }
+  static std::size_t HistorySamples(int sample_rate_hz);
   // Index of the latest completed frame (0, 1, ...), -1 before the first.
   std::int64_t latest_frame() const { return frames_ - 1; }
   // Mean over the band's bins of max(0, rise in dB of the bin over its loudest value in the
@@ -84,7 +102,6 @@ class RingingResidual {
     double novelty_db = 0;
   };
   void CompleteFrame();
-  void Compact();  // drops the stream samples no queryable frame needs
   bool Valid(std::int64_t frame) const;
   std::size_t SlotOf(std::int64_t frame) const {
     return static_cast<std::size_t>(frame) & (slots_.size() - 1);
@@ -100,13 +117,12 @@ class RingingResidual {
   std::size_t lookback_frames_ = 0;
   std::size_t skip_frames_ = 0;
   std::vector<float> taper_;
-  // The recent input, appended in place: frame t is stream_[t * hop - stream_begin_ ...] for
-  // window_ samples. A frame's window is read from here only when its spectrum is needed
-  // (copying every window out and shifting a frame buffer cost 5 float copies per sample).
-  // When the capacity is reached the samples older than every queryable frame are dropped.
-  std::vector<float> stream_;
-  std::int64_t stream_begin_ = 0;  // absolute index of stream_[0]
-  std::size_t stream_keep_ = 0;    // samples the oldest queryable frame can need
+  // The band-filtered input, read in place when a frame's spectrum is needed (copying every
+  // window out cost 5 float copies per sample, keeping a stream of our own one more): frame t
+  // is samples [t * hop, t * hop + window) of *source_, which is own_ without a caller's source.
+  std::size_t history_samples_ = 0;  // samples the oldest queryable frame can need
+  std::optional<SampleHistory<float>> own_;
+  const SampleHistory<float>* source_ = nullptr;
   // Per slot (a ring of the last lookback + skip + 1 + kMaxQueryAgeFrames frames): its band's
   // bin powers once computed.
   std::vector<Slot> slots_;

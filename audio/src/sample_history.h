@@ -43,6 +43,14 @@ class SampleHistory {
     const auto capacity = static_cast<std::int64_t>(buffer_.size());
     return count_ > capacity ? count_ - capacity : 0;
   }
+  std::size_t capacity() const { return buffer_.size(); }
+  // The held samples from `index` on, at most `count` of them, as far as they are contiguous in
+  // the ring (so fewer when it wraps): readers of a long run take it in at most two views.
+  std::span<const T> Contiguous(std::int64_t index, std::size_t count) const {
+    assert(index >= begin() && index + static_cast<std::int64_t>(count) <= end());
+    const std::size_t at = static_cast<std::size_t>(index) & mask_;
+    return {buffer_.data() + at, std::min(count, buffer_.size() - at)};
+  }
   T operator[](std::int64_t index) const {
     assert(index >= begin() && index < end());
     return buffer_[static_cast<std::size_t>(index) & mask_];

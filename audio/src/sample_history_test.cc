@@ -28,5 +28,25 @@ TEST(SampleHistory, PushBlockHoldsWhatSinglePushesHold) {
   }
 }
 
+// Contiguous views stop at the ring's wrap and never beyond the count asked for; reading runs
+// view by view gives every held sample once, in order.
+TEST(SampleHistory, ContiguousViewsSplitOnlyWhereTheRingWraps) {
+  SampleHistory<float> history(16);
+  for (int i = 0; i < 37; ++i) history.Push(static_cast<float>(i));
+  // Held: 21..36, stored from slot 5 (21 & 15) to the end and on from slot 0.
+  EXPECT_EQ(history.Contiguous(21, 16).size(), 11u);
+  EXPECT_EQ(history.Contiguous(21, 4).size(), 4u);
+  EXPECT_EQ(history.Contiguous(32, 5).size(), 5u);
+  std::vector<float> read;
+  for (std::int64_t at = history.begin(); at < history.end();) {
+    const auto view = history.Contiguous(at, static_cast<std::size_t>(history.end() - at));
+    ASSERT_FALSE(view.empty());
+    read.insert(read.end(), view.begin(), view.end());
+    at += static_cast<std::int64_t>(view.size());
+  }
+  ASSERT_EQ(read.size(), 16u);
+  for (std::size_t i = 0; i < read.size(); ++i) EXPECT_EQ(read[i], static_cast<float>(21 + i));
+}
+
 }  // namespace
 }  // namespace bouncecal::audio

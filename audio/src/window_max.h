@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <limits>
+#include <span>
 #include <vector>
 
 namespace bouncecal::audio {
@@ -37,6 +38,36 @@ class WindowMax {
       max_ = std::max(suffix_[position_ + 1], prefix_);
       ++position_;
     }
+  }
+  // Push for each of values in turn, writing max() after each to maxima (as many): the state in
+  // locals, so a block of pushes is not a chain of stores and reloads through the members.
+  void PushBlock(std::span<const double> values, double* maxima) {
+    double prefix = prefix_;
+    double max = max_;
+    std::size_t position = position_;
+    double* block = values_.data();
+    double* suffix_maxima = suffix_.data();
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      const double value = values[i];
+      prefix = position == 0 ? value : std::max(prefix, value);
+      block[position] = value;
+      if (position + 1 == window_) {
+        max = prefix;
+        double suffix = -std::numeric_limits<double>::infinity();
+        for (std::size_t j = window_; j-- > 0;) {
+          suffix = std::max(suffix, block[j]);
+          suffix_maxima[j] = suffix;
+        }
+        position = 0;
+      } else {
+        max = std::max(suffix_maxima[position + 1], prefix);
+        ++position;
+      }
+      maxima[i] = max;
+    }
+    prefix_ = prefix;
+    max_ = max;
+    position_ = position;
   }
   // Of the last `window` values pushed (of all of them while fewer were pushed; minus infinity
   // before the first).
