@@ -132,7 +132,7 @@ TEST(DetectorGroundTruth, TimingAndRecallAcrossSnr) {
 // hide under it (HiddenEdgeSigma in onset_picker.h, docs/onset_timing.md), and not uselessly
 // inflated on clean audio. Pooled over seeds 17 and 1-4 (65 impacts per SNR, so one impact moves
 // the fraction by 1.5 %). Coverage: at every SNR at least 70 % of the found impacts lie within
-// 2 sigma (95 % for exact Gaussian errors). Measured 100, 85, 75, 80 % at 40, 30, 20, 10 dB
+// 2 sigma (95 % for exact Gaussian errors). Measured 100, 85, 75, 75 % at 40, 30, 20, 10 dB
 // (98, 71, 51, 46 % before the hidden-edge term); the misses left are impacts whose whole first
 // lobe drowned, picked 2-7 samples late on the second, which no term of the fitted edge can see.
 // 70 % is one binomial standard deviation (5 %) below the lowest measured fraction. Inflation:
