@@ -24,6 +24,8 @@ struct Score {
   double median_abs_error_s = 0;
   double p90_abs_error_s = 0;
   double median_signed_error_s = 0;
+  int within_two_sigma = 0;      // found impacts with |error| <= 2 onset_uncertainty_s
+  std::vector<double> sigmas_s;  // onset_uncertainty_s of the found impacts
 };
 
 // A detection belongs to a truth impact if it is within 1 ms: far below the shortest flight
@@ -36,10 +38,18 @@ Score Compare(const std::vector<Impact>& detected, const std::vector<double>& tr
   std::vector<double> errors;
   for (double t : truth_s) {
     double best = 1e9;
+    double sigma = 0;
     for (const auto& impact : detected) {
-      if (std::fabs(impact.onset_s - t) < std::fabs(best)) best = impact.onset_s - t;
+      if (std::fabs(impact.onset_s - t) < std::fabs(best)) {
+        best = impact.onset_s - t;
+        sigma = impact.onset_uncertainty_s;
+      }
     }
-    if (std::fabs(best) < kMatchS) errors.push_back(best);
+    if (std::fabs(best) < kMatchS) {
+      errors.push_back(best);
+      score.sigmas_s.push_back(sigma);
+      if (std::fabs(best) <= 2 * sigma) ++score.within_two_sigma;
+    }
   }
   for (const auto& impact : detected) {
     bool near = false;
@@ -115,6 +125,50 @@ TEST(DetectorGroundTruth, TimingAndRecallAcrossSnr) {
     EXPECT_GE(score.found, snr_db >= 30 ? score.truth : score.truth - 1) << snr_db;
     EXPECT_LE(score.extra, 1) << snr_db;
     EXPECT_LT(score.median_abs_error_s, MedianBound(snr_db)) << snr_db;
+  }
+}
+
+// The stated onset uncertainty must be honest in noise, where the first samples of the edge
+// hide under it (HiddenEdgeSigma in onset_picker.h, docs/onset_timing.md), and not uselessly
+// inflated on clean audio. Pooled over seeds 17 and 1-4 (65 impacts per SNR, so one impact moves
+// the fraction by 1.5 %). Coverage: at every SNR at least 70 % of the found impacts lie within
+// 2 sigma (95 % for exact Gaussian errors). Measured 100, 85, 75, 75 % at 40, 30, 20, 10 dB
+// (98, 71, 51, 46 % before the hidden-edge term); the misses left are impacts whose whole first
+// lobe drowned, picked 2-7 samples late on the second, which no term of the fitted edge can see.
+// 70 % is one binomial standard deviation (5 %) below the lowest measured fraction. Inflation:
+// the median sigma at 40 dB stays <= 15 us, the bias of the change point alone (docs/
+// onset_timing.md), so the stated sigma still credits the fit with beating the change point;
+// measured 12.2 us (7.0 us before; median |error| there 3-8 us over seeds).
+TEST(DetectorGroundTruth, OnsetUncertaintyCoversTheErrorAtEverySnr) {
+  constexpr double kMinCoverage = 0.70;
+  constexpr double kCleanMedianSigmaS = 15e-6;
+  for (double snr_db : {40.0, 30.0, 20.0, 10.0}) {
+    int found = 0;
+    int covered = 0;
+    std::vector<double> sigmas_s;
+    for (unsigned seed : {17u, 1u, 2u, 3u, 4u}) {
+      auto options = Reference(snr_db);
+      options.seed = seed;
+      const auto synthesized = SynthesizeBounces(options);
+      const auto detection = DetectImpacts(synthesized.channels[0]);
+      const auto score = Compare(detection.impacts, synthesized.BallImpactOnsetsS());
+      std::printf("[ figures  ] snr %2.0f dB seed %2u  within 2 sigma %2d/%2d\n", snr_db, seed,
+                  score.within_two_sigma, score.found);
+      found += score.found;
+      covered += score.within_two_sigma;
+      sigmas_s.insert(sigmas_s.end(), score.sigmas_s.begin(), score.sigmas_s.end());
+    }
+    ASSERT_GT(found, 0) << snr_db;
+    std::sort(sigmas_s.begin(), sigmas_s.end());
+    const double median_sigma_s = sigmas_s[sigmas_s.size() / 2];
+    const double coverage = static_cast<double>(covered) / found;
+    std::printf(
+        "[ figures  ] snr %2.0f dB  within 2 sigma %2d/%2d (%.0f %%)  median sigma %.1f us\n",
+        snr_db, covered, found, 100 * coverage, median_sigma_s * 1e6);
+    EXPECT_GE(coverage, kMinCoverage) << snr_db;
+    if (snr_db >= 40) {
+      EXPECT_LE(median_sigma_s, kCleanMedianSigmaS);
+    }
   }
 }
 

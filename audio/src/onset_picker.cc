@@ -41,6 +41,8 @@ constexpr double kCoarseStep = 1.0 / 8;
 constexpr double kCoarsePowerStep = 0.25;
 constexpr double kFineStep = 1.0 / 64;
 constexpr double kFinePowerStep = 0.05;
+// rms distance from one end of a span to a point spread evenly over it, per unit of its length.
+constexpr double kHiddenSpanToSigma = 0.57735026918962576;  // 1 / sqrt(3)
 
 // Weighted least-squares fit of y ~ a u^p (a >= 0) for fixed t0 and several p at once, with
 // u_i = i - t0 and weights 1 / variance_i.
@@ -84,6 +86,18 @@ class EdgeModel {
     return best;
   }
 
+  // Least-squares amplitude a of y ~ a u^p at t0 and p (0 when the edge would fall).
+  double Amplitude(double t0, double p) const {
+    double wyu = 0, wuu = 0;
+    for (std::size_t i = 0; i < y_.size(); ++i) {
+      const double u = first_ + static_cast<double>(i) - t0;
+      const double up = u > 0 ? std::pow(u, p) : 0.0;
+      wyu += weight_[i] * y_[i] * up;
+      wuu += weight_[i] * up * up;
+    }
+    return wuu > 0 && wyu > 0 ? wyu / wuu : 0.0;
+  }
+
  private:
   std::vector<double> y_;
   std::vector<double> weight_;
@@ -94,6 +108,14 @@ class EdgeModel {
 };
 
 }  // namespace
+
+// The edge a (i - t0)^p stays below kLobeNoiseSigmas noise sigmas, where by the picker's own
+// lobe rule a sample cannot be told from noise, for tau = (k sigma_n / a)^(1/p) samples after
+// t0. k = 4 rather than, say, 2, because that is the rule that decided where the lobe begins.
+double HiddenEdgeSamples(double amplitude, double power, double noise_rms) {
+  if (!(amplitude > 0) || !(noise_rms > 0) || !(power > 0)) return 0.0;
+  return std::pow(kLobeNoiseSigmas * noise_rms / amplitude, 1.0 / power);
+}
 
 std::optional<OnsetPick> FitLeadingEdge(std::span<const float> x, std::size_t change_point,
                                         double noise_rms) {
@@ -178,6 +200,7 @@ std::optional<OnsetPick> FitLeadingEdge(std::span<const float> x, std::size_t ch
     if (cost < best_cost) {
       best_cost = cost;
       best_t0 = t0;
+      best_p = p;
     }
   }
 
@@ -199,9 +222,17 @@ std::optional<OnsetPick> FitLeadingEdge(std::span<const float> x, std::size_t ch
   while (hi + 1 < profile.size() && profile[hi + 1] <= level) ++hi;
   const double interval_begin = lo > 0 ? crossing(lo, lo - 1) : t_begin;
   const double interval_end = hi + 1 < profile.size() ? crossing(hi, hi + 1) : t_end;
+  const double profile_sigma = std::max(0.5 * (interval_end - interval_begin), kFineStep);
   OnsetPick pick;
   pick.index = best_t0;
-  pick.sigma_samples = std::max(0.5 * (interval_end - interval_begin), kFineStep);
+  // Neither the change point nor the fit sees inside the hidden span: contact may have begun
+  // anywhere in it. It cannot reach past the first visible sample. The fit's origin sits at the
+  // span's late end (the noise samples in the fit pull it there; the errors the profile misses
+  // are late ones), so the rms distance to an onset spread evenly over the span is tau/sqrt(3).
+  const double hidden_samples =
+      std::min(HiddenEdgeSamples(model.Amplitude(best_t0, best_p), best_p, noise_rms),
+               static_cast<double>(first) - best_t0);
+  pick.sigma_samples = std::hypot(profile_sigma, kHiddenSpanToSigma * hidden_samples);
   return pick;
 }
 
@@ -258,6 +289,23 @@ OnsetPick PickOnset(std::span<const float> x, std::size_t search_begin, std::siz
   // Trust the fit only where it agrees with the change point.
   if (!edge || edge->index < static_cast<double>(best_k) - 4.0 ||
       edge->index > static_cast<double>(best_k) + 1.0) {
+    // No fitted edge: an edge with the prior's power through the largest sample after the
+    // change point, visible from the change point on, stands for it. It reaches k sigma_n at a
+    // fraction r = (k sigma_n / peak)^(1/p) of its rise, so the span hidden before the change
+    // point is r (peak - change point) / (1 - r); it is cut at the kNoiseSamplesInFit samples
+    // the fit would search, beyond which the change point would have seen the impact.
+    std::size_t top = best_k;
+    for (std::size_t i = best_k; i < std::min(n, std::max(search_end, best_k + 1)); ++i) {
+      if (std::fabs(x[i]) > std::fabs(x[top])) top = i;
+    }
+    const double cap = static_cast<double>(kNoiseSamplesInFit);
+    const double r =
+        std::fabs(x[top]) > 0
+            ? std::pow(kLobeNoiseSigmas * noise_rms / std::fabs(x[top]), 1.0 / kPowerPrior)
+            : 1.0;
+    const double hidden_samples =
+        r < 1 ? std::min(cap, r * static_cast<double>(top - best_k) / (1 - r)) : cap;
+    pick.sigma_samples = std::hypot(pick.sigma_samples, kHiddenSpanToSigma * hidden_samples);
     return pick;
   }
   pick.index = edge->index;

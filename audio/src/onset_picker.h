@@ -39,11 +39,18 @@ OnsetPick PickOnset(std::span<const float> window, std::size_t search_begin,
 // physics above) that the data overrule when they can (an impulsive onset in clean audio).
 // Each sample's variance is the noise's plus 5 % of the sample for the model's own error. The
 // uncertainty is the half-width of the profile-likelihood interval (cost within 1 of its minimum)
-// in t0. A lobe that jumps from clean noise to half its extremum in one sample has no edge to
-// fit: the onset is then put in the middle of the sample interval before it (+- 1/sqrt(12)).
-// Returns nothing when no lobe stands 4 noise_rms above the noise near change_point.
+// in t0, combined in quadrature with the rms spread over the span the edge spends hidden in the
+// noise (HiddenEdgeSamples, cut at the first visible sample), which the profile cannot see. A lobe
+// that jumps from clean noise to half its extremum in one sample has no edge to fit: the onset is
+// then put in the middle of the sample interval before it (+- 1/sqrt(12)). Returns nothing when no
+// lobe stands 4 noise_rms above the noise near change_point.
 std::optional<OnsetPick> FitLeadingEdge(std::span<const float> x, std::size_t change_point,
                                         double noise_rms);
+
+// Samples after t0 during which an edge y = amplitude (i - t0)^power stays below the picker's
+// lobe threshold of 4 noise_rms, i.e. hidden in the noise; 0 without noise. The picker adds the
+// rms spread over this span (cut at the first visible sample) to the stated uncertainty.
+double HiddenEdgeSamples(double amplitude, double power, double noise_rms);
 
 }  // namespace bouncecal::audio
 

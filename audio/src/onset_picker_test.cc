@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -98,6 +99,40 @@ TEST(OnsetPicker, DigitalSilenceBeforeTheEdgeIsHandled) {
   EXPECT_TRUE(std::isfinite(pick.index));
   EXPECT_NEAR(pick.index, onset, 0.1);
   EXPECT_GT(pick.sigma_samples, 0.0);
+}
+
+// The hidden span is where the edge a u^p is still below 4 noise sigmas: it solves
+// a tau^p = 4 sigma_n exactly (to rounding: 1e-12), grows as (sigma_n / a)^(1/p), and is 0
+// without noise or without an edge.
+TEST(OnsetPicker, HiddenEdgeSpanIsWhereTheEdgeIsBelowFourNoiseSigmas) {
+  for (double power : {1.0, 3.0, 3.5}) {
+    const double amplitude = 2e-3;
+    const double noise_rms = 1e-2;
+    const double tau = HiddenEdgeSamples(amplitude, power, noise_rms);
+    EXPECT_NEAR(amplitude * std::pow(tau, power), 4 * noise_rms, 1e-12) << power;
+    EXPECT_NEAR(HiddenEdgeSamples(amplitude, power, 8 * noise_rms) / tau,
+                std::pow(8.0, 1.0 / power), 1e-12)
+        << power;
+  }
+  EXPECT_EQ(HiddenEdgeSamples(1.0, 3.0, 0.0), 0.0);
+  EXPECT_EQ(HiddenEdgeSamples(0.0, 3.0, 1e-3), 0.0);
+}
+
+// In noise the edge's first samples hide, and the stated sigma must say so (HiddenEdgeSamples):
+// the same t^3 edges as above with the lobe only 20 dB over the noise, 200 realisations. At least
+// 90 % within 2 sigma (95 % for exact Gaussian errors; the binomial spread over 200 trials is
+// 1.5 %): measured 96.5 %, and 80.5 % without the hidden-edge term, which this bound rejects.
+TEST(OnsetPicker, EdgesDeepInNoiseStateAnHonestUncertainty) {
+  int covered = 0;
+  constexpr int kTrials = 200;
+  for (int trial = 0; trial < kTrials; ++trial) {
+    const double onset = 40.0 + (trial % 10) / 10.0;
+    const auto x = Edge(onset, 3.0, 3.0, 1.0, 1e-1, static_cast<unsigned>(trial + 1), 80);
+    const auto pick = PickOnset(x, 10, 46);
+    if (std::fabs(pick.index - onset) <= 2 * pick.sigma_samples) ++covered;
+  }
+  std::printf("[ figures  ] within 2 sigma %d/%d\n", covered, kTrials);
+  EXPECT_GE(covered, kTrials * 90 / 100);
 }
 
 // Noise alone has no lobe standing 4 sigma out near the change point often enough to matter;
