@@ -136,6 +136,10 @@ class EngineBase {
   std::vector<Vec<Dim>> pair_shear_;
   std::vector<NormalHistory> pair_normal_history_;
   std::vector<PairResult> pair_result_;
+  // 0 guarantees that pair p's result, spring and normal history are all zero (it did not
+  // interact last step), so the distance pass need not clear or even read them; every rebuild
+  // sets it to 1 (unknown).
+  std::vector<std::uint8_t> pair_live_;
   // Pairs in contact this step, per pool chunk (sized to the pair count at each rebuild, so
   // no step allocates).
   std::vector<std::vector<std::int32_t>> chunk_contacts_;

@@ -94,6 +94,7 @@ void EngineBase<Dim>::RebuildPairs(double reach_m) {
   pair_shear_ = std::move(shear);
   pair_normal_history_ = std::move(normal);
   pair_result_.assign(pairs_.size(), PairResult{Vec<Dim>::Zero(), ZeroSpin<Dim>()});
+  pair_live_.assign(pairs_.size(), 1);
   chunk_contacts_.resize(static_cast<std::size_t>(pool_->chunks()));
   for (auto& contacts : chunk_contacts_) contacts.resize(pairs_.size());
   UpdateWallNeighbours();

@@ -5,7 +5,6 @@
 // the engine factories include this file.
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <variant>
@@ -45,7 +44,11 @@ class Engine final : public EngineBase<Dim> {
   void Advance(std::int64_t steps) override {
     if (steps <= 0) return;
     this->EnterWorkingOrder();
-    if (!this->forces_valid_) ForcesInWorkingOrder();
+    if (!this->forces_valid_) {
+      ForcesInWorkingOrder();
+    } else {
+      LoadHot();
+    }
     const std::int32_t n = this->state_.size();
     const double dt = this->settings_.time_step_s;
     const double half_dt = 0.5 * dt;
@@ -69,8 +72,13 @@ class Engine final : public EngineBase<Dim> {
       if (!this->settings_.brute_force_pairs && 4 * max_move2 > Square(this->settings_.skin_m)) {
         this->pairs_valid_ = false;
       }
-      PrepareStep();
-      if (this->settings_.stop_at_first_contact) this->StopFirstContacts();
+      if (!this->pairs_valid_ || this->settings_.stop_at_first_contact) {
+        // The rebuild and the first-contact stop work on state_: hand it the current state.
+        StoreHot();
+        PrepareStep();
+        if (this->settings_.stop_at_first_contact) this->StopFirstContacts();
+        LoadHot();
+      }
       PairForces();
       const bool last = step + 1 == steps;
       std::fill(chunk_move2.begin(), chunk_move2.end(), 0.0);
@@ -81,6 +89,8 @@ class Engine final : public EngineBase<Dim> {
           // stalled on store forwarding (a quarter of this loop's time).
           const Load load = GatherForce(i);
           if (last) {
+            // Only the last step's load is read again (by the next Advance's opening kick).
+            StoreLoad(i, load);
             HalfKick(i, half_dt, load);
           } else {
             move2 = std::max(move2, KickDrift(i, dt, load));
@@ -90,6 +100,7 @@ class Engine final : public EngineBase<Dim> {
       });
       ++this->steps_;
     }
+    StoreHot();
     this->forces_valid_ = true;
     this->LeaveWorkingOrder();
   }
@@ -101,10 +112,48 @@ class Engine final : public EngineBase<Dim> {
 
   void ForcesInWorkingOrder() {
     PrepareStep();
+    LoadHot();
     PairForces();
     const std::int32_t n = this->state_.size();
-    for (std::int32_t i = 0; i < n; ++i) GatherForce(i);
+    for (std::int32_t i = 0; i < n; ++i) StoreLoad(i, GatherForce(i));
     this->forces_valid_ = true;
+  }
+
+  // A vector and one scalar of a particle in one aligned 32-byte record, so that a pair's
+  // member costs one cache line per quantity instead of two or three (a 24-byte Vec straddles a
+  // line boundary in 3 of 8 slots, and the scalar lives in another array).
+  struct alignas(32) Packed {
+    V v;
+    double s;
+  };
+  struct alignas(Dim == 3 ? 32 : 16) PackedSpin {
+    S w;
+    double inverse_inertia;
+  };
+
+  // state_ holds the particles outside the stepping loop (and for the rebuild and the
+  // first-contact stop); inside it the loop works on these packed copies. Both copies hold the
+  // same values, so the arithmetic is unchanged.
+  void LoadHot() {
+    const auto& s = this->state_;
+    const auto n = static_cast<std::size_t>(s.size());
+    position_radius_.resize(n);
+    velocity_mass_.resize(n);
+    spin_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      position_radius_[i] = {s.position_m[i], s.radius_m[i]};
+      velocity_mass_[i] = {s.velocity_mps[i], s.mass_kg[i]};
+      spin_[i] = {s.angular_velocity_radps[i], s.inverse_inertia[i]};
+    }
+  }
+  void StoreHot() {
+    auto& s = this->state_;
+    const auto n = static_cast<std::size_t>(s.size());
+    for (std::size_t i = 0; i < n; ++i) {
+      s.position_m[i] = position_radius_[i].v;
+      s.velocity_mps[i] = velocity_mass_[i].v;
+      s.angular_velocity_radps[i] = spin_[i].w;
+    }
   }
 
   void PrepareStep() {
@@ -119,24 +168,27 @@ class Engine final : public EngineBase<Dim> {
     S torque;
   };
 
+  void StoreLoad(std::int32_t i, const Load& load) {
+    this->state_.force_n[i] = load.force;
+    if constexpr (Phys::kRotation) this->state_.torque_nm[i] = load.torque;
+  }
+
   // v(t + dt/2) = v + kick a; x += dt v. Returns the squared distance moved since the last
   // neighbour-list build.
   [[gnu::always_inline]] double KickDrift(std::int32_t i, double kick, const Load& load) {
-    auto& s = this->state_;
-    s.velocity_mps[i] += (kick * s.inverse_mass[i]) * load.force;
-    if constexpr (Phys::kRotation) {
-      s.angular_velocity_radps[i] += (kick * s.inverse_inertia[i]) * load.torque;
-    }
-    s.position_m[i] += this->settings_.time_step_s * s.velocity_mps[i];
-    return (s.position_m[i] - this->position_at_rebuild_[i]).squaredNorm();
+    const auto k = static_cast<std::size_t>(i);
+    auto& velocity = velocity_mass_[k].v;
+    velocity += (kick * this->state_.inverse_mass[k]) * load.force;
+    if constexpr (Phys::kRotation) spin_[k].w += (kick * spin_[k].inverse_inertia) * load.torque;
+    auto& position = position_radius_[k].v;
+    position += this->settings_.time_step_s * velocity;
+    return (position - this->position_at_rebuild_[k]).squaredNorm();
   }
 
   void HalfKick(std::int32_t i, double half_dt, const Load& load) {
-    auto& s = this->state_;
-    s.velocity_mps[i] += (half_dt * s.inverse_mass[i]) * load.force;
-    if constexpr (Phys::kRotation) {
-      s.angular_velocity_radps[i] += (half_dt * s.inverse_inertia[i]) * load.torque;
-    }
+    const auto k = static_cast<std::size_t>(i);
+    velocity_mass_[k].v += (half_dt * this->state_.inverse_mass[k]) * load.force;
+    if constexpr (Phys::kRotation) spin_[k].w += (half_dt * spin_[k].inverse_inertia) * load.torque;
   }
 
   // Cundall & Strack (1979) tangential spring on the accumulated tangential displacement,
@@ -194,10 +246,10 @@ class Engine final : public EngineBase<Dim> {
     this->pool_->ParallelFor(
         static_cast<std::int64_t>(this->pairs_.size()),
         [this](int chunk, std::int64_t begin, std::int64_t end) {
-          const auto& x = this->state_.position_m;
+          const Packed* x = position_radius_.data();
           const std::int32_t* first = this->pairs_.first.data();
           const std::int32_t* second = this->pairs_.second.data();
-          const double* radius = this->state_.radius_m.data();
+          std::uint8_t* live = this->pair_live_.data();
           // Pair terms are recomputed from the particles rather than stored per pair, to keep
           // the per-pair arrays (read every step) small.
           const double cutoff_gap_m = Phys::kVanDerWaals ? this->settings_.vdw_cutoff_gap_m : 0.0;
@@ -207,23 +259,23 @@ class Engine final : public EngineBase<Dim> {
           for (std::int64_t p = begin; p < end; ++p) {
             const std::int32_t i = first[p];
             const std::int32_t j = second[p];
-            const V d = x[i] - x[j];
-            const double cutoff_m = radius[i] + radius[j] + cutoff_gap_m;
+            const V d = x[i].v - x[j].v;
+            const double cutoff_m = x[i].s + x[j].s + cutoff_gap_m;
             const bool interacts = d.squaredNorm() < cutoff_m * cutoff_m;
-            results[p] = {V::Zero(), ZeroSpin<Dim>()};
             contacts[count] = static_cast<std::int32_t>(p);
             count += interacts ? 1 : 0;
-            if constexpr (Phys::kTangential) {
-              // The spring of a pair that does not touch is almost always zero already: test
-              // for the rare one to clear (a predictable branch) instead of writing every one.
-              // `&`, not `&&`: whether a listed pair touches is random, so a short-circuit jump
-              // on it would be mispredicted about every third pair.
-              auto& shear = this->pair_shear_[static_cast<std::size_t>(p)];
-              if (!interacts & NonZeroBits(shear)) shear = V::Zero();
+            // An interacting pair's result and spring are written by its contact block. A pair
+            // that does not interact has them zero, and they are almost always zero already:
+            // only a pair that has just separated is cleared (a predictable branch), so the
+            // others' records are neither written nor read. `&`, not `&&`: whether a listed
+            // pair interacts is random, so a short-circuit jump on it would be mispredicted.
+            if (!interacts & (live[p] != 0)) {
+              const auto q = static_cast<std::size_t>(p);
+              results[q] = {V::Zero(), ZeroSpin<Dim>()};
+              if constexpr (Phys::kTangential) this->pair_shear_[q] = V::Zero();
+              if constexpr (Law::kNeedsHistory) this->pair_normal_history_[q] = {};
             }
-            if constexpr (Law::kNeedsHistory) {
-              if (!interacts) this->pair_normal_history_[static_cast<std::size_t>(p)] = {};
-            }
+            live[p] = interacts ? 1 : 0;
           }
           auto& scratch = scratch_[static_cast<std::size_t>(chunk)];
           for (std::int64_t b = 0; b < count; b += kBlock) {
@@ -255,14 +307,7 @@ class Engine final : public EngineBase<Dim> {
     alignas(32) double shear_factor[kBlock];
   };
 
-  // True unless every component is +0.0 (evaluated without branches).
-  static bool NonZeroBits(const V& v) {
-    std::uint64_t bits = 0;
-    for (int c = 0; c < Dim; ++c) bits |= std::bit_cast<std::uint64_t>(v[c]);
-    return bits != 0;
-  }
-
-  // The forces of `n` pairs closer than their cutoff (their pair_result_ is zero on entry).
+  // The forces of `n` pairs closer than their cutoff (their whole pair_result_ is written).
   // A contact is one long chain of dependent square roots and divisions. The block is gathered
   // from the particles into per-component arrays, then each arithmetic stage runs over the
   // whole block without branches (every contact takes every path, a select keeps the right
@@ -285,32 +330,32 @@ class Engine final : public EngineBase<Dim> {
   }
 
   void GatherBlock(const std::int32_t* contacts, int n, Scratch& t) const {
-    const auto& s = this->state_;
     const std::int32_t* first = this->pairs_.first.data();
     const std::int32_t* second = this->pairs_.second.data();
     for (int k = 0; k < n; ++k) {
       const std::int32_t p = contacts[k];
-      const std::int32_t i = first[p];
-      const std::int32_t j = second[p];
+      const auto i = static_cast<std::size_t>(first[p]);
+      const auto j = static_cast<std::size_t>(second[p]);
       t.pair[k] = p;
-      const double r_i = s.radius_m[i];
-      const double r_j = s.radius_m[j];
+      const Packed& x_i = position_radius_[i];
+      const Packed& x_j = position_radius_[j];
+      const Packed& v_i = velocity_mass_[i];
+      const Packed& v_j = velocity_mass_[j];
+      const double r_i = x_i.s;
+      const double r_j = x_j.s;
       t.radius_i[k] = r_i;
       t.radius_j[k] = r_j;
-      t.mass_i[k] = s.mass_kg[i];
-      t.mass_j[k] = s.mass_kg[j];
+      t.mass_i[k] = v_i.s;
+      t.mass_j[k] = v_j.s;
       for (int c = 0; c < Dim; ++c) {
-        t.normal[c][k] = s.position_m[i][c] - s.position_m[j][c];
-        t.velocity[c][k] = s.velocity_mps[i][c] - s.velocity_mps[j][c];
+        t.normal[c][k] = x_i.v[c] - x_j.v[c];
+        t.velocity[c][k] = v_i.v[c] - v_j.v[c];
       }
       if constexpr (Phys::kRotation) {
         if constexpr (Dim == 3) {
-          for (int c = 0; c < 3; ++c) {
-            t.spin[c][k] =
-                r_i * s.angular_velocity_radps[i][c] + r_j * s.angular_velocity_radps[j][c];
-          }
+          for (int c = 0; c < 3; ++c) t.spin[c][k] = r_i * spin_[i].w[c] + r_j * spin_[j].w[c];
         } else {
-          t.spin[0][k] = r_i * s.angular_velocity_radps[i] + r_j * s.angular_velocity_radps[j];
+          t.spin[0][k] = r_i * spin_[i].w + r_j * spin_[j].w;
         }
       }
       if constexpr (Phys::kTangential) {
@@ -518,10 +563,9 @@ class Engine final : public EngineBase<Dim> {
   // Sum of the pair forces of particle i in a fixed order, plus walls, gravity and damping;
   // stored, and returned for the integrator.
   [[gnu::always_inline]] Load GatherForce(std::int32_t i) {
-    auto& s = this->state_;
     const auto& pairs = this->pairs_;
-    const double r_i = s.radius_m[i];
-    V force = s.mass_kg[i] * gravity_;
+    const double r_i = position_radius_[static_cast<std::size_t>(i)].s;
+    V force = velocity_mass_[static_cast<std::size_t>(i)].s * gravity_;
     S torque = ZeroSpin<Dim>();
     const auto* results = this->pair_result_.data();
     for (std::int32_t p = pairs.begin[i]; p < pairs.begin[i + 1]; ++p) {
@@ -544,42 +588,40 @@ class Engine final : public EngineBase<Dim> {
       // energy without a velocity scale and leaves the state at rest unchanged.
       const double alpha = this->settings_.local_damping;
       for (int d = 0; d < Dim; ++d) {
-        const double v = s.velocity_mps[i][d];
+        const double v = velocity_mass_[static_cast<std::size_t>(i)].v[d];
         if (v != 0) force[d] -= alpha * std::abs(force[d]) * (v > 0 ? 1.0 : -1.0);
       }
       if constexpr (Phys::kRotation) {
         if constexpr (Dim == 3) {
           for (int d = 0; d < 3; ++d) {
-            const double w = s.angular_velocity_radps[i][d];
+            const double w = spin_[static_cast<std::size_t>(i)].w[d];
             if (w != 0) torque[d] -= alpha * std::abs(torque[d]) * (w > 0 ? 1.0 : -1.0);
           }
         } else {
-          const double w = s.angular_velocity_radps[i];
+          const double w = spin_[static_cast<std::size_t>(i)].w;
           if (w != 0) torque -= alpha * std::abs(torque) * (w > 0 ? 1.0 : -1.0);
         }
       }
     }
-    s.force_n[i] = force;
-    if constexpr (Phys::kRotation) s.torque_nm[i] = torque;
     return {force, torque};
   }
 
   // A wall is a body of infinite mass and curvature radius: m_eff = m, R_eff = r.
   [[gnu::always_inline]] void WallForce(std::int32_t i, std::size_t w, V& force, S& torque) {
-    auto& s = this->state_;
-    const std::size_t h = static_cast<std::size_t>(i) * this->walls_.size() + w;
+    const auto k = static_cast<std::size_t>(i);
+    const std::size_t h = k * this->walls_.size() + w;
     V n;
-    const double r_i = s.radius_m[i];
-    const double overlap = this->walls_[w].Overlap(s.position_m[i], r_i, n);
+    const double r_i = position_radius_[k].s;
+    const double overlap = this->walls_[w].Overlap(position_radius_[k].v, r_i, n);
     if (overlap <= 0) {
       if constexpr (Phys::kTangential) this->wall_shear_[h].setZero();
       if constexpr (Law::kNeedsHistory) this->wall_normal_history_[h] = NormalHistory{};
       return;
     }
-    V v_rel = s.velocity_mps[i];
-    if constexpr (Phys::kRotation) v_rel -= SpinCross(r_i * s.angular_velocity_radps[i], n);
+    V v_rel = velocity_mass_[k].v;
+    if constexpr (Phys::kRotation) v_rel -= SpinCross(r_i * spin_[k].w, n);
     const double v_n = v_rel.dot(n);
-    const NormalContact contact{overlap, -v_n, s.mass_kg[i], r_i};
+    const NormalContact contact{overlap, -v_n, velocity_mass_[k].s, r_i};
     const double normal_force = law_.NormalForce(contact, this->wall_normal_history_[h]);
     force += normal_force * n;
     if constexpr (Phys::kTangential) {
@@ -593,9 +635,12 @@ class Engine final : public EngineBase<Dim> {
 
   Law law_;
   V gravity_;
-  bool use_avx2_;                   // the AVX2 build of the contact arithmetic (same results)
-  double shear_per_force_m_per_n_;  // 1 / -k_t: the spring of a sliding contact from its force
-  std::vector<Scratch> scratch_;    // one per pool chunk
+  bool use_avx2_;                        // the AVX2 build of the contact arithmetic (same results)
+  double shear_per_force_m_per_n_;       // 1 / -k_t: the spring of a sliding contact from its force
+  std::vector<Scratch> scratch_;         // one per pool chunk
+  std::vector<Packed> position_radius_;  // x, r   (see LoadHot)
+  std::vector<Packed> velocity_mass_;    // v, m
+  std::vector<PackedSpin> spin_;         // w, 1 / I
 };
 
 // Picks the physics flags at run time once, so each scene runs one specialised loop.

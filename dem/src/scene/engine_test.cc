@@ -102,6 +102,46 @@ TEST(PackingEngine, TouchingParticlesWithoutOverlapFeelNoForce) {
   EXPECT_EQ(engine->state().force_n[1].norm(), 0.0);
 }
 
+// The distance pass clears a pair's record only when it stops interacting (engine.h,
+// pair_live_): after a glancing collision the pair must hold no spring and no force, and a
+// second collision must run exactly as the same collision in a fresh engine.
+TEST(PackingEngine, SeparatedPairForgetsItsSpringAndCollidesAgainLikeAFreshPair) {
+  EngineSettings settings = Settings(true, 1);
+  settings.gravity_mps2 = 0;
+  auto engine = MakeEngine<3>(settings, {}, WaltonBraunLaw(1e7, 0.5), AllPhysics(false));
+  engine->AddParticle(V3(0, 0, 0), V3(0.5, 0, 0), 0.005, 7800, 0);
+  engine->AddParticle(V3(0.0102, 0.004, 0), V3(-0.5, 0, 0), 0.005, 7800, 0);
+  const auto distance = [&] {
+    return (engine->state().position_m[0] - engine->state().position_m[1]).norm();
+  };
+  bool touched = false;
+  int steps = 0;
+  for (; steps < 20000 && !(touched && distance() > 0.0101); ++steps) {
+    engine->Advance(1);
+    touched = touched || engine->PairShear(0).norm() > 0;
+  }
+  ASSERT_TRUE(touched) << "the spheres never built a tangential spring";
+  ASSERT_LT(steps, 20000) << "the spheres did not separate";
+  EXPECT_TRUE(engine->PairShear(0) == Vec<3>::Zero());
+  for (int k = 0; k < 2; ++k) EXPECT_TRUE(engine->state().force_n[k] == Vec<3>::Zero());
+  // Send them back into each other, once in this engine and once in a fresh one.
+  auto fresh = MakeEngine<3>(settings, {}, WaltonBraunLaw(1e7, 0.5), AllPhysics(false));
+  for (int k = 0; k < 2; ++k) {
+    const auto& s = engine->state();
+    fresh->AddParticle(s.position_m[k], -1.0 * s.velocity_mps[k], s.radius_m[k], 7800, 0);
+    fresh->mutable_state().angular_velocity_radps[k] = s.angular_velocity_radps[k];
+  }
+  for (int k = 0; k < 2; ++k) {
+    engine->mutable_state().velocity_mps[k] = fresh->state().velocity_mps[k];
+  }
+  fresh->Advance(2 * steps);
+  engine->Advance(2 * steps);
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_TRUE(engine->state().position_m[k] == fresh->state().position_m[k]) << k;
+    EXPECT_TRUE(engine->state().velocity_mps[k] == fresh->state().velocity_mps[k]) << k;
+  }
+}
+
 TEST(PackingEngine, CellGridAndBruteForceGiveIdenticalForcesAndTrajectories) {
   for (bool vdw : {false, true}) {
     // Unsorted: the cell order would sum each particle's forces in another order.
