@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
-# Builds with AddressSanitizer + UndefinedBehaviorSanitizer into build-asan/ and runs the whole
-# test suite there. Any sanitizer report fails the run.
+# Builds with AddressSanitizer + UndefinedBehaviorSanitizer into build-asan/ and runs the test
+# suite there, except the tests labelled `long` (cmake/BouncecalTesting.cmake): those simulate
+# long (paper reproductions, full pours, step sweeps), run in the Release stage, and each module
+# names beside its list the shorter test that drives the same code under the sanitizers.
+# BOUNCECAL_SANITIZE_LONG=1 runs them here too. Any sanitizer report fails the run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install_deps.sh
@@ -14,4 +17,6 @@ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 cmake --build build-asan -j"$(nproc)"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-ctest --test-dir build-asan --output-on-failure -j"$(nproc)"
+skip_long=(-LE long)
+[ "${BOUNCECAL_SANITIZE_LONG:-0}" = 1 ] && skip_long=()
+ctest --test-dir build-asan --output-on-failure -j"$(nproc)" "${skip_long[@]}"
