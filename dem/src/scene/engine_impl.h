@@ -177,12 +177,32 @@ class Engine final : public EngineBase<Dim> {
   // neighbour-list build.
   [[gnu::always_inline]] double KickDrift(std::int32_t i, double kick, const Load& load) {
     const auto k = static_cast<std::size_t>(i);
+    // Component by component, each new value kept in a register: whole-vector assignments made
+    // GCC re-read components just stored one by one as one wider load (or copy them through the
+    // stack), which cannot be store-forwarded and stalled the loop. Same operations, same results.
+    const double velocity_kick = kick * this->state_.inverse_mass[k];
+    const double dt = this->settings_.time_step_s;
     auto& velocity = velocity_mass_[k].v;
-    velocity += (kick * this->state_.inverse_mass[k]) * load.force;
-    if constexpr (Phys::kRotation) spin_[k].w += (kick * spin_[k].inverse_inertia) * load.torque;
     auto& position = position_radius_[k].v;
-    position += this->settings_.time_step_s * velocity;
-    return (position - this->position_at_rebuild_[k]).squaredNorm();
+    const auto& origin = this->position_at_rebuild_[k];
+    double move2 = 0;
+    for (int d = 0; d < Dim; ++d) {
+      const double v = velocity[d] + velocity_kick * load.force[d];
+      velocity[d] = v;
+      const double x = position[d] + dt * v;
+      position[d] = x;
+      const double moved = x - origin[d];
+      move2 += moved * moved;
+    }
+    if constexpr (Phys::kRotation) {
+      const double spin_kick = kick * spin_[k].inverse_inertia;
+      if constexpr (Dim == 3) {
+        for (int d = 0; d < 3; ++d) spin_[k].w[d] += spin_kick * load.torque[d];
+      } else {
+        spin_[k].w += spin_kick * load.torque;
+      }
+    }
+    return move2;
   }
 
   void HalfKick(std::int32_t i, double half_dt, const Load& load) {

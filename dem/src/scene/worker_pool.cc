@@ -45,9 +45,10 @@ T WaitForChange(const std::atomic<T>& value, T old) {
 
 }  // namespace
 
-WorkerPool::WorkerPool(int threads) {
-  for (int chunk = 1; chunk < threads; ++chunk) {
-    workers_.emplace_back([this] { WorkerLoop(); });
+WorkerPool::WorkerPool(int threads)
+    : claims_(static_cast<std::size_t>(threads > 1 ? threads * kChunksPerThread : 1)) {
+  for (int thread = 1; thread < threads; ++thread) {
+    workers_.emplace_back([this, thread] { WorkerLoop(thread); });
   }
 }
 
@@ -65,16 +66,26 @@ void WorkerPool::RunChunk(int chunk) {
   if (end > begin) (*body_)(chunk, begin, end);
 }
 
-void WorkerPool::RunClaimedChunks(std::uint64_t generation) {
+bool WorkerPool::Claim(int chunk, std::uint64_t generation) {
+  auto& claim = claims_[static_cast<std::size_t>(chunk)];
+  std::uint64_t open = 2 * generation;
+  if (claim.load(std::memory_order_relaxed) != open) return false;
+  return claim.compare_exchange_strong(open, open + 1, std::memory_order_acq_rel);
+}
+
+void WorkerPool::RunClaimedChunks(int thread, std::uint64_t generation) {
   const int chunks = this->chunks();
-  std::uint64_t claim = claim_.load(std::memory_order_acquire);
-  for (;;) {
-    if ((claim >> 16) != generation || static_cast<int>(claim & 0xffff) >= chunks) return;
-    if (claim_.compare_exchange_weak(claim, claim + 1, std::memory_order_acq_rel)) {
-      RunChunk(static_cast<int>(claim & 0xffff));
-      if (done_.fetch_add(1, std::memory_order_acq_rel) + 1 == chunks) done_.notify_all();
-      claim = claim_.load(std::memory_order_acquire);
-    }
+  auto run = [&](int chunk) {
+    if (!Claim(chunk, generation)) return;
+    RunChunk(chunk);
+    if (done_.fetch_add(1, std::memory_order_acq_rel) + 1 == chunks) done_.notify_all();
+  };
+  const int home = thread * kChunksPerThread;
+  for (int c = home; c < home + kChunksPerThread; ++c) run(c);
+  // Then the others' leftovers, each thread's from its far end, where its owner gets last.
+  for (int t = 1; t < threads(); ++t) {
+    const int other = ((thread + t) % threads()) * kChunksPerThread;
+    for (int c = other + kChunksPerThread - 1; c >= other; --c) run(c);
   }
 }
 
@@ -90,10 +101,12 @@ void WorkerPool::ParallelFor(std::int64_t n,
   n_ = n;
   done_.store(0, std::memory_order_relaxed);
   const std::uint64_t generation = generation_.load(std::memory_order_relaxed) + 1;
-  claim_.store(generation << 16, std::memory_order_release);  // publishes body_, n_ and done_
+  for (auto& claim : claims_) {
+    claim.store(2 * generation, std::memory_order_release);  // publishes body_, n_ and done_
+  }
   generation_.store(generation, std::memory_order_release);
   generation_.notify_all();
-  RunClaimedChunks(generation);
+  RunClaimedChunks(0, generation);
   // Only chunks a worker is running are left: wait for them.
   const int chunks = this->chunks();
   for (int done = done_.load(std::memory_order_acquire); done != chunks;) {
@@ -101,13 +114,13 @@ void WorkerPool::ParallelFor(std::int64_t n,
   }
 }
 
-void WorkerPool::WorkerLoop() {
+void WorkerPool::WorkerLoop(int thread) {
   std::uint64_t seen = 0;
   for (;;) {
     const std::uint64_t now = WaitForChange(generation_, seen);
     seen = now;
     if (stop_.load(std::memory_order_acquire)) return;
-    RunClaimedChunks(now);
+    RunClaimedChunks(thread, now);
   }
 }
 

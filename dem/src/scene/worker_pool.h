@@ -14,9 +14,13 @@ namespace bouncecal::dem::scene {
 // OpenMP's default spin-waiting made a 2-thread run 20x slower than 1 thread on a loaded 2-core
 // machine. Waiters poll for up to ~100 us, then sleep on a futex (C++20 atomic wait).
 // Chunks are fixed contiguous ranges, so work splits identically on every run, but any thread
-// may run any chunk: each thread claims the next unclaimed one, so when the machine is busy and
-// a worker has no core, the caller runs its chunk instead of waiting a scheduler slice for it
-// (callers' results depend on the chunk, never on the thread that ran it).
+// may run any chunk: when the machine is busy and a worker has no core, the caller runs its
+// chunks instead of waiting a scheduler slice for them (callers' results depend on the chunk,
+// never on the thread that ran it). Each thread first claims its own "home" chunks (thread t:
+// chunks t*k .. t*k + k - 1), then takes what is left of the others' from their far end: the
+// engine's loops over pairs and over particles index the same region of space by the same chunk,
+// so a thread keeps finding in its own cache the pair results it wrote, instead of fetching
+// them from the other core's.
 class WorkerPool {
  public:
   explicit WorkerPool(int threads);
@@ -39,16 +43,18 @@ class WorkerPool {
  private:
   static constexpr int kChunksPerThread = 4;
 
-  void WorkerLoop();
+  void WorkerLoop(int thread);
   void RunChunk(int chunk);
-  // Claims and runs chunks of the loop published as `generation` until none is left.
-  void RunClaimedChunks(std::uint64_t generation);
+  // Claims and runs chunks of the loop published as `generation` until none is left, its own
+  // home chunks first.
+  void RunClaimedChunks(int thread, std::uint64_t generation);
+  bool Claim(int chunk, std::uint64_t generation);
 
   std::vector<std::thread> workers_;
   std::atomic<std::uint64_t> generation_{0};
-  // generation << 16 | next unclaimed chunk: a late worker cannot claim a chunk of a newer loop
-  // as one of the loop it woke for.
-  std::atomic<std::uint64_t> claim_{0};
+  // Per chunk: 2g while it is open in the loop of generation g, 2g + 1 once claimed. A late
+  // worker cannot claim a chunk of a newer loop as one of the loop it woke for.
+  std::vector<std::atomic<std::uint64_t>> claims_;
   std::atomic<int> done_{0};  // chunks finished in the current loop
   std::atomic<bool> stop_{false};
   const std::function<void(int, std::int64_t, std::int64_t)>* body_ = nullptr;
