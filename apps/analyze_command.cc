@@ -82,6 +82,11 @@ nlohmann::json OptionalNumber(const std::optional<double>& value) {
   return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
 }
 
+// JSON has no NaN or infinity: a quantity that was not measured is null.
+nlohmann::json FiniteOrNull(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+
 nlohmann::json ToJson(const FileAnalysis& analysis, const AnalyzeArgs& args) {
   const auto& detection = analysis.detection;
   nlohmann::json file;
@@ -92,7 +97,7 @@ nlohmann::json ToJson(const FileAnalysis& analysis, const AnalyzeArgs& args) {
   file["channel_chosen_automatically"] = detection.channel_chosen_automatically;
   nlohmann::json scores = nlohmann::json::array();
   for (double score : detection.channel_impact_to_noise_db) {
-    scores.push_back(std::isfinite(score) ? nlohmann::json(score) : nlohmann::json(nullptr));
+    scores.push_back(FiniteOrNull(score));
   }
   file["channel_impact_to_noise_db"] = scores;
   file["duration_s"] = detection.duration_s;
@@ -103,7 +108,8 @@ nlohmann::json ToJson(const FileAnalysis& analysis, const AnalyzeArgs& args) {
     impacts.push_back({{"onset_s", list[i].onset_s},
                        {"onset_uncertainty_s", list[i].onset_uncertainty_s},
                        {"peak_dbfs", list[i].peak_dbfs},
-                       {"rise_db", list[i].rise_db},
+                       {"rise_db", FiniteOrNull(list[i].rise_db)},
+                       {"ringing_novelty_db", FiniteOrNull(list[i].ringing_novelty_db)},
                        {"snr_db", list[i].snr_db},
                        {"sequence", sequence ? nlohmann::json(*sequence) : nlohmann::json()}});
   }

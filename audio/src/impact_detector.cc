@@ -618,7 +618,13 @@ class ImpactDetector::Impl {
     const double onset_index = static_cast<double>(pick_begin) + pick.index;
     impact.onset_s = onset_index / rate_;
     impact.onset_uncertainty_s = pick.sigma_samples / rate_;
-    impact.rise_db = std::max(candidate_rise_db_, candidate_residual_rise_db_);
+    impact.rise_db = candidate_rise_db_;
+    // The residual's rise is kept scaled to the band threshold for the decisions; reported in its
+    // own unit.
+    impact.ringing_novelty_db =
+        std::isfinite(candidate_residual_rise_db_)
+            ? candidate_residual_rise_db_ * kNoveltyAtThresholdDb / options_.rise_threshold_db
+            : std::numeric_limits<double>::quiet_NaN();
     impact.snr_db = snr_db;
     impact.residual_only = !band_snr_ok;
     const std::int64_t level_begin =
@@ -631,7 +637,7 @@ class ImpactDetector::Impl {
     impact.peak_dbfs = 20.0 * std::log10(std::max(peak_abs, 1e-7));
     Merge({impact,
            candidate_peak_db_,
-           impact.rise_db,
+           std::max(candidate_rise_db_, candidate_residual_rise_db_),
            candidate_rise_db_,
            !in_ringing,
            continuation,

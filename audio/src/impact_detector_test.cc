@@ -86,6 +86,31 @@ TEST(ImpactDetector, CleanImpactOnsetIsWithinTenMicroseconds) {
   }
 }
 
+// rise_db is a level ratio in dB of the band envelope: ten times more noise under the same
+// impact lowers it by 20 dB (the lookback's maximum scales with the noise power). The
+// tolerance covers the scatter of that maximum over a few dozen noise frames (~1-2 dB per
+// seed). Before, the ringing residual's novelty, scaled to the band threshold, could stand in
+// for it and print as several hundred "dB".
+TEST(ImpactDetector, RiseIsTheBandEnvelopesLevelRatioInDecibels) {
+  double rise_db[2] = {};
+  const double noise_rms[2] = {1e-3, 1e-2};
+  for (int k = 0; k < 2; ++k) {
+    auto recording = Make(48000, 1.0);
+    AddImpact(recording.samples, 48000, 0.5, 0.5);
+    AddNoise(recording.samples, noise_rms[k], 5);
+    const auto result = DetectImpacts(recording);
+    ASSERT_EQ(result.impacts.size(), 1u) << noise_rms[k];
+    rise_db[k] = result.impacts[0].rise_db;
+    // 0.5 over a noise rms of 1e-3 is 54 dB; the rise is measured against the noise's loudest
+    // frames, a few dB above its mean.
+    EXPECT_GT(rise_db[k], 54.0 - 20 * k - 15) << noise_rms[k];
+    EXPECT_LT(rise_db[k], 54.0 - 20 * k + 6) << noise_rms[k];
+    const double novelty = result.impacts[0].ringing_novelty_db;
+    EXPECT_TRUE(std::isnan(novelty) || (novelty >= 0 && novelty < 200)) << novelty;
+  }
+  EXPECT_NEAR(rise_db[0] - rise_db[1], 20.0, 3.0);
+}
+
 TEST(ImpactDetector, EchoAndPrecursorDoNotCountTwiceOrMoveTheOnset) {
   auto recording = Make(48000, 1.0);
   AddImpact(recording.samples, 48000, 0.2, 0.5);

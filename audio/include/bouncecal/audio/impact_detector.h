@@ -53,8 +53,15 @@ struct Impact {
   double onset_s = 0;              // start of contact, sub-sample, from the first sample
   double onset_uncertainty_s = 0;  // one sigma
   double peak_dbfs = 0;            // peak |x| of the raw signal within 5 ms of the onset
-  double rise_db = 0;              // how far the envelope rose above what was there before
-  double snr_db = 0;               // envelope peak above the noise floor
+  // How far the loudest detection band's envelope rose above its maximum over the lookback
+  // before the onset (rise_lookback_ms), in dB; the envelope is floored at -140 dBFS, so an
+  // impact out of digital silence reads up to about 140 dB.
+  double rise_db = 0;
+  // Where the ringing residual also rose: the mean over its frequency bins of each bin's rise
+  // above its own maximum over the previous 20 ms, in dB (0.6 dB counts as a full
+  // rise_threshold_db; src/ringing_residual.h). NaN where it was not consulted or did not rise.
+  double ringing_novelty_db = 0;
+  double snr_db = 0;  // envelope peak above the noise floor
   // Weak evidence: no band energy rose by the full rise_threshold_db (the ringing residual's
   // novelty did), or it stood above the noise under the ringing but not above the band's own
   // floor, or it rose by only half the threshold and was adopted because it continues a bounce
