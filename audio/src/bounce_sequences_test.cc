@@ -112,7 +112,8 @@ TEST(BounceSequences, BadOptionsAreConfigErrors) {
 }
 
 // Impacts that only the ringing residual found (Impact::residual_only) are weak evidence: they
-// continue a sequence where a bounce is due, but never start one or make up its minimum count.
+// continue a sequence where a bounce is due, but never start one, and make up its minimum count
+// only where their timing could hardly be chance.
 TEST(BounceSequences, ResidualOnlyImpactsContinueASequenceButNeverMakeOne) {
   const auto times = Drop(0.5, 0.4, 0.8, 8);
   auto impacts = ToImpacts(times);
@@ -135,14 +136,39 @@ TEST(BounceSequences, ResidualOnlyImpactsContinueASequenceButNeverMakeOne) {
   ASSERT_EQ(result.rejected.size(), 1u);
   EXPECT_DOUBLE_EQ(result.rejected[0].time_s, stray.onset_s);
 
-  // Three strong impacts and five residual-only ones: no sequence (min_impacts is 4), however
-  // well the weak ones fit.
+  // A run of residual-only impacts alone never starts one, however well it fits.
   auto weak = ToImpacts(times);
-  for (std::size_t i = 3; i < weak.size(); ++i) weak[i].residual_only = true;
-  EXPECT_TRUE(FindBounceSequences(weak).sequences.empty());
-  // And a run of residual-only impacts alone never starts one.
   for (auto& impact : weak) impact.residual_only = true;
   EXPECT_TRUE(FindBounceSequences(weak).sequences.empty());
+}
+
+// Three impacts that rose in a band and then only residual-only ones: fewer than min_impacts
+// strong ones, so the chain counts only if its timing cannot be chance (max_chance_alignment).
+TEST(BounceSequences, WeakImpactsMakeUpASequenceOnlyWhereTheyLandOnTheBounceTimes) {
+  const auto times = Drop(0.5, 0.4, 0.8, 8);
+  // On the drop's times (20 us onset sigma): the five weak impacts land within microseconds of
+  // t_{k-1} + r dt_{k-1}, which random events at 5 per 1.6 s would do with p ~ 1e-3 each.
+  auto on_time = ToImpacts(times);
+  for (std::size_t i = 3; i < on_time.size(); ++i) on_time[i].residual_only = true;
+  const auto result = FindBounceSequences(on_time);
+  ASSERT_EQ(result.sequences.size(), 1u);
+  EXPECT_EQ(result.sequences[0].impact_indices.size(), times.size());
+  // Weak events that still fit the ratio window (+-0.12 per step) but land 15-26 ms from where
+  // each bounce was due: as likely as chance for events at their rate, so no sequence.
+  std::vector<double> off_times(times.begin(), times.begin() + 3);  // 0.5, 0.9, 1.22
+  for (double t : {1.45, 1.63, 1.75, 1.84, 1.905}) off_times.push_back(t);
+  auto off = ToImpacts(off_times);
+  for (std::size_t i = 3; i < off.size(); ++i) off[i].residual_only = true;
+  EXPECT_TRUE(FindBounceSequences(off).sequences.empty());
+  // It is the timing that rejects them: accepting any timing makes them a sequence.
+  SequenceOptions any_timing;
+  any_timing.max_chance_alignment = 1;
+  ASSERT_EQ(FindBounceSequences(off, any_timing).sequences.size(), 1u);
+  EXPECT_GE(FindBounceSequences(off, any_timing).sequences[0].impact_indices.size(), 5u);
+  // The same with max_chance_alignment 0 restores the strict count: no weak impact counts.
+  SequenceOptions strict;
+  strict.max_chance_alignment = 0;
+  EXPECT_TRUE(FindBounceSequences(on_time, strict).sequences.empty());
 }
 
 // Tentative impacts (rises too weak to count alone) become impacts only where they continue a

@@ -699,6 +699,16 @@ class ImpactDetector::Impl {
       if (pending_->group_band_rise_db < options_.rise_threshold_db) {
         pending_->impact.residual_only = true;
       }
+      if (pending_->impact.residual_only) {
+        // Its onset is picked on a flank inside the tail that the residual located only to
+        // within its frame hop: on the synthetic free plate, in rooms and under level jitter
+        // such onsets were off by a median of 133 us, p90 1.5 ms, up to 8 ms, while the picker
+        // claimed ~50 us (42 % within 2 sigma). Stated as at least one hop, like the tentative
+        // ones below, so the e and eta around it carry that.
+        pending_->impact.onset_uncertainty_s =
+            std::max(pending_->impact.onset_uncertainty_s,
+                     static_cast<double>(residual_.hop_samples()) / rate_);
+      }
       result_.impacts.push_back(pending_->impact);
       for (auto& other : pending_->others) result_.merged.push_back(std::move(other));
     } else if (pending_ && pending_->impact.snr_db >= options_.min_snr_db) {

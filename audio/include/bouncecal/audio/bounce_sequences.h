@@ -30,6 +30,13 @@ struct SequenceOptions {
   // with shrinking gaps also give; four give two ratios that must agree, which handling noise
   // and speech rarely do.
   int min_impacts = 4;
+  // A chain with fewer than min_impacts impacts that rose in a band (the rest found only by the
+  // ringing residual: late bounces in a ringing plate's or a room's tail) is still a sequence
+  // when its timing could hardly be chance: each impact after the third lands this close to
+  // where the previous interval ratio puts it, against the file's own rate of such events.
+  // This is the probability, over all the chains the search tries in the file, that random
+  // events line up as well (see FindBounceSequences).
+  double max_chance_alignment = 1e-2;
 
   // Throws ConfigError naming the option and its valid range.
   void Validate() const;
@@ -58,7 +65,14 @@ struct SequenceResult {
 // impacts whose interval ratios behave like a bouncing ball (each next impact is searched in
 // the window the previous ratio predicts, the loudest one there is taken), then rejects
 // what lies inside it (stray sounds), before it (knocks, handling) and after it (chatter,
-// rolling, noise), each with a reason. Deterministic. Throws ConfigError for bad options.
+// rolling, noise), each with a reason. A chain counts when min_impacts of its impacts rose in
+// a band, or when it starts with two that did and its timing passes max_chance_alignment:
+// impact k >= 4 lands |t_k - t_pred| from t_pred = t_{k-1} + r_{k-1} dt_{k-1}, which a random
+// event of its kind (band or residual-only, at the rate the file has them) beats with
+// probability p_k = 1 - exp(-2 rate |t_k - t_pred|) whatever its timing precision; the chain's
+// -sum ln p_k, whose tail for random events is that of a Gamma(m, 1) sum, times the number of
+// chains tried, must stay below max_chance_alignment. Deterministic. Throws ConfigError for bad
+// options.
 SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
                                    const SequenceOptions& options = {});
 
