@@ -410,6 +410,12 @@ void AddAnalyzeCommand(CLI::App& app) {
       ->add_option("--chatter-interval-ms", s.chatter_interval_ms,
                    "Flights shorter than this (ms) end a sequence as chatter")
       ->capture_default_str();
+  command
+      ->add_option("--max-chance-alignment", s.max_chance_alignment,
+                   "Impacts found only in a ringing tail complete a sequence when chance would "
+                   "line up events as well in fewer than this many of the chains searched "
+                   "(0 = never)")
+      ->capture_default_str();
   command->callback([args] { Run(*args); });
 }
 

@@ -259,8 +259,7 @@ void SequenceOptions::Validate() const {
   require(min_impacts >= 3,
           "a sequence needs at least 3 impacts, got " + std::to_string(min_impacts));
   require(max_chance_alignment >= 0 && max_chance_alignment <= 1,
-          "the largest chance alignment of a sequence must be in [0, 1], got " +
-              std::to_string(max_chance_alignment));
+          "--max-chance-alignment must be in [0, 1], got " + std::to_string(max_chance_alignment));
 }
 
 SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
