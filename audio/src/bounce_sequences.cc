@@ -217,14 +217,16 @@ class ChanceAlignment {
       ++terms;
     }
     if (terms == 0) return chains_tried_;
-    // Upper tail of a Gamma(terms, 1) sum: e^-s sum_{i < terms} s^i / i!.
-    double term = 1;
-    double sum = 1;
+    // Upper tail of a Gamma(terms, 1) sum: e^-s sum_{i < terms} s^i / i!, in logarithms so that
+    // long chains and large scores neither overflow nor underflow to 0 * inf.
+    double log_sum = 0;  // log of the i = 0 term, 1
+    const double log_score = std::log(score);
     for (int i = 1; i < terms; ++i) {
-      term *= score / i;
-      sum += term;
+      const double log_term = i * log_score - std::lgamma(i + 1.0);
+      const double high = std::max(log_sum, log_term);
+      log_sum = high + std::log(std::exp(log_sum - high) + std::exp(log_term - high));
     }
-    return chains_tried_ * std::exp(-score) * sum;
+    return chains_tried_ * std::exp(log_sum - score);
   }
 
   bool Significant(const std::vector<int>& members) const {

@@ -165,6 +165,12 @@ TEST(BounceSequences, WeakImpactsMakeUpASequenceOnlyWhereTheyLandOnTheBounceTime
   any_timing.max_chance_alignment = 1;
   ASSERT_EQ(FindBounceSequences(off, any_timing).sequences.size(), 1u);
   EXPECT_GE(FindBounceSequences(off, any_timing).sequences[0].impact_indices.size(), 5u);
+  // A long chain (200 weak members, e = 0.99) keeps the tail of its score finite.
+  auto long_drop = ToImpacts(Drop(0.5, 1.0, 0.99, 203));
+  for (std::size_t i = 3; i < long_drop.size(); ++i) long_drop[i].residual_only = true;
+  const auto long_result = FindBounceSequences(long_drop);
+  ASSERT_EQ(long_result.sequences.size(), 1u);
+  EXPECT_EQ(long_result.sequences[0].impact_indices.size(), long_drop.size());
   // The same with max_chance_alignment 0 restores the strict count: no weak impact counts.
   SequenceOptions strict;
   strict.max_chance_alignment = 0;
