@@ -27,9 +27,10 @@ struct Outcome {
   double eta_sigma = 0;
 };
 
-double EtaBarFirstThree(const std::vector<double>& onsets_s, double sigma_s) {
+// eta-bar over the first three e values of exactly timed onsets.
+double EtaBarFirstThree(const std::vector<double>& onsets_s) {
   std::vector<calibrate::TimedImpact> impacts;
-  for (double t : onsets_s) impacts.push_back({t, sigma_s});
+  for (double t : onsets_s) impacts.push_back({t, 0.0});
   return *calibrate::AnalyzeRestitution(impacts).energy_loss_mean_first_n;
 }
 
@@ -63,7 +64,7 @@ Outcome Run(audio::SynthesisOptions options) {
   if (!outcome.members_true) return outcome;
   const auto analysis = calibrate::AnalyzeRestitution(measured);
   // The same impacts' true onsets give the true e values of the same bounces.
-  outcome.eta_error = *analysis.energy_loss_mean_first_n - EtaBarFirstThree(matched_truth, 0);
+  outcome.eta_error = *analysis.energy_loss_mean_first_n - EtaBarFirstThree(matched_truth);
   outcome.eta_sigma = *analysis.energy_loss_mean_first_n_uncertainty;
   return outcome;
 }

@@ -2,6 +2,7 @@
 #define BOUNCECAL_AUDIO_IMPACT_DETECTOR_H_
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -60,7 +61,7 @@ struct Impact {
   // Where the ringing residual also rose: the mean over its frequency bins of each bin's rise
   // above its own maximum over the previous 20 ms, in dB (0.6 dB counts as a full
   // rise_threshold_db; src/ringing_residual.h). NaN where it was not consulted or did not rise.
-  double ringing_novelty_db = 0;
+  double ringing_novelty_db = std::numeric_limits<double>::quiet_NaN();
   double snr_db = 0;  // envelope peak above the noise floor
   // Weak evidence: no band energy rose by the full rise_threshold_db (the ringing residual's
   // novelty did), or it stood above the noise under the ringing but not above the band's own
