@@ -8,7 +8,8 @@
 // prints the speed ratio against each and against the fastest, from this one run. Figures only:
 // nothing here asserts a time.
 //
-//   pack_bench [SCENE.json] [--duration S] [--threads N] [--settle S] [--skin D] [--no-lammps]
+//   pack_bench [SCENE.json] [--duration S] [--threads N] [--settle S] [--skin D] [--min-skin D]
+//   [--no-lammps]
 //   [--lammps-ranks N] [--work DIR]
 //
 // --settle S first runs the start for S seconds (untimed) and times both engines from that
@@ -117,6 +118,8 @@ int main(int argc, char** argv) {
   int threads = 2;
   double settle_s = 0;
   double skin_diameters = dem::PackOptions{}.skin_diameters;
+  double min_skin_diameters = dem::PackOptions{}.min_skin_diameters;
+  double skin_rebuild_steps = dem::PackOptions{}.skin_rebuild_steps;
   bool run_lammps = true;
   int lammps_ranks = 2;
   std::filesystem::path work = std::filesystem::temp_directory_path() / "bouncecal_pack_bench";
@@ -130,6 +133,10 @@ int main(int argc, char** argv) {
       settle_s = std::atof(argv[++a]);
     } else if (arg == "--skin" && a + 1 < argc) {
       skin_diameters = std::atof(argv[++a]);
+    } else if (arg == "--min-skin" && a + 1 < argc) {
+      min_skin_diameters = std::atof(argv[++a]);
+    } else if (arg == "--skin-steps" && a + 1 < argc) {
+      skin_rebuild_steps = std::atof(argv[++a]);
     } else if (arg == "--no-lammps") {
       run_lammps = false;
     } else if (arg == "--lammps-ranks" && a + 1 < argc) {
@@ -188,6 +195,8 @@ int main(int argc, char** argv) {
     dem::PackOptions options;
     options.threads = threads;
     options.skin_diameters = skin_diameters;
+    options.min_skin_diameters = min_skin_diameters;
+    options.skin_rebuild_steps = skin_rebuild_steps;
     const double cpu0 = CpuSeconds();
     const auto summary = dem::RunPacking(scene, options);
     const double cpu = CpuSeconds() - cpu0;

@@ -31,6 +31,14 @@ struct EngineSettings {
   // Verlet skin: pairs closer than r_i + r_j + skin are listed and the list is rebuilt once any
   // particle has moved skin/2. 0 rebuilds every step.
   double skin_m = 0;
+  // When in [0, skin_m), the skin is chosen again at each rebuild, between this and skin_m: wide
+  // enough that the fastest particle at that moment needs skin_rebuild_steps steps to cross
+  // half of it. A pour needs the wide skin (fast particles, frequent rebuilds); a settled pack
+  // hardly moves, and every listed pair that does not touch costs a distance test per step, so
+  // there the narrow one is cheaper. The rebuild rule above stays exact either way: the choice
+  // only moves cost between rebuilds and steps, and the order of the force sums.
+  double min_skin_m = -1;
+  double skin_rebuild_steps = 50;
   bool brute_force_pairs = false;  // list every pair i < j (tests only: O(N^2))
   // Reorder the particles by grid cell at each rebuild (inside the engine only: state() keeps
   // the order they were added in), so that neighbours are close in memory and each thread's
@@ -96,6 +104,8 @@ class EngineBase {
   std::int64_t steps() const { return steps_; }
   double time_s() const { return static_cast<double>(steps_) * settings_.time_step_s; }
   std::int64_t rebuilds() const { return rebuilds_; }
+  // The Verlet skin of the current pair list.
+  double skin_m() const { return skin_m_; }
   // Translational plus rotational kinetic energy.
   double KineticEnergyJ() const;
   // True once a position or velocity is not finite (the step was unstable).
@@ -107,7 +117,7 @@ class EngineBase {
 
  protected:
   // New pair list (grid or all pairs), carrying over the history of pairs that stay listed.
-  void RebuildPairs(double reach_m);
+  void RebuildPairs(bool van_der_waals);
   void UpdateWallNeighbours();
   // The force loop runs on the particles in the internal order (order_); state_ is in the
   // order they were added whenever the caller can see it. Both are idempotent.
@@ -116,6 +126,8 @@ class EngineBase {
   // Moves the particle at internal index from[k] to k (state, wall history, order_).
   void PermuteParticles(const std::vector<std::int32_t>& from);
   double PairReachM(bool van_der_waals) const;
+  // The skin for the next list (see EngineSettings::min_skin_m), from the current velocities.
+  double ChooseSkinM() const;
   Vec<Dim> Gravity() const;
   // With stop_at_first_contact: zeroes the velocity and spin of every particle that overlaps a
   // particle or wall for the first time. Call in the working order with a valid pair list,
@@ -152,6 +164,7 @@ class EngineBase {
   std::vector<std::int32_t> order_;  // internal index -> index in the order of AddParticle
   bool working_order_ = false;
   std::unique_ptr<WorkerPool> pool_;
+  double skin_m_ = 0;  // of the current pair list
   bool pairs_valid_ = false;
   bool forces_valid_ = false;
   std::int64_t steps_ = 0;

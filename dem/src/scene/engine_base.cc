@@ -55,11 +55,25 @@ Vec<Dim> EngineBase<Dim>::Gravity() const {
 
 template <int Dim>
 double EngineBase<Dim>::PairReachM(bool van_der_waals) const {
-  return settings_.skin_m + (van_der_waals ? settings_.vdw_cutoff_gap_m : 0.0);
+  return skin_m_ + (van_der_waals ? settings_.vdw_cutoff_gap_m : 0.0);
 }
 
 template <int Dim>
-void EngineBase<Dim>::RebuildPairs(double reach_m) {
+double EngineBase<Dim>::ChooseSkinM() const {
+  const double widest = settings_.skin_m;
+  const double narrowest = settings_.min_skin_m;
+  if (!(narrowest >= 0 && narrowest < widest)) return widest;
+  double speed2 = 0;  // a max, exact in any order: the choice does not depend on the threads
+  for (const auto& v : state_.velocity_mps) speed2 = std::max(speed2, v.squaredNorm());
+  const double wanted =
+      2 * std::sqrt(speed2) * settings_.time_step_s * settings_.skin_rebuild_steps;
+  return std::clamp(wanted, narrowest, widest);
+}
+
+template <int Dim>
+void EngineBase<Dim>::RebuildPairs(bool van_der_waals) {
+  skin_m_ = ChooseSkinM();
+  const double reach_m = PairReachM(van_der_waals);
   const std::int32_t n = state_.size();
   // from[k]: the internal index before this rebuild of the particle that is now k-th.
   std::vector<std::int32_t> from;
@@ -191,7 +205,7 @@ void EngineBase<Dim>::UpdateWallNeighbours() {
     for (std::size_t w = 0; w < wall_count; ++w) {
       // A particle moves at most skin/2 before the next rebuild, so one farther than the skin
       // cannot reach the wall before then; its history is zero and stays so.
-      if (walls_[w].Near(state_.position_m[i], state_.radius_m[i], settings_.skin_m)) {
+      if (walls_[w].Near(state_.position_m[i], state_.radius_m[i], skin_m_)) {
         wall_near_[i] |= std::uint64_t{1} << w;
       } else {
         wall_shear_[i * wall_count + w] = Vec<Dim>::Zero();

@@ -69,7 +69,7 @@ class Engine final : public EngineBase<Dim> {
     for (std::int64_t step = 0; step < steps; ++step) {
       double max_move2 = 0;  // max is exact, so the order of the chunks does not matter
       for (double m : chunk_move2) max_move2 = std::max(max_move2, m);
-      if (!this->settings_.brute_force_pairs && 4 * max_move2 > Square(this->settings_.skin_m)) {
+      if (!this->settings_.brute_force_pairs && 4 * max_move2 > Square(this->skin_m_)) {
         this->pairs_valid_ = false;
       }
       if (!this->pairs_valid_ || this->settings_.stop_at_first_contact) {
@@ -158,7 +158,7 @@ class Engine final : public EngineBase<Dim> {
 
   void PrepareStep() {
     if (!this->pairs_valid_) {
-      this->RebuildPairs(this->PairReachM(Phys::kVanDerWaals));
+      this->RebuildPairs(Phys::kVanDerWaals);
     }
   }
 

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "bouncecal/error.h"
+#include "scene/contact_limits.h"
 #include "scene/engine.h"
 #include "scene/insertion.h"
 
@@ -19,6 +20,14 @@ void PackOptions::Validate() const {
   }
   if (!(skin_diameters >= 0 && skin_diameters <= 10)) {
     throw ConfigError(fmt::format("skin_diameters = {} is outside [0, 10]", skin_diameters));
+  }
+  if (!(min_skin_diameters >= 0 && min_skin_diameters <= 10)) {
+    throw ConfigError(
+        fmt::format("min_skin_diameters = {} is outside [0, 10]", min_skin_diameters));
+  }
+  if (!(skin_rebuild_steps >= 1 && skin_rebuild_steps <= 1e9)) {
+    throw ConfigError(
+        fmt::format("skin_rebuild_steps = {} is outside [1, 1e9]", skin_rebuild_steps));
   }
   if (duration_s && !(*duration_s >= 0 && std::isfinite(*duration_s))) {
     throw ConfigError(fmt::format("duration = {} s must be finite and >= 0", *duration_s));
@@ -116,6 +125,59 @@ HistoryPoint Sample(const ParticleSnapshot& snap, const Scene& scene, double kin
   return point;
 }
 
+// The lightest particle, the largest one and the highest top, over the inserted particles and
+// those still to be poured (which enter at the top of the pour region).
+template <int Dim>
+scene::BodyExtremes Extremes(const scene::EngineBase<Dim>& engine, const Scene& scene,
+                             const std::vector<scene::NewParticle>& pending) {
+  constexpr double kPi = 3.14159265358979323846;
+  const int up = Dim - 1;
+  const double floor = ContainerFloorM(scene);
+  scene::BodyExtremes out;
+  out.lightest_mass_kg = std::numeric_limits<double>::infinity();
+  auto add = [&](double radius_m, double mass_kg, double top_m) {
+    if (mass_kg < out.lightest_mass_kg) {
+      out.lightest_mass_kg = mass_kg;
+      out.lightest_radius_m = radius_m;
+    }
+    if (radius_m > out.largest_radius_m) {
+      out.largest_radius_m = radius_m;
+      out.largest_mass_kg = mass_kg;
+    }
+    out.highest_top_m = std::max(out.highest_top_m, top_m - floor);
+  };
+  const auto& s = engine.state();
+  for (std::int32_t i = 0; i < s.size(); ++i) {
+    add(s.radius_m[i], s.mass_kg[i], s.position_m[i][up] + s.radius_m[i]);
+  }
+  const auto& region = scene.insertion.region;
+  const double region_top =
+      region.kind == RegionKind::kCylinder ? region.z_max_m : region.max_m[up];
+  for (const auto& p : pending) {
+    const double density =
+        scene.particles.species[static_cast<std::size_t>(p.species)].density_kg_per_m3;
+    add(p.radius_m, density * 4.0 / 3.0 * kPi * p.radius_m * p.radius_m * p.radius_m,
+        region_top + p.radius_m);
+  }
+  return out;
+}
+
+template <int Dim>
+double SmallestRadiusM(const scene::EngineBase<Dim>& engine,
+                       const std::vector<scene::NewParticle>& pending) {
+  double smallest = std::numeric_limits<double>::infinity();
+  for (double r : engine.state().radius_m) smallest = std::min(smallest, r);
+  for (const auto& p : pending) smallest = std::min(smallest, p.radius_m);
+  return smallest;
+}
+
+template <int Dim>
+double MaxSpeedMps(const scene::ParticleState<Dim>& state) {
+  double speed2 = 0;
+  for (const auto& v : state.velocity_mps) speed2 = std::max(speed2, v.squaredNorm());
+  return std::sqrt(speed2);
+}
+
 std::int64_t StepsFor(double interval_s, double dt) {
   if (!(interval_s > 0)) return std::numeric_limits<std::int64_t>::max();
   return std::max<std::int64_t>(1, std::llround(interval_s / dt));
@@ -124,6 +186,15 @@ std::int64_t StepsFor(double interval_s, double dt) {
 template <int Dim>
 PackSummary Run(const Scene& scene, const PackOptions& options) {
   const auto start = std::chrono::steady_clock::now();
+  const double container_height_m = ContainerTopM(scene) - ContainerFloorM(scene);
+  if (scene.measurement.profile_bin_m > 0 &&
+      container_height_m / scene.measurement.profile_bin_m > kMaxProfileBins) {
+    throw ConfigError(fmt::format(
+        "{}: measurement.profile_bin_m = {:.3g} m cuts the {:.3g} m tall container into more "
+        "than {:.0f} bins; use a larger bin",
+        scene.source.string(), scene.measurement.profile_bin_m, container_height_m,
+        kMaxProfileBins));
+  }
   const auto& m = scene.material;
   scene::EngineSettings settings;
   settings.time_step_s = scene.time_step_s;
@@ -137,6 +208,8 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
   settings.local_damping = m.local_damping;
   settings.stop_at_first_contact = scene.physics.stop_at_first_contact;
   settings.skin_m = options.skin_diameters * scene.particles.diameter.MaxDiameterM();
+  settings.min_skin_m = options.min_skin_diameters * scene.particles.diameter.MaxDiameterM();
+  settings.skin_rebuild_steps = options.skin_rebuild_steps;
   settings.brute_force_pairs = options.brute_force_pairs;
   settings.threads = options.threads;
   auto engine = scene::MakeEngine<Dim>(settings, scene::ContainerWalls<Dim>(scene.container), m.law,
@@ -160,6 +233,22 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
   }
 
   const double dt = scene.time_step_s;
+  const scene::BodyExtremes bodies = Extremes(*engine, scene, pending);
+  if (const auto problem = scene::VanDerWaalsOverlapProblem(scene, bodies)) {
+    throw ConfigError(scene.source.string() + ": " + *problem);
+  }
+  const scene::TimeStepLimit limit = scene::SceneTimeStepLimit(scene, bodies);
+  if (dt > limit.limit_s && !options.allow_unstable_step) {
+    throw ConfigError(fmt::format(
+        "{}: time_step_s = {:.3g} s exceeds {:.3g} s, the stability limit of the stiffest contact "
+        "({}); use a step of at most {:.3g} s (a pack needs some margin below the limit), softer "
+        "contacts or heavier particles",
+        scene.source.string(), dt, limit.limit_s, limit.stiffest, 0.5 * limit.limit_s));
+  }
+  // A particle that moves half its radius in one step overlaps whatever it meets by that much
+  // before any force acts: no contact is resolved any more, energy is created, particles pass
+  // through walls. Stop there rather than run on to absurd (finite) numbers.
+  const double runaway_speed_mps = 0.5 * SmallestRadiusM(*engine, pending) / dt;
   const double duration = options.duration_s.value_or(scene.duration_s);
   const std::int64_t total_steps = std::llround(duration / dt);
   const std::int64_t history_every = StepsFor(scene.measurement.history_interval_s, dt);
@@ -172,6 +261,7 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
   PackSummary summary;
   summary.physics = DescribePhysics(scene);
   summary.time_step_s = dt;
+  summary.time_step_limit_s = limit.limit_s;
   summary.threads = options.threads;
   summary.history.push_back(Sample(Snapshot(*engine), scene, engine->KineticEnergyJ()));
   if (options.snapshot && snapshot_every != std::numeric_limits<std::int64_t>::max()) {
@@ -196,6 +286,15 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
           "the run became unstable at t = {:.6g} s (a position or velocity is not finite); "
           "use a smaller time_step_s than {:.3g} s",
           engine->time_s(), dt);
+      break;
+    }
+    if (const double speed = MaxSpeedMps(engine->state()); speed > runaway_speed_mps) {
+      summary.stop_reason = PackStopReason::kUnstable;
+      summary.message = fmt::format(
+          "the run became unstable at t = {:.6g} s: a particle reached {:.3g} m/s and moves more "
+          "than half its radius per step; use a smaller time_step_s than {:.3g} s (the stability "
+          "limit of one contact is {:.3g} s)",
+          engine->time_s(), speed, dt, limit.limit_s);
       break;
     }
     if (step % batch_every == 0 && !pending.empty()) {

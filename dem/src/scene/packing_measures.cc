@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "bouncecal/error.h"
@@ -41,20 +42,6 @@ std::string Where(const Scene& scene) {
   return scene.source.empty() ? std::string("scene") : scene.source.string();
 }
 
-double FloorHeight(const Scene& scene) {
-  const auto& c = scene.container;
-  const int up = scene.dimension - 1;
-  switch (c.kind) {
-    case ContainerKind::kCylinder:
-      return c.center_m[up];
-    case ContainerKind::kBox:
-      return c.min_m[up];
-    case ContainerKind::kPlane:
-      return c.point_m[up];
-  }
-  return 0;
-}
-
 template <int Dim>
 std::vector<scene::Vec<Dim>> ToVec(const ParticleSnapshot& snapshot) {
   std::vector<scene::Vec<Dim>> out(snapshot.size());
@@ -64,9 +51,31 @@ std::vector<scene::Vec<Dim>> ToVec(const ParticleSnapshot& snapshot) {
   return out;
 }
 
+// 3D: whether a centre lies over the container's floor area (inside the cylinder or the box's
+// sides). The walls keep the particles poured in there; one that went over the rim and lies
+// beside the container must not count towards its density. 2D measures in an explicit window.
+bool InsideFootprint(const Vec3& x, const Scene& scene) {
+  const auto& c = scene.container;
+  if (scene.dimension != 3) return true;
+  switch (c.kind) {
+    case ContainerKind::kCylinder: {
+      const double dx = x[0] - c.center_m[0];
+      const double dy = x[1] - c.center_m[1];
+      return dx * dx + dy * dy <= c.radius_m * c.radius_m;
+    }
+    case ContainerKind::kBox:
+      return x[0] >= c.min_m[0] && x[0] <= c.max_m[0] && x[1] >= c.min_m[1] && x[1] <= c.max_m[1];
+    case ContainerKind::kPlane:
+      break;
+  }
+  return true;
+}
+
 bool InMeasurementRegion(const Vec3& x, const Scene& scene) {
   const auto& m = scene.measurement;
-  if (scene.dimension == 3) return x[2] >= m.band_min_m && x[2] <= m.band_max_m;
+  if (scene.dimension == 3) {
+    return x[2] >= m.band_min_m && x[2] <= m.band_max_m && InsideFootprint(x, scene);
+  }
   return x[0] >= m.window_min_m[0] && x[0] <= m.window_max_m[0] && x[1] >= m.window_min_m[1] &&
          x[1] <= m.window_max_m[1];
 }
@@ -92,6 +101,34 @@ double DiskRectangleAreaM2(double center_x_m, double center_y_m, double radius_m
   const double area = QuadrantArea(x1, y1, r) - QuadrantArea(x0, y1, r) - QuadrantArea(x1, y0, r) +
                       QuadrantArea(x0, y0, r);
   return std::clamp(area, 0.0, kPi * r * r);
+}
+
+double ContainerFloorM(const Scene& scene) {
+  const auto& c = scene.container;
+  const int up = scene.dimension - 1;
+  switch (c.kind) {
+    case ContainerKind::kCylinder:
+      return c.center_m[up];
+    case ContainerKind::kBox:
+      return c.min_m[up];
+    case ContainerKind::kPlane:
+      return c.point_m[up];
+  }
+  return 0;
+}
+
+double ContainerTopM(const Scene& scene) {
+  const auto& c = scene.container;
+  const int up = scene.dimension - 1;
+  switch (c.kind) {
+    case ContainerKind::kCylinder:
+      return c.center_m[up] + c.height_m;
+    case ContainerKind::kBox:
+      return c.max_m[up];
+    case ContainerKind::kPlane:
+      break;
+  }
+  return std::numeric_limits<double>::infinity();
 }
 
 double ContainerCrossSection(const Scene& scene) {
@@ -120,6 +157,7 @@ double PackingDensity(const ParticleSnapshot& snapshot, const Scene& scene) {
                         ": measurement.band_m is empty; give [low, high] heights in m");
     }
     for (std::size_t i = 0; i < snapshot.size(); ++i) {
+      if (!InsideFootprint(snapshot.position_m[i], scene)) continue;
       solid += SphereSlabVolumeM3(snapshot.position_m[i][2], snapshot.radius_m[i], m.band_min_m,
                                   m.band_max_m);
     }
@@ -166,18 +204,25 @@ DensityProfile DensityProfileVsHeight(const ParticleSnapshot& snapshot, const Sc
   if (!(bin_m > 0)) throw ConfigError(Where(scene) + ": profile bin must be > 0 m");
   const double cross = ContainerCrossSection(scene);
   const int up = scene.dimension - 1;
-  const double floor = FloorHeight(scene);
+  const double floor = ContainerFloorM(scene);
   double top = floor;
   for (std::size_t i = 0; i < snapshot.size(); ++i) {
     top = std::max(top, snapshot.position_m[i][up] + snapshot.radius_m[i]);
   }
-  const auto bins = static_cast<std::size_t>(std::ceil((top - floor) / bin_m));
+  // The profile is of the container: a particle flung far above it (or out over its rim) would
+  // otherwise stretch the table to millions of empty rows.
+  top = std::min(top, ContainerTopM(scene));
+  // and kMaxProfileBins bounds it where nothing above does (a lone plane; RunPacking refuses a
+  // bin that cuts a container into more before running).
+  const double span_bins = std::min(std::ceil((top - floor) / bin_m), kMaxProfileBins);
+  const auto bins = static_cast<std::size_t>(std::max(span_bins, 0.0));
   DensityProfile profile;
   profile.height_m.resize(bins);
   profile.density.assign(bins, 0.0);
   for (std::size_t b = 0; b < bins; ++b) profile.height_m[b] = floor + (b + 0.5) * bin_m;
   const auto& c = scene.container;
   for (std::size_t i = 0; i < snapshot.size(); ++i) {
+    if (!InsideFootprint(snapshot.position_m[i], scene)) continue;
     const double z = snapshot.position_m[i][up];
     const double r = snapshot.radius_m[i];
     const auto first = static_cast<std::int64_t>(std::floor((z - r - floor) / bin_m));

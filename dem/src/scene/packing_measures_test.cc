@@ -155,6 +155,36 @@ TEST(DensityProfile, SimpleCubicLatticeAveragesToPiOverSixPerLayer) {
     EXPECT_NEAR(profile.density[b], 0, 1e-12);
 }
 
+TEST(PackingDensity, ParticlesBesideTheContainerDoNotCount) {
+  // Spheres that went over the rim and lie on the floor beside the box are not in it: the same
+  // lattice plus a copy shifted out of the box leaves every measure unchanged.
+  const Scene scene = LatticeScene(3);
+  ParticleSnapshot spilled = Lattice(3);
+  const ParticleSnapshot inside = Lattice(3);
+  for (std::size_t i = 0; i < inside.size(); ++i) {
+    spilled.position_m.push_back(
+        {inside.position_m[i][0] + 1.5, inside.position_m[i][1], inside.position_m[i][2]});
+    spilled.velocity_mps.push_back({0, 0, 0});
+    spilled.radius_m.push_back(inside.radius_m[i]);
+    spilled.species.push_back(0);
+  }
+  EXPECT_EQ(PackingDensity(spilled, scene), PackingDensity(inside, scene));
+  EXPECT_EQ(CentreCountDensity(spilled, scene), CentreCountDensity(inside, scene));
+  EXPECT_EQ(DensityProfileVsHeight(spilled, scene, 0.1).density,
+            DensityProfileVsHeight(inside, scene, 0.1).density);
+  EXPECT_EQ(Coordination(spilled, scene).mean, Coordination(inside, scene).mean);
+}
+
+TEST(DensityProfile, StopsAtTheContainerTopWhateverFliesAboveIt) {
+  const Scene scene = LatticeScene(3);  // a 1 m tall box
+  ParticleSnapshot snap = Lattice(3);
+  snap.position_m.push_back({0.5, 0.5, 1e6});  // flung 1000 km up by a failed run
+  snap.velocity_mps.push_back({0, 0, 0});
+  snap.radius_m.push_back(0.05);
+  snap.species.push_back(0);
+  EXPECT_LE(DensityProfileVsHeight(snap, scene, 1e-3).density.size(), 1001u);
+}
+
 TEST(Coordination, InteriorOfTouchingLatticesHasFourOrSixNeighbours) {
   // With the tolerance 1.0005 exact lattice neighbours count, diagonals (sqrt 2 d) do not.
   const auto square = Coordination(Lattice(2), LatticeScene(2));

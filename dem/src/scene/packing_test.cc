@@ -109,6 +109,54 @@ TEST(RunPacking, OverfullRandomRegionIsAConfigError) {
   EXPECT_THROW(RunPacking(scene), ConfigError);
 }
 
+TEST(RunPacking, StepBeyondTheStiffestContactsLimitIsRefusedBeforeRunning) {
+  // SmallPour: m = 7800 pi/6 (0.01)^3 = 4.084e-3 kg. Its stiffest contact is the tangential
+  // spring of a pair of rolling spheres, 1/m_t = 2 (1 + 2.5) / m, so dt < 2 sqrt(m / (7 k_t)):
+  // 4.83e-5 s with k_t = 1e6 (the normal limit 2 sqrt((m/2) / (1.5 k)) = 7.4e-5 s is wider).
+  const double mass = 7800 * 3.14159265358979323846 / 6 * 1e-6;
+  const double limit = 2 * std::sqrt(mass / (7 * 1e6));
+  nlohmann::json json = SmallPour();
+  json["duration_s"] = 0.0;
+  EXPECT_NEAR(RunPacking(SceneFromJson(json, "ok.json")).time_step_limit_s, limit, 1e-12 * limit);
+  json["time_step_s"] = 1.05 * limit;
+  try {
+    RunPacking(SceneFromJson(json, "coarse.json"));
+    ADD_FAILURE() << "a step 5 % beyond the limit ran";
+  } catch (const ConfigError& error) {
+    EXPECT_NE(std::string(error.what()).find("coarse.json: time_step_s"), std::string::npos)
+        << error.what();
+    EXPECT_NE(std::string(error.what()).find("tangential spring"), std::string::npos);
+  }
+  json["time_step_s"] = 0.95 * limit;
+  EXPECT_NO_THROW(RunPacking(SceneFromJson(json, "fine.json")));
+}
+
+TEST(RunPacking, RunawayParticlesStopTheRunAsUnstableInsteadOfFinishingWithAbsurdNumbers) {
+  // Forced past the refusal with a step 3x the limit, the pour gains energy at every contact:
+  // the run must stop as unstable once a particle moves half its radius per step (250 m/s
+  // here), not finish "fine" with particles kilometres away.
+  nlohmann::json json = SmallPour();
+  json["time_step_s"] = 1.5e-4;
+  json["duration_s"] = 2.0;
+  PackOptions options;
+  options.allow_unstable_step = true;
+  const auto summary = RunPacking(SceneFromJson(json, "unstable.json"), options);
+  EXPECT_EQ(summary.stop_reason, PackStopReason::kUnstable);
+  EXPECT_NE(summary.message.find("half its radius per step"), std::string::npos) << summary.message;
+}
+
+TEST(RunPacking, VanDerWaalsThatOverwhelmsTheContactsIsRefused) {
+  nlohmann::json json = SmallPour();
+  json["duration_s"] = 0.0;
+  json["physics"]["van_der_waals"] = true;
+  EXPECT_NO_THROW(RunPacking(SceneFromJson(json, "vdw.json")));  // 4e-10 m gap: a tiny pull
+  // The smallest gap allowed, 1e-12 m, pulls with A R / (6 h^2) = 21.1e-20 * 2.5e-3 / 6e-24 =
+  // 88 N: more than soft contacts (k = 1e3 N/m) push back at 10 % of R, 1e3 * 2.5e-4 = 0.25 N.
+  json["material"]["vdw_min_gap_m"] = 1e-12;
+  json["material"]["contact_law"]["parameters"]["stiffness_n_per_m"] = 1e3;
+  EXPECT_THROW(RunPacking(SceneFromJson(json, "vdw.json")), ConfigError);
+}
+
 TEST(Dump, LammpsDumpHasOneLinePerParticle) {
   nlohmann::json json = SmallPour();
   json["duration_s"] = 0.0;

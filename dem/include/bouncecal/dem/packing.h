@@ -26,6 +26,14 @@ struct PackOptions {
   // Verlet skin as a fraction of the largest diameter: pairs are listed when their surfaces are
   // closer than this and the list is rebuilt once a particle has moved half of it.
   double skin_diameters = 0.1;
+  // The skin adapts between this and skin_diameters: at each rebuild it is what the fastest
+  // particle crosses (twice) in skin_rebuild_steps steps. Wide while particles fall, narrow once
+  // they rest, where fewer listed pairs make each step cheaper. >= skin_diameters: fixed skin.
+  double min_skin_diameters = 0.01;
+  double skin_rebuild_steps = 50;
+  // A time step beyond the stability limit of the scene's stiffest contact (see
+  // PackSummary::time_step_limit_s) is refused unless this is set.
+  bool allow_unstable_step = false;
   bool brute_force_pairs = false;    // list all N^2/2 pairs (reference path for tests)
   std::optional<double> duration_s;  // overrides the scene's duration
   std::int64_t progress_every_steps = 2000;
@@ -57,6 +65,9 @@ struct PackSummary {
   std::int64_t steps = 0;
   std::int64_t neighbor_rebuilds = 0;
   double time_step_s = 0;
+  // omega dt < 2 for the stiffest single contact of the scene's particles; a pack usually
+  // needs a step well below it (several contacts load a particle at once).
+  double time_step_limit_s = 0;
   double simulated_s = 0;
   double wall_s = 0;
   double particle_steps_per_s = 0;

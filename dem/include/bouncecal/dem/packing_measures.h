@@ -41,6 +41,9 @@ double PackingDensity(const ParticleSnapshot& snapshot, const Scene& scene);
 // packings). Same ConfigErrors as PackingDensity.
 double CentreCountDensity(const ParticleSnapshot& snapshot, const Scene& scene);
 
+// At most this many bins in a density profile.
+inline constexpr double kMaxProfileBins = 1e6;
+
 struct DensityProfile {
   std::vector<double> height_m;  // bin centres (z in 3D, y in 2D)
   std::vector<double> density;   // solid fraction of each horizontal slab of the container
@@ -62,6 +65,11 @@ CoordinationStats Coordination(const ParticleSnapshot& snapshot, const Scene& sc
 // Cross-sectional area (3D) or width (2D) of the container at the measurement band; ConfigError
 // when the container is open sideways (a lone plane).
 double ContainerCrossSection(const Scene& scene);
+
+// Height (z in 3D, y in 2D) of the container's floor, and of its top: a cylinder's rim, a box's
+// top face (open or not); +infinity for a lone plane.
+double ContainerFloorM(const Scene& scene);
+double ContainerTopM(const Scene& scene);
 
 }  // namespace bouncecal::dem
 

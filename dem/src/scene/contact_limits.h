@@ -1,0 +1,44 @@
+#ifndef BOUNCECAL_DEM_SCENE_CONTACT_LIMITS_H_
+#define BOUNCECAL_DEM_SCENE_CONTACT_LIMITS_H_
+
+#include <optional>
+#include <string>
+
+#include "bouncecal/dem/scene.h"
+
+namespace bouncecal::dem::scene {
+
+// The particles a scene holds (or will hold), as far as its stiffest contact is concerned.
+struct BodyExtremes {
+  double lightest_mass_kg = 0;
+  double lightest_radius_m = 0;
+  double largest_radius_m = 0;
+  double largest_mass_kg = 0;  // of the particle with the largest radius
+  double highest_top_m = 0;    // highest particle top (or pour region top) above the floor
+};
+
+struct TimeStepLimit {
+  double limit_s = 0;
+  std::string stiffest;  // which contact sets the limit, for the message
+};
+
+// The largest step velocity Verlet can take on one contact of this scene: omega dt < 2 with
+// omega of the stiffest single contact (normal law at the deepest overlap an impact from the
+// highest particle reaches, the tangential spring with the sphere's rolling inertia). A pack
+// loads a particle through several contacts at once, so a stable run usually needs a step some
+// way below this; a step beyond it cannot be stable at all. The van der Waals attraction is
+// left out: it is flat (floored at vdw_min_gap_m) wherever a contact rests, so it shifts the
+// equilibrium (see VanDerWaalsOverlapProblem) but adds no stiffness there.
+TimeStepLimit SceneTimeStepLimit(const Scene& scene, const BodyExtremes& bodies);
+
+// Why, with van der Waals on, the attraction at vdw_min_gap_m would pull two touching particles
+// deeper into each other than the contact law holds them apart: an equilibrium overlap beyond
+// kMaxVanDerWaalsOverlap of the effective radius, where overlapping spheres are no longer a
+// model of touching ones and the run collapses. nullopt when it is fine or vdW is off.
+inline constexpr double kMaxVanDerWaalsOverlap = 0.1;
+std::optional<std::string> VanDerWaalsOverlapProblem(const Scene& scene,
+                                                     const BodyExtremes& bodies);
+
+}  // namespace bouncecal::dem::scene
+
+#endif  // BOUNCECAL_DEM_SCENE_CONTACT_LIMITS_H_
