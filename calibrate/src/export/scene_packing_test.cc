@@ -73,7 +73,9 @@ TEST(PackingDeckSpecFromScene, WhatTheDecksCannotExpressIsAConfigErrorNamingTheK
   json["physics"]["stop_at_first_contact"] = true;
   EXPECT_THROW(PackingDeckSpecFromScene(dem::SceneFromJson(json, "pour.json")), ConfigError);
   json = PaperPour();
-  json["insertion"]["region"]["center_m"] = {1.05, 2};
+  // Off the axis but still inside the cylinder (0.003 + 0.095 < 0.1 m): a valid scene that the
+  // decks' coaxial pour region cannot express.
+  json["insertion"]["region"]["center_m"] = {1.003, 2};
   EXPECT_THROW(PackingDeckSpecFromScene(dem::SceneFromJson(json, "pour.json")), ConfigError);
 }
 

@@ -4,15 +4,18 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <ios>
 #include <limits>
 
 #include "bouncecal/dem/contact_law_json.h"
 #include "bouncecal/dem/scene.h"
 #include "bouncecal/error.h"
+#include "scene/insertion.h"
 #include "scene/json_reader.h"
 
 namespace bouncecal::dem {
 
+using scene::AtMostUpToRounding;
 using scene::JsonReader;
 
 namespace {
@@ -27,6 +30,12 @@ std::filesystem::path Resolve(const std::filesystem::path& source, const std::st
 }
 
 nlohmann::json ReadJsonFile(const std::filesystem::path& path, const std::string& what) {
+  // An ifstream opens a directory without complaint; the first read then throws an
+  // std::ios_base::failure ("basic_filebuf::underflow ...") that names neither file nor remedy.
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    throw InputError(path.string() + ": is a directory, not a " + what + "; give the file's path");
+  }
   std::ifstream in(path);
   if (!in) throw InputError(path.string() + ": cannot open the " + what + "; check the path");
   try {
@@ -34,6 +43,8 @@ nlohmann::json ReadJsonFile(const std::filesystem::path& path, const std::string
   } catch (const nlohmann::json::exception& error) {
     // parse_error, and out_of_range for a number that overflows a double (1e999).
     throw InputError(path.string() + ": not valid JSON (" + error.what() + ")");
+  } catch (const std::ios_base::failure& error) {
+    throw InputError(path.string() + ": cannot read the " + what + " (" + error.what() + ")");
   }
 }
 
@@ -121,7 +132,112 @@ void ReadContainer(JsonReader r, Scene& scene) {
   r.Finish();
 }
 
-RegionSpec ReadRegion(JsonReader r, int dim) {
+// Particles are placed wholly inside the region (their centres a radius in from its faces), so
+// the region itself must lie inside the container: a particle started across a wall is pushed
+// through it or left outside, since walls act from one side only. The region may stand above an
+// open container (paper 000 pours from above the rim), not above a box's lid. A region drawn
+// equal to the container passes (AtMostUpToRounding).
+void CheckRegionInContainer(const JsonReader& r, const RegionSpec& region, const Scene& scene) {
+  static constexpr char kAxis[] = "xyz";
+  const auto& c = scene.container;
+  const int dim = scene.dimension;
+  const int up = dim - 1;
+  const bool box = region.kind == RegionKind::kBox;
+  const double bottom = box ? region.min_m[up] : region.z_min_m;
+  const double top = box ? region.max_m[up] : region.z_max_m;
+  const char* bottom_key = box ? "min_m" : "z_min_m";
+  const char* top_key = box ? "max_m" : "z_max_m";
+  if (c.kind == ContainerKind::kPlane) {
+    double norm = 0;
+    for (int d = 0; d < dim; ++d) norm += c.normal[d] * c.normal[d];
+    norm = std::sqrt(norm);
+    Vec3 n{0, 0, 0};
+    for (int d = 0; d < dim; ++d) n[d] = c.normal[d] / norm;
+    double wall = 0;  // the plane's position along its unit normal
+    for (int d = 0; d < dim; ++d) wall += c.point_m[d] * n[d];
+    double lowest = 0;  // the region's lowest point along the normal
+    if (box) {
+      for (int d = 0; d < dim; ++d)
+        lowest += n[d] * (n[d] >= 0 ? region.min_m[d] : region.max_m[d]);
+    } else {
+      lowest = n[0] * region.center_m[0] + n[1] * region.center_m[1] -
+               region.radius_m * std::hypot(n[0], n[1]) +
+               n[2] * (n[2] >= 0 ? region.z_min_m : region.z_max_m);
+    }
+    if (!AtMostUpToRounding(wall, lowest)) {
+      r.Fail(bottom_key, fmt::format("the region reaches {:.9g} m behind the container's plane; "
+                                     "particles would start behind the wall: move the region "
+                                     "to the side the normal points to",
+                                     wall - lowest));
+    }
+    return;
+  }
+  if (c.kind == ContainerKind::kCylinder) {
+    if (box) {
+      // The corner furthest from the axis.
+      const double x =
+          std::abs(region.min_m[0] - c.center_m[0]) > std::abs(region.max_m[0] - c.center_m[0])
+              ? region.min_m[0]
+              : region.max_m[0];
+      const double y =
+          std::abs(region.min_m[1] - c.center_m[1]) > std::abs(region.max_m[1] - c.center_m[1])
+              ? region.min_m[1]
+              : region.max_m[1];
+      const double reach = std::hypot(x - c.center_m[0], y - c.center_m[1]);
+      if (!AtMostUpToRounding(reach, c.radius_m)) {
+        r.Fail(x == region.min_m[0] && y == region.min_m[1] ? "min_m" : "max_m",
+               fmt::format("the region's corner (x, y) = ({:.9g}, {:.9g}) m lies {:.9g} m from "
+                           "the container's axis, beyond the cylinder's radius {:.9g} m; "
+                           "particles would start outside the container: keep the region "
+                           "inside the cylinder",
+                           x, y, reach, c.radius_m));
+      }
+    } else {
+      const double offset =
+          std::hypot(region.center_m[0] - c.center_m[0], region.center_m[1] - c.center_m[1]);
+      if (!AtMostUpToRounding(offset + region.radius_m, c.radius_m)) {
+        r.Fail("radius_m",
+               fmt::format("the region reaches {:.9g} m from the container's axis (centre "
+                           "offset {:.9g} m + radius {:.9g} m), beyond the cylinder's radius "
+                           "{:.9g} m; particles would start outside the container: shrink the "
+                           "region or move it onto the axis",
+                           offset + region.radius_m, offset, region.radius_m, c.radius_m));
+      }
+    }
+  } else {
+    for (int d = 0; d < up; ++d) {
+      const double lo = box ? region.min_m[d] : region.center_m[d] - region.radius_m;
+      const double hi = box ? region.max_m[d] : region.center_m[d] + region.radius_m;
+      const char* lo_key = box ? "min_m" : "radius_m";
+      const char* hi_key = box ? "max_m" : "radius_m";
+      if (!AtMostUpToRounding(c.min_m[d], lo)) {
+        r.Fail(lo_key, fmt::format("the region reaches {0} = {1:.9g} m, beyond the container's "
+                                   "side wall at {0} = {2:.9g} m; keep the region inside the box",
+                                   kAxis[d], lo, c.min_m[d]));
+      }
+      if (!AtMostUpToRounding(hi, c.max_m[d])) {
+        r.Fail(hi_key, fmt::format("the region reaches {0} = {1:.9g} m, beyond the container's "
+                                   "side wall at {0} = {2:.9g} m; keep the region inside the box",
+                                   kAxis[d], hi, c.max_m[d]));
+      }
+    }
+    if (c.closed_top && !AtMostUpToRounding(top, c.max_m[up])) {
+      r.Fail(top_key, fmt::format("the region reaches {0} = {1:.9g} m, above the container's "
+                                  "closed top at {0} = {2:.9g} m; keep the region below the lid",
+                                  kAxis[up], top, c.max_m[up]));
+    }
+  }
+  const double floor = c.kind == ContainerKind::kCylinder ? c.center_m[2] : c.min_m[up];
+  if (!AtMostUpToRounding(floor, bottom)) {
+    r.Fail(bottom_key, fmt::format("the region starts at {0} = {1:.9g} m, below the container's "
+                                   "floor at {0} = {2:.9g} m; particles would start under the "
+                                   "floor: raise it to at least {2:.9g} m",
+                                   kAxis[up], bottom, floor));
+  }
+}
+
+RegionSpec ReadRegion(JsonReader r, const Scene& scene) {
+  const int dim = scene.dimension;
   RegionSpec region;
   const std::string type = r.String("type");
   if (type == "box") {
@@ -144,6 +260,7 @@ RegionSpec ReadRegion(JsonReader r, int dim) {
     r.Fail("type", "'" + type + "' is not one of: box, cylinder");
   }
   r.Finish();
+  CheckRegionInContainer(r, region, scene);
   return region;
 }
 
@@ -152,7 +269,7 @@ void ReadInsertion(JsonReader r, Scene& scene) {
   const std::string type = r.String("type");
   if (type == "random" || type == "pour") {
     in.kind = type == "random" ? InsertionKind::kRandom : InsertionKind::kPour;
-    in.region = ReadRegion(r.Object("region"), scene.dimension);
+    in.region = ReadRegion(r.Object("region"), scene);
     in.max_attempts = r.Integer("max_attempts", 1, std::int64_t{1} << 40, in.max_attempts);
     if (in.kind == InsertionKind::kPour) {
       in.batch_interval_s = r.Number("batch_interval_s", 1e-9, 1e6);
@@ -340,6 +457,9 @@ Scene SceneFromJson(const nlohmann::json& root, const std::filesystem::path& sou
                                : JsonReader(nlohmann::json::object(), file, "outputs"),
               scene);
   r.Finish();
+  // The start-positions file is part of the scene: checked now (against the container, the
+  // species and particles.count), so a bad one is refused before any output is written.
+  if (scene.insertion.kind == InsertionKind::kFile) scene::ReadParticleFile(scene);
   return scene;
 }
 

@@ -25,9 +25,10 @@ nlohmann::json Minimal() {
 }
 
 // The InputError message for a scene (a malformed scene file), or "" when it parses.
-std::string ErrorOf(const nlohmann::json& json) {
+std::string ErrorOf(const nlohmann::json& json,
+                    const std::filesystem::path& source = "scene.json") {
   try {
-    SceneFromJson(json, "scene.json");
+    SceneFromJson(json, source);
   } catch (const InputError& error) {
     return error.what();
   }
@@ -171,6 +172,156 @@ TEST(SceneJson, MaterialCardSuppliesTheContactLaw) {
   EXPECT_DOUBLE_EQ(scene.material.law.Get("stiffness_n_per_m"), 2e7);
   json["material"]["contact_law"] = {{"law", "walton-braun"}};
   EXPECT_TRUE(Mentions(ErrorOf(json), "exactly one"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(SceneJson, InsertionRegionMustLieInsideTheCylinder) {
+  // Minimal(): a cylinder R = 0.1 m from z = 0; particles d = 1 cm.
+  auto json = Minimal();
+  json["insertion"]["region"]["radius_m"] = 0.2;
+  auto message = ErrorOf(json);
+  EXPECT_TRUE(Mentions(message,
+                       "scene.json: insertion.region.radius_m: the region reaches 0.2 m "
+                       "from the container's axis"))
+      << message;
+  EXPECT_TRUE(Mentions(message, "cylinder's radius 0.1 m")) << message;
+  // Inside by radius alone, but off the axis.
+  json = Minimal();
+  json["insertion"]["region"]["center_m"] = {0.05, 0};
+  message = ErrorOf(json);
+  EXPECT_TRUE(Mentions(message, "insertion.region.radius_m: the region reaches 0.14 m")) << message;
+  EXPECT_TRUE(Mentions(message, "centre offset 0.05 m + radius 0.09 m")) << message;
+  json = Minimal();
+  json["insertion"]["region"]["z_min_m"] = -0.05;
+  message = ErrorOf(json);
+  EXPECT_TRUE(Mentions(message,
+                       "insertion.region.z_min_m: the region starts at z = -0.05 m, below "
+                       "the container's floor at z = 0 m"))
+      << message;
+  // A floor away from the origin moves the limit with it.
+  json = Minimal();
+  json["container"]["center_m"] = {1, 2, 3};
+  message = ErrorOf(json);
+  EXPECT_TRUE(Mentions(message, "insertion.region.radius_m")) << message;
+  json["insertion"]["region"]["center_m"] = {1, 2};
+  message = ErrorOf(json);
+  EXPECT_TRUE(Mentions(message, "insertion.region.z_min_m")) << message;
+  // A box region's furthest corner counts, and the key is the one that places it.
+  json = Minimal();
+  json["insertion"]["region"] = {
+      {"type", "box"}, {"min_m", {-0.08, -0.08, 0}}, {"max_m", {0.05, 0.05, 0.1}}};
+  message = ErrorOf(json);
+  EXPECT_TRUE(Mentions(message,
+                       "insertion.region.min_m: the region's corner (x, y) = (-0.08, "
+                       "-0.08) m lies 0.113137085 m from the container's axis"))
+      << message;
+  json["insertion"]["region"] = {
+      {"type", "box"}, {"min_m", {-0.07, -0.07, 0}}, {"max_m", {0.07, 0.07, 0.1}}};
+  EXPECT_EQ(ErrorOf(json), "");
+}
+
+TEST(SceneJson, InsertionRegionMayStandAboveAnOpenContainerOnly) {
+  // Paper 000 pours from 0.2-0.3 m into a cylinder 0.2 m high, whose rim is not modelled.
+  auto json = Minimal();
+  json["insertion"] = {
+      {"type", "pour"},
+      {"batch_interval_s", 0.1},
+      {"region", {{"type", "cylinder"}, {"radius_m", 0.095}, {"z_min_m", 0.2}, {"z_max_m", 0.3}}}};
+  EXPECT_EQ(ErrorOf(json), "");
+  json["insertion"]["type"] = "random";
+  json["insertion"].erase("batch_interval_s");
+  EXPECT_EQ(ErrorOf(json), "");
+  // A pour region as wide as the footprint is still checked above the rim.
+  json["insertion"]["region"]["radius_m"] = 0.2;
+  EXPECT_TRUE(Mentions(ErrorOf(json), "insertion.region.radius_m"));
+  // A box: sides always, the lid when closed.
+  json = Minimal();
+  json["container"] = {{"type", "box"}, {"min_m", {0, 0, 0}}, {"max_m", {0.06, 0.06, 0.1}}};
+  json["insertion"]["region"] = {
+      {"type", "box"}, {"min_m", {0, 0, 0}}, {"max_m", {0.06, 0.06, 0.2}}};
+  EXPECT_EQ(ErrorOf(json), "");
+  json["container"]["closed_top"] = true;
+  auto message = ErrorOf(json);
+  EXPECT_TRUE(Mentions(message,
+                       "insertion.region.max_m: the region reaches z = 0.2 m, above the "
+                       "container's closed top at z = 0.1 m"))
+      << message;
+  json["insertion"]["region"]["max_m"] = {0.2, 0.06, 0.1};
+  message = ErrorOf(json);
+  EXPECT_TRUE(Mentions(message,
+                       "insertion.region.max_m: the region reaches x = 0.2 m, beyond the "
+                       "container's side wall at x = 0.06 m"))
+      << message;
+  json["insertion"]["region"]["max_m"] = {0.06, 0.06, 0.1};
+  json["insertion"]["region"]["min_m"] = {0, -0.01, 0};
+  EXPECT_TRUE(Mentions(ErrorOf(json), "insertion.region.min_m: the region reaches y = -0.01 m"));
+  json["insertion"]["region"]["min_m"] = {0, 0, -0.01};
+  EXPECT_TRUE(Mentions(ErrorOf(json), "insertion.region.min_m: the region starts at z = -0.01 m"));
+  // A cylinder region in a box: its circle must fit between the side walls.
+  json["insertion"]["region"] = {{"type", "cylinder"},
+                                 {"center_m", {0.03, 0.03}},
+                                 {"radius_m", 0.04},
+                                 {"z_min_m", 0},
+                                 {"z_max_m", 0.1}};
+  message = ErrorOf(json);
+  EXPECT_TRUE(Mentions(message, "insertion.region.radius_m: the region reaches x = -0.01 m"))
+      << message;
+}
+
+TEST(SceneJson, InsertionRegionOf2dScenesAndPlanes) {
+  auto json = Minimal();
+  json["dimension"] = 2;
+  json["container"] = {
+      {"type", "box"}, {"min_m", {0, 0}}, {"max_m", {0.002, 0.002}}, {"closed_top", true}};
+  json["particles"]["diameter_m"] = 1e-4;
+  json["measurement"] = {{"window", {{"min_m", {0, 0}}, {"max_m", {0.002, 0.001}}}}};
+  // Paper 004's region is the box itself: particles are placed wholly inside the region.
+  json["insertion"]["region"] = {{"type", "box"}, {"min_m", {0, 0}}, {"max_m", {0.002, 0.002}}};
+  EXPECT_EQ(ErrorOf(json), "");
+  json["insertion"]["region"]["max_m"] = {0.002, 0.003};
+  EXPECT_TRUE(Mentions(ErrorOf(json), "insertion.region.max_m: the region reaches y = 0.003 m"));
+  json = Minimal();
+  json["container"] = {{"type", "plane"}, {"point_m", {0, 0, 0.05}}, {"normal", {0, 0, 2}}};
+  EXPECT_EQ(ErrorOf(json), "");  // the region starts at z = 0.1
+  json["container"]["point_m"] = {0, 0, 0.15};
+  EXPECT_TRUE(
+      Mentions(ErrorOf(json), "insertion.region.z_min_m: the region reaches 0.05 m behind"));
+}
+
+TEST(SceneJson, ADirectoryIsRefusedAsSceneFileOrMaterialCard) {
+  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_scene_json_dir_test";
+  std::filesystem::create_directories(dir / "card.json");
+  try {
+    LoadScene(dir);
+    ADD_FAILURE() << "a directory loaded as a scene";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              dir.string() + ": is a directory, not a scene file; give the file's path");
+  }
+  auto json = Minimal();
+  json["material"] = {{"material_card", "card.json"}};
+  try {
+    SceneFromJson(json, dir / "scene.json");
+    ADD_FAILURE() << "a directory loaded as a material card";
+  } catch (const InputError& error) {
+    EXPECT_TRUE(Mentions(error.what(), "card.json: is a directory, not a material card"))
+        << error.what();
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(SceneJson, StartPositionsFileIsCheckedWhenTheSceneLoads) {
+  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_scene_json_file_test";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "start.csv") << "x_m,y_m,z_m,diameter_m\n0,0,0.005,0.01\n0.2,0,0.005,0.01\n";
+  auto json = Minimal();
+  json["particles"]["count"] = 2;
+  json["insertion"] = {{"type", "file"}, {"path", "start.csv"}};
+  const auto message = ErrorOf(json, dir / "scene.json");
+  EXPECT_TRUE(Mentions(message, "start.csv:3: particle at (0.2, 0, 0.005) lies outside"))
+      << message;
+  std::ofstream(dir / "start.csv") << "x_m,y_m,z_m,diameter_m\n0,0,0.005,0.01\n0.02,0,0.005,0.01\n";
+  EXPECT_EQ(ErrorOf(json, dir / "scene.json"), "");
   std::filesystem::remove_all(dir);
 }
 

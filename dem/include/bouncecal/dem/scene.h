@@ -154,9 +154,10 @@ std::int64_t EstimatedBytesPerParticle(int dimension);
 // absurd counts (1e12, 2^64) are judged by the memory they need, not by an integer range.
 std::optional<std::string> ParticleCountProblem(double count, int dimension);
 
-// Reads a scene file. Throws InputError when the file is missing or not JSON, ConfigError (one
-// line naming the file and the key) for unknown keys, missing fields, wrong types and values
-// outside their range.
+// Reads a scene file. Throws InputError (one line naming the file and the key) when the file is
+// missing, a directory or not JSON, for unknown keys, missing fields, wrong types, values outside
+// their range and an insertion region outside the container. A start-positions file (insertion
+// type "file") is read and checked too (docs/scenes.md), naming its file and line.
 Scene LoadScene(const std::filesystem::path& path);
 // The same from parsed JSON; `source` names the file in messages and anchors relative paths.
 Scene SceneFromJson(const nlohmann::json& root, const std::filesystem::path& source);
