@@ -52,8 +52,10 @@ int main(int argc, char** argv) {
   } catch (const bouncecal::Error& error) {
     return ReportError(error.what(), apps::kExitBadOption);
   } catch (const std::bad_alloc&) {
-    return ReportError("out of memory; try a shorter recording or a smaller scene",
-                       apps::kExitInternal);
+    return ReportError(
+        "out of memory; use a smaller input (a shorter recording, fewer particles) or a machine "
+        "with more memory",
+        apps::kExitInternal);
   } catch (const std::exception& error) {
     return ReportError(error.what(), apps::kExitInternal);
   }

@@ -2,12 +2,16 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "bouncecal/atomic_file.h"
 #include "bouncecal/dem/packing.h"
@@ -23,8 +27,10 @@ struct PackArgs {
   int threads = 1;
   std::string json;
   std::string out;
-  double duration_s = -1;
-  double skin_diameters = 0.1;
+  std::optional<double> duration_s;  // unset: the scene's duration_s
+  double skin_diameters = bouncecal::dem::PackOptions{}.skin_diameters;
+  double min_skin_diameters = bouncecal::dem::PackOptions{}.min_skin_diameters;
+  bool allow_unstable_step = false;
   bool plot = false;
 };
 
@@ -41,27 +47,40 @@ void DrawProgress(const dem::PackProgress& p) {
   std::fflush(stderr);
 }
 
+bool Unstable(const dem::PackSummary& s) { return s.stop_reason == dem::PackStopReason::kUnstable; }
+
+// nlohmann writes a non-finite double as null, which readers take for a measured "nothing" (or
+// choke on); a value that is not a number is left out instead, and stop_reason says why.
+void PutFinite(nlohmann::json& j, const char* key, double value) {
+  if (std::isfinite(value)) j[key] = value;
+}
+
 nlohmann::json SummaryJson(const dem::Scene& scene, const dem::PackSummary& s) {
   nlohmann::json j;
   j["scene"] = scene.source.string();
   j["physics"] = s.physics;
   j["stop_reason"] = std::string(dem::ToString(s.stop_reason));
   j["message"] = s.message;
-  j["packing_density"] = s.packing_density;
-  j["packing_density_by_count"] = s.packing_density_by_count;
-  j["mean_coordination"] = s.coordination.mean;
-  j["coordination_histogram"] = s.coordination.histogram;
-  j["coordination_particles"] = s.coordination.particles;
+  // An unstable run is never measured (RunPacking leaves these at 0): a 0 here would read as an
+  // empty container, so the fields are absent.
+  if (!Unstable(s)) {
+    PutFinite(j, "packing_density", s.packing_density);
+    PutFinite(j, "packing_density_by_count", s.packing_density_by_count);
+    PutFinite(j, "mean_coordination", s.coordination.mean);
+    j["coordination_histogram"] = s.coordination.histogram;
+    j["coordination_particles"] = s.coordination.particles;
+  }
   j["particles"] = s.particles;
   j["particles_not_inserted"] = s.particles_not_inserted;
   j["steps"] = s.steps;
-  j["time_step_s"] = s.time_step_s;
-  j["simulated_s"] = s.simulated_s;
-  j["kinetic_energy_j"] = s.kinetic_energy_j;
+  PutFinite(j, "time_step_s", s.time_step_s);
+  PutFinite(j, "time_step_limit_s", s.time_step_limit_s);
+  PutFinite(j, "simulated_s", s.simulated_s);
+  PutFinite(j, "kinetic_energy_j", s.kinetic_energy_j);
   j["neighbor_rebuilds"] = s.neighbor_rebuilds;
   j["threads"] = s.threads;
-  j["wall_s"] = s.wall_s;
-  j["particle_steps_per_s"] = s.particle_steps_per_s;
+  PutFinite(j, "wall_s", s.wall_s);
+  PutFinite(j, "particle_steps_per_s", s.particle_steps_per_s);
   if (scene.dimension == 3) {
     j["band_m"] = {scene.measurement.band_min_m, scene.measurement.band_max_m};
   } else {
@@ -71,15 +90,27 @@ nlohmann::json SummaryJson(const dem::Scene& scene, const dem::PackSummary& s) {
   return j;
 }
 
+bool Finite(const dem::HistoryPoint& h) {
+  return std::isfinite(h.time_s) && std::isfinite(h.packing_density) &&
+         std::isfinite(h.kinetic_energy_j) && std::isfinite(h.max_speed_mps);
+}
+
 void WriteCsvs(const std::filesystem::path& dir, const dem::Scene& scene,
                const dem::PackSummary& s) {
   std::ostringstream history;
   history << "time_s,packing_density,kinetic_energy_j,max_speed_mps,particles\n";
   for (const auto& h : s.history) {
+    // A run that blew up ends in inf/nan rows (its kinetic energy overflows before the engine
+    // notices); the history stops at the last row that is a number throughout.
+    if (!Finite(h)) break;
     history << fmt::format("{:.6g},{:.6f},{:.6g},{:.6g},{}\n", h.time_s, h.packing_density,
                            h.kinetic_energy_j, h.max_speed_mps, h.particles);
   }
   WriteFileAtomically(dir / "history.csv", history.str());
+  // The state an unstable run stopped in is not a packing: RunPacking measures no profile or
+  // coordination of it and its positions may be inf/nan, so none of the final-state tables is
+  // written (RemoveEarlierOutputs already took away those of an earlier run).
+  if (Unstable(s)) return;
   std::ostringstream profile;
   profile << "height_m,density\n";
   for (std::size_t b = 0; b < s.profile.height_m.size(); ++b) {
@@ -172,12 +203,101 @@ std::filesystem::path FirstMissingFolder(const std::filesystem::path& dir) {
   return missing;
 }
 
+// Throws OutputError unless the temporary that the real write of `target` starts with can be
+// created (it is removed again at once). Trying is the sure test: access() says yes to root in
+// folders such as /proc where no file can be made.
+void ProbeWritable(const std::filesystem::path& target) { AtomicFile probe(target); }
+
+// Everything that can stop the outputs from being written is checked before the simulation, so
+// a typo in --json does not cost minutes of computing for nothing.
+void CheckOutputsWritable(const std::filesystem::path& dir, const std::string& json) {
+  try {
+    ProbeWritable(dir / "summary.json");
+  } catch (const OutputError&) {
+    throw OutputError(fmt::format(
+        "cannot create files in the output folder {}; make it writable or pass --out DIR",
+        dir.string()));
+  }
+  if (json.empty()) return;
+  const std::filesystem::path path(json);
+  const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : ".";
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    throw OutputError(
+        fmt::format("--json {}: is a folder; give the path of a file to write", json));
+  }
+  if (!std::filesystem::is_directory(folder, error)) {
+    throw OutputError(fmt::format(
+        "--json {}: {} is not an existing folder; create it or choose a path in an existing "
+        "folder",
+        json, folder.string()));
+  }
+  try {
+    ProbeWritable(path);
+  } catch (const OutputError&) {
+    throw OutputError(fmt::format(
+        "--json {}: cannot create a file in {}; make it writable or choose another path", json,
+        folder.string()));
+  }
+}
+
+// The files this command writes into its output folder (WriteCsvs, summary.json, Plot and the
+// dumps named dump.<step>.lammpstrj).
+bool IsPackOutputName(const std::string& name) {
+  for (const char* own : {"history.csv", "profile.csv", "coordination.csv", "particles.csv",
+                          "summary.json", "profile.png", "history.png", "plots.gp"}) {
+    if (name == own) return true;
+  }
+  const std::string_view prefix = "dump.";
+  const std::string_view suffix = ".lammpstrj";
+  if (name.size() <= prefix.size() + suffix.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+      name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) {
+    return false;
+  }
+  const std::string step = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+  return step.find_first_not_of("0123456789") == std::string::npos;
+}
+
+// A rerun into the same folder would otherwise leave the dumps and plots of the earlier run
+// beside the new ones (a shorter run writes fewer dumps, a run without --plot no PNGs), and they
+// would be read as this run's. Only this command's own file names go; anything else stays.
+void RemoveEarlierOutputs(const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> earlier;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, error)) {
+    std::error_code kind_error;
+    if (!entry.is_directory(kind_error) && IsPackOutputName(entry.path().filename().string())) {
+      earlier.push_back(entry.path());
+    }
+  }
+  for (const auto& path : earlier) {
+    std::filesystem::remove(path, error);
+    if (error) {
+      throw OutputError(fmt::format(
+          "cannot remove {} of an earlier run ({}); remove it by hand or pass another --out DIR",
+          path.string(), error.message()));
+    }
+  }
+}
+
 void RunPack(const PackArgs& args) {
   const dem::Scene scene = dem::LoadScene(args.scene);
   dem::PackOptions options;
   options.threads = args.threads;
   options.skin_diameters = args.skin_diameters;
-  if (args.duration_s >= 0) options.duration_s = args.duration_s;
+  options.min_skin_diameters = args.min_skin_diameters;
+  options.allow_unstable_step = args.allow_unstable_step;
+  if (args.duration_s) {
+    // A positive duration under one step would run no step at all and report the start state
+    // as if it were the result; 0 asks for exactly that, so it stays allowed.
+    if (*args.duration_s > 0 && *args.duration_s < scene.time_step_s) {
+      throw ConfigError(fmt::format(
+          "--duration {:g} s is below the scene's time_step_s ({:g} s in {}), so no step would "
+          "run; give at least {:g} s, or 0 to measure the start state",
+          *args.duration_s, scene.time_step_s, scene.source.string(), scene.time_step_s));
+    }
+    options.duration_s = *args.duration_s;
+  }
   const bool terminal = isatty(fileno(stderr)) != 0;
   if (terminal) options.progress = DrawProgress;
   const std::filesystem::path dir =
@@ -189,6 +309,13 @@ void RunPack(const PackArgs& args) {
     throw OutputError(fmt::format("cannot create the output folder {} ({}); pass --out DIR",
                                   dir.string(), error.message()));
   }
+  try {
+    CheckOutputsWritable(dir, args.json);
+  } catch (const OutputError&) {
+    if (!created.empty()) std::filesystem::remove_all(created, error);
+    throw;
+  }
+  RemoveEarlierOutputs(dir);
   if (scene.outputs.snapshot_interval_s > 0) {
     options.snapshot = [&](const dem::ParticleSnapshot& snap) {
       std::ostringstream text;
@@ -210,17 +337,37 @@ void RunPack(const PackArgs& args) {
   const std::string json = SummaryJson(scene, summary).dump(2) + "\n";
   WriteFileAtomically(dir / "summary.json", json);
   if (!args.json.empty()) WriteFileAtomically(args.json, json);
-  if (args.plot) Plot(dir, scene);
+  // An unstable run has no profile to plot and may have no history row left; gnuplot failing on
+  // that would turn the instability (status 3) into an output error (status 4).
+  if (args.plot && !Unstable(summary)) Plot(dir, scene);
   fmt::print("{}: {} ({})\n", scene.name, summary.message, summary.physics);
-  fmt::print("packing density {:.4f}, mean coordination {:.3f} ({} particles measured)\n",
-             summary.packing_density, summary.coordination.mean, summary.coordination.particles);
+  if (!Unstable(summary)) {
+    fmt::print("packing density {:.4f}, mean coordination {:.3f} ({} particles measured)\n",
+               summary.packing_density, summary.coordination.mean, summary.coordination.particles);
+  }
   fmt::print("{} particles, {} steps, {:.1f} s wall on {} thread(s), {:.3g} particle-steps/s\n",
              summary.particles, summary.steps, summary.wall_s, summary.threads,
              summary.particle_steps_per_s);
   fmt::print("outputs in {}\n", dir.string());
-  if (summary.stop_reason == dem::PackStopReason::kUnstable) {
-    throw ConfigError(summary.message);
+  if (Unstable(summary)) {
+    throw ConfigError(fmt::format("{}: {}", scene.source.string(), summary.message));
   }
+}
+
+// CLI::Range only compares, and every comparison with NaN is false: "nan" would pass it. Text
+// that is no number at all is left to CLI::Range, which names it.
+CLI::Validator FiniteSeconds() {
+  return CLI::Validator(
+      [](std::string& text) {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end != text.c_str() && *end == '\0' && !std::isfinite(value)) {
+          return fmt::format("{} is not a number of seconds; give a finite value in [0, 1e6]",
+                             text);
+        }
+        return std::string();
+      },
+      "");
 }
 
 }  // namespace
@@ -246,12 +393,22 @@ void AddPackCommand(CLI::App& app) {
                       "outputs.directory)");
   command
       ->add_option("--duration", args->duration_s,
-                   "Simulated time in s, overriding the scene's duration_s")
+                   "Simulated time in s, overriding the scene's duration_s; 0 measures the start "
+                   "state, anything else must be at least the scene's time_step_s")
+      ->check(FiniteSeconds())
       ->check(CLI::Range(0.0, 1e6));
   command
       ->add_option("--skin", args->skin_diameters,
-                   "Verlet skin in particle diameters (dimensionless, default 0.1)")
+                   "Widest Verlet skin in particle diameters (dimensionless, default 0.1)")
       ->check(CLI::Range(0.0, 10.0));
+  command
+      ->add_option("--min-skin", args->min_skin_diameters,
+                   "Narrowest Verlet skin in particle diameters (default 0.01): the skin adapts "
+                   "to the fastest particle at each rebuild; a value >= --skin fixes it")
+      ->check(CLI::Range(0.0, 10.0));
+  command->add_flag("--allow-unstable-step", args->allow_unstable_step,
+                    "Run even when time_step_s exceeds the stability limit of the scene's "
+                    "stiffest contact (refused otherwise)");
   command->add_flag("--plot", args->plot, "Write profile.png and history.png with gnuplot");
   command->callback([args] { RunPack(*args); });
 }

@@ -1,7 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -26,6 +29,47 @@ std::filesystem::path WriteTinyScene(const std::filesystem::path& dir) {
     "outputs": {"snapshot_interval_s": 0.025}
   })";
   return path;
+}
+
+// The tiny scene launched downwards at 1e300 m/s: finite positions and velocities, but the
+// kinetic energy (v^2) overflows to inf at once, and the run stops as unstable after one batch.
+std::filesystem::path WriteRunawayScene(const std::filesystem::path& dir) {
+  std::filesystem::create_directories(dir);
+  const auto path = dir / "runaway.json";
+  std::ofstream(path) << R"({
+    "format": "bouncecal-scene/1",
+    "particles": {"count": 40, "diameter_m": 0.01, "species": [{"density_kg_per_m3": 7800}]},
+    "container": {"type": "cylinder", "radius_m": 0.03, "height_m": 0.1},
+    "insertion": {"type": "random", "initial_velocity_mps": [0, 0, -1e300],
+                  "region": {"type": "cylinder", "radius_m": 0.03, "z_min_m": 0.0, "z_max_m": 0.05}},
+    "material": {"contact_law": {"law": "walton-braun"}},
+    "time_step_s": 1e-5, "duration_s": 0.05,
+    "measurement": {"band_m": [0.005, 0.02]},
+    "outputs": {"snapshot_interval_s": 0.025}
+  })";
+  return path;
+}
+
+std::string ReadFile(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+std::string Lowercase(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
+
+// True when no value anywhere in the document is null (how nlohmann writes inf and nan).
+bool HasNoNull(const nlohmann::json& json) {
+  if (json.is_null()) return false;
+  if (json.is_structured()) {
+    for (const auto& item : json) {
+      if (!HasNoNull(item)) return false;
+    }
+  }
+  return true;
 }
 
 TEST(PackCli, WritesSummaryJsonCsvAndDumps) {
@@ -99,6 +143,148 @@ TEST(PackCli, ShippedPaper004ScenesRunBriefly) {
     EXPECT_LT(fraction, 0.9069) << name;
     std::filesystem::remove_all(dir);
   }
+}
+
+// CLI::Range lets NaN through (every comparison with it is false); the run then used the scene's
+// own duration without a word.
+TEST(PackCli, NanDurationIsAnOptionErrorNamingTheOption) {
+  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_pack_cli_nan_duration";
+  std::filesystem::remove_all(dir);
+  const auto scene = WriteTinyScene(dir);
+  const auto out = dir / "out";
+  const auto result =
+      RunBouncecal("pack " + scene.string() + " --duration nan --out " + out.string());
+  EXPECT_EQ(result.exit_status, 3) << result.output;
+  EXPECT_NE(result.output.find("--duration"), std::string::npos) << result.output;
+  EXPECT_FALSE(std::filesystem::exists(out / "summary.json"));
+  std::filesystem::remove_all(dir);
+}
+
+// 1e-7 s at a 1e-5 s step ran 0 steps and reported the start state as the result. 0 itself is
+// the documented way to measure the start state and stays allowed.
+TEST(PackCli, DurationBelowOneTimeStepIsAnOptionErrorButZeroMeasuresTheStart) {
+  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_pack_cli_short_duration";
+  std::filesystem::remove_all(dir);
+  const auto scene = WriteTinyScene(dir);
+  const auto out = dir / "out";
+  const auto refused =
+      RunBouncecal("pack " + scene.string() + " --duration 1e-7 --out " + out.string());
+  EXPECT_EQ(refused.exit_status, 3) << refused.output;
+  EXPECT_NE(refused.output.find("--duration"), std::string::npos) << refused.output;
+  EXPECT_NE(refused.output.find("time_step_s"), std::string::npos) << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(out)) << "refused before any output";
+
+  const auto json_path = dir / "start.json";
+  const auto start = RunBouncecal("pack " + scene.string() + " --duration 0 --out " + out.string() +
+                                  " --json " + json_path.string());
+  ASSERT_EQ(start.exit_status, 0) << start.output;
+  std::ifstream in(json_path);
+  const auto json = nlohmann::json::parse(in);
+  EXPECT_EQ(json["steps"], 0);
+  EXPECT_EQ(json["particles"], 40);
+  std::filesystem::remove_all(dir);
+}
+
+// A --json path in a missing folder was found only when the summary was written, after the
+// whole simulation. Now it is refused first: no output folder, no CSV, no dump.
+TEST(PackCli, JsonInMissingFolderIsRefusedBeforeSimulating) {
+  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_pack_cli_json_folder";
+  std::filesystem::remove_all(dir);
+  const auto scene = WriteTinyScene(dir);
+  const auto out = dir / "out";
+  const auto result =
+      RunBouncecal("pack " + scene.string() + " --duration 0.001 --out " + out.string() +
+                   " --json " + (dir / "missing" / "result.json").string());
+  EXPECT_EQ(result.exit_status, 4) << result.output;
+  EXPECT_NE(result.output.find("--json"), std::string::npos) << result.output;
+  EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+  // The folder this run created is removed again: nothing was simulated or written.
+  EXPECT_FALSE(std::filesystem::exists(out)) << result.output;
+  std::filesystem::remove_all(dir);
+}
+
+// An existing output folder where no file can be made was found only at the first write, after
+// the simulation. /proc is such a folder even for root (who ignores permission bits, so a
+// chmod-ed folder would not do in a container running tests as root).
+TEST(PackCli, OutputFolderWithoutWriteAccessIsRefusedBeforeSimulating) {
+  if (!std::filesystem::is_directory("/proc")) GTEST_SKIP() << "no /proc on this system";
+  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_pack_cli_out_folder";
+  std::filesystem::remove_all(dir);
+  const auto scene = WriteTinyScene(dir);
+  const auto result = RunBouncecal("pack " + scene.string() + " --duration 0.001 --out /proc");
+  EXPECT_EQ(result.exit_status, 4) << result.output;
+  // The up-front check names the folder; the late failure named the first CSV it could not write.
+  EXPECT_NE(result.output.find("output folder /proc"), std::string::npos) << result.output;
+  EXPECT_EQ(result.output.find("history.csv"), std::string::npos) << result.output;
+  std::filesystem::remove_all(dir);
+}
+
+// An unstable run wrote inf/-nan into history.csv and particles.csv and null into summary.json.
+// Now: history up to its last finite row, no final-state tables (and none left over from an
+// earlier run in the folder), and the JSON leaves out what is not a number.
+TEST(PackCli, UnstableRunWritesNoNonFiniteNumberAndNoFinalState) {
+  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_pack_cli_unstable";
+  std::filesystem::remove_all(dir);
+  const auto scene = WriteRunawayScene(dir);
+  const auto out = dir / "out";
+  std::filesystem::create_directories(out);
+  for (const char* stale : {"particles.csv", "profile.csv", "coordination.csv"}) {
+    std::ofstream(out / stale) << "from an earlier run\n";
+  }
+  const auto json_path = dir / "result.json";
+  const auto result = RunBouncecal("pack " + scene.string() + " --out " + out.string() +
+                                   " --json " + json_path.string());
+  ASSERT_EQ(result.exit_status, 3) << result.output;
+  EXPECT_NE(result.output.find("unstable"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("runaway.json"), std::string::npos) << result.output;
+
+  ASSERT_TRUE(std::filesystem::exists(out / "history.csv"));
+  const std::string history = Lowercase(ReadFile(out / "history.csv"));
+  EXPECT_EQ(history.find("inf"), std::string::npos) << history;
+  EXPECT_EQ(history.find("nan"), std::string::npos) << history;
+  for (const char* file : {"particles.csv", "profile.csv", "coordination.csv"}) {
+    EXPECT_FALSE(std::filesystem::exists(out / file)) << file;
+  }
+  for (const auto& path : {out / "summary.json", json_path}) {
+    std::ifstream in(path);
+    const auto json = nlohmann::json::parse(in);
+    EXPECT_EQ(json["stop_reason"], "unstable") << path;
+    EXPECT_TRUE(HasNoNull(json)) << path << ": " << json.dump();
+    EXPECT_FALSE(json.contains("kinetic_energy_j")) << path;  // inf: left out
+    EXPECT_FALSE(json.contains("packing_density")) << path;   // never measured
+  }
+  std::filesystem::remove_all(dir);
+}
+
+// Dumps and plots of an earlier, longer run stayed beside the new run's and were mixed with
+// them. A rerun removes this command's own file names and nothing else.
+TEST(PackCli, RerunRemovesOnlyTheEarlierRunsOwnOutputs) {
+  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_pack_cli_stale";
+  std::filesystem::remove_all(dir);
+  const auto scene = WriteTinyScene(dir);
+  const auto out = dir / "out";
+  std::filesystem::create_directories(out / "keep_folder");
+  for (const char* stale : {"dump.000099999.lammpstrj", "profile.png", "history.png", "plots.gp"}) {
+    std::ofstream(out / stale) << "from an earlier run\n";
+  }
+  for (const char* other : {"notes.txt", "dump.final.lammpstrj", "history.csv.bak"}) {
+    std::ofstream(out / other) << "the user's own\n";
+  }
+  const auto result =
+      RunBouncecal("pack " + scene.string() + " --duration 0.001 --out " + out.string());
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  for (const char* stale : {"dump.000099999.lammpstrj", "profile.png", "history.png", "plots.gp"}) {
+    EXPECT_FALSE(std::filesystem::exists(out / stale)) << stale;
+  }
+  for (const char* other :
+       {"notes.txt", "dump.final.lammpstrj", "history.csv.bak", "keep_folder"}) {
+    EXPECT_TRUE(std::filesystem::exists(out / other)) << other;
+  }
+  // This run's own: the dumps at t = 0 and at the end (step 100).
+  EXPECT_TRUE(std::filesystem::exists(out / "dump.000000000.lammpstrj"));
+  EXPECT_TRUE(std::filesystem::exists(out / "dump.000000100.lammpstrj"));
+  EXPECT_TRUE(std::filesystem::exists(out / "summary.json"));
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

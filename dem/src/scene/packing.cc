@@ -173,9 +173,12 @@ double SmallestRadiusM(const scene::EngineBase<Dim>& engine,
 
 template <int Dim>
 double MaxSpeedMps(const scene::ParticleState<Dim>& state) {
-  double speed2 = 0;
-  for (const auto& v : state.velocity_mps) speed2 = std::max(speed2, v.squaredNorm());
-  return std::sqrt(speed2);
+  double speed = 0;
+  for (const auto& v : state.velocity_mps) {
+    // hypot: a runaway's 1e200 m/s must not square to inf and be reported as such.
+    speed = std::max(speed, Dim == 3 ? std::hypot(v[0], v[1], v[Dim - 1]) : std::hypot(v[0], v[1]));
+  }
+  return speed;
 }
 
 std::int64_t StepsFor(double interval_s, double dt) {
