@@ -586,17 +586,19 @@ class Engine final : public EngineBase<Dim> {
     const auto& pairs = this->pairs_;
     const double r_i = position_radius_[static_cast<std::size_t>(i)].s;
     V force = velocity_mass_[static_cast<std::size_t>(i)].s * gravity_;
-    S torque = ZeroSpin<Dim>();
+    // Every pair's torque on i is -r_i (n x F_t): the twists are summed and scaled once.
+    S twist = ZeroSpin<Dim>();
     const auto* results = this->pair_result_.data();
     for (std::int32_t p = pairs.begin[i]; p < pairs.begin[i + 1]; ++p) {
       force += results[p].force_n;
-      if constexpr (Phys::kRotation) torque -= r_i * results[p].twist_n;
+      if constexpr (Phys::kRotation) twist += results[p].twist_n;
     }
     for (std::int32_t k = pairs.reverse_begin[i]; k < pairs.reverse_begin[i + 1]; ++k) {
       const std::int32_t p = pairs.reverse_pairs[k];
       force -= results[p].force_n;
-      if constexpr (Phys::kRotation) torque -= r_i * results[p].twist_n;
+      if constexpr (Phys::kRotation) twist += results[p].twist_n;
     }
+    S torque = -r_i * twist;
     const std::size_t wall_count = this->walls_.size();
     const std::uint64_t near = this->wall_near_[static_cast<std::size_t>(i)];
     for (std::size_t w = 0; w < wall_count; ++w) {
