@@ -75,6 +75,8 @@ nlohmann::json SummaryJson(const dem::Scene& scene, const dem::PackSummary& s) {
   j["steps"] = s.steps;
   PutFinite(j, "time_step_s", s.time_step_s);
   PutFinite(j, "time_step_limit_s", s.time_step_limit_s);
+  PutFinite(j, "tangential_time_step_limit_s", s.tangential_time_step_limit_s);
+  j["warnings"] = s.warnings;
   PutFinite(j, "simulated_s", s.simulated_s);
   PutFinite(j, "kinetic_energy_j", s.kinetic_energy_j);
   j["neighbor_rebuilds"] = s.neighbor_rebuilds;
@@ -333,6 +335,9 @@ void RunPack(const PackArgs& args) {
     throw;
   }
   if (terminal) std::fprintf(stderr, "\n");
+  for (const auto& warning : summary.warnings) {
+    fmt::print(stderr, "bouncecal: warning: {}: {}\n", scene.source.string(), warning);
+  }
   WriteCsvs(dir, scene, summary);
   const std::string json = SummaryJson(scene, summary).dump(2) + "\n";
   WriteFileAtomically(dir / "summary.json", json);

@@ -147,6 +147,45 @@ TEST(PackCli, ShippedPaper004ScenesRunBriefly) {
 
 // CLI::Range lets NaN through (every comparison with it is false); the run then used the scene's
 // own duration without a word.
+// dt 1e-5 s is within the normal contacts' limit (2.3e-5 s) but not the tangential spring's at
+// k_t = 5e7 N/m (2 sqrt(m / (7 k_t)) = 7.6e-6 s): the run goes on (friction bounds the
+// chatter) and says so on stderr and in summary.json. Ten times the step is refused (exit 3).
+TEST(PackCli, StepBeyondTheTangentialLimitWarnsBeyondTheNormalLimitIsRefused) {
+  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_pack_cli_step_limits";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  auto write = [&](const char* name, const char* step) {
+    const auto path = dir / name;
+    std::ofstream(path) << R"({
+      "format": "bouncecal-scene/1",
+      "particles": {"count": 40, "diameter_m": 0.01, "species": [{"density_kg_per_m3": 7800}]},
+      "container": {"type": "cylinder", "radius_m": 0.03, "height_m": 0.1},
+      "insertion": {"type": "random", "region": {"type": "cylinder", "radius_m": 0.03,
+                                                 "z_min_m": 0.0, "z_max_m": 0.05}},
+      "material": {"contact_law": {"law": "walton-braun"}, "tangential_stiffness_n_per_m": 5e7},
+      "time_step_s": )" << step
+                        << R"(, "duration_s": 0.002,
+      "measurement": {"band_m": [0.005, 0.02]}
+    })";
+    return path;
+  };
+  const auto json_path = dir / "result.json";
+  const auto warned = RunBouncecal("pack " + write("warn.json", "1e-5").string() + " --out " +
+                                   (dir / "out").string() + " --json " + json_path.string());
+  ASSERT_EQ(warned.exit_status, 0) << warned.output;
+  EXPECT_NE(warned.output.find("warning"), std::string::npos) << warned.output;
+  EXPECT_NE(warned.output.find("tangential spring"), std::string::npos) << warned.output;
+  std::ifstream in(json_path);
+  const auto json = nlohmann::json::parse(in);
+  EXPECT_EQ(json["warnings"].size(), 1u);
+  const auto refused = RunBouncecal("pack " + write("refuse.json", "1e-4").string() + " --out " +
+                                    (dir / "out2").string());
+  EXPECT_EQ(refused.exit_status, 3) << refused.output;
+  EXPECT_NE(refused.output.find("normal contact"), std::string::npos) << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out2"));
+  std::filesystem::remove_all(dir);
+}
+
 TEST(PackCli, NanDurationIsAnOptionErrorNamingTheOption) {
   const auto dir = std::filesystem::temp_directory_path() / "bouncecal_pack_cli_nan_duration";
   std::filesystem::remove_all(dir);

@@ -19,7 +19,7 @@ constexpr double kSurfaceSpinCompliance = 2.5;
 
 }  // namespace
 
-TimeStepLimit SceneTimeStepLimit(const Scene& scene, const BodyExtremes& bodies) {
+TimeStepLimits SceneTimeStepLimits(const Scene& scene, const BodyExtremes& bodies) {
   const auto law = MakeContactLaw(scene.material.law);
   const double g = scene.gravity_mps2;
   const auto& v0 = scene.insertion.initial_velocity_mps;
@@ -33,8 +33,9 @@ TimeStepLimit SceneTimeStepLimit(const Scene& scene, const BodyExtremes& bodies)
   };
   const Body lightest{bodies.lightest_mass_kg, bodies.lightest_radius_m};
   const Body largest{bodies.largest_mass_kg, bodies.largest_radius_m};
-  TimeStepLimit best{std::numeric_limits<double>::infinity(), ""};
-  auto consider = [&](double limit_s, std::string what) {
+  TimeStepLimits limits{{std::numeric_limits<double>::infinity(), ""},
+                        {std::numeric_limits<double>::infinity(), ""}};
+  auto consider = [](TimeStepLimit& best, double limit_s, std::string what) {
     if (limit_s < best.limit_s) best = {limit_s, std::move(what)};
   };
   // wall: a body of infinite mass and radius (m_eff = m, R_eff = r).
@@ -44,12 +45,13 @@ TimeStepLimit SceneTimeStepLimit(const Scene& scene, const BodyExtremes& bodies)
     const double normal_limit = std::visit(
         [&](const auto& typed) { return typed.MaxStableTimeStepS(m_eff, r_eff, impact_speed, g); },
         law);
-    consider(normal_limit, fmt::format("{} normal contact", name));
+    consider(limits.normal, normal_limit, fmt::format("{} normal contact", name));
     if (scene.physics.tangential) {
       const double spin = scene.physics.rotation ? kSurfaceSpinCompliance : 0.0;
       const double compliance =
           b ? (1 + spin) / a.mass_kg + (1 + spin) / b->mass_kg : (1 + spin) / a.mass_kg;
-      consider(2 / std::sqrt(scene.material.tangential_stiffness_n_per_m * compliance),
+      consider(limits.tangential,
+               2 / std::sqrt(scene.material.tangential_stiffness_n_per_m * compliance),
                fmt::format("{} tangential spring", name));
     }
   };
@@ -58,7 +60,7 @@ TimeStepLimit SceneTimeStepLimit(const Scene& scene, const BodyExtremes& bodies)
   contact(largest, &largest, "largest particle pair");
   contact(lightest, nullptr, "smallest particle on a wall");
   contact(largest, nullptr, "largest particle on a wall");
-  return best;
+  return limits;
 }
 
 std::optional<std::string> VanDerWaalsOverlapProblem(const Scene& scene,

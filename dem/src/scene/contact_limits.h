@@ -22,14 +22,22 @@ struct TimeStepLimit {
   std::string stiffest;  // which contact sets the limit, for the message
 };
 
+struct TimeStepLimits {
+  // The normal contacts: beyond this every impact gains energy and the run blows up.
+  TimeStepLimit normal;
+  // The Cundall-Strack spring of a sticking contact (with the sphere's rolling inertia): beyond
+  // this it oscillates with growing amplitude until it slides, where the Coulomb cap bounds it.
+  // Chatter rather than a blow-up; infinite without tangential physics.
+  TimeStepLimit tangential;
+};
+
 // The largest step velocity Verlet can take on one contact of this scene: omega dt < 2 with
 // omega of the stiffest single contact (normal law at the deepest overlap an impact from the
-// highest particle reaches, the tangential spring with the sphere's rolling inertia). A pack
-// loads a particle through several contacts at once, so a stable run usually needs a step some
-// way below this; a step beyond it cannot be stable at all. The van der Waals attraction is
-// left out: it is flat (floored at vdw_min_gap_m) wherever a contact rests, so it shifts the
-// equilibrium (see VanDerWaalsOverlapProblem) but adds no stiffness there.
-TimeStepLimit SceneTimeStepLimit(const Scene& scene, const BodyExtremes& bodies);
+// highest particle reaches; the tangential spring). A pack loads a particle through several
+// contacts at once, so a stable run usually needs a step some way below this. The van der Waals
+// attraction is left out: it is flat (floored at vdw_min_gap_m) wherever a contact rests, so it
+// shifts the equilibrium (see VanDerWaalsOverlapProblem) but adds no stiffness there.
+TimeStepLimits SceneTimeStepLimits(const Scene& scene, const BodyExtremes& bodies);
 
 // Why, with van der Waals on, the attraction at vdw_min_gap_m would pull two touching particles
 // deeper into each other than the contact law holds them apart: an equilibrium overlap beyond

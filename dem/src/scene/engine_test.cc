@@ -69,6 +69,19 @@ EngineSettings Settings(bool brute_force, int threads, bool sort_by_cell = true)
   return settings;
 }
 
+// Advances both engines `rounds` times by `steps` and requires bit-identical positions after
+// each: the grid engine must not miss a contact the brute-force one sees.
+void ExpectSameTrajectories(EngineBase<3>& grid, EngineBase<3>& brute, int rounds, int steps) {
+  for (int round = 0; round < rounds; ++round) {
+    grid.Advance(steps);
+    brute.Advance(steps);
+    for (std::int32_t i = 0; i < grid.state().size(); ++i) {
+      ASSERT_TRUE(grid.state().position_m[i] == brute.state().position_m[i])
+          << "particle " << i << " round " << round;
+    }
+  }
+}
+
 TEST(PackingEngine, TwoParticleForcesObeyNewtonsThirdLaw) {
   EngineSettings settings = Settings(true, 1);
   settings.gravity_mps2 = 0;
@@ -193,14 +206,7 @@ TEST(PackingEngine, AdaptiveSkinMissesNoContactAndNarrowsAsParticlesSlowDown) {
   // Up to ~1.7 m/s: 2 v dt steps = 2 * 1.7 * 1e-6 * 20 = 6.8e-5 m, between the bounds.
   EXPECT_GT(grid->skin_m(), adaptive.min_skin_m);
   EXPECT_LT(grid->skin_m(), adaptive.skin_m);
-  for (int round = 0; round < 4; ++round) {
-    grid->Advance(300);
-    brute->Advance(300);
-    for (std::int32_t i = 0; i < grid->state().size(); ++i) {
-      ASSERT_TRUE(grid->state().position_m[i] == brute->state().position_m[i])
-          << "particle " << i << " round " << round;
-    }
-  }
+  ExpectSameTrajectories(*grid, *brute, 4, 300);
   EXPECT_GT(grid->rebuilds(), 10);
   // At rest the narrowest skin is taken.
   auto resting =
@@ -269,14 +275,7 @@ TEST(PackingEngine, CylinderWallsAreNeverMissedByTheWallNeighbourList) {
     grid->AddParticle(x, v, 0.003, 7800, 0);
     brute->AddParticle(x, v, 0.003, 7800, 0);
   }
-  for (int round = 0; round < 5; ++round) {
-    grid->Advance(400);
-    brute->Advance(400);
-    for (std::int32_t i = 0; i < grid->state().size(); ++i) {
-      ASSERT_TRUE(grid->state().position_m[i] == brute->state().position_m[i])
-          << "particle " << i << " round " << round;
-    }
-  }
+  ExpectSameTrajectories(*grid, *brute, 5, 400);
   EXPECT_GT(grid->rebuilds(), 5);
 }
 

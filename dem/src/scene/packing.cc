@@ -240,13 +240,22 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
   if (const auto problem = scene::VanDerWaalsOverlapProblem(scene, bodies)) {
     throw ConfigError(scene.source.string() + ": " + *problem);
   }
-  const scene::TimeStepLimit limit = scene::SceneTimeStepLimit(scene, bodies);
+  const scene::TimeStepLimits limits = scene::SceneTimeStepLimits(scene, bodies);
+  const scene::TimeStepLimit& limit = limits.normal;
   if (dt > limit.limit_s && !options.allow_unstable_step) {
     throw ConfigError(fmt::format(
         "{}: time_step_s = {:.3g} s exceeds {:.3g} s, the stability limit of the stiffest contact "
         "({}); use a step of at most {:.3g} s (a pack needs some margin below the limit), softer "
         "contacts or heavier particles",
         scene.source.string(), dt, limit.limit_s, limit.stiffest, 0.5 * limit.limit_s));
+  }
+  PackSummary summary;
+  if (dt > limits.tangential.limit_s) {
+    summary.warnings.push_back(fmt::format(
+        "time_step_s = {:.3g} s exceeds {:.3g} s, the stability limit of the {}: sticking "
+        "contacts will oscillate until they slide (friction caps them, so the run goes on); use "
+        "at most {:.3g} s, or a softer tangential_stiffness_n_per_m, to resolve them",
+        dt, limits.tangential.limit_s, limits.tangential.stiffest, limits.tangential.limit_s));
   }
   // A particle that moves half its radius in one step overlaps whatever it meets by that much
   // before any force acts: no contact is resolved any more, energy is created, particles pass
@@ -261,10 +270,10 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
                                        : std::numeric_limits<std::int64_t>::max();
   const std::int64_t progress_every = options.progress_every_steps;
 
-  PackSummary summary;
   summary.physics = DescribePhysics(scene);
   summary.time_step_s = dt;
   summary.time_step_limit_s = limit.limit_s;
+  summary.tangential_time_step_limit_s = limits.tangential.limit_s;
   summary.threads = options.threads;
   summary.history.push_back(Sample(Snapshot(*engine), scene, engine->KineticEnergyJ()));
   if (options.snapshot && snapshot_every != std::numeric_limits<std::int64_t>::max()) {

@@ -31,7 +31,7 @@ struct PackOptions {
   // they rest, where fewer listed pairs make each step cheaper. >= skin_diameters: fixed skin.
   double min_skin_diameters = 0.01;
   double skin_rebuild_steps = 50;
-  // A time step beyond the stability limit of the scene's stiffest contact (see
+  // A time step beyond the stability limit of the scene's stiffest normal contact (see
   // PackSummary::time_step_limit_s) is refused unless this is set.
   bool allow_unstable_step = false;
   bool brute_force_pairs = false;    // list all N^2/2 pairs (reference path for tests)
@@ -65,9 +65,13 @@ struct PackSummary {
   std::int64_t steps = 0;
   std::int64_t neighbor_rebuilds = 0;
   double time_step_s = 0;
-  // omega dt < 2 for the stiffest single contact of the scene's particles; a pack usually
-  // needs a step well below it (several contacts load a particle at once).
+  // omega dt < 2 for the stiffest single normal contact of the scene's particles (a longer
+  // step is refused); a pack usually needs a step well below it (several contacts load a
+  // particle at once). The tangential spring's limit only warns: beyond it sticking contacts
+  // chatter until they slide, and friction bounds them. Infinite without tangential physics.
   double time_step_limit_s = 0;
+  double tangential_time_step_limit_s = 0;
+  std::vector<std::string> warnings;  // one sentence each: the run went on, but read these
   double simulated_s = 0;
   double wall_s = 0;
   double particle_steps_per_s = 0;
