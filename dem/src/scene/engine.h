@@ -152,9 +152,6 @@ class EngineBase {
   // interact last step), so the distance pass need not clear or even read them; every rebuild
   // sets it to 1 (unknown).
   std::vector<std::uint8_t> pair_live_;
-  // Pairs in contact this step, per pool chunk (sized to the pair count at each rebuild, so
-  // no step allocates).
-  std::vector<std::vector<std::int32_t>> chunk_contacts_;
   std::vector<Vec<Dim>> wall_shear_;  // particle * walls + wall
   std::vector<NormalHistory> wall_normal_history_;
   // Bit w set: particle i was within the skin of wall w at the last rebuild, so it may touch it

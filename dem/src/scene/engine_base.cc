@@ -109,8 +109,6 @@ void EngineBase<Dim>::RebuildPairs(bool van_der_waals) {
   pair_normal_history_ = std::move(normal);
   pair_result_.assign(pairs_.size(), PairResult{Vec<Dim>::Zero(), ZeroSpin<Dim>()});
   pair_live_.assign(pairs_.size(), 1);
-  chunk_contacts_.resize(static_cast<std::size_t>(pool_->chunks()));
-  for (auto& contacts : chunk_contacts_) contacts.resize(pairs_.size());
   UpdateWallNeighbours();
   position_at_rebuild_ = state_.position_m;
   pairs_valid_ = true;

@@ -256,12 +256,14 @@ class Engine final : public EngineBase<Dim> {
     return FinishShear(shear, std::sqrt(old2 / new2), vt, normal_force_n, friction);
   }
 
-  // Each chunk of the pair list runs in stages. The first only measures distances (most listed
-  // pairs are within the skin but not touching), zeroes their results and collects the pairs
-  // that interact, without a data-dependent branch. The interacting pairs then go through the
-  // contact laws in blocks of kBlock (ContactBlock: vectorised across contacts). The
-  // arithmetic of each pair is the same as a one-pass loop and does not depend on the chunking
-  // or the blocking: results are the same for every thread count.
+  // Each chunk of the pair list streams through one pass: every listed pair's distance is
+  // measured and its separation vector and radii are written into the next free slot of the
+  // chunk's block scratch, but the slot is only kept (the count advances) when the pair
+  // interacts: no data-dependent branch, and the positions are read once, not again by the
+  // block gather. Once kBlock interacting pairs have gathered, they go through the contact laws
+  // together (ContactBlock: vectorised across contacts). The arithmetic of each pair is the same
+  // as a one-pass loop and does not depend on the chunking or the blocking: results are the same
+  // for every thread count.
   void PairForces() {
     this->pool_->ParallelFor(
         static_cast<std::int64_t>(this->pairs_.size()),
@@ -274,15 +276,18 @@ class Engine final : public EngineBase<Dim> {
           // the per-pair arrays (read every step) small.
           const double cutoff_gap_m = Phys::kVanDerWaals ? this->settings_.vdw_cutoff_gap_m : 0.0;
           auto* results = this->pair_result_.data();
-          std::int32_t* contacts = this->chunk_contacts_[static_cast<std::size_t>(chunk)].data();
-          std::int64_t count = 0;
+          auto& t = scratch_[static_cast<std::size_t>(chunk)];
+          int count = 0;
           for (std::int64_t p = begin; p < end; ++p) {
             const std::int32_t i = first[p];
             const std::int32_t j = second[p];
             const V d = x[i].v - x[j].v;
             const double cutoff_m = x[i].s + x[j].s + cutoff_gap_m;
             const bool interacts = d.squaredNorm() < cutoff_m * cutoff_m;
-            contacts[count] = static_cast<std::int32_t>(p);
+            t.pair[count] = static_cast<std::int32_t>(p);
+            for (int c = 0; c < Dim; ++c) t.normal[c][count] = d[c];
+            t.radius_i[count] = x[i].s;
+            t.radius_j[count] = x[j].s;
             count += interacts ? 1 : 0;
             // An interacting pair's result and spring are written by its contact block. A pair
             // that does not interact has them zero, and they are almost always zero already:
@@ -296,12 +301,12 @@ class Engine final : public EngineBase<Dim> {
               if constexpr (Law::kNeedsHistory) this->pair_normal_history_[q] = {};
             }
             live[p] = interacts ? 1 : 0;
+            if (count == kBlock) {  // taken once per kBlock contacts: predictable
+              ContactBlock(kBlock, t);
+              count = 0;
+            }
           }
-          auto& scratch = scratch_[static_cast<std::size_t>(chunk)];
-          for (std::int64_t b = 0; b < count; b += kBlock) {
-            ContactBlock(contacts + b, static_cast<int>(std::min<std::int64_t>(kBlock, count - b)),
-                         scratch);
-          }
+          if (count > 0) ContactBlock(count, t);
         });
   }
 
@@ -327,16 +332,18 @@ class Engine final : public EngineBase<Dim> {
     alignas(32) double shear_factor[kBlock];
   };
 
-  // The forces of `n` pairs closer than their cutoff (their whole pair_result_ is written).
-  // A contact is one long chain of dependent square roots and divisions. The block is gathered
-  // from the particles into per-component arrays, then each arithmetic stage runs over the
-  // whole block without branches (every contact takes every path, a select keeps the right
+  // The forces of the first `n` pairs of the block (all closer than their cutoff; the distance
+  // pass has filled in pair, normal = x_i - x_j and the radii); their whole pair_result_ is
+  // written.
+  // A contact is one long chain of dependent square roots and divisions. The rest of the block is
+  // gathered from the particles into per-component arrays, then each arithmetic stage runs over
+  // the whole block without branches (every contact takes every path, a select keeps the right
   // value), so the compiler vectorises it: 4 contacts per instruction with AVX2, 2 with the
   // baseline SSE2. Every stage is element-wise IEEE arithmetic in the same order as the scalar
   // formula (no FMA contraction, no reassociation: see dem/CMakeLists.txt), so the results are
   // bit-identical with and without AVX2 and do not depend on how contacts fall into blocks.
-  void ContactBlock(const std::int32_t* contacts, int n, Scratch& t) {
-    GatherBlock(contacts, n, t);
+  void ContactBlock(int n, Scratch& t) {
+    GatherBlock(n, t);
 #if BOUNCECAL_SCENE_HAS_AVX2_PATH
     if (use_avx2_) {
       ContactArithmeticAvx2(t, n);
@@ -349,28 +356,20 @@ class Engine final : public EngineBase<Dim> {
     ScatterBlock(n, t);
   }
 
-  void GatherBlock(const std::int32_t* contacts, int n, Scratch& t) const {
+  void GatherBlock(int n, Scratch& t) const {
     const std::int32_t* first = this->pairs_.first.data();
     const std::int32_t* second = this->pairs_.second.data();
     for (int k = 0; k < n; ++k) {
-      const std::int32_t p = contacts[k];
+      const std::int32_t p = t.pair[k];
       const auto i = static_cast<std::size_t>(first[p]);
       const auto j = static_cast<std::size_t>(second[p]);
-      t.pair[k] = p;
-      const Packed& x_i = position_radius_[i];
-      const Packed& x_j = position_radius_[j];
       const Packed& v_i = velocity_mass_[i];
       const Packed& v_j = velocity_mass_[j];
-      const double r_i = x_i.s;
-      const double r_j = x_j.s;
-      t.radius_i[k] = r_i;
-      t.radius_j[k] = r_j;
+      const double r_i = t.radius_i[k];
+      const double r_j = t.radius_j[k];
       t.mass_i[k] = v_i.s;
       t.mass_j[k] = v_j.s;
-      for (int c = 0; c < Dim; ++c) {
-        t.normal[c][k] = x_i.v[c] - x_j.v[c];
-        t.velocity[c][k] = v_i.v[c] - v_j.v[c];
-      }
+      for (int c = 0; c < Dim; ++c) t.velocity[c][k] = v_i.v[c] - v_j.v[c];
       if constexpr (Phys::kRotation) {
         if constexpr (Dim == 3) {
           for (int c = 0; c < 3; ++c) t.spin[c][k] = r_i * spin_[i].w[c] + r_j * spin_[j].w[c];
