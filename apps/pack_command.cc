@@ -78,7 +78,8 @@ nlohmann::json SummaryJson(const dem::Scene& scene, const dem::PackSummary& s) {
   PutFinite(j, "tangential_time_step_limit_s", s.tangential_time_step_limit_s);
   j["warnings"] = s.warnings;
   PutFinite(j, "simulated_s", s.simulated_s);
-  PutFinite(j, "kinetic_energy_j", s.kinetic_energy_j);
+  // The energy of a blown-up state measures the failure, not the packing.
+  if (!Unstable(s)) PutFinite(j, "kinetic_energy_j", s.kinetic_energy_j);
   j["neighbor_rebuilds"] = s.neighbor_rebuilds;
   j["threads"] = s.threads;
   PutFinite(j, "wall_s", s.wall_s);

@@ -9,6 +9,7 @@
 
 #include "bouncecal/error.h"
 #include "scene/contact_limits.h"
+#include "scene/energy_budget.h"
 #include "scene/engine.h"
 #include "scene/insertion.h"
 
@@ -181,6 +182,15 @@ double MaxSpeedMps(const scene::ParticleState<Dim>& state) {
   return speed;
 }
 
+// A step beyond this fraction of the single-contact limit draws a warning: several contacts on
+// one particle make a stiffer oscillator than one (QA: frictionless packs stable up to 0.75 of
+// the limit blew up at 0.8).
+constexpr double kSafeFractionOfLimit = 0.5;
+// Kinetic energy beyond this multiple of the energy the particles brought in stops a run as
+// unstable. Not 1: velocity Verlet's own error at a coarse (paper) step adds some, and the
+// budget's van der Waals term is an estimate.
+constexpr double kEnergyBudgetFactor = 2;
+
 std::int64_t StepsFor(double interval_s, double dt) {
   if (!(interval_s > 0)) return std::numeric_limits<std::int64_t>::max();
   return std::max<std::int64_t>(1, std::llround(interval_s / dt));
@@ -245,11 +255,19 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
   if (dt > limit.limit_s && !options.allow_unstable_step) {
     throw ConfigError(fmt::format(
         "{}: time_step_s = {:.3g} s exceeds {:.3g} s, the stability limit of the stiffest contact "
-        "({}); use a step of at most {:.3g} s (a pack needs some margin below the limit), softer "
-        "contacts or heavier particles",
+        "({}); use a step of at most {:.3g} s (half the limit: several contacts on one particle "
+        "stiffen a pack), softer contacts or heavier particles",
         scene.source.string(), dt, limit.limit_s, limit.stiffest, 0.5 * limit.limit_s));
   }
   PackSummary summary;
+  if (dt > kSafeFractionOfLimit * limit.limit_s) {
+    summary.warnings.push_back(fmt::format(
+        "time_step_s = {:.3g} s is {:.2f} of {:.3g} s, the stability limit of one {}: a particle "
+        "held by several contacts is stiffer than one, and packs have blown up from about 0.8 of "
+        "it; at most {:.3g} s is safe",
+        dt, dt / limit.limit_s, limit.limit_s, limit.stiffest,
+        kSafeFractionOfLimit * limit.limit_s));
+  }
   if (dt > limits.tangential.limit_s) {
     summary.warnings.push_back(fmt::format(
         "time_step_s = {:.3g} s exceeds {:.3g} s, the stability limit of the {}: sticking "
@@ -257,6 +275,8 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
         "at most {:.3g} s, or a softer tangential_stiffness_n_per_m, to resolve them",
         dt, limits.tangential.limit_s, limits.tangential.stiffest, limits.tangential.limit_s));
   }
+  scene::EnergyBudget budget(scene, *engine,
+                             engine->state().size() + static_cast<std::int64_t>(pending.size()));
   // A particle that moves half its radius in one step overlaps whatever it meets by that much
   // before any force acts: no contact is resolved any more, energy is created, particles pass
   // through walls. Stop there rather than run on to absurd (finite) numbers.
@@ -309,9 +329,24 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
           engine->time_s(), speed, dt, limit.limit_s);
       break;
     }
+    if (const double kinetic = engine->KineticEnergyJ();
+        budget.bounded() &&
+        kinetic > kEnergyBudgetFactor * budget.joules() + std::numeric_limits<double>::min()) {
+      summary.stop_reason = PackStopReason::kUnstable;
+      summary.message = fmt::format(
+          "the run became unstable at t = {:.6g} s: the particles hold {:.3g} J of kinetic energy, "
+          "more than {:.0f} times the {:.3g} J they brought in (fall to the floor, launch, start "
+          "overlaps, van der Waals), so the integrator is making energy; use a smaller "
+          "time_step_s than {:.3g} s (several contacts stiffen a particle beyond the {:.3g} s "
+          "limit of one)",
+          engine->time_s(), kinetic, kEnergyBudgetFactor, budget.joules(), dt, limit.limit_s);
+      break;
+    }
     if (step % batch_every == 0 && !pending.empty()) {
       const auto placed = scene::PlaceInRegion(scene, pending, Existing(*engine), random);
+      const std::int32_t first_new = engine->state().size();
       Insert(*engine, scene, placed);
+      budget.AddInserted(*engine, first_new);
       pending.erase(pending.begin(), pending.begin() + static_cast<std::ptrdiff_t>(placed.size()));
     }
     if (step % history_every == 0 || step == total_steps) {

@@ -132,10 +132,39 @@ TEST(RunPacking, StepBeyondTheNormalContactsLimitIsRefusedAndBeyondTheTangential
         << error.what();
     EXPECT_NE(std::string(error.what()).find("normal contact"), std::string::npos);
   }
-  json["time_step_s"] = 0.95 * normal_limit;  // beyond the tangential limit only
+  // Past half the normal limit: a warning that several contacts stiffen a pack.
+  json["time_step_s"] = 0.6 * normal_limit;  // 4.4e-5 s, inside the tangential limit
+  const auto coarse = RunPacking(SceneFromJson(json, "coarse_ok.json"));
+  ASSERT_EQ(coarse.warnings.size(), 1u);
+  EXPECT_NE(coarse.warnings[0].find("several contacts"), std::string::npos) << coarse.warnings[0];
+  json["time_step_s"] = 0.95 * normal_limit;  // and beyond the tangential limit
   const auto chattering = RunPacking(SceneFromJson(json, "chatter.json"));
-  ASSERT_EQ(chattering.warnings.size(), 1u);
-  EXPECT_NE(chattering.warnings[0].find("tangential spring"), std::string::npos);
+  ASSERT_EQ(chattering.warnings.size(), 2u);
+  EXPECT_NE(chattering.warnings[1].find("tangential spring"), std::string::npos);
+}
+
+TEST(RunPacking, PackThatGainsEnergyBelowTheSingleContactLimitStopsAsUnstable) {
+  // A frictionless pour at 0.9 of the single-contact limit: each sphere held by several
+  // contacts is a stiffer oscillator than one contact, so the settling pack gains energy from
+  // the integrator. The kinetic energy passes twice what the spheres brought in (their fall,
+  // about 120 * 4.08e-3 kg * 9.81 * 0.08 m = 0.38 J) long before any sphere crosses half its
+  // radius per step; before the energy budget this run finished "fine" with the spheres flung
+  // out of the box.
+  const double mass = 7800 * 3.14159265358979323846 / 6 * 1e-6;
+  const double normal_limit = 2 * std::sqrt(mass / 2 / (1.5 * 1e6));
+  nlohmann::json json = SmallPour();
+  json["physics"]["tangential"] = false;
+  json["physics"]["rotation"] = false;
+  json["time_step_s"] = 0.9 * normal_limit;
+  json["duration_s"] = 2.0;
+  const auto summary = RunPacking(SceneFromJson(json, "stiff_pack.json"));
+  EXPECT_EQ(summary.stop_reason, PackStopReason::kUnstable);
+  EXPECT_NE(summary.message.find("kinetic energy"), std::string::npos) << summary.message;
+  // Half the limit settles: the budget does not stop a sound run.
+  json["time_step_s"] = 0.5 * normal_limit;
+  json["duration_s"] = 0.5;
+  EXPECT_EQ(RunPacking(SceneFromJson(json, "sound_pack.json")).stop_reason,
+            PackStopReason::kDuration);
 }
 
 TEST(RunPacking, RunawayParticlesStopTheRunAsUnstableInsteadOfFinishingWithAbsurdNumbers) {
