@@ -8,6 +8,7 @@
 #include <variant>
 
 #include "bouncecal/dem/contact_laws.h"
+#include "bouncecal/error.h"
 
 namespace bouncecal::dem::scene {
 
@@ -60,6 +61,38 @@ TimeStepLimits SceneTimeStepLimits(const Scene& scene, const BodyExtremes& bodie
   contact(largest, &largest, "largest particle pair");
   contact(lightest, nullptr, "smallest particle on a wall");
   contact(largest, nullptr, "largest particle on a wall");
+  return limits;
+}
+
+TimeStepLimits CheckTimeStep(const Scene& scene, const BodyExtremes& bodies, bool allow_unstable,
+                             std::vector<std::string>& warnings) {
+  const TimeStepLimits limits = SceneTimeStepLimits(scene, bodies);
+  const double dt = scene.time_step_s;
+  const TimeStepLimit& normal = limits.normal;
+  if (dt > normal.limit_s && !allow_unstable) {
+    throw ConfigError(fmt::format(
+        "{}: time_step_s = {:.3g} s exceeds {:.3g} s, the stability limit of the stiffest contact "
+        "({}); use a step of at most {:.3g} s (half the limit: several contacts on one particle "
+        "stiffen a pack), softer contacts or heavier particles",
+        scene.source.string(), dt, normal.limit_s, normal.stiffest,
+        kSafeFractionOfLimit * normal.limit_s));
+  }
+  if (dt > kSafeFractionOfLimit * normal.limit_s) {
+    warnings.push_back(fmt::format(
+        "time_step_s = {:.3g} s is {:.2f} of {:.3g} s, the stability limit of one {}: a particle "
+        "held by several contacts is stiffer than one, and packs have blown up from about 0.8 of "
+        "it; at most {:.3g} s is safe",
+        dt, dt / normal.limit_s, normal.limit_s, normal.stiffest,
+        kSafeFractionOfLimit * normal.limit_s));
+  }
+  const TimeStepLimit& tangential = limits.tangential;
+  if (dt > tangential.limit_s) {
+    warnings.push_back(fmt::format(
+        "time_step_s = {:.3g} s exceeds {:.3g} s, the stability limit of the {}: sticking "
+        "contacts will oscillate until they slide (friction caps them, so the run goes on); use "
+        "at most {:.3g} s, or a softer tangential_stiffness_n_per_m, to resolve them",
+        dt, tangential.limit_s, tangential.stiffest, tangential.limit_s));
+  }
   return limits;
 }
 

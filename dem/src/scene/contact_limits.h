@@ -3,6 +3,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "bouncecal/dem/scene.h"
 
@@ -38,6 +39,15 @@ struct TimeStepLimits {
 // attraction is left out: it is flat (floored at vdw_min_gap_m) wherever a contact rests, so it
 // shifts the equilibrium (see VanDerWaalsOverlapProblem) but adds no stiffness there.
 TimeStepLimits SceneTimeStepLimits(const Scene& scene, const BodyExtremes& bodies);
+
+// SceneTimeStepLimits, applied to the scene's time step: throws ConfigError (naming the scene
+// file, the limit and the contact that sets it) beyond the normal limit unless allow_unstable;
+// appends a warning beyond kSafeFractionOfLimit of it (several contacts on one particle make a
+// stiffer oscillator than one: frictionless pours were seen stable at 0.75 of the limit and
+// boiling at 0.8) and one beyond the tangential limit.
+inline constexpr double kSafeFractionOfLimit = 0.5;
+TimeStepLimits CheckTimeStep(const Scene& scene, const BodyExtremes& bodies, bool allow_unstable,
+                             std::vector<std::string>& warnings);
 
 // Why, with van der Waals on, the attraction at vdw_min_gap_m would pull two touching particles
 // deeper into each other than the contact law holds them apart: an equilibrium overlap beyond

@@ -182,10 +182,6 @@ double MaxSpeedMps(const scene::ParticleState<Dim>& state) {
   return speed;
 }
 
-// A step beyond this fraction of the single-contact limit draws a warning: several contacts on
-// one particle make a stiffer oscillator than one (QA: frictionless packs stable up to 0.75 of
-// the limit blew up at 0.8).
-constexpr double kSafeFractionOfLimit = 0.5;
 // Kinetic energy beyond this multiple of the energy the particles brought in stops a run as
 // unstable. Not 1: velocity Verlet's own error at a coarse (paper) step adds some, and the
 // budget's van der Waals term is an estimate.
@@ -250,31 +246,10 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
   if (const auto problem = scene::VanDerWaalsOverlapProblem(scene, bodies)) {
     throw ConfigError(scene.source.string() + ": " + *problem);
   }
-  const scene::TimeStepLimits limits = scene::SceneTimeStepLimits(scene, bodies);
-  const scene::TimeStepLimit& limit = limits.normal;
-  if (dt > limit.limit_s && !options.allow_unstable_step) {
-    throw ConfigError(fmt::format(
-        "{}: time_step_s = {:.3g} s exceeds {:.3g} s, the stability limit of the stiffest contact "
-        "({}); use a step of at most {:.3g} s (half the limit: several contacts on one particle "
-        "stiffen a pack), softer contacts or heavier particles",
-        scene.source.string(), dt, limit.limit_s, limit.stiffest, 0.5 * limit.limit_s));
-  }
   PackSummary summary;
-  if (dt > kSafeFractionOfLimit * limit.limit_s) {
-    summary.warnings.push_back(fmt::format(
-        "time_step_s = {:.3g} s is {:.2f} of {:.3g} s, the stability limit of one {}: a particle "
-        "held by several contacts is stiffer than one, and packs have blown up from about 0.8 of "
-        "it; at most {:.3g} s is safe",
-        dt, dt / limit.limit_s, limit.limit_s, limit.stiffest,
-        kSafeFractionOfLimit * limit.limit_s));
-  }
-  if (dt > limits.tangential.limit_s) {
-    summary.warnings.push_back(fmt::format(
-        "time_step_s = {:.3g} s exceeds {:.3g} s, the stability limit of the {}: sticking "
-        "contacts will oscillate until they slide (friction caps them, so the run goes on); use "
-        "at most {:.3g} s, or a softer tangential_stiffness_n_per_m, to resolve them",
-        dt, limits.tangential.limit_s, limits.tangential.stiffest, limits.tangential.limit_s));
-  }
+  const scene::TimeStepLimits limits =
+      scene::CheckTimeStep(scene, bodies, options.allow_unstable_step, summary.warnings);
+  const scene::TimeStepLimit& limit = limits.normal;
   scene::EnergyBudget budget(scene, *engine,
                              engine->state().size() + static_cast<std::int64_t>(pending.size()));
   // A particle that moves half its radius in one step overlaps whatever it meets by that much
