@@ -36,6 +36,15 @@ std::vector<Wall<3>> BoxWalls(double size) {
   return ContainerWalls<3>(box);
 }
 
+ContainerSpec Cylinder(double radius_m, double height_m) {
+  ContainerSpec cylinder;
+  cylinder.kind = ContainerKind::kCylinder;
+  cylinder.center_m = {0, 0, 0};
+  cylinder.radius_m = radius_m;
+  cylinder.height_m = height_m;
+  return cylinder;
+}
+
 Vec<3> V3(double x, double y, double z) { return Vec<3>{{x, y, z}}; }
 
 // A dense, overlapping random cloud with random velocities and spins: every contact branch
@@ -255,11 +264,7 @@ TEST(PackingEngine, CylinderWallsAreNeverMissedByTheWallNeighbourList) {
   // Particles flung at the floor and the side of a cylinder: the grid engine checks a wall only
   // for particles within the skin of it at the last rebuild, the brute-force engine checks every
   // wall every step. Any contact the list missed would change the trajectories.
-  ContainerSpec cylinder;
-  cylinder.kind = ContainerKind::kCylinder;
-  cylinder.center_m = {0, 0, 0};
-  cylinder.radius_m = 0.03;
-  cylinder.height_m = 0.04;
+  const ContainerSpec cylinder = Cylinder(0.03, 0.04);
   const auto law = WaltonBraunLaw(1e6, 0.4);
   auto grid =
       MakeEngine<3>(Settings(false, 1, false), ContainerWalls<3>(cylinder), law, AllPhysics(false));
@@ -283,11 +288,7 @@ TEST(PackingEngine, CylinderWallsAreNeverMissedByTheWallNeighbourList) {
 // its rim. A sphere outside it used to be read as overlapping the inner face by more than its
 // diameter and was flung in (energy from nothing).
 TEST(PackingEngine, CylinderShellPushesOutsideSpheresOutAndRoundsItsRim) {
-  ContainerSpec cylinder;
-  cylinder.kind = ContainerKind::kCylinder;
-  cylinder.center_m = {0, 0, 0};
-  cylinder.radius_m = 0.05;
-  cylinder.height_m = 0.04;
+  const ContainerSpec cylinder = Cylinder(0.05, 0.04);
   EngineSettings settings = Settings(true, 1);
   settings.gravity_mps2 = 0;
   PhysicsSpec physics;
@@ -327,11 +328,7 @@ TEST(PackingEngine, SphereDroppedOnTheRimOrBesideTheCylinderGainsNoEnergy) {
   // Elastic law, no friction: whatever the sphere hits (the rim's edge, the outer face, the
   // floor outside), its kinetic plus potential energy must not grow. The old inner-face formula
   // turned 1 m/s into ~24 m/s here.
-  ContainerSpec cylinder;
-  cylinder.kind = ContainerKind::kCylinder;
-  cylinder.center_m = {0, 0, 0};
-  cylinder.radius_m = 0.05;
-  cylinder.height_m = 0.04;
+  const ContainerSpec cylinder = Cylinder(0.05, 0.04);
   EngineSettings settings = Settings(false, 1);
   settings.time_step_s = 1e-6;
   PhysicsSpec physics;
