@@ -6,6 +6,9 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "bouncecal/error.h"
 #include "scene/contact_limits.h"
@@ -187,6 +190,30 @@ double MaxSpeedMps(const scene::ParticleState<Dim>& state) {
 // budget's van der Waals term is an estimate.
 constexpr double kEnergyBudgetFactor = 2;
 
+// A packing is read at rest: kinetic energy at the end above this fraction of its peak means it
+// was not (a pour at rest keeps ~1e-6 of it, paper 000 1.3e-5 J of ~10 J).
+constexpr double kAtRestFraction = 1e-2;
+
+// A warning when the run ended while its particles still moved: cut short, or boiling (a pack
+// gaining energy from a coarse step as fast as its damping removes it stays under the energy
+// budget but never settles).
+std::optional<std::string> NotAtRest(const std::vector<HistoryPoint>& history) {
+  if (history.size() < 2) return std::nullopt;
+  const auto peak = std::max_element(history.begin(), history.end(),
+                                     [](const HistoryPoint& a, const HistoryPoint& b) {
+                                       return a.kinetic_energy_j < b.kinetic_energy_j;
+                                     });
+  const double last = history.back().kinetic_energy_j;
+  if (!(peak->kinetic_energy_j > 0) || !(last > kAtRestFraction * peak->kinetic_energy_j)) {
+    return std::nullopt;
+  }
+  return fmt::format(
+      "the particles have not come to rest: the kinetic energy at the end, {:.3g} J, is {:.0f} % "
+      "of its peak ({:.3g} J at t = {:.3g} s); the packing measures describe a moving state. Run "
+      "longer, or, if it does not fall, use a smaller time_step_s",
+      last, 100 * last / peak->kinetic_energy_j, peak->kinetic_energy_j, peak->time_s);
+}
+
 std::int64_t StepsFor(double interval_s, double dt) {
   if (!(interval_s > 0)) return std::numeric_limits<std::int64_t>::max();
   return std::max<std::int64_t>(1, std::llround(interval_s / dt));
@@ -361,6 +388,7 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
       summary.message += fmt::format("; {} particles never fit in the pour region",
                                      summary.particles_not_inserted);
     }
+    if (auto unsettled = NotAtRest(summary.history)) summary.warnings.push_back(*unsettled);
   }
   summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   summary.particle_steps_per_s =
