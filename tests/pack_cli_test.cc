@@ -177,7 +177,13 @@ TEST(PackCli, StepBeyondTheTangentialLimitWarnsBeyondTheNormalLimitIsRefused) {
   EXPECT_NE(warned.output.find("tangential spring"), std::string::npos) << warned.output;
   std::ifstream in(json_path);
   const auto json = nlohmann::json::parse(in);
-  EXPECT_EQ(json["warnings"].size(), 1u);
+  // The tangential warning (the 2 ms run also ends before the spheres rest: a second one).
+  bool tangential = false;
+  for (const auto& warning : json["warnings"]) {
+    tangential =
+        tangential || warning.get<std::string>().find("tangential spring") != std::string::npos;
+  }
+  EXPECT_TRUE(tangential) << json["warnings"].dump();
   const auto refused = RunBouncecal("pack " + write("refuse.json", "1e-4").string() + " --out " +
                                     (dir / "out2").string());
   EXPECT_EQ(refused.exit_status, 3) << refused.output;
