@@ -223,7 +223,7 @@ template <int Dim>
 PackSummary Run(const Scene& scene, const PackOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const double container_height_m = ContainerTopM(scene) - ContainerFloorM(scene);
-  if (scene.measurement.profile_bin_m > 0 &&
+  if (scene.measurement.profile_bin_m > 0 && std::isfinite(container_height_m) &&
       container_height_m / scene.measurement.profile_bin_m > kMaxProfileBins) {
     throw ConfigError(fmt::format(
         "{}: measurement.profile_bin_m = {:.3g} m cuts the {:.3g} m tall container into more "
