@@ -14,6 +14,13 @@ namespace bouncecal::testing {
 namespace {
 
 // A 40-sphere pour for 0.05 s: enough to exercise every output, fast enough for CI.
+// A path under the temporary folder with nothing left at it from an earlier run.
+std::filesystem::path EmptyTempDir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / name;
+  std::filesystem::remove_all(dir);
+  return dir;
+}
+
 std::filesystem::path WriteTinyScene(const std::filesystem::path& dir) {
   std::filesystem::create_directories(dir);
   const auto path = dir / "tiny.json";
@@ -73,8 +80,7 @@ bool HasNoNull(const nlohmann::json& json) {
 }
 
 TEST(PackCli, WritesSummaryJsonCsvAndDumps) {
-  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_pack_cli_test";
-  std::filesystem::remove_all(dir);
+  const auto dir = EmptyTempDir("bouncecal_pack_cli_test");
   const auto scene = WriteTinyScene(dir);
   const auto out = dir / "out";
   const auto json_path = dir / "result.json";
@@ -124,8 +130,7 @@ TEST(PackCli, BadSceneValueIsAnInputErrorNamingTheKey) {
 // window measurement -> outputs) through the sanitized stage.
 TEST(PackCli, ShippedPaper004ScenesRunBriefly) {
   for (const std::string name : {"paper004_disks_friction_vdw", "paper004_binary_c3"}) {
-    const auto dir = std::filesystem::temp_directory_path() / ("bouncecal_pack_cli_" + name);
-    std::filesystem::remove_all(dir);
+    const auto dir = EmptyTempDir("bouncecal_pack_cli_" + name);
     const auto json_path = dir / "result.json";
     const auto scene = SourceDir() / "samples/scenes" / (name + ".json");
     const auto result = RunBouncecal("pack " + scene.string() + " --duration 0.005 --out " +
@@ -151,8 +156,7 @@ TEST(PackCli, ShippedPaper004ScenesRunBriefly) {
 // k_t = 5e7 N/m (2 sqrt(m / (7 k_t)) = 7.6e-6 s): the run goes on (friction bounds the
 // chatter) and says so on stderr and in summary.json. Ten times the step is refused (exit 3).
 TEST(PackCli, StepBeyondTheTangentialLimitWarnsBeyondTheNormalLimitIsRefused) {
-  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_pack_cli_step_limits";
-  std::filesystem::remove_all(dir);
+  const auto dir = EmptyTempDir("bouncecal_pack_cli_step_limits");
   std::filesystem::create_directories(dir);
   auto write = [&](const char* name, const char* step) {
     const auto path = dir / name;
@@ -193,8 +197,7 @@ TEST(PackCli, StepBeyondTheTangentialLimitWarnsBeyondTheNormalLimitIsRefused) {
 }
 
 TEST(PackCli, NanDurationIsAnOptionErrorNamingTheOption) {
-  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_pack_cli_nan_duration";
-  std::filesystem::remove_all(dir);
+  const auto dir = EmptyTempDir("bouncecal_pack_cli_nan_duration");
   const auto scene = WriteTinyScene(dir);
   const auto out = dir / "out";
   const auto result =
@@ -208,8 +211,7 @@ TEST(PackCli, NanDurationIsAnOptionErrorNamingTheOption) {
 // 1e-7 s at a 1e-5 s step ran 0 steps and reported the start state as the result. 0 itself is
 // the documented way to measure the start state and stays allowed.
 TEST(PackCli, DurationBelowOneTimeStepIsAnOptionErrorButZeroMeasuresTheStart) {
-  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_pack_cli_short_duration";
-  std::filesystem::remove_all(dir);
+  const auto dir = EmptyTempDir("bouncecal_pack_cli_short_duration");
   const auto scene = WriteTinyScene(dir);
   const auto out = dir / "out";
   const auto refused =
@@ -233,8 +235,7 @@ TEST(PackCli, DurationBelowOneTimeStepIsAnOptionErrorButZeroMeasuresTheStart) {
 // A --json path in a missing folder was found only when the summary was written, after the
 // whole simulation. Now it is refused first: no output folder, no CSV, no dump.
 TEST(PackCli, JsonInMissingFolderIsRefusedBeforeSimulating) {
-  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_pack_cli_json_folder";
-  std::filesystem::remove_all(dir);
+  const auto dir = EmptyTempDir("bouncecal_pack_cli_json_folder");
   const auto scene = WriteTinyScene(dir);
   const auto out = dir / "out";
   const auto result =
@@ -253,8 +254,7 @@ TEST(PackCli, JsonInMissingFolderIsRefusedBeforeSimulating) {
 // chmod-ed folder would not do in a container running tests as root).
 TEST(PackCli, OutputFolderWithoutWriteAccessIsRefusedBeforeSimulating) {
   if (!std::filesystem::is_directory("/proc")) GTEST_SKIP() << "no /proc on this system";
-  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_pack_cli_out_folder";
-  std::filesystem::remove_all(dir);
+  const auto dir = EmptyTempDir("bouncecal_pack_cli_out_folder");
   const auto scene = WriteTinyScene(dir);
   const auto result = RunBouncecal("pack " + scene.string() + " --duration 0.001 --out /proc");
   EXPECT_EQ(result.exit_status, 4) << result.output;
@@ -268,8 +268,7 @@ TEST(PackCli, OutputFolderWithoutWriteAccessIsRefusedBeforeSimulating) {
 // Now: history up to its last finite row, no final-state tables (and none left over from an
 // earlier run in the folder), and the JSON leaves out what is not a number.
 TEST(PackCli, UnstableRunWritesNoNonFiniteNumberAndNoFinalState) {
-  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_pack_cli_unstable";
-  std::filesystem::remove_all(dir);
+  const auto dir = EmptyTempDir("bouncecal_pack_cli_unstable");
   const auto scene = WriteRunawayScene(dir);
   const auto out = dir / "out";
   std::filesystem::create_directories(out);
@@ -304,8 +303,7 @@ TEST(PackCli, UnstableRunWritesNoNonFiniteNumberAndNoFinalState) {
 // Dumps and plots of an earlier, longer run stayed beside the new run's and were mixed with
 // them. A rerun removes this command's own file names and nothing else.
 TEST(PackCli, RerunRemovesOnlyTheEarlierRunsOwnOutputs) {
-  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_pack_cli_stale";
-  std::filesystem::remove_all(dir);
+  const auto dir = EmptyTempDir("bouncecal_pack_cli_stale");
   const auto scene = WriteTinyScene(dir);
   const auto out = dir / "out";
   std::filesystem::create_directories(out / "keep_folder");

@@ -50,6 +50,13 @@ struct EngineSettings {
   int threads = 1;
 };
 
+// Spheres in 3D; in 2D the particles are spheres whose centres move in a plane (paper 004 packs
+// spheres in a monolayer), so mass is that of a sphere in both cases.
+inline double SphereMassKg(double density_kg_per_m3, double radius_m) {
+  constexpr double kPi = 3.14159265358979323846;
+  return density_kg_per_m3 * 4.0 / 3.0 * kPi * radius_m * radius_m * radius_m;
+}
+
 template <int Dim>
 struct ParticleState {
   std::vector<Vec<Dim>> position_m;

@@ -22,10 +22,8 @@ EngineBase<Dim>::EngineBase(const EngineSettings& settings, std::vector<Wall<Dim
 template <int Dim>
 void EngineBase<Dim>::AddParticle(const Vec<Dim>& position_m, const Vec<Dim>& velocity_mps,
                                   double radius_m, double density_kg_per_m3, std::int32_t species) {
-  // Spheres in 3D; in 2D the particles are spheres whose centres move in a plane (paper 004
-  // packs spheres in a monolayer), so mass and inertia are those of a sphere in both cases.
-  constexpr double kPi = 3.14159265358979323846;
-  const double mass = density_kg_per_m3 * 4.0 / 3.0 * kPi * radius_m * radius_m * radius_m;
+  // Inertia, like mass, is that of a sphere in 2D too (see SphereMassKg).
+  const double mass = SphereMassKg(density_kg_per_m3, radius_m);
   auto& s = state_;
   s.position_m.push_back(position_m);
   s.velocity_mps.push_back(velocity_mps);

@@ -134,7 +134,6 @@ HistoryPoint Sample(const ParticleSnapshot& snap, const Scene& scene, double kin
 template <int Dim>
 scene::BodyExtremes Extremes(const scene::EngineBase<Dim>& engine, const Scene& scene,
                              const std::vector<scene::NewParticle>& pending) {
-  constexpr double kPi = 3.14159265358979323846;
   const int up = Dim - 1;
   const double floor = ContainerFloorM(scene);
   scene::BodyExtremes out;
@@ -160,8 +159,7 @@ scene::BodyExtremes Extremes(const scene::EngineBase<Dim>& engine, const Scene& 
   for (const auto& p : pending) {
     const double density =
         scene.particles.species[static_cast<std::size_t>(p.species)].density_kg_per_m3;
-    add(p.radius_m, density * 4.0 / 3.0 * kPi * p.radius_m * p.radius_m * p.radius_m,
-        region_top + p.radius_m);
+    add(p.radius_m, scene::SphereMassKg(density, p.radius_m), region_top + p.radius_m);
   }
   return out;
 }
