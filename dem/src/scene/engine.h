@@ -14,6 +14,10 @@
 
 namespace bouncecal::dem::scene {
 
+// The instruction sets the contact arithmetic is compiled for, narrowest first. kAvx512 needs
+// AVX-512 F, DQ and VL and runs 8 contacts per instruction.
+enum class ContactSimd { kBaseline, kAvx2, kAvx512 };
+
 // Everything the force loop needs besides the law and the physics flags, in SI.
 struct EngineSettings {
   double time_step_s = 1e-5;
@@ -44,9 +48,9 @@ struct EngineSettings {
   // the order they were added in), so that neighbours are close in memory and each thread's
   // range is a compact region. Changes the order of force sums, hence the last bits.
   bool sort_by_cell = true;
-  // Run the contact arithmetic's AVX2 build when the CPU has AVX2. The results are the same
-  // bit for bit; false forces the baseline build (tests compare the two).
-  bool allow_avx2 = true;
+  // The widest build of the contact arithmetic the engine may run; it runs the widest one this
+  // CPU has up to this. The results are the same bit for bit (tests compare the builds).
+  ContactSimd max_contact_simd = ContactSimd::kAvx512;
   int threads = 1;
 };
 
@@ -179,8 +183,8 @@ class EngineBase {
   std::int64_t untouched_ = 0;
 };
 
-// True when this CPU (and OS) can run the AVX2 build of the contact arithmetic.
-bool CpuHasAvx2();
+// The widest build of the contact arithmetic this CPU (and OS) can run.
+ContactSimd CpuContactSimd();
 
 // The engine for a scene: the law variant and physics flags become template arguments here.
 template <int Dim>

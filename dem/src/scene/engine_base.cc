@@ -5,12 +5,16 @@
 
 namespace bouncecal::dem::scene {
 
-bool CpuHasAvx2() {
+ContactSimd CpuContactSimd() {
 #if (defined(__x86_64__) || defined(__i386__)) && defined(__GNUC__)
-  return __builtin_cpu_supports("avx2");  // also checks that the OS saves the AVX registers
-#else
-  return false;
+  // __builtin_cpu_supports also checks that the OS saves the wider registers.
+  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+      __builtin_cpu_supports("avx512vl")) {
+    return ContactSimd::kAvx512;
+  }
+  if (__builtin_cpu_supports("avx2")) return ContactSimd::kAvx2;
 #endif
+  return ContactSimd::kBaseline;
 }
 
 template <int Dim>

@@ -429,11 +429,33 @@ TEST(PackingEngine, ResultsDoNotDependOnTheThreadCount) {
   }
 }
 
-// Every law and physics combination the vectorised contact stages are built for, run with the
-// AVX2 build and with the baseline build on the same dense cloud: element-wise IEEE arithmetic
+// The builds of the contact arithmetic this CPU can run beyond the baseline.
+std::vector<ContactSimd> WiderContactBuilds() {
+  std::vector<ContactSimd> builds;
+  for (ContactSimd simd : {ContactSimd::kAvx2, ContactSimd::kAvx512}) {
+    if (simd <= CpuContactSimd()) builds.push_back(simd);
+  }
+  return builds;
+}
+
+const char* SimdName(ContactSimd simd) {
+  switch (simd) {
+    case ContactSimd::kAvx512:
+      return "avx512";
+    case ContactSimd::kAvx2:
+      return "avx2";
+    case ContactSimd::kBaseline:
+      break;
+  }
+  return "baseline";
+}
+
+// Every law and physics combination the vectorised contact stages are built for, run with each
+// wider build and with the baseline build on the same dense cloud: element-wise IEEE arithmetic
 // in the same order must give the same bits (a contracted FMA or a reordered sum would not).
-TEST(PackingEngine, Avx2AndBaselineContactArithmeticGiveIdenticalTrajectories) {
-  if (!CpuHasAvx2()) GTEST_SKIP() << "this CPU has no AVX2: only the baseline build can run";
+TEST(PackingEngine, WideAndBaselineContactArithmeticGiveIdenticalTrajectories) {
+  const auto builds = WiderContactBuilds();
+  if (builds.empty()) GTEST_SKIP() << "this CPU has no AVX2: only the baseline build can run";
   std::vector<ContactLawConfig> laws(5);
   laws[0] = WaltonBraunLaw(1e6, 0.4);
   laws[1].kind = ContactLawKind::kWaltonBraunPlastic;
@@ -450,49 +472,56 @@ TEST(PackingEngine, Avx2AndBaselineContactArithmeticGiveIdenticalTrajectories) {
   normal_only.tangential = false;
   normal_only.rotation = false;
   normal_only.van_der_waals = false;
-  for (const auto& law : laws) {
-    for (const auto& physics : {AllPhysics(false), AllPhysics(true), normal_only}) {
-      EngineSettings baseline_settings = Settings(false, 1);
-      baseline_settings.allow_avx2 = false;
-      auto avx2 = MakeEngine<3>(Settings(false, 1), BoxWalls(0.05), law, physics);
-      auto baseline = MakeEngine<3>(baseline_settings, BoxWalls(0.05), law, physics);
-      FillRandomCloud(*avx2, 200, 0.05, 0.0035, 5);
-      FillRandomCloud(*baseline, 200, 0.05, 0.0035, 5);
-      avx2->Advance(300);
-      baseline->Advance(300);
-      const auto& a = avx2->state();
-      const auto& b = baseline->state();
-      for (std::int32_t i = 0; i < a.size(); ++i) {
-        ASSERT_TRUE(a.position_m[i] == b.position_m[i]) << ToString(law.kind) << " " << i;
-        ASSERT_TRUE(a.velocity_mps[i] == b.velocity_mps[i]) << ToString(law.kind) << " " << i;
-        ASSERT_TRUE(a.angular_velocity_radps[i] == b.angular_velocity_radps[i]) << i;
-      }
-      // The cloud really collided: otherwise equal states would prove nothing.
-      ASSERT_GT(avx2->pairs().size(), 200u);
-    }
-  }
-  // 2D disks with van der Waals, rotation and local damping (paper 004's physics).
-  PhysicsSpec disks = AllPhysics(true);
-  disks.local_damping = true;
   EngineSettings baseline_settings = Settings(false, 1);
-  baseline_settings.allow_avx2 = false;
-  auto avx2 = MakeEngine<2>(Settings(false, 1), {}, WaltonBraunLaw(1e6, 0.4), disks);
-  auto baseline = MakeEngine<2>(baseline_settings, {}, WaltonBraunLaw(1e6, 0.4), disks);
-  SceneRandom random(11);
-  for (int k = 0; k < 300; ++k) {
-    const Vec<2> x{{random.Uniform(0, 0.1), random.Uniform(0, 0.1)}};
-    const Vec<2> v{{random.Uniform(-1, 1), random.Uniform(-1, 1)}};
-    const double r = 0.0035 * random.Uniform(0.8, 1.2);
-    avx2->AddParticle(x, v, r, 7800, 0);
-    baseline->AddParticle(x, v, r, 7800, 0);
+  baseline_settings.max_contact_simd = ContactSimd::kBaseline;
+  for (ContactSimd simd : builds) {
+    EngineSettings wide_settings = Settings(false, 1);
+    wide_settings.max_contact_simd = simd;
+    for (const auto& law : laws) {
+      for (const auto& physics : {AllPhysics(false), AllPhysics(true), normal_only}) {
+        auto wide = MakeEngine<3>(wide_settings, BoxWalls(0.05), law, physics);
+        auto baseline = MakeEngine<3>(baseline_settings, BoxWalls(0.05), law, physics);
+        FillRandomCloud(*wide, 200, 0.05, 0.0035, 5);
+        FillRandomCloud(*baseline, 200, 0.05, 0.0035, 5);
+        wide->Advance(300);
+        baseline->Advance(300);
+        const auto& a = wide->state();
+        const auto& b = baseline->state();
+        for (std::int32_t i = 0; i < a.size(); ++i) {
+          ASSERT_TRUE(a.position_m[i] == b.position_m[i])
+              << SimdName(simd) << " " << ToString(law.kind) << " " << i;
+          ASSERT_TRUE(a.velocity_mps[i] == b.velocity_mps[i])
+              << SimdName(simd) << " " << ToString(law.kind) << " " << i;
+          ASSERT_TRUE(a.angular_velocity_radps[i] == b.angular_velocity_radps[i])
+              << SimdName(simd) << " " << i;
+        }
+        // The cloud really collided: otherwise equal states would prove nothing.
+        ASSERT_GT(wide->pairs().size(), 200u);
+      }
+    }
+    // 2D disks with van der Waals, rotation and local damping (paper 004's physics).
+    PhysicsSpec disks = AllPhysics(true);
+    disks.local_damping = true;
+    auto wide = MakeEngine<2>(wide_settings, {}, WaltonBraunLaw(1e6, 0.4), disks);
+    auto baseline = MakeEngine<2>(baseline_settings, {}, WaltonBraunLaw(1e6, 0.4), disks);
+    SceneRandom random(11);
+    for (int k = 0; k < 300; ++k) {
+      const Vec<2> x{{random.Uniform(0, 0.1), random.Uniform(0, 0.1)}};
+      const Vec<2> v{{random.Uniform(-1, 1), random.Uniform(-1, 1)}};
+      const double r = 0.0035 * random.Uniform(0.8, 1.2);
+      wide->AddParticle(x, v, r, 7800, 0);
+      baseline->AddParticle(x, v, r, 7800, 0);
+    }
+    wide->Advance(300);
+    baseline->Advance(300);
+    for (std::int32_t i = 0; i < wide->state().size(); ++i) {
+      ASSERT_TRUE(wide->state().position_m[i] == baseline->state().position_m[i])
+          << SimdName(simd) << " " << i;
+      ASSERT_TRUE(wide->state().velocity_mps[i] == baseline->state().velocity_mps[i])
+          << SimdName(simd) << " " << i;
+    }
+    ASSERT_GT(wide->pairs().size(), 300u);
   }
-  avx2->Advance(300);
-  baseline->Advance(300);
-  for (std::int32_t i = 0; i < avx2->state().size(); ++i) {
-    ASSERT_TRUE(avx2->state().position_m[i] == baseline->state().position_m[i]) << i;
-    ASSERT_TRUE(avx2->state().velocity_mps[i] == baseline->state().velocity_mps[i]) << i;
-  }
-  ASSERT_GT(avx2->pairs().size(), 300u);
 }
 
 TEST(PackingEngine, VanDerWaalsAttractsNearbyParticlesWithTheHamakerForce) {
