@@ -31,7 +31,9 @@ class WorkerPool {
   int threads() const { return static_cast<int>(workers_.size()) + 1; }
   // Chunks per loop: several per thread, so that a thread whose chunks are cheap (falling
   // particles with few contacts) claims more of them instead of waiting at the barrier for one
-  // holding the dense bottom of a pour. Callers size per-chunk scratch by this.
+  // holding the dense bottom of a pour. 8 per thread waste less at the barrier than 4 (settled
+  // pack on 2 threads: 1.45-1.47 s against 1.51-1.52 s) and 16 gain nothing more. Callers size
+  // per-chunk scratch by this.
   int chunks() const { return workers_.empty() ? 1 : threads() * kChunksPerThread; }
 
   // Calls body(chunk, begin, end) once for each of chunks() contiguous chunks of [0, n), on
@@ -41,7 +43,7 @@ class WorkerPool {
                    const std::function<void(int, std::int64_t, std::int64_t)>& body);
 
  private:
-  static constexpr int kChunksPerThread = 4;
+  static constexpr int kChunksPerThread = 8;
 
   void WorkerLoop(int thread);
   void RunChunk(int chunk);
