@@ -108,6 +108,7 @@ class Engine final : public EngineBase<Dim> {
  private:
   using V = Vec<Dim>;
   using S = Spin<Dim>;
+  using PairResult = typename EngineBase<Dim>::PairResult;
   static double Square(double x) { return x * x; }
 
   void ForcesInWorkingOrder() {
@@ -223,105 +224,6 @@ class Engine final : public EngineBase<Dim> {
       hot_[k].spin_inertia.w += (half_dt * hot_[k].spin_inertia.inverse_inertia) * load.torque;
   }
 
-  // Cundall & Strack (1979) tangential spring on the accumulated tangential displacement,
-  // capped by Coulomb friction (paper 000 eq. 5-6). The spring is first rotated into the current
-  // tangent plane with its length kept, so a rolling contact does not grow a normal component
-  // (LAMMPS gran/hooke/history projects without the rescale; pair granular rescales like this).
-  // When it slides the spring is reset to the Coulomb force, so |F_t| never exceeds mu |F_n|.
-  // Split in two around the rescale factor so the pair kernel can take the square roots of a
-  // whole block of contacts at once (see PairForces).
-  //
-  // Projects the spring into the tangent plane; old2 and new2 are its squared lengths before and
-  // after, or both 1 when there is nothing to rescale.
-  static void ProjectShear(V& shear, const V& n, double& old2, double& new2) {
-    old2 = shear.squaredNorm();
-    new2 = 1;
-    if (old2 > 0) {
-      shear -= shear.dot(n) * n;
-      new2 = shear.squaredNorm();
-    }
-    if (!(old2 > 0 && new2 > 0)) old2 = new2 = 1;  // sqrt(1 / 1) = 1 leaves the spring as is
-  }
-
-  // Rescales by `factor` = sqrt(old2 / new2), adds v_t dt and applies the Coulomb cap. Returns
-  // the force on the body whose relative velocity vt is.
-  V FinishShear(V& shear, double factor, const V& vt, double normal_force_n,
-                double friction) const {
-    shear *= factor;
-    shear += this->settings_.time_step_s * vt;
-    const double ks = this->settings_.tangential_stiffness_n_per_m;
-    V force = -ks * shear;
-    const double cap = friction * std::abs(normal_force_n);
-    const double f2 = force.squaredNorm();
-    if (f2 > cap * cap) {
-      force *= cap / std::sqrt(f2);
-      shear = force * shear_per_force_m_per_n_;  // = force / -ks, the division taken once
-    }
-    return force;
-  }
-
-  V TangentialForce(V& shear, const V& n, const V& vt, double normal_force_n,
-                    double friction) const {
-    double old2;
-    double new2;
-    ProjectShear(shear, n, old2, new2);
-    return FinishShear(shear, std::sqrt(old2 / new2), vt, normal_force_n, friction);
-  }
-
-  // Each chunk of the pair list streams through one pass: every listed pair's distance is
-  // measured and its separation vector and radii are written into the next free slot of the
-  // chunk's block scratch, but the slot is only kept (the count advances) when the pair
-  // interacts: no data-dependent branch, and the positions are read once, not again by the
-  // block gather. Once kBlock interacting pairs have gathered, they go through the contact laws
-  // together (ContactBlock: vectorised across contacts). The arithmetic of each pair is the same
-  // as a one-pass loop and does not depend on the chunking or the blocking: results are the same
-  // for every thread count.
-  void PairForces() {
-    this->pool_->ParallelFor(
-        static_cast<std::int64_t>(this->pairs_.size()),
-        [this](int chunk, std::int64_t begin, std::int64_t end) {
-          const Hot* x = hot_.data();
-          const std::int32_t* first = this->pairs_.first.data();
-          const std::int32_t* second = this->pairs_.second.data();
-          std::uint8_t* live = this->pair_live_.data();
-          // Pair terms are recomputed from the particles rather than stored per pair, to keep
-          // the per-pair arrays (read every step) small.
-          const double cutoff_gap_m = Phys::kVanDerWaals ? this->settings_.vdw_cutoff_gap_m : 0.0;
-          auto* results = this->pair_result_.data();
-          auto& t = scratch_[static_cast<std::size_t>(chunk)];
-          int count = 0;
-          for (std::int64_t p = begin; p < end; ++p) {
-            const std::int32_t i = first[p];
-            const std::int32_t j = second[p];
-            const V d = x[i].position_radius.v - x[j].position_radius.v;
-            const double cutoff_m = x[i].position_radius.s + x[j].position_radius.s + cutoff_gap_m;
-            const bool interacts = d.squaredNorm() < cutoff_m * cutoff_m;
-            t.pair[count] = static_cast<std::int32_t>(p);
-            for (int c = 0; c < Dim; ++c) t.normal[c][count] = d[c];
-            t.radius_i[count] = x[i].position_radius.s;
-            t.radius_j[count] = x[j].position_radius.s;
-            count += interacts ? 1 : 0;
-            // An interacting pair's result and spring are written by its contact block. A pair
-            // that does not interact has them zero, and they are almost always zero already:
-            // only a pair that has just separated is cleared (a predictable branch), so the
-            // others' records are neither written nor read. `&`, not `&&`: whether a listed
-            // pair interacts is random, so a short-circuit jump on it would be mispredicted.
-            if (!interacts & (live[p] != 0)) {
-              const auto q = static_cast<std::size_t>(p);
-              results[q] = {V::Zero(), ZeroSpin<Dim>()};
-              if constexpr (Phys::kTangential) this->pair_shear_[q] = V::Zero();
-              if constexpr (Law::kNeedsHistory) this->pair_normal_history_[q] = {};
-            }
-            live[p] = interacts ? 1 : 0;
-            if (count == kBlock) {  // taken once per kBlock contacts: predictable
-              ContactBlock(kBlock, t);
-              count = 0;
-            }
-          }
-          if (count > 0) ContactBlock(count, t);
-        });
-  }
-
   static constexpr int kBlock = 64;
   static constexpr int kSpinDim = Dim == 3 ? 3 : 1;
   // Per-thread temporaries of one block of contacts, one array per component (structure of
@@ -344,6 +246,140 @@ class Engine final : public EngineBase<Dim> {
     alignas(32) double shear_factor[kBlock];
   };
 
+  // Each chunk of the pair list streams through one pass: every listed pair's distance is
+  // measured and its separation vector and radii are written into the next free slot of the
+  // chunk's block scratch, but the slot is only kept (the count advances) when the pair
+  // interacts: no data-dependent branch, and the positions are read once, not again by the
+  // block gather. Once kBlock interacting pairs have gathered, they go through the contact laws
+  // together (ContactBlock: vectorised across contacts). The arithmetic of each pair is the same
+  // as a one-pass loop and does not depend on the chunking or the blocking: results are the same
+  // for every thread count.
+  //
+  // The same chunk then measures its share of the particles against the walls they may touch
+  // and sends the touching ones through the same stages (WallBlock). Pairs and particles are
+  // split in proportion, so a chunk's range is a compact region for both.
+  void PairForces() {
+    const auto pair_count = static_cast<std::int64_t>(this->pairs_.size());
+    const std::int64_t particle_count = this->walls_.empty() ? 0 : this->state_.size();
+    wall_result_.resize(static_cast<std::size_t>(particle_count) * this->walls_.size());
+    const std::int64_t items = pair_count + particle_count;
+    this->pool_->ParallelFor(items, [this, pair_count, particle_count, items](
+                                        int chunk, std::int64_t begin, std::int64_t end) {
+      auto& t = scratch_[static_cast<std::size_t>(chunk)];
+      PairRange(t, begin * pair_count / items, end * pair_count / items);
+      WallRange(t, begin * particle_count / items, end * particle_count / items);
+    });
+  }
+
+  void PairRange(Scratch& t, std::int64_t begin, std::int64_t end) {
+    const Hot* x = hot_.data();
+    const std::int32_t* first = this->pairs_.first.data();
+    const std::int32_t* second = this->pairs_.second.data();
+    std::uint8_t* live = this->pair_live_.data();
+    // Pair terms are recomputed from the particles rather than stored per pair, to keep
+    // the per-pair arrays (read every step) small.
+    const double cutoff_gap_m = Phys::kVanDerWaals ? this->settings_.vdw_cutoff_gap_m : 0.0;
+    auto* results = this->pair_result_.data();
+    int count = 0;
+    for (std::int64_t p = begin; p < end; ++p) {
+      const std::int32_t i = first[p];
+      const std::int32_t j = second[p];
+      const V d = x[i].position_radius.v - x[j].position_radius.v;
+      const double cutoff_m = x[i].position_radius.s + x[j].position_radius.s + cutoff_gap_m;
+      const bool interacts = d.squaredNorm() < cutoff_m * cutoff_m;
+      t.pair[count] = static_cast<std::int32_t>(p);
+      for (int c = 0; c < Dim; ++c) t.normal[c][count] = d[c];
+      t.radius_i[count] = x[i].position_radius.s;
+      t.radius_j[count] = x[j].position_radius.s;
+      count += interacts ? 1 : 0;
+      // An interacting pair's result and spring are written by its contact block. A pair
+      // that does not interact has them zero, and they are almost always zero already:
+      // only a pair that has just separated is cleared (a predictable branch), so the
+      // others' records are neither written nor read. `&`, not `&&`: whether a listed
+      // pair interacts is random, so a short-circuit jump on it would be mispredicted.
+      if (!interacts & (live[p] != 0)) {
+        const auto q = static_cast<std::size_t>(p);
+        results[q] = {V::Zero(), ZeroSpin<Dim>()};
+        if constexpr (Phys::kTangential) this->pair_shear_[q] = V::Zero();
+        if constexpr (Law::kNeedsHistory) this->pair_normal_history_[q] = {};
+      }
+      live[p] = interacts ? 1 : 0;
+      if (count == kBlock) {  // taken once per kBlock contacts: predictable
+        ContactBlock(kBlock, t);
+        count = 0;
+      }
+    }
+    if (count > 0) ContactBlock(count, t);
+  }
+
+  // A wall is a body of infinite mass and curvature radius: m_eff = m, R_eff = r. Its contacts
+  // run through the pair stages (kWall), which take the normal and overlap from the wall's own
+  // geometry instead of a centre distance; wall_result_ holds each (particle, wall) result.
+  void WallRange(Scratch& t, std::int64_t begin, std::int64_t end) {
+    const std::size_t wall_count = this->walls_.size();
+    int count = 0;
+    for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
+      const std::uint64_t near = this->wall_near_[i];
+      if (near == 0 && wall_count <= 64) continue;
+      const Hot& hot = hot_[i];
+      const double r_i = hot.position_radius.s;
+      for (std::size_t w = 0; w < wall_count; ++w) {
+        if (w < 64 && ((near >> w) & 1) == 0) continue;
+        const std::size_t h = i * wall_count + w;
+        V n;
+        const double overlap = this->walls_[w].Overlap(hot.position_radius.v, r_i, n);
+        if (overlap <= 0) {
+          wall_result_[h] = {V::Zero(), ZeroSpin<Dim>()};
+          if constexpr (Phys::kTangential) this->wall_shear_[h] = V::Zero();
+          if constexpr (Law::kNeedsHistory) this->wall_normal_history_[h] = NormalHistory{};
+          continue;
+        }
+        t.pair[count] = static_cast<std::int32_t>(h);
+        t.overlap[count] = overlap;
+        t.radius_i[count] = r_i;
+        t.mass_i[count] = hot.velocity_mass.s;
+        for (int c = 0; c < Dim; ++c) {
+          t.normal[c][count] = n[c];
+          t.velocity[c][count] = hot.velocity_mass.v[c];
+        }
+        if constexpr (Phys::kRotation) {
+          if constexpr (Dim == 3) {
+            for (int c = 0; c < 3; ++c) t.spin[c][count] = r_i * hot.spin_inertia.w[c];
+          } else {
+            t.spin[0][count] = r_i * hot.spin_inertia.w;
+          }
+        }
+        if constexpr (Phys::kTangential) {
+          for (int c = 0; c < Dim; ++c) t.shear[c][count] = this->wall_shear_[h][c];
+        }
+        if (++count == kBlock) {
+          WallBlock(kBlock, t);
+          count = 0;
+        }
+      }
+    }
+    if (count > 0) WallBlock(count, t);
+  }
+
+  void WallBlock(int n, Scratch& t) {
+    RunContactArithmetic<true>(t, n);
+    for (int k = 0; k < n; ++k) {
+      const auto h = static_cast<std::size_t>(t.pair[k]);
+      auto& result = wall_result_[h];
+      for (int c = 0; c < Dim; ++c) result.force_n[c] = t.force[c][k];
+      if constexpr (Phys::kRotation) {
+        if constexpr (Dim == 3) {
+          for (int c = 0; c < 3; ++c) result.twist_n[c] = t.twist[c][k];
+        } else {
+          result.twist_n = t.twist[0][k];
+        }
+      }
+      if constexpr (Phys::kTangential) {
+        for (int c = 0; c < Dim; ++c) this->wall_shear_[h][c] = t.shear[c][k];
+      }
+    }
+  }
+
   // The forces of the first `n` pairs of the block (all closer than their cutoff; the distance
   // pass has filled in pair, normal = x_i - x_j and the radii); their whole pair_result_ is
   // written.
@@ -356,22 +392,27 @@ class Engine final : public EngineBase<Dim> {
   // are bit-identical across the builds and do not depend on how contacts fall into blocks.
   void ContactBlock(int n, Scratch& t) {
     GatherBlock(n, t);
+    RunContactArithmetic<false>(t, n);
+    ScatterBlock(n, t);
+  }
+
+  template <bool kWall>
+  void RunContactArithmetic(Scratch& t, int n) {
 #if BOUNCECAL_SCENE_HAS_SIMD_PATHS
     switch (simd_) {
       case ContactSimd::kAvx512:
-        ContactArithmeticAvx512(t, n);
+        ContactArithmeticAvx512<kWall>(t, n);
         break;
       case ContactSimd::kAvx2:
-        ContactArithmeticAvx2(t, n);
+        ContactArithmeticAvx2<kWall>(t, n);
         break;
       case ContactSimd::kBaseline:
-        ContactArithmeticBaseline(t, n);
+        ContactArithmeticBaseline<kWall>(t, n);
         break;
     }
 #else
-    ContactArithmeticBaseline(t, n);
+    ContactArithmeticBaseline<kWall>(t, n);
 #endif
-    ScatterBlock(n, t);
   }
 
   void GatherBlock(int n, Scratch& t) const {
@@ -407,34 +448,50 @@ class Engine final : public EngineBase<Dim> {
   // source. The AVX-512 build uses the full 512-bit width: 8 contacts per instruction took about
   // 10 % off a settled pack's step on this machine (AMD Zen 5) against AVX2, while AVX-512 at
   // 256 bits gained nothing over AVX2.
+  // kWall: the block holds particle-wall contacts (see WallRange).
+  template <bool kWall>
   [[gnu::always_inline]] inline void ContactArithmetic(Scratch& t, int n) {
-    GeometryStage(t, n);
+    GeometryStage<kWall>(t, n);
     if constexpr (Law::kNeedsHistory) {
-      NormalForcesWithHistory(t, n);
+      NormalForcesWithHistory<kWall>(t, n);
     } else {
-      NormalForceStage(t, n);
+      NormalForceStage<kWall>(t, n);
     }
-    ForceStage(t, n);
+    ForceStage<kWall>(t, n);
   }
-  void ContactArithmeticBaseline(Scratch& t, int n) { ContactArithmetic(t, n); }
+  template <bool kWall>
+  void ContactArithmeticBaseline(Scratch& t, int n) {
+    ContactArithmetic<kWall>(t, n);
+  }
 #if BOUNCECAL_SCENE_HAS_SIMD_PATHS
-  [[gnu::target("avx2")]] void ContactArithmeticAvx2(Scratch& t, int n) { ContactArithmetic(t, n); }
+  template <bool kWall>
+  [[gnu::target("avx2")]] void ContactArithmeticAvx2(Scratch& t, int n) {
+    ContactArithmetic<kWall>(t, n);
+  }
+  template <bool kWall>
   [[gnu::target("avx512f,avx512dq,avx512vl,prefer-vector-width=512")]] void ContactArithmeticAvx512(
       Scratch& t, int n) {
-    ContactArithmetic(t, n);
+    ContactArithmetic<kWall>(t, n);
   }
 #endif
 
-  // Stage 1: geometry, relative velocity and the spring projected into the tangent plane.
+  // Stage 1: geometry, relative velocity and the spring projected into the tangent plane. A wall
+  // contact arrives with its unit normal, overlap, v_i and r_i w_i already in place (the wall
+  // is at rest).
+  template <bool kWall>
   [[gnu::always_inline]] inline void GeometryStage(Scratch& t, int n) const {
     for (int k = 0; k < n; ++k) {
-      double dist2 = 0;
-      for (int c = 0; c < Dim; ++c) dist2 += t.normal[c][k] * t.normal[c][k];
-      const double dist = std::sqrt(dist2);
-      const double inverse = 1.0 / dist;
       double nv[Dim];
-      for (int c = 0; c < Dim; ++c) nv[c] = t.normal[c][k] * inverse;
-      t.overlap[k] = (t.radius_i[k] + t.radius_j[k]) - dist;
+      if constexpr (kWall) {
+        for (int c = 0; c < Dim; ++c) nv[c] = t.normal[c][k];
+      } else {
+        double dist2 = 0;
+        for (int c = 0; c < Dim; ++c) dist2 += t.normal[c][k] * t.normal[c][k];
+        const double dist = std::sqrt(dist2);
+        const double inverse = 1.0 / dist;
+        for (int c = 0; c < Dim; ++c) nv[c] = t.normal[c][k] * inverse;
+        t.overlap[k] = (t.radius_i[k] + t.radius_j[k]) - dist;
+      }
       double v_rel[Dim];
       for (int c = 0; c < Dim; ++c) v_rel[c] = t.velocity[c][k];
       if constexpr (Phys::kRotation) {
@@ -460,8 +517,11 @@ class Engine final : public EngineBase<Dim> {
         t.velocity[c][k] = v_rel[c] - v_n * nv[c];
       }
       if constexpr (Phys::kTangential) {
-        // Cundall & Strack (1979) spring rotated into the current tangent plane with its
-        // length kept (see FinishShear): the projection, and the rescale factor.
+        // Cundall & Strack (1979) tangential spring on the accumulated tangential displacement
+        // (paper 000 eq. 5-6), first rotated into the current tangent plane with its length
+        // kept, so a rolling contact does not grow a normal component (LAMMPS
+        // gran/hooke/history projects without the rescale; pair granular rescales like this):
+        // the projection here, the rescale factor's square root for the whole block at once.
         double old2 = 0;
         for (int c = 0; c < Dim; ++c) old2 += t.shear[c][k] * t.shear[c][k];
         double along = 0;
@@ -479,8 +539,11 @@ class Engine final : public EngineBase<Dim> {
     }
   }
 
-  // The law's view of block contact k: reduced mass and effective radius of the pair.
+  // The law's view of block contact k: reduced mass and effective radius of the pair. A wall is
+  // a body of infinite mass and curvature radius: m_eff = m, R_eff = r.
+  template <bool kWall>
   [[gnu::always_inline]] static inline NormalContact ContactAt(const Scratch& t, int k) {
+    if constexpr (kWall) return {t.overlap[k], t.overlap_rate[k], t.mass_i[k], t.radius_i[k]};
     const double r_i = t.radius_i[k];
     const double r_j = t.radius_j[k];
     const double m_i = t.mass_i[k];
@@ -491,6 +554,7 @@ class Engine final : public EngineBase<Dim> {
   // Stage 2: the normal law. A separate loop, so a law that does not vectorise does not stop
   // the stages around it. Every contact is evaluated; the non-touching ones are dropped in
   // stage 3 (the laws return 0 or a value that is discarded for them).
+  template <bool kWall>
   [[gnu::always_inline]] inline void NormalForceStage(Scratch& t, int n) const {
     {
       // Copies of members: loaded once, not through `this` (which might alias t) per contact,
@@ -498,16 +562,18 @@ class Engine final : public EngineBase<Dim> {
       const Law law = law_;
       for (int k = 0; k < n; ++k) {
         NormalHistory none{};
-        t.normal_force[k] = law.NormalForce(ContactAt(t, k), none);
+        t.normal_force[k] = law.NormalForce(ContactAt<kWall>(t, k), none);
       }
     }
   }
 
-  // Stage 3: tangential force with the Coulomb cap, the pair force and its twist.
+  // Stage 3: tangential force with the Coulomb cap, the pair force and its twist. When it
+  // slides the spring is reset to the Coulomb force, so |F_t| never exceeds mu |F_n|.
+  template <bool kWall>
   [[gnu::always_inline]] inline void ForceStage(Scratch& t, int n) const {
     const double dt = this->settings_.time_step_s;
     const double ks = this->settings_.tangential_stiffness_n_per_m;
-    const double friction = this->settings_.friction;
+    const double friction = kWall ? this->settings_.wall_friction : this->settings_.friction;
     const double shear_per_force = shear_per_force_m_per_n_;
     const double hamaker_j = this->settings_.hamaker_j;
     const double min_gap_m = this->settings_.vdw_min_gap_m;
@@ -550,7 +616,7 @@ class Engine final : public EngineBase<Dim> {
       // A pair within the van der Waals cutoff but not touching feels only the attraction.
       const bool touching = t.overlap[k] > 0;
       for (int c = 0; c < Dim; ++c) force[c] = touching ? force[c] : 0.0;
-      if constexpr (Phys::kVanDerWaals) {
+      if constexpr (Phys::kVanDerWaals && !kWall) {
         const double r_i = t.radius_i[k];
         const double r_j = t.radius_j[k];
         const double effective_radius_m = r_i * r_j / (r_i + r_j);
@@ -563,12 +629,14 @@ class Engine final : public EngineBase<Dim> {
   }
 
   // A law with a per-contact history (walton-braun-plastic) runs one touching contact at a time.
+  template <bool kWall>
   void NormalForcesWithHistory(Scratch& t, int n) {
+    auto& history = kWall ? this->wall_normal_history_ : this->pair_normal_history_;
     for (int k = 0; k < n; ++k) {
       t.normal_force[k] = 0;
       if (!(t.overlap[k] > 0)) continue;
-      t.normal_force[k] = law_.NormalForce(
-          ContactAt(t, k), this->pair_normal_history_[static_cast<std::size_t>(t.pair[k])]);
+      t.normal_force[k] =
+          law_.NormalForce(ContactAt<kWall>(t, k), history[static_cast<std::size_t>(t.pair[k])]);
     }
   }
 
@@ -623,12 +691,16 @@ class Engine final : public EngineBase<Dim> {
       force -= results[p].force_n;
       if constexpr (Phys::kRotation) twist += results[p].twist_n;
     }
-    S torque = -r_i * twist;
     const std::size_t wall_count = this->walls_.size();
     const std::uint64_t near = this->wall_near_[static_cast<std::size_t>(i)];
     for (std::size_t w = 0; w < wall_count; ++w) {
-      if (w >= 64 || ((near >> w) & 1) != 0) WallForce(i, w, force, torque);
+      if (w >= 64 || ((near >> w) & 1) != 0) {
+        const PairResult& wall = wall_result_[static_cast<std::size_t>(i) * wall_count + w];
+        force += wall.force_n;
+        if constexpr (Phys::kRotation) twist += wall.twist_n;
+      }
     }
+    S torque = -r_i * twist;
     if constexpr (Phys::kLocalDamping) {
       // Cundall (1987) local non-viscous damping, as in paper 004 eq. 12: each component of the
       // unbalanced force is reduced by alpha |F| against the velocity. It removes kinetic
@@ -653,39 +725,15 @@ class Engine final : public EngineBase<Dim> {
     return {force, torque};
   }
 
-  // A wall is a body of infinite mass and curvature radius: m_eff = m, R_eff = r.
-  [[gnu::always_inline]] void WallForce(std::int32_t i, std::size_t w, V& force, S& torque) {
-    const auto k = static_cast<std::size_t>(i);
-    const std::size_t h = k * this->walls_.size() + w;
-    V n;
-    const double r_i = hot_[k].position_radius.s;
-    const double overlap = this->walls_[w].Overlap(hot_[k].position_radius.v, r_i, n);
-    if (overlap <= 0) {
-      if constexpr (Phys::kTangential) this->wall_shear_[h].setZero();
-      if constexpr (Law::kNeedsHistory) this->wall_normal_history_[h] = NormalHistory{};
-      return;
-    }
-    V v_rel = hot_[k].velocity_mass.v;
-    if constexpr (Phys::kRotation) v_rel -= SpinCross(r_i * hot_[k].spin_inertia.w, n);
-    const double v_n = v_rel.dot(n);
-    const NormalContact contact{overlap, -v_n, hot_[k].velocity_mass.s, r_i};
-    const double normal_force = law_.NormalForce(contact, this->wall_normal_history_[h]);
-    force += normal_force * n;
-    if constexpr (Phys::kTangential) {
-      const V v_t = v_rel - v_n * n;
-      const V tangential = TangentialForce(this->wall_shear_[h], n, v_t, normal_force,
-                                           this->settings_.wall_friction);
-      force += tangential;
-      if constexpr (Phys::kRotation) torque -= r_i * TorqueCross(n, tangential);
-    }
-  }
-
   Law law_;
   V gravity_;
   ContactSimd simd_;                // the build of the contact arithmetic (same results)
   double shear_per_force_m_per_n_;  // 1 / -k_t: the spring of a sliding contact from its force
   std::vector<Scratch> scratch_;    // one per pool chunk
   std::vector<Hot> hot_;            // see LoadHot
+  // Force on the particle and n x F_t of each (particle, wall) contact, particle * walls + wall;
+  // written every step for the walls a particle is near (WallRange), zero when not touching.
+  std::vector<PairResult> wall_result_;
 };
 
 // Picks the physics flags at run time once, so each scene runs one specialised loop.

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <variant>
 
 #include "scene/insertion.h"
 
@@ -378,6 +380,94 @@ TEST(PackingEngine, TangentialSpringGrowsLinearlyThenIsCappedByCoulomb) {
     EXPECT_LT(f[1], 0);  // opposes the sliding of particle 1
     EXPECT_NEAR(f[0], normal, 1e-9);
   }
+}
+
+// A sphere meeting the floor and the cylinder side head-on, without gravity: a wall is a body
+// of infinite mass, so the law's closed forms hold with m_eff = m (a pair of equal spheres would
+// last sqrt(2) times shorter). 1e-7 s steps put ~700 steps in a contact; Verlet's error on this
+// law is then ~1e-5 in e (docs/drop_accuracy.md), so 1e-3 is a safe bound, and the duration is
+// read to the step.
+TEST(PackingEngine, WallImpactsKeepTheLawsRestitutionAndDurationWithTheSphereMass) {
+  EngineSettings settings = Settings(false, 1);
+  settings.gravity_mps2 = 0;
+  settings.time_step_s = 1e-7;
+  // Walton-braun's e does not depend on the mass; the linear dashpot's damping does (through
+  // m_eff), so its e would move if a wall were taken for a sphere.
+  ContactLawConfig dashpot;
+  dashpot.kind = ContactLawKind::kLinearDashpot;
+  dashpot.parameters = {{"stiffness_n_per_m", 1e7}, {"damping_ratio", 0.2}};
+  const double r = 0.005;
+  const double m = SphereMassKg(7800, r);
+  struct Case {
+    const char* wall;
+    Vec<3> start;
+    Vec<3> velocity;
+    int axis;  // the component along the wall's normal
+  };
+  const Case cases[] = {{"floor", V3(0, 0, r + 1e-4), V3(0, 0, -1), 2},
+                        {"cylinder side", V3(0.1 - r - 1e-4, 0, 0.1), V3(1, 0, 0), 0}};
+  for (const ContactLawConfig& law_config : {WaltonBraunLaw(1e7, 0.5), dashpot}) {
+    double e = 0;
+    double duration = 0;
+    std::visit(
+        [&](const auto& law) {
+          e = *law.ClosedFormRestitution(m, r, 1.0);
+          duration = *law.ClosedFormContactDuration(m, r, 1.0);
+        },
+        MakeContactLaw(law_config));
+    for (const auto& c : cases) {
+      auto engine = MakeEngine<3>(settings, ContainerWalls<3>(Cylinder(0.1, 0.2)), law_config,
+                                  AllPhysics(false));
+      engine->AddParticle(c.start, c.velocity, r, 7800, 0);
+      const double approach = c.velocity[c.axis];
+      int steps_in_contact = 0;
+      for (int step = 0; step < 4000; ++step) {
+        engine->Advance(1);
+        const double x = engine->state().position_m[0][c.axis];
+        const double gap = c.axis == 2 ? x - r : (0.1 - r) - x;
+        if (gap < 0) ++steps_in_contact;
+      }
+      const std::string what = std::string(ToString(law_config.kind)) + " on the " + c.wall;
+      const double rebound = engine->state().velocity_mps[0][c.axis];
+      EXPECT_NEAR(-rebound / approach, e, 1e-3) << what;
+      EXPECT_NEAR(steps_in_contact * settings.time_step_s, duration, 2 * settings.time_step_s)
+          << what;
+      // Head-on: no tangential force, no spin.
+      EXPECT_EQ(engine->state().angular_velocity_radps[0].squaredNorm(), 0.0) << what;
+    }
+  }
+}
+
+// A sphere launched sliding along the floor without spin: wall friction slows it and spins it up
+// until it rolls, after t = 2 v0 / (7 mu g), at v = 5/7 v0 with omega r = v (solid sphere,
+// I = 2/5 m r^2). Tests the wall's friction, torque and its sign. The sphere starts at its
+// resting overlap m g / k; the tangential spring, undamped once it sticks, rings with an
+// amplitude mu g / omega_t ~ 2e-4 m/s, so speeds are held to 2e-3 of v0 and the time to the step
+// where slipping ends to 2 %.
+TEST(PackingEngine, SphereSlidingOnTheFloorEndsRollingAtFiveSeventhsOfItsSpeed) {
+  EngineSettings settings = Settings(false, 1);
+  settings.time_step_s = 2e-6;
+  settings.wall_friction = 0.4;
+  const double k = 1e7;
+  const double r = 0.005;
+  const double m = SphereMassKg(7800, r);
+  auto engine = MakeEngine<3>(settings, ContainerWalls<3>(Cylinder(0.1, 0.2)),
+                              WaltonBraunLaw(k, 0.5), AllPhysics(false));
+  const double v0 = 1;
+  engine->AddParticle(V3(-0.05, 0, r - m * settings.gravity_mps2 / k), V3(v0, 0, 0), r, 7800, 0);
+  const double expected_roll_s = 2 * v0 / (7 * settings.wall_friction * settings.gravity_mps2);
+  double rolled_at_s = -1;
+  for (int step = 0; step < 60000; ++step) {
+    engine->Advance(1);
+    const auto& s = engine->state();
+    const double slip = s.velocity_mps[0][0] - r * s.angular_velocity_radps[0][1];
+    if (rolled_at_s < 0 && slip < 0.01 * v0) rolled_at_s = engine->time_s();
+  }
+  const auto& s = engine->state();
+  EXPECT_NEAR(rolled_at_s, expected_roll_s, 0.02 * expected_roll_s);
+  EXPECT_NEAR(s.velocity_mps[0][0], 5.0 / 7.0 * v0, 2e-3 * v0);
+  EXPECT_NEAR(r * s.angular_velocity_radps[0][1], 5.0 / 7.0 * v0, 2e-3 * v0);
+  EXPECT_NEAR(s.velocity_mps[0][1], 0, 1e-9);
 }
 
 TEST(PackingEngine, ElasticFrictionlessGasConservesEnergy) {
