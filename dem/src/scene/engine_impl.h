@@ -229,7 +229,10 @@ class Engine final : public EngineBase<Dim> {
   // Per-thread temporaries of one block of contacts, one array per component (structure of
   // arrays) so that the arithmetic stages below vectorise across contacts.
   struct Scratch {
+    bool dense = false;  // how this chunk runs its pairs (see PairRangeDense)
     std::int32_t pair[kBlock];
+    std::int32_t first[kBlock];  // the pair's particles (compacted pair blocks)
+    std::int32_t second[kBlock];
     alignas(32) double normal[Dim][kBlock];     // x_i - x_j, then the unit normal from j to i
     alignas(32) double velocity[Dim][kBlock];   // v_i - v_j, then the tangential relative velocity
     alignas(32) double spin[kSpinDim][kBlock];  // r_i w_i + r_j w_j
@@ -237,6 +240,7 @@ class Engine final : public EngineBase<Dim> {
     alignas(32) double force[Dim][kBlock];
     alignas(32) double twist[kSpinDim][kBlock];
     alignas(32) double radius_i[kBlock];
+    alignas(32) double within[kBlock];  // dense blocks: 1 when closer than the cutoff, else 0
     alignas(32) double radius_j[kBlock];
     alignas(32) double mass_i[kBlock];
     alignas(32) double mass_j[kBlock];
@@ -266,12 +270,133 @@ class Engine final : public EngineBase<Dim> {
     this->pool_->ParallelFor(items, [this, pair_count, particle_count, items](
                                         int chunk, std::int64_t begin, std::int64_t end) {
       auto& t = scratch_[static_cast<std::size_t>(chunk)];
-      PairRange(t, begin * pair_count / items, end * pair_count / items);
+      const std::int64_t pair_begin = begin * pair_count / items;
+      const std::int64_t pair_end = end * pair_count / items;
+      const std::int64_t interacting = t.dense ? PairRangeDense(t, pair_begin, pair_end)
+                                               : PairRangeCompacted(t, pair_begin, pair_end);
+      // Next step's choice for this chunk (its range hardly moves between steps).
+      t.dense = static_cast<double>(interacting) >=
+                this->settings_.dense_pair_fraction * static_cast<double>(pair_end - pair_begin);
       WallRange(t, begin * particle_count / items, end * particle_count / items);
     });
   }
 
-  void PairRange(Scratch& t, std::int64_t begin, std::int64_t end) {
+  // The pair pass runs one of two ways, chosen per chunk from its previous step: when most
+  // listed pairs touch (a settled pack: ~97 %), every listed pair goes through the contact stages
+  // in list order (PairRangeDense): no compaction and no indirection, ~6 % off a settled step.
+  // When few do (a pour's falling phase), only the interacting ones are compacted into blocks
+  // (PairRangeCompacted), which spares the stages the others. A pair's arithmetic is the same
+  // either way, so the choice changes no bit. Both return the number of interacting pairs.
+  std::int64_t PairRangeDense(Scratch& t, std::int64_t begin, std::int64_t end) {
+    std::int64_t interacting = 0;
+    for (std::int64_t b = begin; b < end; b += kBlock) {
+      const int n = static_cast<int>(std::min<std::int64_t>(kBlock, end - b));
+#if BOUNCECAL_SCENE_HAS_SIMD_PATHS
+      switch (simd_) {
+        case ContactSimd::kAvx512:
+          DenseBlockAvx512(t, b, n);
+          break;
+        case ContactSimd::kAvx2:
+          DenseBlockAvx2(t, b, n);
+          break;
+        case ContactSimd::kBaseline:
+          DenseBlockBaseline(t, b, n);
+          break;
+      }
+#else
+      DenseBlockBaseline(t, b, n);
+#endif
+      std::uint8_t* live = this->pair_live_.data() + b;
+      for (int k = 0; k < n; ++k) {
+        live[k] = t.within[k] != 0 ? 1 : 0;
+        interacting += live[k];
+      }
+    }
+    return interacting;
+  }
+  void DenseBlockBaseline(Scratch& t, std::int64_t b, int n) { DenseBlock(t, b, n); }
+#if BOUNCECAL_SCENE_HAS_SIMD_PATHS
+  [[gnu::target("avx2")]] void DenseBlockAvx2(Scratch& t, std::int64_t b, int n) {
+    DenseBlock(t, b, n);
+  }
+  [[gnu::target("avx512f,avx512dq,avx512vl,prefer-vector-width=512")]] void DenseBlockAvx512(
+      Scratch& t, std::int64_t b, int n) {
+    DenseBlock(t, b, n);
+  }
+#endif
+
+  // Listed pairs b .. b+n-1, every one through the stages: gathered straight from the particles,
+  // results and springs written in pair order. Pairs beyond the cutoff come out zero by the same
+  // selects as a separating contact (and `within` for the van der Waals pull).
+  [[gnu::always_inline]] inline void DenseBlock(Scratch& t, std::int64_t b, int n) {
+    const Hot* x = hot_.data();
+    const std::int32_t* first = this->pairs_.first.data() + b;
+    const std::int32_t* second = this->pairs_.second.data() + b;
+    const V* shear = this->pair_shear_.data() + b;
+    const double cutoff_gap_m = Phys::kVanDerWaals ? this->settings_.vdw_cutoff_gap_m : 0.0;
+    for (int k = 0; k < n; ++k) {
+      const std::int32_t i = first[k];
+      const std::int32_t j = second[k];
+      const Hot& particle_i = x[i];
+      const Hot& particle_j = x[j];
+      const double r_i = particle_i.position_radius.s;
+      const double r_j = particle_j.position_radius.s;
+      double d2 = 0;
+      for (int c = 0; c < Dim; ++c) {
+        const double d = particle_i.position_radius.v[c] - particle_j.position_radius.v[c];
+        t.normal[c][k] = d;
+        d2 += d * d;
+      }
+      const double cutoff_m = r_i + r_j + cutoff_gap_m;
+      t.within[k] = d2 < cutoff_m * cutoff_m ? 1.0 : 0.0;
+      t.radius_i[k] = r_i;
+      t.radius_j[k] = r_j;
+      t.mass_i[k] = particle_i.velocity_mass.s;
+      t.mass_j[k] = particle_j.velocity_mass.s;
+      for (int c = 0; c < Dim; ++c)
+        t.velocity[c][k] = particle_i.velocity_mass.v[c] - particle_j.velocity_mass.v[c];
+      if constexpr (Phys::kRotation) {
+        if constexpr (Dim == 3) {
+          for (int c = 0; c < 3; ++c)
+            t.spin[c][k] = r_i * particle_i.spin_inertia.w[c] + r_j * particle_j.spin_inertia.w[c];
+        } else {
+          t.spin[0][k] = r_i * particle_i.spin_inertia.w + r_j * particle_j.spin_inertia.w;
+        }
+      }
+      if constexpr (Phys::kTangential) {
+        for (int c = 0; c < Dim; ++c) t.shear[c][k] = shear[k][c];
+      }
+      t.pair[k] = static_cast<std::int32_t>(b + k);
+    }
+    ContactArithmetic<false>(t, n);
+    auto* results = this->pair_result_.data() + b;
+    V* shear_out = this->pair_shear_.data() + b;
+    for (int k = 0; k < n; ++k) {
+      // A pair beyond the cutoff is zeroed whole, as the compacted pass clears it, even in
+      // the last-ulp case where its overlap reads positive.
+      const bool within = t.within[k] != 0;
+      const bool touching = within & (t.overlap[k] > 0);
+      for (int c = 0; c < Dim; ++c) results[k].force_n[c] = within ? t.force[c][k] : 0.0;
+      if constexpr (Phys::kRotation) {
+        if constexpr (Dim == 3) {
+          for (int c = 0; c < 3; ++c) results[k].twist_n[c] = touching ? t.twist[c][k] : 0.0;
+        } else {
+          results[k].twist_n = touching ? t.twist[0][k] : 0.0;
+        }
+      }
+      if constexpr (Phys::kTangential) {
+        for (int c = 0; c < Dim; ++c) shear_out[k][c] = touching ? t.shear[c][k] : 0.0;
+      }
+      if constexpr (Law::kNeedsHistory) {
+        if (!touching) {
+          this->pair_normal_history_[static_cast<std::size_t>(b + k)] = NormalHistory{};
+        }
+      }
+    }
+  }
+
+  std::int64_t PairRangeCompacted(Scratch& t, std::int64_t begin, std::int64_t end) {
+    std::int64_t interacting = 0;
     const Hot* x = hot_.data();
     const std::int32_t* first = this->pairs_.first.data();
     const std::int32_t* second = this->pairs_.second.data();
@@ -288,10 +413,13 @@ class Engine final : public EngineBase<Dim> {
       const double cutoff_m = x[i].position_radius.s + x[j].position_radius.s + cutoff_gap_m;
       const bool interacts = d.squaredNorm() < cutoff_m * cutoff_m;
       t.pair[count] = static_cast<std::int32_t>(p);
+      t.first[count] = i;
+      t.second[count] = j;
       for (int c = 0; c < Dim; ++c) t.normal[c][count] = d[c];
       t.radius_i[count] = x[i].position_radius.s;
       t.radius_j[count] = x[j].position_radius.s;
       count += interacts ? 1 : 0;
+      interacting += interacts ? 1 : 0;
       // An interacting pair's result and spring are written by its contact block. A pair
       // that does not interact has them zero, and they are almost always zero already:
       // only a pair that has just separated is cleared (a predictable branch), so the
@@ -310,6 +438,7 @@ class Engine final : public EngineBase<Dim> {
       }
     }
     if (count > 0) ContactBlock(count, t);
+    return interacting;
   }
 
   // A wall is a body of infinite mass and curvature radius: m_eff = m, R_eff = r. Its contacts
@@ -416,12 +545,10 @@ class Engine final : public EngineBase<Dim> {
   }
 
   void GatherBlock(int n, Scratch& t) const {
-    const std::int32_t* first = this->pairs_.first.data();
-    const std::int32_t* second = this->pairs_.second.data();
     for (int k = 0; k < n; ++k) {
       const std::int32_t p = t.pair[k];
-      const auto i = static_cast<std::size_t>(first[p]);
-      const auto j = static_cast<std::size_t>(second[p]);
+      const auto i = static_cast<std::size_t>(t.first[k]);
+      const auto j = static_cast<std::size_t>(t.second[k]);
       const Packed& v_i = hot_[i].velocity_mass;
       const Packed& v_j = hot_[j].velocity_mass;
       const double r_i = t.radius_i[k];
