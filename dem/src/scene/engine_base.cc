@@ -85,7 +85,7 @@ void EngineBase<Dim>::RebuildPairs(bool van_der_waals) {
   }
   PairList fresh = settings_.brute_force_pairs
                        ? AllPairs(n)
-                       : GridPairs<Dim>(state_.position_m, state_.radius_m, reach_m);
+                       : GridPairs<Dim>(state_.position_m, state_.radius_m, reach_m, pool_.get());
   // Carry the contact history over: the old list is sorted by (first, second), so a pair is
   // found by a binary search among the old pairs of its lower member. A pair whose members
   // swapped order keeps its spring negated (it is the displacement of first relative to second).

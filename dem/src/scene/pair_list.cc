@@ -132,7 +132,7 @@ std::vector<std::int32_t> CellOrder(const std::vector<Vec<Dim>>& position_m,
 
 template <int Dim>
 PairList GridPairs(const std::vector<Vec<Dim>>& position_m, const std::vector<double>& radius_m,
-                   double reach_m) {
+                   double reach_m, WorkerPool* pool) {
   const auto n = static_cast<std::int32_t>(position_m.size());
   PairList list;
   const CellGrid<Dim> grid = MakeCellGrid<Dim>(position_m, radius_m, reach_m);
@@ -158,40 +158,67 @@ PairList GridPairs(const std::vector<Vec<Dim>>& position_m, const std::vector<do
     std::vector<std::int32_t> fill(cell_start.begin(), cell_start.end() - 1);
     for (std::int32_t i = 0; i < n; ++i) sorted[static_cast<std::size_t>(fill[cell_of[i]]++)] = i;
   }
+  // Particles already in cell order (the engine sorts them at each rebuild with this grid): a
+  // partner j > i then lies in i's cell or a later one, so the earlier cells of the stencil
+  // need not be read (half the distance tests). The pairs found are the same.
+  bool cell_ordered = true;
+  for (std::int32_t s = 0; s < n && cell_ordered; ++s) cell_ordered = sorted[s] == s;
 
-  list.first.reserve(static_cast<std::size_t>(n) * (Dim == 3 ? 8 : 4));
-  list.second.reserve(list.first.capacity());
-  std::vector<std::int32_t> found;
-  for (std::int32_t i = 0; i < n; ++i) {
-    found.clear();
-    const auto c = cell_coord(position_m[i]);
-    std::array<std::int64_t, Dim> lo_c{};
-    std::array<std::int64_t, Dim> hi_c{};
-    for (int d = 0; d < Dim; ++d) {
-      lo_c[d] = std::max<std::int64_t>(c[d] - 1, 0);
-      hi_c[d] = std::min<std::int64_t>(c[d] + 1, dims[d] - 1);
-    }
-    std::array<std::int64_t, Dim> k = lo_c;
-    for (;;) {
-      const std::int64_t cell = cell_index(k);
-      for (std::int32_t s = cell_start[cell]; s < cell_start[cell + 1]; ++s) {
-        const std::int32_t j = sorted[static_cast<std::size_t>(s)];
-        if (j <= i) continue;
-        const double reach = radius_m[i] + radius_m[j] + reach_m;
-        if ((position_m[i] - position_m[j]).squaredNorm() < reach * reach) found.push_back(j);
+  // Each chunk of particles lists its pairs on its own; the chunks are joined in order, so the
+  // list is the same for any pool.
+  const int chunks = pool != nullptr ? pool->chunks() : 1;
+  std::vector<PairList> parts(static_cast<std::size_t>(chunks));
+  auto find_pairs = [&](int chunk, std::int64_t begin, std::int64_t end) {
+    PairList& part = parts[static_cast<std::size_t>(chunk)];
+    part.first.reserve(static_cast<std::size_t>(end - begin) * (Dim == 3 ? 8 : 4));
+    part.second.reserve(part.first.capacity());
+    std::vector<std::int32_t> found;
+    for (auto i = static_cast<std::int32_t>(begin); i < end; ++i) {
+      found.clear();
+      const auto c = cell_coord(position_m[i]);
+      std::array<std::int64_t, Dim> lo_c{};
+      std::array<std::int64_t, Dim> hi_c{};
+      for (int d = 0; d < Dim; ++d) {
+        lo_c[d] = std::max<std::int64_t>(c[d] - 1, 0);
+        hi_c[d] = std::min<std::int64_t>(c[d] + 1, dims[d] - 1);
       }
-      int d = 0;
-      for (; d < Dim; ++d) {
-        if (++k[d] <= hi_c[d]) break;
-        k[d] = lo_c[d];
+      std::array<std::int64_t, Dim> k = lo_c;
+      for (;;) {
+        const std::int64_t cell = cell_index(k);
+        const std::int32_t from =
+            cell_ordered ? std::max(cell_start[cell], i + 1) : cell_start[cell];
+        for (std::int32_t s = from; s < cell_start[cell + 1]; ++s) {
+          const std::int32_t j = sorted[static_cast<std::size_t>(s)];
+          if (j <= i) continue;
+          const double reach = radius_m[i] + radius_m[j] + reach_m;
+          if ((position_m[i] - position_m[j]).squaredNorm() < reach * reach) found.push_back(j);
+        }
+        int d = 0;
+        for (; d < Dim; ++d) {
+          if (++k[d] <= hi_c[d]) break;
+          k[d] = lo_c[d];
+        }
+        if (d == Dim) break;
       }
-      if (d == Dim) break;
+      std::sort(found.begin(), found.end());
+      for (std::int32_t j : found) {
+        part.first.push_back(i);
+        part.second.push_back(j);
+      }
     }
-    std::sort(found.begin(), found.end());
-    for (std::int32_t j : found) {
-      list.first.push_back(i);
-      list.second.push_back(j);
-    }
+  };
+  if (pool != nullptr) {
+    pool->ParallelFor(n, find_pairs);
+  } else {
+    find_pairs(0, 0, n);
+  }
+  std::size_t total = 0;
+  for (const auto& part : parts) total += part.size();
+  list.first.reserve(total);
+  list.second.reserve(total);
+  for (const auto& part : parts) {
+    list.first.insert(list.first.end(), part.first.begin(), part.first.end());
+    list.second.insert(list.second.end(), part.second.begin(), part.second.end());
   }
   list.BuildIndex(n);
   return list;
@@ -201,7 +228,9 @@ template std::vector<std::int32_t> CellOrder<2>(const std::vector<Vec<2>>&,
                                                 const std::vector<double>&, double);
 template std::vector<std::int32_t> CellOrder<3>(const std::vector<Vec<3>>&,
                                                 const std::vector<double>&, double);
-template PairList GridPairs<2>(const std::vector<Vec<2>>&, const std::vector<double>&, double);
-template PairList GridPairs<3>(const std::vector<Vec<3>>&, const std::vector<double>&, double);
+template PairList GridPairs<2>(const std::vector<Vec<2>>&, const std::vector<double>&, double,
+                               WorkerPool*);
+template PairList GridPairs<3>(const std::vector<Vec<3>>&, const std::vector<double>&, double,
+                               WorkerPool*);
 
 }  // namespace bouncecal::dem::scene

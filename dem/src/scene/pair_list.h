@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "scene/vec.h"
+#include "scene/worker_pool.h"
 
 namespace bouncecal::dem::scene {
 
@@ -36,10 +37,10 @@ std::vector<std::int32_t> CellOrder(const std::vector<Vec<Dim>>& position_m,
 
 // Pairs whose surfaces are closer than `reach_m` (centre distance < r_i + r_j + reach_m), found
 // with a uniform cell grid of cells at least 2 r_max + reach_m wide. Deterministic: the result
-// does not depend on the thread count.
+// does not depend on the thread count. With a pool the particles are searched in parallel.
 template <int Dim>
 PairList GridPairs(const std::vector<Vec<Dim>>& position_m, const std::vector<double>& radius_m,
-                   double reach_m);
+                   double reach_m, WorkerPool* pool = nullptr);
 
 }  // namespace bouncecal::dem::scene
 
