@@ -221,7 +221,7 @@ class Engine final : public EngineBase<Dim> {
 
   void HalfKick(std::int32_t i, double half_dt, const Load& load) {
     const auto k = static_cast<std::size_t>(i);
-    hot_[k].velocity_mass.v += (half_dt * this->state_.inverse_mass[k]) * load.force;
+    hot_[k].velocity_mass.v += (half_dt * hot_[k].inverse_mass) * load.force;
     if constexpr (Phys::kRotation)
       hot_[k].spin_inertia.w += (half_dt * hot_[k].spin_inertia.inverse_inertia) * load.torque;
   }

@@ -80,6 +80,32 @@ EngineSettings Settings(bool brute_force, int threads, bool sort_by_cell = true)
   return settings;
 }
 
+// 300 random disks with paper 004's physics (van der Waals, rotation, local damping), run for
+// 300 steps by an engine with each of the two settings: the trajectories must match bit for bit.
+void ExpectSameDiskTrajectories(const EngineSettings& a_settings, const EngineSettings& b_settings,
+                                std::uint64_t seed, const std::string& what) {
+  PhysicsSpec disks = AllPhysics(true);
+  disks.local_damping = true;
+  auto a = MakeEngine<2>(a_settings, {}, WaltonBraunLaw(1e6, 0.4), disks);
+  auto b = MakeEngine<2>(b_settings, {}, WaltonBraunLaw(1e6, 0.4), disks);
+  SceneRandom random(seed);
+  for (int k = 0; k < 300; ++k) {
+    const Vec<2> x{{random.Uniform(0, 0.1), random.Uniform(0, 0.1)}};
+    const Vec<2> v{{random.Uniform(-1, 1), random.Uniform(-1, 1)}};
+    const double r = 0.0035 * random.Uniform(0.8, 1.2);
+    a->AddParticle(x, v, r, 7800, 0);
+    b->AddParticle(x, v, r, 7800, 0);
+  }
+  a->Advance(300);
+  b->Advance(300);
+  for (std::int32_t i = 0; i < a->state().size(); ++i) {
+    ASSERT_TRUE(a->state().position_m[i] == b->state().position_m[i]) << what << " " << i;
+    ASSERT_TRUE(a->state().velocity_mps[i] == b->state().velocity_mps[i]) << what << " " << i;
+  }
+  // The disks really collided: otherwise equal states would prove nothing.
+  ASSERT_GT(a->pairs().size(), 300u) << what;
+}
+
 // Advances both engines `rounds` times by `steps` and requires bit-identical positions after
 // each: the grid engine must not miss a contact the brute-force one sees.
 void ExpectSameTrajectories(EngineBase<3>& grid, EngineBase<3>& brute, int rounds, int steps) {
@@ -590,27 +616,7 @@ TEST(PackingEngine, WideAndBaselineContactArithmeticGiveIdenticalTrajectories) {
       }
     }
     // 2D disks with van der Waals, rotation and local damping (paper 004's physics).
-    PhysicsSpec disks = AllPhysics(true);
-    disks.local_damping = true;
-    auto wide = MakeEngine<2>(wide_settings, {}, WaltonBraunLaw(1e6, 0.4), disks);
-    auto baseline = MakeEngine<2>(baseline_settings, {}, WaltonBraunLaw(1e6, 0.4), disks);
-    SceneRandom random(11);
-    for (int k = 0; k < 300; ++k) {
-      const Vec<2> x{{random.Uniform(0, 0.1), random.Uniform(0, 0.1)}};
-      const Vec<2> v{{random.Uniform(-1, 1), random.Uniform(-1, 1)}};
-      const double r = 0.0035 * random.Uniform(0.8, 1.2);
-      wide->AddParticle(x, v, r, 7800, 0);
-      baseline->AddParticle(x, v, r, 7800, 0);
-    }
-    wide->Advance(300);
-    baseline->Advance(300);
-    for (std::int32_t i = 0; i < wide->state().size(); ++i) {
-      ASSERT_TRUE(wide->state().position_m[i] == baseline->state().position_m[i])
-          << SimdName(simd) << " " << i;
-      ASSERT_TRUE(wide->state().velocity_mps[i] == baseline->state().velocity_mps[i])
-          << SimdName(simd) << " " << i;
-    }
-    ASSERT_GT(wide->pairs().size(), 300u);
+    ExpectSameDiskTrajectories(wide_settings, baseline_settings, 11, SimdName(simd));
   }
 }
 
@@ -658,24 +664,7 @@ TEST(PackingEngine, DenseAndCompactedPairPassesGiveIdenticalTrajectories) {
       EXPECT_GT(apart, 0u) << ToString(law.kind) << " vdw " << vdw;
     }
   }
-  PhysicsSpec disks = AllPhysics(true);
-  disks.local_damping = true;
-  auto dense = MakeEngine<2>(dense_settings, {}, WaltonBraunLaw(1e6, 0.4), disks);
-  auto compacted = MakeEngine<2>(compacted_settings, {}, WaltonBraunLaw(1e6, 0.4), disks);
-  SceneRandom random(13);
-  for (int k = 0; k < 300; ++k) {
-    const Vec<2> x{{random.Uniform(0, 0.1), random.Uniform(0, 0.1)}};
-    const Vec<2> v{{random.Uniform(-1, 1), random.Uniform(-1, 1)}};
-    const double r = 0.0035 * random.Uniform(0.8, 1.2);
-    dense->AddParticle(x, v, r, 7800, 0);
-    compacted->AddParticle(x, v, r, 7800, 0);
-  }
-  dense->Advance(300);
-  compacted->Advance(300);
-  for (std::int32_t i = 0; i < dense->state().size(); ++i) {
-    ASSERT_TRUE(dense->state().position_m[i] == compacted->state().position_m[i]) << i;
-    ASSERT_TRUE(dense->state().velocity_mps[i] == compacted->state().velocity_mps[i]) << i;
-  }
+  ExpectSameDiskTrajectories(dense_settings, compacted_settings, 13, "2D");
 }
 
 TEST(PackingEngine, VanDerWaalsAttractsNearbyParticlesWithTheHamakerForce) {
