@@ -296,39 +296,40 @@ class Engine final : public EngineBase<Dim> {
 #if BOUNCECAL_SCENE_HAS_SIMD_PATHS
       switch (simd_) {
         case ContactSimd::kAvx512:
-          DenseBlockAvx512(t, b, n);
+          interacting += DenseBlockAvx512(t, b, n);
           break;
         case ContactSimd::kAvx2:
-          DenseBlockAvx2(t, b, n);
+          interacting += DenseBlockAvx2(t, b, n);
           break;
         case ContactSimd::kBaseline:
-          DenseBlockBaseline(t, b, n);
+          interacting += DenseBlockBaseline(t, b, n);
           break;
       }
 #else
-      DenseBlockBaseline(t, b, n);
+      interacting += DenseBlockBaseline(t, b, n);
 #endif
-      std::uint8_t* live = this->pair_live_.data() + b;
-      for (int k = 0; k < n; ++k) {
-        live[k] = t.within[k] != 0 ? 1 : 0;
-        interacting += live[k];
-      }
     }
     return interacting;
   }
-  void DenseBlockBaseline(Scratch& t, std::int64_t b, int n) {
+  // Each returns the number of interacting pairs in the block.
+  std::int64_t DenseBlockBaseline(Scratch& t, std::int64_t b, int n) {
     DenseGather(t, b, 0, n);
-    DenseFinish(t, b, n);
+    ContactArithmetic<false>(t, n);
+    return DenseScatter(t, b, 0, n);
   }
 #if BOUNCECAL_SCENE_HAS_SIMD_PATHS
-  [[gnu::target("avx2")]] void DenseBlockAvx2(Scratch& t, std::int64_t b, int n) {
+  [[gnu::target("avx2")]] std::int64_t DenseBlockAvx2(Scratch& t, std::int64_t b, int n) {
     DenseGather(t, b, GatherTransposed(t, b, n), n);
-    DenseFinish(t, b, n);
+    ContactArithmetic<false>(t, n);
+    std::int64_t interacting = 0;
+    return DenseScatter(t, b, ScatterTransposed(t, b, n, interacting), n) + interacting;
   }
-  [[gnu::target("avx512f,avx512dq,avx512vl,prefer-vector-width=512")]] void DenseBlockAvx512(
-      Scratch& t, std::int64_t b, int n) {
+  [[gnu::target("avx512f,avx512dq,avx512vl,prefer-vector-width=512")]] std::int64_t
+  DenseBlockAvx512(Scratch& t, std::int64_t b, int n) {
     DenseGather(t, b, GatherTransposed(t, b, n), n);
-    DenseFinish(t, b, n);
+    ContactArithmetic<false>(t, n);
+    std::int64_t interacting = 0;
+    return DenseScatter(t, b, ScatterTransposed(t, b, n, interacting), n) + interacting;
   }
 #endif
 
@@ -423,6 +424,72 @@ class Engine final : public EngineBase<Dim> {
     }
     for (int q = 0; q < 4; ++q) t.pair[k + q] = static_cast<std::int32_t>(b + k + q);
   }
+
+  // The first multiple of 4 of a dense block's n contacts written back (3D; none in 2D), four
+  // at a time: the masked force and twist columns transposed into each pair's 48-byte record,
+  // the spring columns into its 24-byte one. Same values and selects as DenseScatter (an AND
+  // with an all-ones or all-zeros mask is the select `mask ? x : +0.0`). Returns how many were
+  // written; adds the interacting ones to `interacting`.
+  [[gnu::always_inline, gnu::target("avx2")]] inline int ScatterTransposed(
+      const Scratch& t, std::int64_t b, int n, std::int64_t& interacting) {
+    int k = 0;
+    if constexpr (Dim == 3) {
+      static_assert(sizeof(PairResult) == 6 * sizeof(double) && sizeof(V) == 3 * sizeof(double));
+      auto* results = reinterpret_cast<double*>(this->pair_result_.data() + b);
+      auto* shear_out = reinterpret_cast<double*>(this->pair_shear_.data() + b);
+      std::uint8_t* live = this->pair_live_.data() + b;
+      const __m256d zero = _mm256_setzero_pd();
+      for (; k + 4 <= n; k += 4) {
+        const __m256d within = _mm256_cmp_pd(_mm256_load_pd(&t.within[k]), zero, _CMP_NEQ_OQ);
+        const __m256d touching =
+            _mm256_and_pd(within, _mm256_cmp_pd(_mm256_load_pd(&t.overlap[k]), zero, _CMP_GT_OQ));
+        __m256d row[4];
+        for (int c = 0; c < 3; ++c) row[c] = _mm256_and_pd(within, _mm256_load_pd(&t.force[c][k]));
+        __m256d twist[3] = {zero, zero, zero};
+        if constexpr (Phys::kRotation) {
+          for (int c = 0; c < 3; ++c) {
+            twist[c] = _mm256_and_pd(touching, _mm256_load_pd(&t.twist[c][k]));
+          }
+        }
+        row[3] = twist[0];
+        Transpose4(row[0], row[1], row[2], row[3]);  // row q: force x y z, twist x of pair q
+        const __m256d yz_even = _mm256_unpacklo_pd(twist[1], twist[2]);  // pairs 0 and 2
+        const __m256d yz_odd = _mm256_unpackhi_pd(twist[1], twist[2]);   // pairs 1 and 3
+        const __m128d yz[4] = {_mm256_castpd256_pd128(yz_even), _mm256_castpd256_pd128(yz_odd),
+                               _mm256_extractf128_pd(yz_even, 1), _mm256_extractf128_pd(yz_odd, 1)};
+        for (int q = 0; q < 4; ++q) {
+          double* record = results + 6 * (k + q);
+          _mm256_storeu_pd(record, row[q]);
+          _mm_storeu_pd(record + 4, yz[q]);
+        }
+        if constexpr (Phys::kTangential) {
+          __m256d spring[4];
+          for (int c = 0; c < 3; ++c) {
+            spring[c] = _mm256_and_pd(touching, _mm256_load_pd(&t.shear[c][k]));
+          }
+          spring[3] = zero;
+          Transpose4(spring[0], spring[1], spring[2], spring[3]);
+          for (int q = 0; q < 4; ++q) {
+            double* record = shear_out + 3 * (k + q);
+            _mm_storeu_pd(record, _mm256_castpd256_pd128(spring[q]));
+            _mm_store_sd(record + 2, _mm256_extractf128_pd(spring[q], 1));
+          }
+        }
+        const int within_bits = _mm256_movemask_pd(within);
+        const int touching_bits = _mm256_movemask_pd(touching);
+        for (int q = 0; q < 4; ++q) {
+          live[k + q] = static_cast<std::uint8_t>((within_bits >> q) & 1);
+          interacting += (within_bits >> q) & 1;
+          if constexpr (Law::kNeedsHistory) {
+            if (((touching_bits >> q) & 1) == 0) {
+              this->pair_normal_history_[static_cast<std::size_t>(b + k + q)] = NormalHistory{};
+            }
+          }
+        }
+      }
+    }
+    return k;
+  }
 #endif
 
   // Listed pairs b .. b+n-1, every one through the stages: gathered straight from the particles,
@@ -470,11 +537,15 @@ class Engine final : public EngineBase<Dim> {
     }
   }
 
-  [[gnu::always_inline]] inline void DenseFinish(Scratch& t, std::int64_t b, int n) {
-    ContactArithmetic<false>(t, n);
+  // Writes the results, springs and live flags of dense-block contacts k .. n-1; returns how
+  // many interact.
+  [[gnu::always_inline]] inline std::int64_t DenseScatter(const Scratch& t, std::int64_t b, int k,
+                                                          int n) {
     auto* results = this->pair_result_.data() + b;
     V* shear_out = this->pair_shear_.data() + b;
-    for (int k = 0; k < n; ++k) {
+    std::uint8_t* live = this->pair_live_.data() + b;
+    std::int64_t interacting = 0;
+    for (; k < n; ++k) {
       // A pair beyond the cutoff is zeroed whole, as the compacted pass clears it, even in
       // the last-ulp case where its overlap reads positive.
       const bool within = t.within[k] != 0;
@@ -495,7 +566,10 @@ class Engine final : public EngineBase<Dim> {
           this->pair_normal_history_[static_cast<std::size_t>(b + k)] = NormalHistory{};
         }
       }
+      live[k] = within ? 1 : 0;
+      interacting += within ? 1 : 0;
     }
+    return interacting;
   }
 
   std::int64_t PairRangeCompacted(Scratch& t, std::int64_t begin, std::int64_t end) {
