@@ -252,14 +252,10 @@ class Engine final : public EngineBase<Dim> {
     alignas(32) double shear_factor[kBlock];
   };
 
-  // Each chunk of the pair list streams through one pass: every listed pair's distance is
-  // measured and its separation vector and radii are written into the next free slot of the
-  // chunk's block scratch, but the slot is only kept (the count advances) when the pair
-  // interacts: no data-dependent branch, and the positions are read once, not again by the
-  // block gather. Once kBlock interacting pairs have gathered, they go through the contact laws
-  // together (ContactBlock: vectorised across contacts). The arithmetic of each pair is the same
-  // as a one-pass loop and does not depend on the chunking or the blocking: results are the same
-  // for every thread count.
+  // Each chunk of the pair list runs its pairs through the contact stages in blocks of kBlock
+  // (vectorised across contacts), either all of them or only the interacting ones (see
+  // PairRangeDense). The arithmetic of each pair does not depend on the chunking, the blocking
+  // or the choice: results are the same for every thread count.
   //
   // The same chunk then measures its share of the particles against the walls they may touch
   // and sends the touching ones through the same stages (WallBlock). Pairs and particles are
@@ -322,14 +318,16 @@ class Engine final : public EngineBase<Dim> {
     DenseGather(t, b, GatherTransposed(t, b, n), n);
     ContactArithmetic<false>(t, n);
     std::int64_t interacting = 0;
-    return DenseScatter(t, b, ScatterTransposed(t, b, n, interacting), n) + interacting;
+    const int written = ScatterTransposed(t, b, n, interacting);
+    return interacting + DenseScatter(t, b, written, n);
   }
   [[gnu::target("avx512f,avx512dq,avx512vl,prefer-vector-width=512")]] std::int64_t
   DenseBlockAvx512(Scratch& t, std::int64_t b, int n) {
     DenseGather(t, b, GatherTransposed(t, b, n), n);
     ContactArithmetic<false>(t, n);
     std::int64_t interacting = 0;
-    return DenseScatter(t, b, ScatterTransposed(t, b, n, interacting), n) + interacting;
+    const int written = ScatterTransposed(t, b, n, interacting);
+    return interacting + DenseScatter(t, b, written, n);
   }
 #endif
 
@@ -572,6 +570,11 @@ class Engine final : public EngineBase<Dim> {
     return interacting;
   }
 
+  // Every listed pair's distance is measured and its separation vector and radii are written
+  // into the next free slot of the block scratch, but the slot is only kept (the count advances)
+  // when the pair interacts: no data-dependent branch, and the positions are read once, not
+  // again by the block gather. Once kBlock interacting pairs have gathered, they go through the
+  // contact laws together (ContactBlock).
   std::int64_t PairRangeCompacted(Scratch& t, std::int64_t begin, std::int64_t end) {
     std::int64_t interacting = 0;
     const Hot* x = hot_.data();
