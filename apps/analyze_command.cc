@@ -11,8 +11,7 @@
 
 #include "analyze_plot.h"
 #include "bouncecal/atomic_file.h"
-#include "bouncecal/audio/bounce_sequences.h"
-#include "bouncecal/audio/detect_file.h"
+#include "bouncecal/audio/bounce_analysis.h"
 #include "bouncecal/calibrate/restitution.h"
 #include "bouncecal/error.h"
 #include "commands.h"
@@ -49,12 +48,14 @@ struct FileAnalysis {
 
 FileAnalysis AnalyzeFile(const std::string& path, const AnalyzeArgs& args) {
   FileAnalysis analysis;
-  audio::FileDetectionOptions options;
-  options.channel = args.channel;
-  options.detector = args.detector;
-  analysis.detection = audio::DetectImpactsInFile(path, options);
+  audio::BounceAnalysisOptions options;
+  options.detection.channel = args.channel;
+  options.detection.detector = args.detector;
+  options.sequences = args.sequences;
+  auto bounces = audio::AnalyzeBounces(path, options);
+  analysis.detection = std::move(bounces.detection);
+  analysis.grouping = std::move(bounces.grouping);
   const auto& impacts = analysis.detection.detection.impacts;
-  analysis.grouping = audio::FindBounceSequences(impacts, args.sequences);
   calibrate::RestitutionOptions physics_options;
   physics_options.gravity_mps2 = args.gravity_mps2;
   physics_options.drop_height_m = args.drop_height_m;

@@ -35,7 +35,7 @@
 #include <string>
 #include <vector>
 
-#include "bouncecal/audio/bounce_sequences.h"
+#include "bouncecal/audio/bounce_analysis.h"
 #include "bouncecal/audio/detect_file.h"
 #include "bouncecal/audio/impact_detector.h"
 
@@ -282,8 +282,9 @@ int RunChild(const char* report, const char* path) {
   if (path != nullptr) {
     CycleCounter counter;
     counter.Start();
-    const auto detection = bouncecal::audio::DetectImpactsInFile(path);
-    const auto grouping = bouncecal::audio::FindBounceSequences(detection.detection.impacts);
+    const auto analysis = bouncecal::audio::AnalyzeBounces(path);
+    const auto& detection = analysis.detection;
+    const auto& grouping = analysis.grouping;
     cycles = counter.Stop();
     std::printf("impacts %zu sequences %zu\n", detection.detection.impacts.size(),
                 grouping.sequences.size());

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <tuple>
 
+#include "bouncecal/audio/bounce_analysis.h"
 #include "bouncecal/audio/bounce_sequences.h"
 #include "bouncecal/audio/detect_file.h"
 #include "bouncecal/audio/impact_detector.h"
@@ -94,9 +95,17 @@ SynthesisOptions Reference(double snr_db = 40.0) {
   return options;
 }
 
+// The detector's impacts with the tentative ones that continue a bounce sequence adopted, as
+// bouncecal analyze sees them.
+DetectionResult Detect(const Recording& recording, const DetectorOptions& options = {}) {
+  auto detection = DetectImpacts(recording, options);
+  GroupBounces(detection);
+  return detection;
+}
+
 Score Evaluate(const std::string& condition, const SynthesisOptions& options) {
   const auto synthesized = SynthesizeBounces(options);
-  const auto detection = DetectImpacts(synthesized.channels[0]);
+  const auto detection = Detect(synthesized.channels[0]);
   const auto score = Compare(detection.impacts, synthesized.BallImpactOnsetsS());
   Print(condition, score);
   return score;
@@ -150,7 +159,7 @@ TEST(DetectorGroundTruth, OnsetUncertaintyCoversTheErrorAtEverySnr) {
       auto options = Reference(snr_db);
       options.seed = seed;
       const auto synthesized = SynthesizeBounces(options);
-      const auto detection = DetectImpacts(synthesized.channels[0]);
+      const auto detection = Detect(synthesized.channels[0]);
       const auto score = Compare(detection.impacts, synthesized.BallImpactOnsetsS());
       std::printf("[ figures  ] snr %2.0f dB seed %2u  within 2 sigma %2d/%2d\n", snr_db, seed,
                   score.within_two_sigma, score.found);
@@ -250,7 +259,7 @@ TEST(DetectorGroundTruth, KnockAndThumpsAreNotPartOfTheSequence) {
                           {SoundEventKind::kThump, 0.6, 0.4},
                           {SoundEventKind::kThump, 3.5, 0.4}};
   const auto synthesized = SynthesizeBounces(options);
-  const auto detection = DetectImpacts(synthesized.channels[0]);
+  const auto detection = Detect(synthesized.channels[0]);
   const auto truth = synthesized.BallImpactOnsetsS();
   const auto score = Compare(detection.impacts, truth);
   Print("knock + thumps", score);
@@ -269,7 +278,7 @@ TEST(DetectorGroundTruth, SeveralDropsGiveSeveralSequences) {
   options.drop.drop_count = 3;
   options.drop.gap_between_drops_s = 1.0;
   const auto synthesized = SynthesizeBounces(options);
-  const auto detection = DetectImpacts(synthesized.channels[0]);
+  const auto detection = Detect(synthesized.channels[0]);
   const auto score = Compare(detection.impacts, synthesized.BallImpactOnsetsS());
   Print("3 drops", score);
   EXPECT_EQ(score.found, score.truth);
@@ -295,7 +304,7 @@ TEST(DetectorGroundTruth, StereoPicksTheBetterChannelIn24BitAndFloatFiles) {
     const auto path = std::filesystem::temp_directory_path() /
                       ("bouncecal_ground_truth_stereo_" + std::string(ToString(encoding)) + ".wav");
     WriteRecording(path, synthesized.channels, {AudioContainer::kWav, encoding});
-    const auto detection = DetectImpactsInFile(path);
+    const auto detection = AnalyzeBounces(path).detection;
     EXPECT_EQ(detection.channel, 1);
     EXPECT_TRUE(detection.channel_chosen_automatically);
     const auto score = Compare(detection.detection.impacts, truth);
@@ -333,7 +342,7 @@ TEST(DetectorGroundTruth, ImpactsInsideALongRingingFreePlateAreFound) {
       options.noise = noise;
       options.seed = seed;
       const auto synthesized = SynthesizeBounces(options);
-      const auto detection = DetectImpacts(synthesized.channels[0]);
+      const auto detection = Detect(synthesized.channels[0]);
       const auto onsets = synthesized.BallImpactOnsetsS();
       const auto score = Compare(detection.impacts, onsets);
       Print("free plate e " + std::to_string(e).substr(0, 4) + " seed " + std::to_string(seed),
@@ -390,8 +399,8 @@ TEST(DetectorGroundTruth, WithoutTheRingingResidualTheBuriedImpactsAreLost) {
   const auto truth = synthesized.BallImpactOnsetsS();
   DetectorOptions off;
   off.ringing_residual = false;
-  const auto without = Compare(DetectImpacts(synthesized.channels[0], off).impacts, truth);
-  const auto with = Compare(DetectImpacts(synthesized.channels[0]).impacts, truth);
+  const auto without = Compare(Detect(synthesized.channels[0], off).impacts, truth);
+  const auto with = Compare(Detect(synthesized.channels[0]).impacts, truth);
   Print("free plate, residual off", without);
   Print("free plate, residual on", with);
   EXPECT_LE(without.found, without.truth - 3);

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "bouncecal/audio/bounce_sequences.h"
+#include "bouncecal/audio/bounce_analysis.h"
 #include "bouncecal/audio/impact_detector.h"
 #include "bouncecal/audio/synthesize.h"
 #include "bouncecal/calibrate/restitution.h"
@@ -37,8 +37,8 @@ double EtaBarFirstThree(const std::vector<double>& onsets_s) {
 Outcome Run(audio::SynthesisOptions options) {
   const auto synthesized = audio::SynthesizeBounces(options);
   const auto truth = synthesized.BallImpactOnsetsS();
-  const auto detection = audio::DetectImpacts(synthesized.channels[0]);
-  const auto grouping = audio::FindBounceSequences(detection.impacts);
+  auto detection = audio::DetectImpacts(synthesized.channels[0]);
+  const auto grouping = audio::GroupBounces(detection);
   Outcome outcome;
   if (grouping.sequences.empty() || grouping.sequences[0].impact_indices.size() < 5) {
     return outcome;

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "bouncecal/audio/bounce_sequences.h"
+#include "bouncecal/audio/bounce_analysis.h"
 #include "bouncecal/audio/detect_file.h"
 #include "bouncecal/calibrate/restitution.h"
 
@@ -34,8 +34,9 @@ struct Analysis {
 
 Analysis Analyze(const std::string& relative) {
   Analysis analysis;
-  analysis.detection = DetectImpactsInFile(Recordings() / relative);
-  analysis.grouping = FindBounceSequences(analysis.detection.detection.impacts);
+  auto bounces = AnalyzeBounces(Recordings() / relative);
+  analysis.detection = std::move(bounces.detection);
+  analysis.grouping = std::move(bounces.grouping);
   const BounceSequence* longest = nullptr;
   for (const auto& sequence : analysis.grouping.sequences) {
     if (!longest || sequence.impact_indices.size() > longest->impact_indices.size()) {

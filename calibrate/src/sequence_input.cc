@@ -1,5 +1,6 @@
 #include "bouncecal/calibrate/sequence_input.h"
 
+#include "bouncecal/audio/bounce_analysis.h"
 #include "bouncecal/error.h"
 
 namespace bouncecal::calibrate {
@@ -7,9 +8,9 @@ namespace {
 
 std::vector<MeasuredSequence> FromRecording(const std::filesystem::path& path,
                                             const SequenceInputOptions& options) {
-  const auto detection = audio::DetectImpactsInFile(path, options.detection);
-  const auto& impacts = detection.detection.impacts;
-  const auto grouping = audio::FindBounceSequences(impacts, options.sequences);
+  const auto analysis = audio::AnalyzeBounces(path, {options.detection, options.sequences});
+  const auto& impacts = analysis.detection.detection.impacts;
+  const auto& grouping = analysis.grouping;
   std::vector<MeasuredSequence> sequences;
   for (size_t s = 0; s < grouping.sequences.size(); ++s) {
     MeasuredSequence sequence;

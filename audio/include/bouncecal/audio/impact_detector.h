@@ -85,6 +85,11 @@ struct DetectionResult {
   std::int64_t samples = 0;
   std::vector<Impact> impacts;  // in time order
   std::vector<MergedEvent> merged;
+  // Rises of only half rise_threshold_db that passed the SNR gate (flagged residual_only): not
+  // impacts on their own, but a quiet late bounce in a tail looks like this, so GroupBounces
+  // (bounce_analysis.h) adopts the ones that fall where a bounce sequence predicts the next
+  // bounce.
+  std::vector<Impact> tentative;
   // Median over impacts of snr_db (how clearly impacts stand out of this channel's noise); used
   // to pick the best channel. Minus infinity without impacts.
   double impact_to_noise_db = 0;
@@ -93,12 +98,13 @@ struct DetectionResult {
 // Streaming impact detector: feed samples of one channel in blocks of any size, then Finish().
 // Memory is bounded (about 0.2 s of samples of history) whatever the length of the recording.
 //
-// Stages, each in its own file under src/: causal FFT band-pass (band_filter), energy envelope
-// with a minimum-statistics noise floor and rise detection, the ringing residual
-// (ringing_residual), onset picking at the start of contact with an AIC picker (onset_picker;
-// Maeda 1985, Sleeman & van Eck 1999; on the linear-prediction innovation inside a tail,
-// prediction_innovation), and min-gap merging of precursors and echoes. Finish() also adopts
-// rises of half the threshold that continue a bounce sequence (ExtendSequencesWithTentative).
+// A pipeline of stages, each in its own file under src/ (docs/detector.md draws the data flow):
+// band envelopes (band_envelopes: causal FFT band-pass and high-passed sub-bands, energy frames,
+// minimum-statistics noise floors) -> novelty sources (novelty_sources: band rise, ringing
+// residual) -> candidate tracking (candidate_tracker) -> onset location (onset_locator: SNR gate,
+// AIC change point and leading-edge fit of onset_picker, Maeda 1985, Sleeman & van Eck 1999;
+// the linear-prediction innovation inside a tail) -> event merging of precursors and echoes
+// (event_merger). Grouping into bounce sequences is the next stage (bounce_analysis.h).
 class ImpactDetector {
  public:
   ImpactDetector(int sample_rate_hz, const DetectorOptions& options = {});

@@ -1,0 +1,57 @@
+#include "bouncecal/audio/bounce_analysis.h"
+
+#include <gtest/gtest.h>
+
+#include "bouncecal/error.h"
+
+namespace bouncecal::audio {
+namespace {
+
+Impact At(double onset_s, bool residual_only = false) {
+  Impact impact;
+  impact.onset_s = onset_s;
+  impact.onset_uncertainty_s = 20e-6;
+  impact.residual_only = residual_only;
+  return impact;
+}
+
+// Six band-detected bounces with e = 0.8 from a 0.2 s flight, and one tentative impact exactly
+// where the seventh is due (flight 0.2 * 0.8^5 = 65.5 ms).
+DetectionResult DropWithATentativeSeventhBounce() {
+  DetectionResult detection;
+  double t = 0.5, flight = 0.2;
+  for (int k = 0; k < 6; ++k, t += flight, flight *= 0.8) detection.impacts.push_back(At(t));
+  detection.tentative.push_back(At(t, true));
+  return detection;
+}
+
+TEST(GroupBounces, AdoptsATentativeImpactWhereTheNextBounceIsDue) {
+  auto detection = DropWithATentativeSeventhBounce();
+  const auto grouping = GroupBounces(detection);
+  ASSERT_EQ(grouping.sequences.size(), 1u);
+  EXPECT_EQ(grouping.sequences[0].impact_indices.size(), 7u);
+  EXPECT_TRUE(detection.tentative.empty());
+  EXPECT_TRUE(detection.impacts.back().residual_only);
+}
+
+// The caller's sequence options reach the adoption step: a chatter limit above the seventh
+// flight (65.5 ms) ends the sequence before it, so the tentative impact is not adopted.
+TEST(GroupBounces, TheCallersSequenceOptionsAlsoGovernTheAdoption) {
+  auto detection = DropWithATentativeSeventhBounce();
+  SequenceOptions options;
+  options.chatter_interval_ms = 80.0;
+  const auto grouping = GroupBounces(detection, options);
+  ASSERT_EQ(grouping.sequences.size(), 1u);
+  EXPECT_EQ(grouping.sequences[0].impact_indices.size(), 6u);
+  EXPECT_EQ(detection.impacts.size(), 6u);
+}
+
+TEST(GroupBounces, BadOptionsAreConfigErrors) {
+  auto detection = DropWithATentativeSeventhBounce();
+  SequenceOptions options;
+  options.min_ratio = -1;
+  EXPECT_THROW(GroupBounces(detection, options), ConfigError);
+}
+
+}  // namespace
+}  // namespace bouncecal::audio

@@ -1,0 +1,67 @@
+#ifndef BOUNCECAL_AUDIO_SRC_CANDIDATE_TRACKER_H_
+#define BOUNCECAL_AUDIO_SRC_CANDIDATE_TRACKER_H_
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+
+#include "band_envelopes.h"
+#include "detector_frames.h"
+#include "novelty_sources.h"
+
+namespace bouncecal::audio {
+
+// A stretch of frames where new sound rose: what the onset locator examines.
+struct Candidate {
+  std::int64_t frame = 0;       // m of the frame that opened it
+  std::int64_t peak_frame = 0;  // band 0's loudest frame since
+  double peak_db = 0;           // band 0's level there
+  std::size_t band = 0;         // the band that rose most: the onset is picked there
+  double rise_db = 0;           // the largest band rise
+  double residual_rise_db = 0;  // the largest ringing-residual novelty, on the band scale
+  // Opened right after a candidate that was closed while still rising: the rest of its sound.
+  bool continues = false;
+  std::int64_t closed_at = 0;           // the frame n that closed it
+  std::ptrdiff_t closed_in_block = -1;  // its index in its block (-1: at the end of the stream)
+};
+
+// Stage 3 of the impact detector: opens a candidate where a novelty source rises by half the
+// threshold, keeps it open while band 0 keeps reaching new peaks (so a hit that builds up over
+// several milliseconds, or grows out of its precursor, is one candidate), and closes it `peak`
+// frames after its last peak, at most `max_open` frames after it opened.
+class CandidateTracker {
+ public:
+  CandidateTracker(const DetectorFrames& frames, const DetectorOptions& options,
+                   const BandEnvelopes& bands);
+
+  bool open() const { return open_; }
+  // Band 0's level of frame n, for the peak of an open candidate (every frame, before Step).
+  void TrackPeak(std::int64_t n);
+  // Whether the band rise of this frame is needed even below the secondary threshold: inside a
+  // candidate, and where the residual opens one (its band and rise come from the bands).
+  bool WantsBandRise(const NoveltyRise& residual) const {
+    return open_ || (residual_armed_ && residual.rise_db >= secondary_threshold_db_);
+  }
+  // Frame n (m = n - attack is the frame whose rises these are); returns the candidate it
+  // closes, if any.
+  std::optional<Candidate> Step(std::int64_t n, std::ptrdiff_t k, const NoveltyRise& band,
+                                const NoveltyRise& residual);
+  // The candidate still open at the end of the stream, closed at frame `last`.
+  std::optional<Candidate> Finish(std::int64_t last);
+
+ private:
+  const DetectorFrames frames_;
+  double secondary_threshold_db_;
+  const BandEnvelopes& bands_;
+  bool open_ = false;
+  // A residual frame spans a few ms, so after a hit it stays above its pre-hit reference for
+  // that long: the residual opens a candidate only after it has fallen back below the
+  // threshold once (hysteresis), never on the lingering frames of the last candidate.
+  bool residual_armed_ = true;
+  std::int64_t still_rising_until_ = -1;
+  Candidate candidate_;
+};
+
+}  // namespace bouncecal::audio
+
+#endif  // BOUNCECAL_AUDIO_SRC_CANDIDATE_TRACKER_H_
