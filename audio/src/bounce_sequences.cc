@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <queue>
 #include <string>
 
@@ -241,6 +242,32 @@ class ChanceAlignment {
   double chains_tried_ = 0;
 };
 
+// A bouncing ball's flights are silent, so its bounces are the loudest sounds of their span. A
+// chain that passes over a free band-detected impact at least as loud as its own quietest
+// member (speech, handling, the irregular late bounces of a ball rolling off) may be random
+// events that happen to line up, so, like a chain made of residual-only impacts, it counts only
+// when its timing could hardly be chance.
+bool PassesOverLouderSounds(const std::vector<Impact>& impacts, const std::vector<bool>& free,
+                            const std::vector<int>& members) {
+  double quietest = std::numeric_limits<double>::infinity();
+  for (int member : members) {
+    const Impact& impact = impacts[static_cast<size_t>(member)];
+    if (!impact.residual_only) quietest = std::min(quietest, impact.peak_dbfs);
+  }
+  std::size_t next_member = 0;
+  for (int i = members.front(); i <= members.back(); ++i) {
+    if (i == members[next_member]) {
+      ++next_member;
+      continue;
+    }
+    const Impact& impact = impacts[static_cast<size_t>(i)];
+    if (free[static_cast<size_t>(i)] && !impact.residual_only && impact.peak_dbfs >= quietest) {
+      return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 void SequenceOptions::Validate() const {
@@ -299,7 +326,10 @@ SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
     const auto strong = std::count_if(best.members.begin(), best.members.end(), [&](int i) {
       return !impacts[static_cast<size_t>(i)].residual_only;
     });
-    if (strong < options.min_impacts && !chance.Significant(best.members)) continue;
+    if ((strong < options.min_impacts || PassesOverLouderSounds(impacts, free, best.members)) &&
+        !chance.Significant(best.members)) {
+      continue;
+    }
     bool valid = true;
     for (int i = first; i <= std::min(best.reach, n - 1) && valid; ++i) {
       valid = assigned_in_epoch[static_cast<size_t>(i)] <= best.epoch;
