@@ -22,10 +22,17 @@ struct Score {
   int truth = 0;
   int found = 0;  // truth impacts with a detection within kMatchS
   int extra = 0;  // detections near no truth impact
-  double median_abs_error_s = 0;
-  double p90_abs_error_s = 0;
-  double median_signed_error_s = 0;
-  int within_two_sigma = 0;      // found impacts with |error| <= 2 onset_uncertainty_s
+  // The recording's constant offset: the median signed error. Onsets are timed by a reference
+  // on each impact's edge and brought back to the start of contact by one offset per recording
+  // (onset_locator.h), which cancels in every interval.
+  double offset_s = 0;
+  double median_abs_error_s = 0;  // less the offset
+  double p90_abs_error_s = 0;     // less the offset
+  // |detected - true| of the intervals between consecutive truth impacts both found: what e_k
+  // and eta_k are made of.
+  double interval_median_s = 0;
+  double interval_p95_s = 0;
+  int within_two_sigma = 0;      // found impacts with |error - offset| <= 2 onset_uncertainty_s
   std::vector<double> sigmas_s;  // onset_uncertainty_s of the found impacts
 };
 
@@ -33,10 +40,17 @@ struct Score {
 // the tests use (30 ms) and far above any onset error.
 constexpr double kMatchS = 1e-3;
 
+double Quantile(std::vector<double> values, double q) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  return values[std::min(values.size() - 1, static_cast<std::size_t>(q * values.size()))];
+}
+
 Score Compare(const std::vector<Impact>& detected, const std::vector<double>& truth_s) {
   Score score;
   score.truth = static_cast<int>(truth_s.size());
-  std::vector<double> errors;
+  std::vector<double> errors;  // per truth impact, NaN when not found
+  std::vector<double> sigmas;
   for (double t : truth_s) {
     double best = 1e9;
     double sigma = 0;
@@ -46,35 +60,45 @@ Score Compare(const std::vector<Impact>& detected, const std::vector<double>& tr
         sigma = impact.onset_uncertainty_s;
       }
     }
-    if (std::fabs(best) < kMatchS) {
-      errors.push_back(best);
-      score.sigmas_s.push_back(sigma);
-      if (std::fabs(best) <= 2 * sigma) ++score.within_two_sigma;
-    }
+    errors.push_back(std::fabs(best) < kMatchS ? best : std::nan(""));
+    sigmas.push_back(sigma);
   }
   for (const auto& impact : detected) {
     bool near = false;
     for (double t : truth_s) near = near || std::fabs(impact.onset_s - t) < kMatchS;
     if (!near) ++score.extra;
   }
-  score.found = static_cast<int>(errors.size());
-  if (errors.empty()) return score;
-  std::vector<double> magnitudes;
-  for (double e : errors) magnitudes.push_back(std::fabs(e));
-  std::sort(magnitudes.begin(), magnitudes.end());
-  std::sort(errors.begin(), errors.end());
-  score.median_abs_error_s = magnitudes[magnitudes.size() / 2];
-  score.p90_abs_error_s = magnitudes[std::min(magnitudes.size() - 1, magnitudes.size() * 9 / 10)];
-  score.median_signed_error_s = errors[errors.size() / 2];
+  std::vector<double> found_errors;
+  std::vector<double> intervals;
+  for (std::size_t k = 0; k < errors.size(); ++k) {
+    if (std::isnan(errors[k])) continue;
+    found_errors.push_back(errors[k]);
+    if (k > 0 && !std::isnan(errors[k - 1]))
+      intervals.push_back(std::fabs(errors[k] - errors[k - 1]));
+  }
+  score.found = static_cast<int>(found_errors.size());
+  if (found_errors.empty()) return score;
+  score.offset_s = Quantile(found_errors, 0.5);
+  std::vector<double> centred;
+  for (std::size_t k = 0; k < errors.size(); ++k) {
+    if (std::isnan(errors[k])) continue;
+    centred.push_back(std::fabs(errors[k] - score.offset_s));
+    score.sigmas_s.push_back(sigmas[k]);
+    if (centred.back() <= 2 * sigmas[k]) ++score.within_two_sigma;
+  }
+  score.median_abs_error_s = Quantile(centred, 0.5);
+  score.p90_abs_error_s = Quantile(centred, 0.9);
+  score.interval_median_s = Quantile(intervals, 0.5);
+  score.interval_p95_s = Quantile(intervals, 0.95);
   return score;
 }
 
 void Print(const std::string& condition, const Score& s) {
   std::printf(
-      "[ figures  ] %-28s recall %2d/%2d  extra %2d  |error| median %6.1f us  p90 %6.1f us"
-      "  signed median %+6.1f us\n",
-      condition.c_str(), s.found, s.truth, s.extra, s.median_abs_error_s * 1e6,
-      s.p90_abs_error_s * 1e6, s.median_signed_error_s * 1e6);
+      "[ figures  ] %-28s recall %2d/%2d  extra %2d  offset %+6.1f us  |error - offset| median "
+      "%5.1f p90 %6.1f us  interval error median %5.1f p95 %6.1f us\n",
+      condition.c_str(), s.found, s.truth, s.extra, s.offset_s * 1e6, s.median_abs_error_s * 1e6,
+      s.p90_abs_error_s * 1e6, s.interval_median_s * 1e6, s.interval_p95_s * 1e6);
 }
 
 // The reference scene: a steel ball (e = 0.8) dropped from 0.3 m on a steel plate whose modes
@@ -111,19 +135,17 @@ Score Evaluate(const std::string& condition, const SynthesisOptions& options) {
   return score;
 }
 
-// The contact is a 70 us half-sine: the sound grows as t^3 during it, so its first samples
-// hide in the noise and a change point alone is late by most of a sample (15 us at 48 kHz).
-// The picker fits the power law of the edge (onset_picker.h) and removes that bias: measured
-// 4.2 us at 40 dB (signed -1.0 us) and 4.0 us at 30 dB with this seed, 3-8 us and 4-10 us over
-// seeds 1-6 (docs/onset_timing.md). 10 us is the issue's target for clean 48 kHz recordings;
-// at 30 dB the edge's first sample is at the noise, so it gets 15 us; below, the issue's 50 us.
-constexpr double kCleanMedianS = 10e-6;
-constexpr double kThirtyDbMedianS = 15e-6;
-constexpr double kNoisyMedianS = 50e-6;
-
-double MedianBound(double snr_db) {
-  return snr_db >= 40 ? kCleanMedianS : snr_db >= 30 ? kThirtyDbMedianS : kNoisyMedianS;
-}
+// Intervals are what e_k and eta_k are made of, so they carry the targets (issue 16): at 48 kHz
+// a median interval error of at most 20 us and a 95th percentile of at most 100 us on clean
+// recordings. Onsets are timed where each impact's edge reaches 12 % of its peak
+// (constant-fraction timing, onset_picker.h) and moved back to the start of contact by one offset
+// per recording; that offset (the median signed error) stays within 2 samples (42 us). Measured
+// with this seed: interval error median 2.8 / 1.9 / 1.9 / 4.0 / 4.4 us and p95 39 / 38 / 38 / 37
+// / 47 us at 40 / 30 / 20 / 15 / 10 dB; offsets +12, +34, +6, +7, -3 us. Below 30 dB the p95
+// bound is the issue's noisy 50 us target doubled, as for the clean one.
+constexpr double kIntervalMedianS = 20e-6;
+constexpr double kIntervalP95S = 100e-6;
+constexpr double kOffsetS = 2.0 / 48000;
 
 TEST(DetectorGroundTruth, TimingAndRecallAcrossSnr) {
   for (double snr_db : {40.0, 30.0, 20.0, 15.0, 10.0}) {
@@ -133,24 +155,23 @@ TEST(DetectorGroundTruth, TimingAndRecallAcrossSnr) {
     // SNR refers to, 30 ms after the one before) may fall under the thresholds: one may be lost.
     EXPECT_GE(score.found, snr_db >= 30 ? score.truth : score.truth - 1) << snr_db;
     EXPECT_LE(score.extra, 1) << snr_db;
-    EXPECT_LT(score.median_abs_error_s, MedianBound(snr_db)) << snr_db;
+    EXPECT_LT(score.interval_median_s, kIntervalMedianS) << snr_db;
+    EXPECT_LT(score.interval_p95_s, kIntervalP95S) << snr_db;
+    EXPECT_LT(std::fabs(score.offset_s), kOffsetS) << snr_db;
   }
 }
 
-// The stated onset uncertainty must be honest in noise, where the first samples of the edge
-// hide under it (HiddenEdgeSigma in onset_picker.h, docs/onset_timing.md), and not uselessly
-// inflated on clean audio. Pooled over seeds 17 and 1-4 (65 impacts per SNR, so one impact moves
-// the fraction by 1.5 %). Coverage: at every SNR at least 70 % of the found impacts lie within
-// 2 sigma (95 % for exact Gaussian errors). Measured 100, 85, 75, 75 % at 40, 30, 20, 10 dB
-// (98, 71, 51, 46 % before the hidden-edge term); the misses left are impacts whose whole first
-// lobe drowned, picked 2-7 samples late on the second, which no term of the fitted edge can see.
-// 70 % is one binomial standard deviation (5 %) below the lowest measured fraction. Inflation:
-// the median sigma at 40 dB stays <= 15 us, the bias of the change point alone (docs/
-// onset_timing.md), so the stated sigma still credits the fit with beating the change point;
-// measured 12.2 us (7.0 us before; median |error| there 3-8 us over seeds).
+// The stated onset uncertainty must be honest for what enters an interval: the error less the
+// recording's constant offset. Pooled over seeds 17 and 1-4 (65 impacts per SNR, so one impact
+// moves the fraction by 1.5 %). Coverage: at every SNR at least 85 % of the found impacts lie
+// within 2 sigma (95 % for exact Gaussian errors); measured 100, 100, 97, 92 % at 40, 30, 20,
+// 10 dB (the shape term of the reference crossing, onset_picker.cc, is set from
+// bench/detector_accuracy_bench); 85 % is one binomial standard deviation (3.4 %) below the
+// lowest, and another for margin. Inflation: the median sigma at 40 dB stays within 2 samples
+// (42 us), the spread that one lobe more or less before the crossing gives; measured 36 us.
 TEST(DetectorGroundTruth, OnsetUncertaintyCoversTheErrorAtEverySnr) {
-  constexpr double kMinCoverage = 0.70;
-  constexpr double kCleanMedianSigmaS = 15e-6;
+  constexpr double kMinCoverage = 0.85;
+  constexpr double kCleanMedianSigmaS = 2.0 / 48000;
   for (double snr_db : {40.0, 30.0, 20.0, 10.0}) {
     int found = 0;
     int covered = 0;
@@ -182,12 +203,9 @@ TEST(DetectorGroundTruth, OnsetUncertaintyCoversTheErrorAtEverySnr) {
 }
 
 // The picker must not be tuned to one contact: a 40 us (hard, small ball) and a 150 us (softer)
-// contact, and a drop from 0.8 m with e = 0.6. Measured at 40 dB: 4.7, 4.0 and 4.5 us (3-5,
-// 4-11 and 3-6 us over seeds 1-6), so the clean target holds for the short contact and the
-// other drop and the long contact gets 15 us. At 10 dB the long contact's slow edge is buried
-// deepest: 47 us with this seed (28-72 us over seeds 1-6), so only the 40 us contact and the
-// other drop are held to the 50 us target there (measured 16.2 and 6.7 us); the 150 us one to
-// 80 us.
+// contact, and a drop from 0.8 m with e = 0.6, held to the interval targets (above) at 40 dB and
+// to 50 us median at 10 dB. Measured interval error medians 1.7, 2.2, 8.1 us at 40 dB and 6.7,
+// 11.7, 19.0 us at 10 dB; p95 24, 29, 38 and 36, 58, 52 us.
 TEST(DetectorGroundTruth, TimingHoldsForOtherContactDurationsAndDrops) {
   for (double snr_db : {40.0, 10.0}) {
     auto short_contact = Reference(snr_db);
@@ -200,13 +218,14 @@ TEST(DetectorGroundTruth, TimingHoldsForOtherContactDurationsAndDrops) {
     const std::string snr = " at " + std::to_string(static_cast<int>(snr_db)) + " dB";
     for (const auto& [name, options, clean_bound_s, noisy_bound_s] :
          std::vector<std::tuple<std::string, SynthesisOptions, double, double>>{
-             {"contact 40 us" + snr, short_contact, kCleanMedianS, kNoisyMedianS},
-             {"contact 150 us" + snr, long_contact, 15e-6, 80e-6},
-             {"h 0.8 m, e 0.6" + snr, other_drop, kCleanMedianS, kNoisyMedianS}}) {
+             {"contact 40 us" + snr, short_contact, kIntervalMedianS, 50e-6},
+             {"contact 150 us" + snr, long_contact, kIntervalMedianS, 50e-6},
+             {"h 0.8 m, e 0.6" + snr, other_drop, kIntervalMedianS, 50e-6}}) {
       const auto score = Evaluate(name, options);
       EXPECT_GE(score.found, score.truth - (snr_db >= 30 ? 0 : 2)) << name;
       EXPECT_EQ(score.extra, 0) << name;
-      EXPECT_LT(score.median_abs_error_s, snr_db >= 40 ? clean_bound_s : noisy_bound_s) << name;
+      EXPECT_LT(score.interval_median_s, snr_db >= 40 ? clean_bound_s : noisy_bound_s) << name;
+      EXPECT_LT(score.interval_p95_s, kIntervalP95S) << name;
     }
   }
 }
@@ -218,9 +237,11 @@ TEST(DetectorGroundTruth, SampleRatesFrom16To96kHz) {
     const auto score = Evaluate(std::to_string(rate) + " Hz", options);
     EXPECT_EQ(score.found, score.truth) << rate;
     EXPECT_EQ(score.extra, 0) << rate;
-    // Below 44.1 kHz the edge is a sample or two long: one sample (62.5 us at 16 kHz; measured
-    // 12.9 us). Measured 3.7 us at 44.1 kHz and 2.9 us at 96 kHz.
-    EXPECT_LT(score.median_abs_error_s, rate >= 44100 ? kCleanMedianS : 1.0 / rate) << rate;
+    // At 16 kHz the edge is a sample or two long: the issue's 16 kHz target is a p95 of 200 us,
+    // and one sample (62.5 us) bounds the median (measured 61 and 114 us). Measured medians
+    // 1.6, 2.8 and 0.9 us and p95 40, 39 and 38 us at 44.1, 48 and 96 kHz.
+    EXPECT_LT(score.interval_median_s, rate >= 44100 ? kIntervalMedianS : 1.0 / rate) << rate;
+    EXPECT_LT(score.interval_p95_s, rate >= 44100 ? kIntervalP95S : 200e-6) << rate;
   }
 }
 
@@ -243,12 +264,11 @@ TEST(DetectorGroundTruth, ReverbEchoesPrecursorsClippingHumAndDc) {
     const auto score = Evaluate(name, options);
     EXPECT_EQ(score.found, score.truth) << name;
     EXPECT_EQ(score.extra, 0) << name;
-    // Clipping flattens the first peak and reverb fills the gap before an onset; 50 us (the
-    // noisy-recording target) bounds both (measured 4.2, 5.4 and 4.2 us for clipping, reverb
-    // and hum). With a precursor 7 ms ahead the impact rises most in the 6 kHz high-passed
-    // detection band, whose filter bends the t^3 edge over early and shortens it: 39.9 us, the
-    // same in every seed (it was 59.9 us before the edge fit).
-    EXPECT_LT(score.median_abs_error_s, kNoisyMedianS) << name;
+    // Clipping flattens the first peak and reverb fills the gap before an onset; intervals hold
+    // the clean targets (measured medians 3.0, 1.5, 2.8, 1.5 us and p95 36, 5, 44, 11 us for
+    // reverb, precursor, clipping and hum).
+    EXPECT_LT(score.interval_median_s, kIntervalMedianS) << name;
+    EXPECT_LT(score.interval_p95_s, kIntervalP95S) << name;
   }
 }
 
@@ -310,7 +330,7 @@ TEST(DetectorGroundTruth, StereoPicksTheBetterChannelIn24BitAndFloatFiles) {
     const auto score = Compare(detection.detection.impacts, truth);
     Print("stereo " + std::string(ToString(encoding)), score);
     EXPECT_EQ(score.found, score.truth);
-    EXPECT_LT(score.median_abs_error_s, kCleanMedianS);
+    EXPECT_LT(score.interval_median_s, kIntervalMedianS);
   }
 }
 

@@ -110,15 +110,17 @@ TEST_F(SharedRecordings, EepsPingPongMatchesThe30PublishedTimesAndRatio) {
   const auto published_ms = SourceTimes(Recordings() / "eeps-pingpong/30_bounces.csv", "", 0);
   ASSERT_EQ(published_ms.size(), 30u);
   // The published times are the peaks of a 1 kHz-smoothed envelope, in whole ms, so they come
-  // after the onset: by the rise time of the smoothed click plus rounding. Expect each to
-  // follow one of our onsets by 0-5 ms (measured: median 2.1 ms, range 0.5-4.3 ms).
+  // after the onset by the rise time of the smoothed click, give or take the rounding: a time
+  // rounded down may precede the peak by up to 0.5 ms. Expect each to follow one of our onsets
+  // by -0.5 to 5 ms (measured: median 2.0 ms, range -0.16 to 4.3 ms; the onset times each
+  // impact where its edge reaches 12 % of its peak, issue 16).
   std::vector<double> offsets;
   for (double ms : published_ms) {
     double best = 1e9;
     for (double onset : analysis.onsets_s) {
       if (std::fabs(ms * 1e-3 - onset) < std::fabs(best)) best = ms * 1e-3 - onset;
     }
-    EXPECT_GE(best, 0.0) << ms;
+    EXPECT_GE(best, -0.5e-3) << ms;
     EXPECT_LE(best, 5e-3) << ms;
     offsets.push_back(best);
   }

@@ -55,6 +55,8 @@ BandEnvelopes::BandEnvelopes(const DetectorFrames& frames, const DetectorOptions
       static_cast<std::int64_t>(filter_.max_latency_samples()) / frames.hop + 1);
   const auto ahead_frames = static_cast<std::size_t>(frames.attack + 1);
   const auto reference_frames = static_cast<std::size_t>(frames.lookback - frames.skip + 1);
+  low_hz_.push_back(options.band_low_hz);
+  for (double hz : DetectionBands(frames.rate_hz, options)) low_hz_.push_back(hz);
   for (std::size_t b = 0; b < filter_.output_count(); ++b) {
     // Each band's history holds a whole filter block ahead of the frames being examined.
     const std::size_t history =

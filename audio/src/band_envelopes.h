@@ -114,6 +114,8 @@ class BandEnvelopes {
   std::size_t max_latency_samples() const { return filter_.max_latency_samples(); }
 
   std::size_t size() const { return bands_.size(); }
+  // The band's lower edge: band 0's high-pass, the sub-bands' extra high-pass.
+  double low_hz(std::size_t b) const { return low_hz_[b]; }
   EnvelopeBand& band(std::size_t b) { return bands_[b]; }
   const EnvelopeBand& band(std::size_t b) const { return bands_[b]; }
   // Frames completed before the latest delivered block, and how far the frame then being
@@ -144,6 +146,7 @@ class BandEnvelopes {
   BandFilter::Sink sink_;  // Take, for the filter
   double secondary_rise_ratio_;
   std::vector<EnvelopeBand> bands_;
+  std::vector<double> low_hz_;
   std::size_t delivered_ = 0;
   std::vector<char> may_rise_;    // per frame of the block: some band may rise
   std::vector<double> entering_;  // scratch: the frames entering a band's lookback

@@ -1,6 +1,7 @@
 #include "candidate_tracker.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace bouncecal::audio {
 namespace {
@@ -15,10 +16,25 @@ CandidateTracker::CandidateTracker(const DetectorFrames& frames, const DetectorO
                                    const BandEnvelopes& bands)
     : frames_(frames),
       secondary_threshold_db_(kSecondaryRiseFraction * options.rise_threshold_db),
+      rising_ratio_(std::pow(10.0, 0.1 * secondary_threshold_db_) * (1.0 - 1e-6)),
       bands_(bands) {}
+
+std::int64_t CandidateTracker::LoudestFrame(std::size_t band, std::int64_t from,
+                                            std::int64_t to) const {
+  const EnvelopeBand& envelope = bands_.band(band);
+  std::int64_t loudest = from;
+  for (std::int64_t i = from + 1; i <= to; ++i) {
+    if (envelope.Power(i) > envelope.Power(loudest)) loudest = i;
+  }
+  return loudest;
+}
 
 void CandidateTracker::TrackPeak(std::int64_t n) {
   if (!open_) return;
+  if (bands_.band(candidate_.band).Power(n) >
+      bands_.band(candidate_.band).Power(candidate_.band_peak_frame)) {
+    candidate_.band_peak_frame = n;
+  }
   const double level_db = bands_.band(0).Db(n);
   if (level_db > candidate_.peak_db) {
     candidate_.peak_db = level_db;
@@ -33,7 +49,10 @@ std::optional<Candidate> CandidateTracker::Step(std::int64_t n, std::ptrdiff_t k
   if (open_) {
     if (band.rise_db > candidate_.rise_db) {
       candidate_.rise_db = band.rise_db;
-      candidate_.band = band.band;
+      if (band.band != candidate_.band) {
+        candidate_.band = band.band;
+        candidate_.band_peak_frame = LoudestFrame(band.band, candidate_.frame, n);
+      }
     }
     candidate_.residual_rise_db = std::max(candidate_.residual_rise_db, residual.rise_db);
     residual_armed_ = false;
@@ -54,13 +73,23 @@ std::optional<Candidate> CandidateTracker::Step(std::int64_t n, std::ptrdiff_t k
   // the hit) opens a new candidate every peak window, and the merger keeps the loudest of them.
   if (band.rise_db >= secondary_threshold_db_ ||
       (residual_armed_ && residual.rise_db >= secondary_threshold_db_)) {
-    const std::int64_t m = n - frames_.attack;
+    std::int64_t m = n - frames_.attack;
+    if (band.rise_db >= secondary_threshold_db_) {
+      // The rise is that of the loudest frame of the attack window [m, n]: the sound began where
+      // the band first rose by the threshold, up to `attack` frames after m (a sharp hit enters
+      // the window at its end).
+      const EnvelopeBand& rising = bands_.band(band.band);
+      const double bar = rising_ratio_ * std::max(rising.ReferenceMax(k), kTinyPower);
+      while (m < n && std::max(rising.Power(m), kTinyPower) < bar) ++m;
+    }
     open_ = true;
     candidate_ = Candidate{};
     candidate_.continues = n <= still_rising_until_;
     candidate_.frame = m;
+    candidate_.opened_at = n;
     candidate_.rise_db = band.rise_db;
     candidate_.band = band.band;
+    candidate_.band_peak_frame = LoudestFrame(band.band, m, n);
     candidate_.residual_rise_db = residual.rise_db;
     const EnvelopeBand& level = bands_.band(0);
     candidate_.peak_db = level.Db(m);

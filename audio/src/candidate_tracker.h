@@ -13,12 +13,14 @@ namespace bouncecal::audio {
 
 // A stretch of frames where new sound rose: what the onset locator examines.
 struct Candidate {
-  std::int64_t frame = 0;       // m of the frame that opened it
+  std::int64_t frame = 0;       // where its sound began: the first frame that rose
+  std::int64_t opened_at = 0;   // the frame n whose rise opened it (frame <= n <= frame + attack)
   std::int64_t peak_frame = 0;  // band 0's loudest frame since
   double peak_db = 0;           // band 0's level there
   std::size_t band = 0;         // the band that rose most: the onset is picked there
-  double rise_db = 0;           // the largest band rise
-  double residual_rise_db = 0;  // the largest ringing-residual novelty, on the band scale
+  std::int64_t band_peak_frame = 0;  // that band's loudest frame since the candidate opened
+  double rise_db = 0;                // the largest band rise
+  double residual_rise_db = 0;       // the largest ringing-residual novelty, on the band scale
   // Opened right after a candidate that was closed while still rising: the rest of its sound.
   bool continues = false;
   std::int64_t closed_at = 0;           // the frame n that closed it
@@ -52,6 +54,10 @@ class CandidateTracker {
  private:
   const DetectorFrames frames_;
   double secondary_threshold_db_;
+  double rising_ratio_;  // its power ratio, less PowerToDb's margin
+  // The loudest frame of `band` in [from, to].
+  std::int64_t LoudestFrame(std::size_t band, std::int64_t from, std::int64_t to) const;
+
   const BandEnvelopes& bands_;
   bool open_ = false;
   // A residual frame spans a few ms, so after a hit it stays above its pre-hit reference for

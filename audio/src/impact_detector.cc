@@ -61,7 +61,8 @@ class ImpactDetector::Impl {
         residual_(frames_, options, bands_, FrameRing(frames_, bands_)),
         tracker_(frames_, options, bands_),
         locator_(frames_, options, bands_, residual_, raw_),
-        merger_(options, static_cast<double>(residual_.hop_samples()) / sample_rate_hz) {
+        merger_(options, static_cast<double>(residual_.hop_samples()) / sample_rate_hz,
+                sample_rate_hz, bands_) {
     result_.sample_rate_hz = sample_rate_hz;
   }
 
@@ -83,8 +84,7 @@ class ImpactDetector::Impl {
     }
     merger_.Flush();
     result_.samples = raw_.end();
-    result_.impacts = std::move(merger_.impacts());
-    result_.merged = std::move(merger_.merged());
+    merger_.Report(ReferenceToContactOffset(merger_.impacts()), result_);
     std::vector<double> snr;
     for (const auto& impact : result_.impacts) snr.push_back(impact.snr_db);
     if (snr.empty()) {
@@ -94,7 +94,6 @@ class ImpactDetector::Impl {
                        snr.end());
       result_.impact_to_noise_db = snr[snr.size() / 2];
     }
-    result_.tentative = std::move(merger_.tentative());
     return std::move(result_);
   }
 

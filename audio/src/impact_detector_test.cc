@@ -64,7 +64,7 @@ TEST(ImpactDetector, HumDcAndThumpsYieldNoImpacts) {
   EXPECT_TRUE(DetectImpacts(recording).impacts.empty());
 }
 
-TEST(ImpactDetector, CleanImpactOnsetIsWithinTenMicroseconds) {
+TEST(ImpactDetector, CleanImpactOnsetsAreWithinASampleOrTwoAndStateSo) {
   const double onsets[] = {0.3000123, 0.61111, 0.9007};
   for (int rate : {16000, 24000, 44100, 48000, 96000}) {
     auto recording = Make(rate, 1.2);
@@ -80,8 +80,10 @@ TEST(ImpactDetector, CleanImpactOnsetIsWithinTenMicroseconds) {
       // bounds that; at 16-24 kHz the click's first edge is one sample long: 1.5 samples.
       const double tolerance_s = rate >= 44100 ? 1.25 / rate : 1.5 / rate;
       EXPECT_NEAR(result.impacts[k].onset_s, onsets[k], tolerance_s) << rate << " impact " << k;
+      // The stated sigma holds the crossing's shape term (0.9 sample, onset_picker.cc) and no
+      // more than a sample beside: at most 2 samples.
       EXPECT_GT(result.impacts[k].onset_uncertainty_s, 0);
-      EXPECT_LT(result.impacts[k].onset_uncertainty_s, 1.0 / rate);
+      EXPECT_LT(result.impacts[k].onset_uncertainty_s, 2.0 / rate);
     }
   }
 }

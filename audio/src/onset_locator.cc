@@ -67,14 +67,15 @@ std::optional<LocatedImpact> OnsetLocator::Locate(const Candidate& candidate) {
   const bool in_ringing = candidate.rise_db < rise_threshold_db_;
   std::int64_t search_from = (candidate.frame - 2 * frames_.skip) * hop;
   if (in_ringing) {
-    // The residual's frame that fired ended by frame n = candidate + attack, and the onset lies
-    // inside that frame's window (its Hann taper hides a new sound at the window's end, so the
-    // novelty may rise a few ms after the onset): search from the window's start.
-    search_from = std::min(
-        search_from, (candidate.frame + frames_.attack + 1) * hop - residual_.window_samples());
+    // The residual's frame that fired ended by the frame that opened the candidate, and the
+    // onset lies inside that frame's window (its Hann taper hides a new sound at the window's
+    // end, so the novelty may rise a few ms after the onset): search from the window's start.
+    search_from =
+        std::min(search_from, (candidate.opened_at + 1) * hop - residual_.window_samples());
   }
   const std::int64_t search_begin = std::max(samples.begin(), search_from);
-  const std::int64_t peak_end = std::min(samples.end(), (candidate.peak_frame + 1) * hop);
+  const std::int64_t peak_end = std::min(
+      samples.end(), (std::max(candidate.peak_frame, candidate.band_peak_frame) + 1) * hop);
   std::int64_t peak = search_begin;
   for (std::int64_t i = search_begin; i < peak_end; ++i) {
     if (std::fabs(samples[i]) > std::fabs(samples[peak])) peak = i;
@@ -119,9 +120,18 @@ std::optional<LocatedImpact> OnsetLocator::Locate(const Candidate& candidate) {
 
   LocatedImpact located;
   Impact& impact = located.impact;
-  const double onset_index = static_cast<double>(pick_begin) + pick.index;
-  impact.onset_s = onset_index / frames_.rate_hz;
+  const double start_index = static_cast<double>(pick_begin) + pick.index;
+  double onset_index = start_index;
   impact.onset_uncertainty_s = pick.sigma_samples / frames_.rate_hz;
+  if (std::isfinite(pick.reference_index)) {
+    onset_index = static_cast<double>(pick_begin) + pick.reference_index;
+    impact.onset_uncertainty_s = pick.reference_sigma_samples / frames_.rate_hz;
+    located.by_reference = true;
+    if (std::isfinite(pick.edge_amplitude)) {
+      located.reference_lead_s = (pick.reference_index - pick.index) / frames_.rate_hz;
+    }
+  }
+  impact.onset_s = onset_index / frames_.rate_hz;
   impact.rise_db = candidate.rise_db;
   // The residual's rise is kept scaled to the band threshold for the decisions; reported in its
   // own unit.
@@ -139,12 +149,25 @@ std::optional<LocatedImpact> OnsetLocator::Locate(const Candidate& candidate) {
     peak_abs = std::max(peak_abs, double{std::fabs(raw_[i])});
   }
   impact.peak_dbfs = 20.0 * std::log10(std::max(peak_abs, 1e-7));
-  located.level_db = candidate.peak_db;
+  located.band = candidate.band;
+  located.onset_sample = onset_index;
+  located.span_end_sample = (candidate.closed_at + 1) * hop;
   located.rise_db = std::max(candidate.rise_db, candidate.residual_rise_db);
   located.band_rise_db = candidate.rise_db;
   located.band_rose = !in_ringing;
   located.continuation = continuation;
   return located;
+}
+
+double ReferenceToContactOffset(const std::vector<LocatedImpact>& impacts) {
+  std::vector<double> leads;
+  for (const LocatedImpact& located : impacts) {
+    if (std::isfinite(located.reference_lead_s)) leads.push_back(located.reference_lead_s);
+  }
+  if (leads.empty()) return 0.0;
+  const auto middle = leads.begin() + static_cast<std::ptrdiff_t>(leads.size() / 2);
+  std::nth_element(leads.begin(), middle, leads.end());
+  return *middle;
 }
 
 }  // namespace bouncecal::audio

@@ -2,6 +2,7 @@
 #define BOUNCECAL_AUDIO_SRC_ONSET_LOCATOR_H_
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -17,13 +18,29 @@ namespace bouncecal::audio {
 // A candidate with its onset located and its evidence measured: what the merger weighs.
 struct LocatedImpact {
   Impact impact;
-  double level_db = 0;      // band 0's peak over the candidate
+  std::size_t band = 0;              // where the onset was picked (the band that rose most)
+  double onset_sample = 0;           // the onset, as a fractional sample index
+  std::int64_t span_end_sample = 0;  // the end of the frames the candidate examined
   double rise_db = 0;       // the larger of its band rise and residual novelty (band scale)
   double band_rise_db = 0;  // its band rise alone
   // False when no band rose by the full threshold: its level is then mostly the tail it is in.
   bool band_rose = true;
   bool continuation = false;  // the rest of a sound whose candidate was closed while rising
+  // impact.onset_s is its timing reference (see ReferenceCrossing in onset_picker.h), which the
+  // detector turns into the start of contact by one offset for the whole recording
+  // (ReferenceToContactOffset); false where no reference could be placed and onset_s is the
+  // start of contact itself.
+  bool by_reference = false;
+  // Reference minus start of contact, where both come from this impact's fitted edge; NaN
+  // otherwise.
+  double reference_lead_s = std::numeric_limits<double>::quiet_NaN();
 };
+
+// The offset from the timing reference to the start of contact for a whole recording: the
+// median over its impacts of their own fitted reference_lead_s (0 without any). One offset for
+// all impacts keeps their intervals those of the references, whose spread does not grow with
+// loudness, while onsets stay starts of contact on average.
+double ReferenceToContactOffset(const std::vector<LocatedImpact>& impacts);
 
 // Stage 4 of the impact detector: where in a candidate the impact's contact began, and how
 // clearly it stands out. The SNR gate (min_snr_db) is checked in the band that rose most, or,

@@ -23,6 +23,19 @@ constexpr double kEdgeCeiling = 0.6;
 // two samples, so its start lies within 1.5 samples of that first sample whatever its power.
 constexpr double kShortEdgeLevel = 0.5;
 constexpr double kShortEdgeNoiseFraction = 0.02;
+// The spread of the reference crossing between impacts of one drop beyond the noise's part, as a
+// fraction of the samples from the crossing to its lobe's top: their contact durations and the
+// mix of modes they excite differ, so a fixed fraction of the peak is reached a little earlier
+// or later on the edge, or on the next lobe. Set so that 95 % of the errors (less each drop's
+// constant offset) lie within two sigmas on synthetic drops (bench/detector_accuracy_bench).
+constexpr double kReferenceShapeFraction = 0.5;
+// The same as a fraction of the samples from the start of contact to the crossing.
+constexpr double kReferenceLeadFraction = 0.5;
+// The same, in samples, where no lobe top is measured (a reference from the fitted edge).
+constexpr double kReferenceShapeSamples = 0.9;
+// How far the fitted edge may reach the reference level from where the samples reach it before
+// the fit is taken for another lobe's (see PickOnset).
+constexpr double kReferenceConsistencySamples = 1.0;
 // Samples of noise before the first lobe that enter the fit: they tell the fit where the edge
 // was still zero.
 constexpr std::size_t kNoiseSamplesInFit = 4;
@@ -233,16 +246,65 @@ std::optional<OnsetPick> FitLeadingEdge(std::span<const float> x, std::size_t ch
       std::min(HiddenEdgeSamples(model.Amplitude(best_t0, best_p), best_p, noise_rms),
                static_cast<double>(first) - best_t0);
   pick.sigma_samples = std::hypot(profile_sigma, kHiddenSpanToSigma * hidden_samples);
+  pick.edge_amplitude = model.Amplitude(best_t0, best_p);
+  pick.edge_power = best_p;
   return pick;
 }
 
-OnsetPick PickOnset(std::span<const float> x, std::size_t search_begin, std::size_t search_end) {
-  const std::size_t n = x.size();
+std::optional<OnsetPick> ReferenceCrossing(std::span<const float> x, std::size_t from,
+                                           std::size_t peak_end, double noise_rms) {
+  peak_end = std::min(peak_end, x.size());
+  if (from >= peak_end) return std::nullopt;
+  double peak = 0;
+  for (std::size_t i = from; i < peak_end; ++i) peak = std::max(peak, double{std::fabs(x[i])});
+  const double level = kReferenceFraction * peak;
+  if (!(level > 0) || level < kLobeNoiseSigmas * noise_rms) return std::nullopt;
+  std::size_t f = from;
+  while (std::fabs(x[f]) < level) ++f;
   OnsetPick pick;
+  if (f == 0) {
+    pick.reference_index = 0;
+    pick.reference_sigma_samples = 1.0;
+  } else {
+    // Along the lobe that crosses: the sample before may still be on the other side of zero.
+    const double sign = x[f] >= 0 ? 1.0 : -1.0;
+    const double before = sign * x[f - 1];
+    const double after = sign * x[f];
+    const double slope = after - before;
+    const double fraction = std::clamp((level - before) / slope, 0.0, 1.0);
+    pick.reference_index = static_cast<double>(f - 1) + fraction;
+    // The shape term scales with how long the lobe takes from the crossing to its top: a slow
+    // (long-contact) edge spreads the same fraction of the peak over more samples.
+    std::size_t top = f;
+    while (top + 1 < peak_end && sign * x[top + 1] >= sign * x[top]) ++top;
+    const double to_top = std::max(1.0, static_cast<double>(top) - pick.reference_index);
+    pick.reference_sigma_samples = std::hypot(
+        noise_rms / slope, std::max(kReferenceShapeSamples, kReferenceShapeFraction * to_top));
+  }
+  pick.index = pick.reference_index;
+  pick.sigma_samples = pick.reference_sigma_samples;
+  return pick;
+}
+
+namespace {
+
+// What PickOnset needs besides the start of contact to place the timing reference.
+struct ContactStart {
+  OnsetPick pick;
+  std::size_t change_point = 0;
+  double noise_rms = 0;
+  bool edge_fitted = false;
+};
+
+ContactStart PickContactStart(std::span<const float> x, std::size_t search_begin,
+                              std::size_t search_end) {
+  ContactStart result;
+  OnsetPick& pick = result.pick;
+  const std::size_t n = x.size();
   if (n < 8) {
     pick.index = static_cast<double>(std::min(search_begin, n));
     pick.sigma_samples = 1.0;
-    return pick;
+    return result;
   }
   std::vector<double> prefix(n + 1, 0.0);
   for (std::size_t i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + double{x[i]} * x[i];
@@ -267,7 +329,7 @@ OnsetPick PickOnset(std::span<const float> x, std::size_t search_begin, std::siz
   if (aic.empty()) {
     pick.index = static_cast<double>(std::min(search_begin, n - 1));
     pick.sigma_samples = 1.0;
-    return pick;
+    return result;
   }
   // One-sigma profile-likelihood interval of the change point.
   std::size_t lo = best_k - first;
@@ -285,6 +347,8 @@ OnsetPick PickOnset(std::span<const float> x, std::size_t search_begin, std::siz
   // the faint start of the edge, so they are left out where there is enough noise without them.
   const std::size_t noise_end = best_k >= 10 ? best_k - 2 : best_k;
   const double noise_rms = std::sqrt(prefix[noise_end] / static_cast<double>(noise_end));
+  result.change_point = best_k;
+  result.noise_rms = noise_rms;
   const auto edge = FitLeadingEdge(x, best_k, noise_rms);
   // Trust the fit only where it agrees with the change point.
   if (!edge || edge->index < static_cast<double>(best_k) - 4.0 ||
@@ -306,12 +370,72 @@ OnsetPick PickOnset(std::span<const float> x, std::size_t search_begin, std::siz
     const double hidden_samples =
         r < 1 ? std::min(cap, r * static_cast<double>(top - best_k) / (1 - r)) : cap;
     pick.sigma_samples = std::hypot(pick.sigma_samples, kHiddenSpanToSigma * hidden_samples);
-    return pick;
+    return result;
   }
-  pick.index = edge->index;
+  pick = *edge;
   // The change point's spread stands for what the fit cannot see: whether an earlier, fainter
   // lobe hid in the noise.
   pick.sigma_samples = std::hypot(edge->sigma_samples, 0.5 * half_width);
+  result.edge_fitted = true;
+  return result;
+}
+
+}  // namespace
+
+OnsetPick PickOnset(std::span<const float> x, std::size_t search_begin, std::size_t search_end) {
+  ContactStart start = PickContactStart(x, search_begin, search_end);
+  OnsetPick pick = start.pick;
+  if (x.size() < 8) return pick;
+  // The reference is searched from the search window's start: where the window ends at a later,
+  // larger lobe, the change point may fall on that lobe's build-up rather than on the first.
+  const std::size_t from =
+      std::min(search_begin, start.change_point >= 2 ? start.change_point - 2 : 0);
+  const std::size_t peak_end = std::min(x.size(), std::max(search_end, from) + 1);
+  if (const auto reference = ReferenceCrossing(x, from, peak_end, start.noise_rms)) {
+    pick.reference_index = reference->reference_index;
+    pick.reference_sigma_samples = reference->reference_sigma_samples;
+    // The fitted edge must reach the reference level where the samples do; where it does not
+    // (the change point fell on noise or a tail before the impact, or on a later lobe), the edge
+    // is fitted again where the reference puts it, against the noise before that.
+    const auto crossing = static_cast<std::size_t>(std::ceil(pick.reference_index));
+    double peak = 0;
+    for (std::size_t i = from; i < peak_end; ++i) peak = std::max(peak, double{std::fabs(x[i])});
+    const double fitted_reference =
+        start.edge_fitted && pick.edge_amplitude > 0
+            ? pick.index +
+                  std::pow(kReferenceFraction * peak / pick.edge_amplitude, 1.0 / pick.edge_power)
+            : std::numeric_limits<double>::quiet_NaN();
+    if (!(std::fabs(fitted_reference - pick.reference_index) <= kReferenceConsistencySamples) &&
+        crossing >= 10) {
+      double power = 0;
+      for (std::size_t i = 0; i < crossing - 2; ++i) power += double{x[i]} * x[i];
+      const double noise_rms = std::sqrt(power / static_cast<double>(crossing - 2));
+      const auto edge = FitLeadingEdge(x, crossing, noise_rms);
+      if (edge && edge->index >= static_cast<double>(crossing) - 4.0 &&
+          edge->index <= pick.reference_index) {
+        pick.index = edge->index;
+        pick.sigma_samples = edge->sigma_samples;
+        pick.edge_amplitude = edge->edge_amplitude;
+        pick.edge_power = edge->edge_power;
+      } else {
+        pick.edge_amplitude = std::numeric_limits<double>::quiet_NaN();
+      }
+    }
+    // A slow edge (a long contact) reaches the level after more samples, over which a fixed
+    // fraction of the peak moves more with the impact's shape.
+    pick.reference_sigma_samples = std::max(
+        pick.reference_sigma_samples, kReferenceLeadFraction * (pick.reference_index - pick.index));
+    return pick;
+  }
+  // The level lies in the noise: where the fitted edge reaches it.
+  if (start.edge_fitted && pick.edge_amplitude > 0) {
+    double peak = 0;
+    for (std::size_t i = from; i < peak_end; ++i) peak = std::max(peak, double{std::fabs(x[i])});
+    const double rise =
+        std::pow(kReferenceFraction * peak / pick.edge_amplitude, 1.0 / pick.edge_power);
+    pick.reference_index = pick.index + rise;
+    pick.reference_sigma_samples = std::hypot(pick.sigma_samples, kReferenceShapeSamples);
+  }
   return pick;
 }
 

@@ -2,15 +2,26 @@
 #define BOUNCECAL_AUDIO_SRC_ONSET_PICKER_H_
 
 #include <cstddef>
+#include <limits>
 #include <optional>
 #include <span>
 
 namespace bouncecal::audio {
 
 struct OnsetPick {
-  double index = 0;          // fractional sample index into the window
+  double index = 0;          // start of contact: fractional sample index into the window
   double sigma_samples = 0;  // one-sigma uncertainty
+  // The impact's timing reference (see ReferenceCrossing) and its one-sigma uncertainty; NaN
+  // where PickOnset could not place it.
+  double reference_index = std::numeric_limits<double>::quiet_NaN();
+  double reference_sigma_samples = std::numeric_limits<double>::quiet_NaN();
+  // The fitted edge y = edge_amplitude (i - index)^edge_power; NaN where no edge was fitted.
+  double edge_amplitude = std::numeric_limits<double>::quiet_NaN();
+  double edge_power = std::numeric_limits<double>::quiet_NaN();
 };
+
+// The fraction of an impact's peak at which its timing reference is taken (ReferenceCrossing).
+inline constexpr double kReferenceFraction = 0.12;
 
 // Start of contact inside a window of band-passed samples that holds noise (or the tail of an
 // earlier impact) followed by the rising edge of one impact, up to its first peak.
@@ -23,8 +34,26 @@ struct OnsetPick {
 //     samples hide in the noise.
 //  2. FitLeadingEdge (below) fits a power law to the leading edge of the impact's first lobe
 //     and takes its origin. When no edge stands out of the noise the change point is kept.
+//
+// It also sets the impact's timing reference (reference_index, see ReferenceCrossing): from it,
+// intervals between impacts do not depend on their loudness.
 OnsetPick PickOnset(std::span<const float> window, std::size_t search_begin,
                     std::size_t search_end);
+
+// Constant-fraction timing, the discriminator that pulse-timing electronics use against the
+// amplitude walk of a fixed threshold: the time the impact's edge first reaches
+// kReferenceFraction of the impact's largest sample in [from, peak_end), interpolated linearly
+// between the two samples around the crossing. The start of contact cannot be timed that way
+// on a real recording chain: its anti-aliasing filter or resampler is linear-phase, so a click's
+// energy already rises a few samples before contact (the filter's pre-ringing, up to ~5 % of the
+// peak at 16-48 kHz), above the noise for loud impacts only, and any picker that looks for the
+// first sample out of the noise fires earlier the louder the impact. 12 % lies above that
+// pre-ringing and below the first lobe of a struck plate. The uncertainty is the noise over the
+// edge's slope there, combined with kReferenceShapeSamples for the shape differences between
+// impacts. Nothing when the level is within kLobeNoiseSigmas of the noise (a buried impact: the
+// caller extrapolates the fitted edge to the level instead).
+std::optional<OnsetPick> ReferenceCrossing(std::span<const float> x, std::size_t from,
+                                           std::size_t peak_end, double noise_rms);
 
 // Leading-edge fit. The contact force of a ball on a plate grows from zero (linearly for a
 // half-sine or linear-spring pulse, as t^(3/2) for a Hertz contact; Johnson 1985, ch. 11) and
