@@ -190,8 +190,25 @@ class ChanceAlignment {
     for (const auto& impact : impacts) weak += impact.residual_only ? 1 : 0;
     strong_rate_hz_ = static_cast<double>(static_cast<int>(impacts.size()) - weak) / span_s;
     weak_rate_hz_ = static_cast<double>(weak) / span_s;
-    // Every first impact with up to kSecondImpactCandidates second ones is tracked.
-    chains_tried_ = static_cast<double>(impacts.size()) * kSecondImpactCandidates;
+    // The chains the search can track: every band-detected first impact with up to
+    // kSecondImpactCandidates band-detected second ones within a flight (ChainFinder::BestFrom).
+    // Counting these rather than every impact times the cap matters where few impacts rose in
+    // a band: a drop whose later bounces only the ringing residual finds.
+    const auto n = impacts.size();
+    for (std::size_t first = 0; first < n; ++first) {
+      if (impacts[first].residual_only) continue;
+      int seconds = 0;
+      for (std::size_t second = first + 1; second < n && seconds < kSecondImpactCandidates;
+           ++second) {
+        const double gap_s = impacts[second].onset_s - impacts[first].onset_s;
+        if (gap_s > options.max_interval_s) break;
+        if (!impacts[second].residual_only && gap_s >= 1e-3 * options.chatter_interval_ms) {
+          ++seconds;
+        }
+      }
+      chains_tried_ += seconds;
+    }
+    chains_tried_ = std::max(chains_tried_, 1.0);
   }
 
   // The expected number of chains among those tried whose timing random events would match
@@ -206,14 +223,17 @@ class ChanceAlignment {
       const double dt0 = onset(k - 2) - onset(k - 3);
       const double dt1 = onset(k - 1) - onset(k - 2);
       const double ratio = dt1 / dt0;
-      const double predicted_s = onset(k - 1) + ratio * dt1;
-      // Under chance the nearest event lands within d of the prediction with probability
+      // Under chance the nearest event lands within d of a prediction with probability
       // 1 - exp(-2 rate d), however precisely it is timed, so p is exact for random events
       // (the floor only keeps the logarithm finite).
-      const double half_width_s = std::max(std::fabs(onset(k) - predicted_s), 1e-7);
       const bool weak = impacts_[static_cast<size_t>(members[k])].residual_only;
       const double rate_hz = weak ? weak_rate_hz_ : strong_rate_hz_;
-      const double p = -std::expm1(-2.0 * rate_hz * half_width_s);
+      const auto chance = [&](double predicted_ratio) {
+        const double predicted_s = onset(k - 1) + predicted_ratio * dt1;
+        const double half_width_s = std::max(std::fabs(onset(k) - predicted_s), 1e-7);
+        return -std::expm1(-2.0 * rate_hz * half_width_s);
+      };
+      const double p = chance(ratio);
       score += -std::log(std::max(p, 1e-300));
       ++terms;
     }
