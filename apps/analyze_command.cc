@@ -52,6 +52,10 @@ FileAnalysis AnalyzeFile(const std::string& path, const AnalyzeArgs& args) {
   options.detection.channel = args.channel;
   options.detection.detector = args.detector;
   options.sequences = args.sequences;
+  if (args.drop_height_m) {
+    options.sequences.release_flight_s =
+        calibrate::DropFlightTime(*args.drop_height_m, args.gravity_mps2);
+  }
   auto bounces = audio::AnalyzeBounces(path, options);
   analysis.detection = std::move(bounces.detection);
   analysis.grouping = std::move(bounces.grouping);
@@ -145,6 +149,7 @@ nlohmann::json ToJson(const FileAnalysis& analysis, const AnalyzeArgs& args) {
          OptionalNumber(p.energy_loss_mean_first_n_uncertainty)},
         {"first_n", args.first_n},
         {"end_reason", entry.sequence.end_reason},
+        {"short_sequence", entry.sequence.short_sequence},
     });
   }
   file["sequences"] = sequences;
@@ -321,6 +326,16 @@ void Run(const AnalyzeArgs& args) {
     } else if (analyses[i].sequences.empty()) {
       std::fprintf(stderr, "bouncecal: note: %s: no bounce sequence among %zu impacts\n",
                    args.recordings[i].c_str(), analyses[i].detection.detection.impacts.size());
+    }
+    for (size_t s = 0; s < analyses[i].sequences.size(); ++s) {
+      const auto& entry = analyses[i].sequences[s];
+      if (!entry.sequence.short_sequence) continue;
+      std::fprintf(stderr,
+                   "bouncecal: warning: %s: sequence %zu has only %zu impacts (a lossy ball, or "
+                   "two or three sounds that time like bounces by chance); check them in the "
+                   "table%s\n",
+                   args.recordings[i].c_str(), s, entry.onsets.size(),
+                   args.drop_height_m ? "" : ", and give --drop-height to time the first");
     }
   }
   if (analyses.size() > 1) {

@@ -33,6 +33,7 @@ struct Chain {
   int epoch = 0;
   std::string end_reason;
   double loudness = 0;  // sum of peak levels, breaks ties between equally long chains
+  bool short_sequence = false;
 };
 
 std::string Format(const char* format, double a, double b = 0, double c = 0) {
@@ -288,6 +289,68 @@ bool PassesOverLouderSounds(const std::vector<Impact>& impacts, const std::vecto
   return false;
 }
 
+// Impacts after the first of a short sequence may be this much louder than it: loudness falls
+// with impact speed, but not monotonically (alessia rimbalzi's 4th impact is 2-4 dB louder than
+// the 1st-3rd).
+constexpr double kShortSequenceLouderDb = 6.0;
+
+// The short sequence left in `free`, if any (see BounceSequence::short_sequence): the 3 loudest
+// free band-detected impacts (2 where only 2 are left, with a release flight), in time order,
+// when their flights are bounces: above the chatter limit, below max_interval_s, each ratio a
+// restitution and, with more than one, ratios that agree within the step tolerance. Where the
+// three loudest do not time like bounces no pair of them is tried: a louder knock before a drop
+// would otherwise make a sequence with its first impact.
+std::optional<Chain> ShortSequence(const std::vector<Impact>& impacts,
+                                   const std::vector<bool>& free, const SequenceOptions& options) {
+  const int fewest = options.release_flight_s ? 2 : 3;
+  std::vector<int> candidates;
+  for (int i = 0; i < static_cast<int>(impacts.size()); ++i) {
+    if (free[static_cast<size_t>(i)] && !impacts[static_cast<size_t>(i)].residual_only) {
+      candidates.push_back(i);
+    }
+  }
+  // Loudest first; equally loud, earlier first (deterministic).
+  std::stable_sort(candidates.begin(), candidates.end(), [&](int a, int b) {
+    return impacts[static_cast<size_t>(a)].peak_dbfs > impacts[static_cast<size_t>(b)].peak_dbfs;
+  });
+  const auto onset = [&](int i) { return impacts[static_cast<size_t>(i)].onset_s; };
+  const int count = std::min({3, options.min_impacts - 1, static_cast<int>(candidates.size())});
+  if (count >= fewest) {
+    std::vector<int> members(candidates.begin(), candidates.begin() + count);
+    std::sort(members.begin(), members.end());
+    const double first_level = impacts[static_cast<size_t>(members.front())].peak_dbfs;
+    bool bounces = true;
+    double previous_flight = options.release_flight_s ? *options.release_flight_s : std::nan("");
+    double previous_ratio = std::nan("");
+    for (std::size_t k = 1; k < members.size() && bounces; ++k) {
+      const double flight = onset(members[k]) - onset(members[k - 1]);
+      bounces = flight >= 1e-3 * options.chatter_interval_ms && flight <= options.max_interval_s &&
+                impacts[static_cast<size_t>(members[k])].peak_dbfs <=
+                    first_level + kShortSequenceLouderDb;
+      if (bounces && !std::isnan(previous_flight)) {
+        const double ratio = flight / previous_flight;
+        bounces = ratio >= options.min_ratio && ratio <= options.max_ratio &&
+                  (std::isnan(previous_ratio) ||
+                   std::fabs(ratio - previous_ratio) <= options.ratio_step_tolerance);
+        previous_ratio = ratio;
+      }
+      previous_flight = flight;
+    }
+    if (!bounces) return std::nullopt;
+    Chain chain;
+    chain.members = members;
+    chain.short_sequence = true;
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "short sequence: only %d impacts stand out, the loudest sounds left in the "
+                  "file%s; two or three sounds can time like a bounce by chance",
+                  count, options.release_flight_s ? ", the first timed against the drop" : "");
+    chain.end_reason = text;
+    return chain;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 void SequenceOptions::Validate() const {
@@ -309,6 +372,9 @@ void SequenceOptions::Validate() const {
           "a sequence needs at least 3 impacts, got " + std::to_string(min_impacts));
   require(max_chance_alignment >= 0 && max_chance_alignment <= 1,
           "--max-chance-alignment must be in [0, 1], got " + std::to_string(max_chance_alignment));
+  require(!release_flight_s || (*release_flight_s > 0 && *release_flight_s <= max_interval_s),
+          "the release flight (from --drop-height) must be in (0, --max-interval-s], got " +
+              std::to_string(release_flight_s.value_or(0)) + " s");
 }
 
 SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
@@ -380,12 +446,16 @@ SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
     }
     chains.push_back(std::move(best));
   }
+  if (chains.empty()) {
+    if (auto chain = ShortSequence(impacts, free, options)) chains.push_back(std::move(*chain));
+  }
   std::sort(chains.begin(), chains.end(),
             [](const Chain& a, const Chain& b) { return a.members.front() < b.members.front(); });
   for (size_t s = 0; s < chains.size(); ++s) {
     BounceSequence sequence;
     sequence.impact_indices = chains[s].members;
     sequence.end_reason = chains[s].end_reason;
+    sequence.short_sequence = chains[s].short_sequence;
     for (int member : chains[s].members) {
       result.sequence_of_impact[static_cast<size_t>(member)] = static_cast<int>(s);
     }

@@ -98,7 +98,11 @@ TEST(BounceSequences, SeveralDropsGiveSeveralSequences) {
 TEST(BounceSequences, FewImpactsOrRandomSoundsFormNoSequence) {
   EXPECT_TRUE(FindBounceSequences(ToImpacts({1.0})).sequences.empty());
   EXPECT_TRUE(FindBounceSequences(ToImpacts({1.0, 1.3})).sequences.empty());
-  EXPECT_TRUE(FindBounceSequences(ToImpacts({1.0, 1.3, 1.5})).sequences.empty());
+  // Three impacts give one ratio, which three random sounds with shrinking gaps give too: a
+  // short sequence, flagged as such (see ThreeImpactsFormAShortSequenceWithoutTheDropHeight).
+  const auto three = FindBounceSequences(ToImpacts({1.0, 1.3, 1.5}));
+  ASSERT_EQ(three.sequences.size(), 1u);
+  EXPECT_TRUE(three.sequences[0].short_sequence);
   // Intervals that grow are not a bouncing ball.
   const auto result = FindBounceSequences(ToImpacts({1.0, 1.1, 1.3, 1.7, 2.5}));
   EXPECT_TRUE(result.sequences.empty());
@@ -159,7 +163,11 @@ TEST(BounceSequences, WeakImpactsMakeUpASequenceOnlyWhereTheyLandOnTheBounceTime
   for (double t : {1.45, 1.63, 1.75, 1.84, 1.905}) off_times.push_back(t);
   auto off = ToImpacts(off_times);
   for (std::size_t i = 3; i < off.size(); ++i) off[i].residual_only = true;
-  EXPECT_TRUE(FindBounceSequences(off).sequences.empty());
+  // What is left is the three band-detected impacts alone: a short sequence without them.
+  const auto off_result = FindBounceSequences(off);
+  ASSERT_EQ(off_result.sequences.size(), 1u);
+  EXPECT_TRUE(off_result.sequences[0].short_sequence);
+  EXPECT_EQ(off_result.sequences[0].impact_indices, (std::vector<int>{0, 1, 2}));
   // It is the timing that rejects them: accepting any timing makes them a sequence.
   SequenceOptions any_timing;
   any_timing.max_chance_alignment = 1;
@@ -171,10 +179,14 @@ TEST(BounceSequences, WeakImpactsMakeUpASequenceOnlyWhereTheyLandOnTheBounceTime
   const auto long_result = FindBounceSequences(long_drop);
   ASSERT_EQ(long_result.sequences.size(), 1u);
   EXPECT_EQ(long_result.sequences[0].impact_indices.size(), long_drop.size());
-  // The same with max_chance_alignment 0 restores the strict count: no weak impact counts.
+  // The same with max_chance_alignment 0 restores the strict count: no weak impact counts, and
+  // only the three band-detected impacts remain, as a short sequence.
   SequenceOptions strict;
   strict.max_chance_alignment = 0;
-  EXPECT_TRUE(FindBounceSequences(on_time, strict).sequences.empty());
+  const auto strict_result = FindBounceSequences(on_time, strict);
+  ASSERT_EQ(strict_result.sequences.size(), 1u);
+  EXPECT_TRUE(strict_result.sequences[0].short_sequence);
+  EXPECT_EQ(strict_result.sequences[0].impact_indices.size(), 3u);
 }
 
 // Tentative impacts (rises too weak to count alone) become impacts only where they continue a
@@ -212,6 +224,92 @@ TEST(BounceSequences, AnAdoptedImpactDoesNotSteerTheNextWindow) {
       ExtendSequencesWithTentative(ToImpacts(times), ToImpacts({adopted, steered}));
   ASSERT_EQ(extended.size(), times.size() + 1);
   EXPECT_EQ(extended.back().onset_s, adopted);
+}
+
+}  // namespace
+}  // namespace bouncecal::audio
+
+namespace bouncecal::audio {
+namespace {
+
+// A lossy ball (e = 0.3) dropped from 0.5 m: dt_0 = 2 sqrt(2 h0 / g) = 0.6386 s, so its bounces
+// fly 0.1916 s, then 57 ms (often too quiet to detect), then 17 ms (chatter).
+constexpr double kReleaseFlightS = 0.6386;
+
+std::vector<Impact> LossyDrop(int audible, double e = 0.3) {
+  std::vector<double> times = {0.62};
+  double flight = e * kReleaseFlightS;
+  for (int k = 1; k < audible; ++k, flight *= e) times.push_back(times.back() + flight);
+  auto impacts = ToImpacts(times);
+  // Each impact is quieter than the one before: loudness falls with impact speed.
+  for (std::size_t k = 0; k < impacts.size(); ++k) impacts[k].peak_dbfs = -6.0 - 10.0 * k;
+  return impacts;
+}
+
+TEST(BounceSequences, TwoImpactsOfALossyBallFormAShortSequenceWhenTheDropHeightIsKnown) {
+  SequenceOptions options;
+  options.release_flight_s = kReleaseFlightS;
+  const auto result = FindBounceSequences(LossyDrop(2), options);
+  ASSERT_EQ(result.sequences.size(), 1u);
+  EXPECT_EQ(result.sequences[0].impact_indices.size(), 2u);
+  EXPECT_TRUE(result.sequences[0].short_sequence);
+  EXPECT_NE(result.sequences[0].end_reason.find("short sequence"), std::string::npos);
+  // Without the drop height two impacts give no ratio at all.
+  EXPECT_TRUE(FindBounceSequences(LossyDrop(2)).sequences.empty());
+}
+
+TEST(BounceSequences, ThreeImpactsFormAShortSequenceWithoutTheDropHeight) {
+  const auto result = FindBounceSequences(LossyDrop(3, 0.35));
+  ASSERT_EQ(result.sequences.size(), 1u);
+  EXPECT_EQ(result.sequences[0].impact_indices.size(), 3u);
+  EXPECT_TRUE(result.sequences[0].short_sequence);
+}
+
+// The loudest sounds must time like bounces. A knock quieter than the drop, 0.3 s before it,
+// is left out; three sounds whose gaps grow are no bounces, and with them present no pair of
+// them is tried; a second sound whose gap exceeds the release flight is no bounce either. (A
+// louder knock timed like a bounce cannot be told from one; the short-sequence warning says so.)
+TEST(BounceSequences, AShortSequenceNeedsItsLoudestSoundsToTimeLikeBounces) {
+  SequenceOptions options;
+  options.release_flight_s = kReleaseFlightS;
+  auto impacts = LossyDrop(3);
+  Impact knock;
+  knock.onset_s = 0.32;
+  knock.onset_uncertainty_s = 20e-6;
+  knock.peak_dbfs = -40.0;
+  impacts.insert(impacts.begin(), knock);
+  const auto with_knock = FindBounceSequences(impacts, options);
+  ASSERT_EQ(with_knock.sequences.size(), 1u);
+  EXPECT_EQ(with_knock.sequences[0].impact_indices, (std::vector<int>{1, 2, 3}));
+  auto growing = ToImpacts({0.5, 0.6, 0.9});
+  growing[1].peak_dbfs = -12;
+  growing[2].peak_dbfs = -14;
+  EXPECT_TRUE(FindBounceSequences(growing, options).sequences.empty());
+  auto far_apart = ToImpacts({0.5, 0.5 + 1.1 * kReleaseFlightS});
+  far_apart[1].peak_dbfs = -20;
+  EXPECT_TRUE(FindBounceSequences(far_apart, options).sequences.empty());
+}
+
+// A drop with a regular sequence is not split into short ones, and residual-only impacts never
+// make a short sequence.
+TEST(BounceSequences, ShortSequencesAreOnlyLookedForWhereNoRegularOneIs) {
+  SequenceOptions options;
+  options.release_flight_s = 0.4;
+  const auto regular = FindBounceSequences(ToImpacts(Drop(0.5, 0.3, 0.7, 10)), options);
+  ASSERT_EQ(regular.sequences.size(), 1u);
+  EXPECT_FALSE(regular.sequences[0].short_sequence);
+  auto weak = LossyDrop(3);
+  for (auto& impact : weak) impact.residual_only = true;
+  options.release_flight_s = kReleaseFlightS;
+  EXPECT_TRUE(FindBounceSequences(weak, options).sequences.empty());
+}
+
+TEST(BounceSequences, AReleaseFlightOutsideTheFlightRangeIsAConfigError) {
+  SequenceOptions options;
+  options.release_flight_s = -1.0;
+  EXPECT_THROW(options.Validate(), ConfigError);
+  options.release_flight_s = 100.0;
+  EXPECT_THROW(options.Validate(), ConfigError);
 }
 
 }  // namespace

@@ -37,6 +37,11 @@ struct SequenceOptions {
   // This is the probability, over all the chains the search tries in the file, that random
   // events line up as well (see FindBounceSequences).
   double max_chance_alignment = 1e-2;
+  // The flight that would have preceded the first impact, 2 sqrt(2 h0 / g), when the drop
+  // height h0 is known (--drop-height). It gives the first impact's restitution dt_1 / dt_0, so
+  // a lossy ball (e ~ 0.3: lead, clay, wood on sand) that makes only 2 or 3 audible impacts still
+  // forms a sequence (see BounceSequence::short_sequence); without it, 3 impacts give one ratio.
+  std::optional<double> release_flight_s;
 
   // Throws ConfigError naming the option and its valid range.
   void Validate() const;
@@ -45,6 +50,11 @@ struct SequenceOptions {
 struct BounceSequence {
   std::vector<int> impact_indices;  // into the impact list, in time order
   std::string end_reason;           // why the sequence stops where it does
+  // Fewer than min_impacts impacts: 2 or 3 band-detected impacts that are the loudest sounds
+  // left in the file and whose interval ratios (with release_flight_s, the first against the
+  // drop) are restitutions. Two or three sounds can time like that by chance, so such a
+  // sequence is weak evidence and says so wherever it is reported.
+  bool short_sequence = false;
 };
 
 struct RejectedEvent {
