@@ -14,8 +14,8 @@
 # campaigns: BOUNCECAL_FUZZ_SECONDS=3600 scripts/run_fuzz.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-# clang, its libFuzzer/sanitizer runtimes and its OpenMP are needed only here.
-scripts/install_deps.sh clang libclang-rt-14-dev libomp-14-dev
+# clang and its libFuzzer/sanitizer runtimes are needed only here.
+scripts/install_deps.sh clang libclang-rt-14-dev
 seconds="${BOUNCECAL_FUZZ_SECONDS:-30}"
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DBOUNCECAL_FUZZ=ON -DBOUNCECAL_BUILD_TESTS=OFF -DBOUNCECAL_BUILD_BENCH=OFF >/dev/null

@@ -22,7 +22,7 @@ struct PackProgress {
 };
 
 struct PackOptions {
-  int threads = 1;  // OpenMP threads; results are identical for every thread count
+  int threads = 1;  // the engine's own worker threads; results are identical for any count
   // Verlet skin as a fraction of the largest diameter: pairs are listed when their surfaces are
   // closer than this and the list is rebuilt once a particle has moved half of it.
   double skin_diameters = 0.1;
