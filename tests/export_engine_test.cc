@@ -12,6 +12,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "bouncecal/calibrate/export/trajectory_bounces.h"
 #include "bouncecal/dem/laws/walton_braun.h"
@@ -49,7 +50,8 @@ class ExportedDeck : public ::testing::Test {
                ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(folder_);
     fs::create_directories(folder_);
-    // The paper's material (PHYSICS.md section 3): 1 cm steel ball, k = 1e7 N/m, gamma_n = 0.5.
+    // The paper's material (docs/physics.md section 3): 1 cm steel ball, k = 1e7 N/m,
+    // gamma_n = 0.5.
     std::ofstream(folder_ / "card.json") << R"({
       "format": "bouncecal-material/1",
       "contact_law": {"law": "walton-braun",
@@ -179,11 +181,40 @@ TEST_F(ExportedDeck, LammpsRunsTheLinearDashpotCardExactly) {
   EXPECT_NE(verdict.output.find("PASSED: 4 of 4"), std::string::npos) << verdict.output;
 }
 
+// What a run's dump.pack holds: the timestep of each frame and the atom count of the last.
+struct DumpFrames {
+  std::vector<long> timesteps;
+  long last_atom_count = -1;
+  bool has_all_columns = false;
+};
+
+DumpFrames ReadDumpFrames(const fs::path& path) {
+  DumpFrames frames;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    line.erase(line.find_last_not_of(' ') + 1);  // LIGGGHTS ends its ATOMS header with a space
+    if (line == "ITEM: TIMESTEP" && std::getline(in, line)) {
+      frames.timesteps.push_back(std::stol(line));
+    }
+    if (line == "ITEM: NUMBER OF ATOMS" && std::getline(in, line)) {
+      frames.last_atom_count = std::stol(line);
+    }
+    if (line.rfind("ITEM: ATOMS", 0) == 0) {
+      frames.has_all_columns = line == "ITEM: ATOMS id type radius x y z vx vy vz";
+    }
+  }
+  return frames;
+}
+
 // A small, short pour (150 spheres, 0.03 s) of the paper's material, exported from a scene file
 // through the command line: enough to insert every particle, build contacts with both walls and
 // between particles, and cross the boundary between the two ranks' sub-domains (the box is split
-// along z).
-void ExportSceneAndRunOnTwoProcesses(const fs::path& folder, const std::string& engine) {
+// along z). The scene's snapshot interval (0: it asks bouncecal pack for no dumps) decides the
+// deck's dump interval, which the run's dump.pack must show.
+void ExportSceneAndRunOnTwoProcesses(const fs::path& folder, const std::string& engine,
+                                     const std::string& snapshot_interval_s,
+                                     const std::vector<long>& expected_dump_steps) {
   fs::create_directories(folder);
   std::ofstream(folder / "small_pour.json") << R"({
     "format": "bouncecal-scene/1",
@@ -203,7 +234,8 @@ void ExportSceneAndRunOnTwoProcesses(const fs::path& folder, const std::string& 
                 "local_damping": false},
     "time_step_s": 1e-5, "duration_s": 0.03, "gravity_mps2": 9.81,
     "measurement": {"band_m": [0.005, 0.045]},
-    "outputs": {"directory": "out", "snapshot_interval_s": 0.01}
+    "outputs": {"directory": "out", "snapshot_interval_s": )"
+                                            << snapshot_interval_s << R"(}
   })";
   const fs::path deck = folder / "deck";
   const auto exported = RunBouncecal(
@@ -231,6 +263,18 @@ void ExportSceneAndRunOnTwoProcesses(const fs::path& folder, const std::string& 
   std::stringstream data_text;
   data_text << data.rdbuf();
   EXPECT_NE(data_text.str().find("150 atoms"), std::string::npos) << "final.data";
+
+  // docs/export.md promises dump snapshots: every frame in one file, from step 0 to the end.
+  const DumpFrames frames = ReadDumpFrames(deck / "dump.pack");
+  EXPECT_EQ(frames.timesteps, expected_dump_steps);
+  EXPECT_EQ(frames.last_atom_count, 150);
+  EXPECT_TRUE(frames.has_all_columns);
+}
+
+std::vector<long> EveryNthStep(long every, long last) {
+  std::vector<long> steps;
+  for (long step = 0; step <= last; step += every) steps.push_back(step);
+  return steps;
 }
 
 TEST_F(ExportedDeck, LammpsPackingDeckRunsOnTwoMpiProcesses) {
@@ -238,7 +282,9 @@ TEST_F(ExportedDeck, LammpsPackingDeckRunsOnTwoMpiProcesses) {
     GTEST_SKIP() << "LAMMPS (lmp) or mpirun is not installed; scripts/install_deps.sh installs "
                     "lammps, which brings Open MPI";
   }
-  ExportSceneAndRunOnTwoProcesses(folder_ / "pack-lammps", "lammps");
+  // The scene asks for a snapshot every 0.01 s: every 1000 steps of 10 us.
+  ExportSceneAndRunOnTwoProcesses(folder_ / "pack-lammps", "lammps", "0.01",
+                                  EveryNthStep(1000, 3000));
 }
 
 TEST_F(ExportedDeck, LiggghtsPackingDeckRunsOnTwoMpiProcesses) {
@@ -246,7 +292,9 @@ TEST_F(ExportedDeck, LiggghtsPackingDeckRunsOnTwoMpiProcesses) {
     GTEST_SKIP() << "LIGGGHTS (liggghts) or mpirun is not installed; scripts/install_deps.sh "
                     "installs liggghts, which brings Open MPI";
   }
-  ExportSceneAndRunOnTwoProcesses(folder_ / "pack-liggghts", "liggghts");
+  // The scene asks for none: the deck dumps 20 times over the 3000 steps.
+  ExportSceneAndRunOnTwoProcesses(folder_ / "pack-liggghts", "liggghts", "0",
+                                  EveryNthStep(150, 3000));
 }
 
 }  // namespace

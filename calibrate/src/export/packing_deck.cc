@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "bouncecal/error.h"
@@ -167,6 +168,14 @@ Regions MakeRegions(const PackingDeckSpec& spec) {
   return regions;
 }
 
+// Snapshots of every particle in LAMMPS' text dump format (both engines take the same command),
+// the format bouncecal pack writes too, readable by OVITO and ParaView.
+std::string DumpCommand(const Deck& deck) {
+  return fmt::format(
+      "dump            snapshots all custom {} dump.pack id type radius x y z vx vy vz\n",
+      deck.output_every_steps);
+}
+
 // Type 1 is the particle, type 2 the walls; property/global matrices are ordered 11 12 21 22.
 std::string LiggghtsPackingScript(const PackingDeckSpec& spec, const LawMapping& mapping,
                                   const LiggghtsBatches& batches, const Deck& deck) {
@@ -260,13 +269,7 @@ write_data      final.data
       fmt::arg("count", spec.particle_count), fmt::arg("rate", Number(batches.rate_per_s)),
       fmt::arg("every", batches.every_steps),
       fmt::arg("thermo", std::max<std::int64_t>(1, deck.steps / 20)),
-      fmt::arg("dump",
-               deck.output_every_steps > 0
-                   ? fmt::format("dump            snapshots all custom {} dump.pack id type "
-                                 "radius x y z vx vy vz\n",
-                                 deck.output_every_steps)
-                   : std::string()),
-      fmt::arg("steps", deck.steps));
+      fmt::arg("dump", DumpCommand(deck)), fmt::arg("steps", deck.steps));
 }
 
 }  // namespace
@@ -302,10 +305,13 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
         "t_c = {:.3g} s); use a step below {:.3g} s",
         spec.time_step_s, omega_dt, pair_contact_s, pair_contact_s / 20));
   }
-  deck.output_every_steps =
-      spec.snapshot_interval_s > 0
-          ? std::max(1, static_cast<int>(std::lround(spec.snapshot_interval_s / spec.time_step_s)))
-          : 0;
+  // The deck always dumps snapshots (docs/export.md): at the scene's interval, or 20 over the run
+  // (the thermo cadence) when the scene asks bouncecal pack for none. LAMMPS takes an int.
+  const double every_steps = spec.snapshot_interval_s > 0
+                                 ? std::round(spec.snapshot_interval_s / spec.time_step_s)
+                                 : std::floor(static_cast<double>(deck.steps) / 20);
+  deck.output_every_steps = static_cast<int>(
+      std::clamp(every_steps, 1.0, static_cast<double>(std::numeric_limits<int>::max())));
   deck.output_interval_s = deck.output_every_steps * spec.time_step_s;
 
   deck.notes = mapping.notes;
@@ -330,9 +336,9 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
       Number(spec.time_step_s), pair_contact_s, pair_contact_s / spec.time_step_s,
       ContactDurationS(mapping.wall) / spec.time_step_s, 100 * deck.time_step_error_bound,
       deck.time_step_error_bound > 0.05
-          ? "; with so few steps per contact e scatters from bounce to bounce (PHYSICS.md "
-            "section 4: 0.47-0.58 for 0.577 at 10 us), which matters for dynamics more than for "
-            "the final packing"
+          ? "; with so few steps per contact e scatters from bounce to bounce (bouncecal "
+            "docs/physics.md section 4: 0.47-0.58 for 0.577 at 10 us), which matters for dynamics "
+            "more than for the final packing"
           : ""));
   deck.notes.push_back(deck_text::AttractiveTailNote(options.engine == Engine::kLammps));
   deck.notes.push_back(fmt::format(
@@ -385,13 +391,10 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
       ""};
   for (const auto& note : deck.notes) header.push_back(note);
   header.push_back("");
-  header.push_back(
-      fmt::format("Outputs: {} (thermo: atoms, kinetic energy), {}final.data "
-                  "(write_data of the final packing).",
-                  log_name,
-                  deck.output_every_steps > 0
-                      ? fmt::format("dump.pack (every {} s), ", Number(deck.output_interval_s))
-                      : ""));
+  header.push_back(fmt::format(
+      "Outputs: {} (thermo: atoms, kinetic energy), dump.pack (snapshots every {} s from t = 0: "
+      "id type radius x y z vx vy vz), final.data (write_data of the final packing).",
+      log_name, Number(deck.output_interval_s)));
   header.push_back(fmt::format("Run in this folder: {}", deck.run_command));
 
   std::string script = CommentBlock(header);
@@ -462,13 +465,7 @@ write_data      final.data
                                            : fmt::format("one {}", Number(spec.diameter_m))),
       fmt::arg("rho", Number(spec.density_kg_per_m3)),
       fmt::arg("thermo", std::max<std::int64_t>(1, deck.steps / 20)),
-      fmt::arg("dump",
-               deck.output_every_steps > 0
-                   ? fmt::format("dump            snapshots all custom {} dump.pack id type "
-                                 "radius x y z vx vy vz\n",
-                                 deck.output_every_steps)
-                   : std::string()),
-      fmt::arg("steps", deck.steps));
+      fmt::arg("dump", DumpCommand(deck)), fmt::arg("steps", deck.steps));
   deck.files.push_back({deck.input_file_name, script});
   return deck;
 }

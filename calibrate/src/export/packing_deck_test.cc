@@ -24,6 +24,21 @@ bool Contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
+// The header's comment lines as sentences again (CommentBlock continues them with "\n#   ").
+std::string Unwrapped(const std::string& text) {
+  const std::string continuation = "\n#   ";
+  std::string sentences;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text.compare(i, continuation.size(), continuation) == 0) {
+      sentences += ' ';
+      i += continuation.size() - 1;
+    } else {
+      sentences += text[i];
+    }
+  }
+  return sentences;
+}
+
 TEST(MakePackingDeck, DefaultSpecIsThePapersPourAndIsValid) {
   const PackingDeckSpec spec;
   const auto deck = MakePackingDeck(PaperMaterial(), spec, {});
@@ -58,6 +73,39 @@ TEST(MakePackingDeck, CoarseStepIsStatedNotHidden) {
   // gamma_n(pair) dt = 21940 1/s x 1e-5 s: the header must say the contacts are barely resolved.
   EXPECT_NEAR(deck.time_step_error_bound, 0.219, 0.001);
   EXPECT_TRUE(Contains(deck.files[0].content, "in 5.0 steps")) << deck.files[0].content;
+}
+
+// docs/export.md promises snapshots: a scene that asks `bouncecal pack` for none (every shipped
+// scene does) must still get them in the deck, 20 over the run, and one that asks gets its own
+// interval; the header names the file either way.
+TEST(MakePackingDeck, BothEnginesDumpSnapshotsWhetherOrNotTheSceneAsksForThem) {
+  for (Engine engine : {Engine::kLammps, Engine::kLiggghts}) {
+    SCOPED_TRACE(ToString(engine));
+    PackingDeckOptions options;
+    options.engine = engine;
+    PackingDeckSpec spec;
+    spec.snapshot_interval_s = 0;
+    auto deck = MakePackingDeck(PaperMaterial(), spec, options);
+    // 3 s of 10 us = 300000 steps, dumped every 15000 steps (0.15 s).
+    EXPECT_EQ(deck.output_every_steps, 15000);
+    EXPECT_TRUE(Contains(deck.files[0].content,
+                         "\ndump            snapshots all custom 15000 dump.pack id type radius "
+                         "x y z vx vy vz\nrun             300000\n"))
+        << deck.files[0].content;
+    EXPECT_TRUE(
+        Contains(Unwrapped(deck.files[0].content), "dump.pack (snapshots every 0.15 s from t = 0"))
+        << deck.files[0].content;
+    spec.snapshot_interval_s = 0.1;
+    deck = MakePackingDeck(PaperMaterial(), spec, options);
+    EXPECT_TRUE(Contains(deck.files[0].content, "snapshots all custom 10000 dump.pack"))
+        << deck.files[0].content;
+    // A run shorter than 20 steps still dumps every step rather than never.
+    spec.snapshot_interval_s = 0;
+    spec.duration_s = 5e-5;
+    deck = MakePackingDeck(PaperMaterial(), spec, options);
+    EXPECT_TRUE(Contains(deck.files[0].content, "snapshots all custom 1 dump.pack"))
+        << deck.files[0].content;
+  }
 }
 
 TEST(MakePackingDeck, LiggghtsDeckGivesWallsTheirOwnTypeAndPoursInBatches) {

@@ -11,9 +11,9 @@
 namespace bouncecal::calibrate {
 
 // What an exported packing deck needs of a 3D pour scene, engine-neutral and SI. The defaults
-// are the paper's scene (PHYSICS.md section 3): 2000 spheres of 1 cm poured from 20 cm into a
-// cylinder of R = 10 cm, k_s = 1e7 N/m, mu = 0.3, dt = 10 us, 3 s. dem::Scene (branch dem-pack)
-// converts to it in a few lines once it lands.
+// are the paper's scene (docs/physics.md section 3): 2000 spheres of 1 cm poured from 20 cm into
+// a cylinder of R = 10 cm, k_s = 1e7 N/m, mu = 0.3, dt = 10 us, 3 s. PackingDeckSpecFromScene
+// (scene_packing.h) converts a scene file's dem::Scene to it.
 enum class PackingContainer {
   kCylinder,  // floor z = 0 and the inside of a vertical cylinder about the z axis
   kBox,       // floor z = 0 and four side walls at x = +-half_x, y = +-half_y
@@ -49,8 +49,10 @@ struct PackingDeckSpec {
   double time_step_s = 1e-5;
   double duration_s = 3;
   double gravity_mps2 = 9.81;
-  std::uint32_t seed = 12345;        // positive, for fix pour
-  double snapshot_interval_s = 0.1;  // LAMMPS dump every this long; 0: none
+  std::uint32_t seed = 12345;  // positive, for fix pour
+  // dump.pack every this long; 0 (a scene that asks bouncecal pack for no dumps): 20 snapshots
+  // over the run. The deck always dumps, from t = 0.
+  double snapshot_interval_s = 0.1;
 };
 
 struct PackingDeckOptions {
@@ -64,9 +66,9 @@ struct PackingDeckOptions {
 // fix pour. LIGGGHTS: model hooke/stiffness with per-type-pair coefficients (the walls are atom
 // type 2), insertion by insert/rate/region in batches. Both: Cundall-Strack tangential history
 // with Coulomb friction, nve/sphere with rotation, thermo (atoms, kinetic energies), dump
-// snapshots, write_data of the final packing. The header states the mapping and what the
-// scene's time step costs in accuracy. Throws ConfigError for a spec outside its ranges (naming
-// the field) or a step that is unstable for the mapped pair contact.
+// snapshots (dump.pack), write_data of the final packing (final.data). The header states the
+// mapping and what the scene's time step costs in accuracy. Throws ConfigError for a spec outside
+// its ranges (naming the field) or a step that is unstable for the mapped pair contact.
 Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec,
                      const PackingDeckOptions& options);
 
