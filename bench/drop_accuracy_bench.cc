@@ -48,7 +48,7 @@ EnergyLoss FromSpeeds(const DropResult& result) {
 }
 
 // As a recording sees it: eta_k = 1 - (dt_k / dt_{k-1})^2 from onset times, dt_0 = 2 sqrt(2 h/g)
-// (../shared/PHYSICS.md section 1); contact time is inside the intervals.
+// (docs/physics.md section 1); contact time is inside the intervals.
 EnergyLoss FromIntervals(const DropResult& result, double drop_height_m, double gravity_mps2) {
   EnergyLoss loss;
   if (result.impacts.size() < 4) return loss;

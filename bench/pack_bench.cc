@@ -1,12 +1,12 @@
 // Timed packing run: the paper 000 pour (or any 3D scene) from one start file, reported as
 // particle-steps per second. When a LAMMPS executable (lmp, lmp_serial or lmp_stable) is on the
 // PATH it runs the same start positions with pair gran/hooke/history (the paper's damping mapped
-// to a linear dashpot of equal restitution, PHYSICS.md section 4): on 1 rank, and with mpirun on
-// --lammps-ranks ranks (default 2: the cores the target is stated for) twice, once with LAMMPS's
-// default processor grid and once with the box split only across gravity (`processors N 1 1`:
-// the default grid splits the tallest side, z, so the settled pack lands on one rank). It
-// prints the speed ratio against each and against the fastest, from this one run. Figures only:
-// nothing here asserts a time.
+// to a linear dashpot of equal restitution, docs/physics.md section 4): on 1 rank, and with
+// mpirun on --lammps-ranks ranks (default 2: the cores the target is stated for) twice, once with
+// LAMMPS's default processor grid and once with the box split only across gravity
+// (`processors N 1 1`: the default grid splits the tallest side, z, so the settled pack lands on
+// one rank). It prints the speed ratio against each and against the fastest, from this one run.
+// Figures only: nothing here asserts a time.
 //
 //   pack_bench [SCENE.json] [--duration S] [--threads N] [--settle S] [--skin D] [--min-skin D]
 //   [--no-lammps]

@@ -87,8 +87,8 @@ TEST_F(ReportCli, FittedDampingMatchesTheSamplesKnownEnergyLoss) {
   ASSERT_NE(at, std::string::npos);
   const double gamma_n = std::strtod(html.c_str() + at + key.size(), nullptr);
   // The shipped sample was synthesised with eta-bar = 0.58 exactly, so gamma_n = 0.58 / 1.42 =
-  // 0.4085 (PHYSICS.md). Tolerance 0.02: detected onsets carry ~10 us errors on 0.1-0.26 s flights,
-  // i.e. ~0.01 in eta-bar over 3 impacts, and d gamma / d eta = (1 + gamma)^2 / 2 ~ 1.
+  // 0.4085 (docs/physics.md). Tolerance 0.02: detected onsets carry ~10 us errors on 0.1-0.26 s
+  // flights, i.e. ~0.01 in eta-bar over 3 impacts, and d gamma / d eta = (1 + gamma)^2 / 2 ~ 1.
   EXPECT_NEAR(gamma_n, 0.58 / 1.42, 0.02);
 }
 

@@ -25,7 +25,7 @@ std::vector<TimedImpact> GeometricSequence(double h0, double e, double g, int co
 }
 
 TEST(AnalyzeRestitution, PaperDropFlightTimeIs0404Seconds) {
-  // PHYSICS.md: dt_0 = 0.4040 s for h0 = 0.20 m, g = 9.8. The exact value is 0.404061 s; the
+  // docs/physics.md: dt_0 = 0.4040 s for h0 = 0.20 m, g = 9.8. The exact value is 0.404061 s; the
   // paper truncates to four decimals, so agreement is to 1e-4 s.
   EXPECT_NEAR(DropFlightTime(0.20, 9.8), 0.4040, 1e-4);
 }

@@ -32,7 +32,7 @@ TEST(Sweep, ExactDropsFollowTheClosedFormUpToGravityDuringContact) {
   for (const auto& point : summary.points) {
     ASSERT_TRUE(point.analytic_energy_loss.has_value());
     // Gravity acts during a ~70 us contact at ~2 m/s impacts: g t_c / v ~ 3e-4 relative, and
-    // onset-to-onset flights include the contact; 5e-3 bounds both (PHYSICS.md: the paper's
+    // onset-to-onset flights include the contact; 5e-3 bounds both (docs/physics.md: the paper's
     // Fig. 6 shows simulated eta on the curve).
     EXPECT_NEAR(point.first_energy_loss, *point.analytic_energy_loss, 5e-3) << point.value;
     EXPECT_NEAR(point.first_contact_energy_loss, *point.analytic_energy_loss, 1e-3) << point.value;

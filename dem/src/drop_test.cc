@@ -331,7 +331,7 @@ TEST(SimulateDrop, EveryStopReasonIsReachedAndExplained) {
   }
 }
 
-// The paper's simulated eta-bar = 0.598 (../shared/PHYSICS.md section 3) is what fixed-step
+// The paper's simulated eta-bar = 0.598 (docs/physics.md section 3) is what fixed-step
 // stepping at dt = 10 us gives on average over where the touchdown falls inside a step (the
 // hysteresis branch switches only at step boundaries); located events give the formula's 0.667.
 // Over 100 onset phases the classic mean has a standard error of 0.0046 (spread 0.046), so

@@ -53,7 +53,8 @@ inline std::string CommentBlock(const std::vector<std::string>& lines) {
 inline std::string AttractiveTailNote(bool lammps) {
   return fmt::format(
       "{} is left off on purpose: the matched closed forms count the dashpot's attractive pull "
-      "just before separation; switching it on raises e (PHYSICS.md section 4: 0.64 -> 0.66).",
+      "just before separation; switching it on raises e (bouncecal docs/physics.md section 4: "
+      "0.64 -> 0.66).",
       lammps ? "limit_damping" : "limitForce");
 }
 

@@ -55,6 +55,13 @@ TEST(MakeDropDeck, LammpsDeckCarriesWallAndPairCoefficientsAndProvenance) {
   EXPECT_TRUE(Contains(script, "bouncecal " + std::string(Version())));
   EXPECT_TRUE(Contains(script, "cards/steel.json"));
   EXPECT_TRUE(Contains(script, "MAPPED LAW: LAMMPS has no Walton-Braun"));
+  // The deck travels without the repository: it cites bouncecal's docs by name, nothing outside.
+  bool cites_physics = false;
+  for (const auto& note : deck.notes) {
+    cites_physics = cites_physics || Contains(note, "bouncecal docs/physics.md section 4");
+  }
+  EXPECT_TRUE(cites_physics);
+  EXPECT_FALSE(Contains(script, "PHYSICS.md")) << script;
   EXPECT_TRUE(Contains(script, "timestep        " + Format12(deck.time_step_s)));
   EXPECT_TRUE(Contains(script, "run             " + std::to_string(deck.steps)));
   // Every line of the header is a comment: the engine must not see stray text.

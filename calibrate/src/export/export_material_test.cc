@@ -41,7 +41,7 @@ TEST(ExportMaterialFromJson, ReadsLawBallAndImpliedRestitution) {
   EXPECT_EQ(material.law.kind, dem::ContactLawKind::kWaltonBraun);
   EXPECT_EQ(material.law.Get("gamma_n"), 0.5);
   EXPECT_EQ(material.diameter_m, 0.01);
-  // Mass from the density: rho pi d^3 / 6 = 4.084 g (PHYSICS.md), to rounding.
+  // Mass from the density: rho pi d^3 / 6 = 4.084 g (docs/physics.md), to rounding.
   EXPECT_NEAR(material.mass_kg, 7800 * std::numbers::pi * 1e-6 / 6, 1e-15);
   ASSERT_TRUE(material.implied_restitution.has_value());
   EXPECT_NEAR(*material.implied_restitution, std::sqrt(1.0 / 3.0), 1e-12);

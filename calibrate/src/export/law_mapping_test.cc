@@ -41,11 +41,11 @@ TEST(MapWaltonBraun, WallCoefficientsKeepTheLawsRestitutionAndContactDuration) {
   // t_c is ~1e-5 relative, so 1e-4 is a safe bound that still catches any formula slip.
   EXPECT_NEAR(Restitution(mapping.wall) / direct.restitution, 1.0, 1e-4);
   EXPECT_NEAR(ContactDurationS(mapping.wall) / direct.contact_duration_s, 1.0, 1e-4);
-  // PHYSICS.md: eta = 2 gamma / (1 + gamma) = 2/3 for gamma_n = 0.5; closed forms to rounding.
+  // docs/physics.md: eta = 2 gamma / (1 + gamma) = 2/3 for gamma_n = 0.5; closed forms to rounding.
   EXPECT_NEAR(1 - mapping.restitution * mapping.restitution, 2.0 / 3.0, 1e-12);
   EXPECT_NEAR(Restitution(mapping.wall), mapping.restitution, 1e-12);
   EXPECT_FALSE(mapping.exact);
-  // The reference contact (m = 4.08 g, k = 1e7 N/m) lasts about 70 us (PHYSICS.md section 2).
+  // The reference contact (m = 4.08 g, k = 1e7 N/m) lasts about 70 us (docs/physics.md section 2).
   EXPECT_NEAR(mapping.wall_contact_duration_s, 70e-6, 2e-6);
 }
 

@@ -108,6 +108,20 @@ TEST(MakePackingDeck, BothEnginesDumpSnapshotsWhetherOrNotTheSceneAsksForThem) {
   }
 }
 
+// The decks travel without the repository: what they cite must be named as bouncecal's own docs,
+// never a file outside it.
+TEST(MakePackingDeck, NotesCiteBouncecalsPhysicsReference) {
+  for (Engine engine : {Engine::kLammps, Engine::kLiggghts}) {
+    PackingDeckOptions options;
+    options.engine = engine;
+    const std::string script =
+        Unwrapped(MakePackingDeck(PaperMaterial(), {}, options).files[0].content);
+    EXPECT_TRUE(Contains(script, "bouncecal docs/physics.md section 4")) << script;
+    EXPECT_FALSE(Contains(script, "PHYSICS.md")) << script;
+    EXPECT_FALSE(Contains(script, "../")) << script;
+  }
+}
+
 TEST(MakePackingDeck, LiggghtsDeckGivesWallsTheirOwnTypeAndPoursInBatches) {
   PackingDeckOptions options;
   options.engine = Engine::kLiggghts;

@@ -64,7 +64,7 @@ TEST(SpringDashpot, ClosedFormsAgreeWithADirectIntegrationOfTheImpact) {
 }
 
 TEST(SpringDashpot, DampingAgreesWithTheLiggghtsRestitutionFormula) {
-  // PHYSICS.md section 4 (LIGGGHTS model hooke with coefficientRestitution): the damping
+  // docs/physics.md section 4 (LIGGGHTS model hooke with coefficientRestitution): the damping
   // coefficient is 2 sqrt(m_eff k) (-ln e) / sqrt(pi^2 + ln^2 e), an independent closed form.
   const double e = 0.5773502691896257;
   const auto law = MatchRestitutionAndDuration(e, 7.08e-5, kSteelBallMassKg);

@@ -26,7 +26,7 @@ double WindowAreaFractionAt(const std::string& name, double time_s) {
   return summary.packing_density;
 }
 
-// Paper 004 section 3.1 (PHYSICS.md section 3): at t = 0.0475 s the window's area fraction is
+// Paper 004 section 3.1 (docs/physics.md section 3): at t = 0.0475 s the window's area fraction is
 // 0.6894, the bottom settled and the top still loose. This is the sedimentation under gravity
 // damped to (1 - alpha) g plus the first contacts, before the slow stage the paper reaches 0.8236
 // in and ours does not (docs/packing.md). Tolerance 0.03: over insertion seeds 1-5 the scene gives

@@ -10,7 +10,7 @@
 namespace bouncecal::audio {
 
 // What makes a run of impacts a bouncing ball. A ball that leaves impact k with restitution
-// e_k flies dt_k = e_k dt_{k-1} (PHYSICS.md section 1), so the interval ratio r_k = dt_k /
+// e_k flies dt_k = e_k dt_{k-1} (docs/physics.md section 1), so the interval ratio r_k = dt_k /
 // dt_{k-1} is e_k: inside (0, 1), and changing only slowly from impact to impact (e depends on
 // impact speed, ub-mth337 ping-pong goes 0.907 -> 0.95 over 60 bounces).
 struct SequenceOptions {

@@ -93,7 +93,7 @@ struct ImpactSpec {
 // Ballistic drops: a ball released from rest at drop_height_m at release_s hits the floor at
 // t_1 = release_s + sqrt(2 h0 / g) with v_1 = sqrt(2 g h0); after impact k it leaves with
 // e(v_k) v_k and flies dt_k = 2 e(v_k) v_k / g (drag and contact time neglected, as in
-// ../shared/PHYSICS.md section 1). A drop ends when the next flight would be shorter than
+// docs/physics.md section 1). A drop ends when the next flight would be shorter than
 // min_flight_s (the ball then chatters and rolls) or after max_impacts_per_drop impacts.
 //
 // With terminal_speed_mps set, flights follow quadratic air drag (m dv/dt = -m g -+ m g v|v| /

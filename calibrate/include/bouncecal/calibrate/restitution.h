@@ -6,7 +6,7 @@
 
 namespace bouncecal::calibrate {
 
-// Ballistic-flight analysis of one bounce sequence (../shared/PHYSICS.md section 1): the flight
+// Ballistic-flight analysis of one bounce sequence (docs/physics.md section 1): the flight
 // between impacts k and k+1 lasts dt_k, so the ball left impact k at g dt_k / 2 and rose to
 // g dt_k^2 / 8; e_k = dt_k / dt_{k-1} and eta_k = 1 - e_k^2. Contact time and drag are neglected.
 struct RestitutionOptions {

@@ -15,7 +15,8 @@ namespace bouncecal::calibrate {
 //
 // Wall and pair contacts get separate coefficients because the engines scale the damping by the
 // contact's effective mass: a sphere on a wall has m_eff = m, two equal spheres m/2, and one
-// gamma_n cannot give both the right restitution (the LAMMPS user trap of PHYSICS.md section 4).
+// gamma_n cannot give both the right restitution (the LAMMPS user trap of docs/physics.md
+// section 4).
 struct LawMapping {
   std::string source_law;          // the card's law name, e.g. "walton-braun"
   std::string source_description;  // name and parameters, for deck headers
@@ -30,7 +31,7 @@ struct LawMapping {
   std::vector<std::string> notes;
 };
 
-// The paper's hysteretic law (Walton & Braun 1986 style, PHYSICS.md section 2): loading
+// The paper's hysteretic law (Walton & Braun 1986 style, docs/physics.md section 2): loading
 // stiffness (1+gamma_n) k, unloading (1-gamma_n) k, so e = sqrt((1-gamma_n)/(1+gamma_n)) and
 // t_c = (pi/2) sqrt(m_eff/k) (1/sqrt(1+gamma_n) + 1/sqrt(1-gamma_n)), both independent of the
 // impact speed. Neither engine has it (LIGGGHTS' hooke/hysteresis is Luding's variant, whose e

@@ -30,7 +30,7 @@ double ContactDurationS(const SpringDashpot& law);
 // The spring-dashpot with the given restitution and contact duration for a contact of the given
 // effective mass: beta = -ln e / t_c, omega_d = pi / t_c, k = m_eff (omega_d^2 + beta^2),
 // gamma_n = 2 beta. Equal e and equal t_c is the honest way to stand a linear law in for a law
-// the engine lacks (PHYSICS.md section 4). Throws ConfigError unless 0 < e <= 1, t_c > 0 and
+// the engine lacks (docs/physics.md section 4). Throws ConfigError unless 0 < e <= 1, t_c > 0 and
 // m_eff > 0 (all finite).
 SpringDashpot MatchRestitutionAndDuration(double restitution, double contact_duration_s,
                                           double effective_mass_kg);

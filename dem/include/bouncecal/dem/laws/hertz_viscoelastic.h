@@ -12,7 +12,7 @@ namespace bouncecal::dem {
 // Hertz contact with viscoelastic damping after Brilliantov et al. (1996, Phys. Rev. E 53, 5382):
 //   F = K (xi^(3/2) + (3/2) A sqrt(xi) d xi/dt),  K = (4/3) E* sqrt(R_eff),
 // with A the dissipative time (s) of the material. Restitution falls with impact speed, as the
-// measured eta_k of a bouncing ball does (../shared/PHYSICS.md section 1). Chosen over Tsuji's
+// measured eta_k of a bouncing ball does (docs/physics.md section 1). Chosen over Tsuji's
 // xi^(1/4) form because Tsuji's damping gives a speed-independent restitution, which the linear
 // laws already cover. The force is clipped at zero (no attraction: the surfaces separate when it
 // would pull, Schwager & Poeschel 2008, Phys. Rev. E 78, 051304).

@@ -10,7 +10,7 @@
 namespace bouncecal::dem {
 
 // Linear elastic contact with the hysteretic damping used by the paper (acoustic calibration,
-// 2009; ../shared/PHYSICS.md section 2), in the spirit of Walton & Braun (1986, J. Rheol. 30):
+// 2009; docs/physics.md section 2), in the spirit of Walton & Braun (1986, J. Rheol. 30):
 //   F = k xi + F_d,  F_d = -gamma_n |k xi| sgn(d xi/dt)  (on the body, repulsive > 0)
 // so the body is pushed with (1 + gamma_n) k xi while loading and (1 - gamma_n) k xi while
 // unloading. Without gravity each impact keeps e = sqrt((1 - gamma)/(1 + gamma)) of the speed,
