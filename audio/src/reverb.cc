@@ -1,12 +1,11 @@
 #include "reverb.h"
 
-#include <fftw3.h>
-
 #include <algorithm>
 #include <cmath>
 #include <complex>
 #include <memory>
-#include <mutex>
+
+#include "fftw_double.h"
 
 namespace bouncecal::audio {
 namespace {
@@ -14,26 +13,6 @@ namespace {
 // 60 dB of amplitude is a factor 1000: exp(-ln(1000) t / rt60).
 constexpr double kLn1000 = 6.907755278982137;
 constexpr double kTailLengthRt60 = 1.5;  // 90 dB down: below any 16-bit noise floor
-
-// FFTW's planner is not thread-safe (FFTW manual, "Thread safety"); planning is serialised here
-// and execution, which is thread-safe, is not.
-std::mutex& PlannerMutex() {
-  static std::mutex mutex;
-  return mutex;
-}
-
-struct FftwFree {
-  void operator()(void* pointer) const { fftw_free(pointer); }
-};
-struct PlanDestroy {
-  void operator()(fftw_plan_s* plan) const {
-    std::lock_guard lock(PlannerMutex());
-    fftw_destroy_plan(plan);
-  }
-};
-using RealBuffer = std::unique_ptr<double[], FftwFree>;
-using ComplexBuffer = std::unique_ptr<fftw_complex[], FftwFree>;
-using Plan = std::unique_ptr<fftw_plan_s, PlanDestroy>;
 
 size_t NextPowerOfTwo(size_t n) {
   size_t power = 1;
@@ -73,17 +52,13 @@ void AddConvolution(std::span<const double> tail, std::span<float> signal) {
   const size_t block = std::max<size_t>(4096, NextPowerOfTwo(tail.size()));
   const size_t fft_size = NextPowerOfTwo(block + tail.size() - 1);
   const size_t bins = fft_size / 2 + 1;
-  RealBuffer real(fftw_alloc_real(fft_size));
-  ComplexBuffer spectrum(fftw_alloc_complex(bins));
-  ComplexBuffer tail_spectrum(fftw_alloc_complex(bins));
-  Plan forward, backward;
-  {
-    std::lock_guard lock(PlannerMutex());
-    forward.reset(fftw_plan_dft_r2c_1d(static_cast<int>(fft_size), real.get(), spectrum.get(),
-                                       FFTW_ESTIMATE));
-    backward.reset(fftw_plan_dft_c2r_1d(static_cast<int>(fft_size), spectrum.get(), real.get(),
-                                        FFTW_ESTIMATE));
-  }
+  fftw_double::RealBuffer real(fftw_alloc_real(fft_size));
+  fftw_double::ComplexBuffer spectrum(fftw_alloc_complex(bins));
+  fftw_double::ComplexBuffer tail_spectrum(fftw_alloc_complex(bins));
+  const fftw_double::Plan forward =
+      fftw_double::PlanRealToComplex(static_cast<int>(fft_size), real.get(), spectrum.get());
+  const fftw_double::Plan backward =
+      fftw_double::PlanComplexToReal(static_cast<int>(fft_size), spectrum.get(), real.get());
   std::fill(real.get(), real.get() + fft_size, 0.0);
   std::copy(tail.begin(), tail.end(), real.get());
   fftw_execute_dft_r2c(forward.get(), real.get(), tail_spectrum.get());
