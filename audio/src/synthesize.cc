@@ -6,12 +6,15 @@
 #include <numbers>
 #include <sstream>
 
+#include "anti_aliasing_filter.h"
 #include "band_limit.h"
 #include "bouncecal/error.h"
+#include "contact_click.h"
 #include "extra_event_sound.h"
 #include "modal_impact.h"
 #include "noise.h"
 #include "random_stream.h"
+#include "recording_chain.h"
 #include "reverb.h"
 
 namespace bouncecal::audio {
@@ -36,15 +39,19 @@ std::string Number(double value) {
 }
 
 // Modes a recorder would actually capture: its anti-aliasing filter removes everything near
-// and above Nyquist, and a mode rendered there would alias.
-std::vector<PlateMode> AudibleModes(const SynthesisOptions& options) {
+// and above Nyquist, and a mode rendered there would alias. Without a chain rate_hz is the
+// output rate; with one it is the high rate, and the chain's own filter removes the rest.
+std::vector<PlateMode> AudibleModes(std::span<const PlateMode> modes, double rate_hz) {
   std::vector<PlateMode> audible;
-  for (const PlateMode& mode : options.modes) {
-    if (mode.frequency_hz < 0.45 * options.sample_rate_hz && mode.gain != 0)
-      audible.push_back(mode);
+  for (const PlateMode& mode : modes) {
+    if (mode.frequency_hz < 0.45 * rate_hz && mode.gain != 0) audible.push_back(mode);
   }
   return audible;
 }
+
+// Working memory of a chain: one float per high-rate sample of one channel. 2^27 samples
+// (512 MiB) is 5.8 minutes at 8 x 48 kHz.
+constexpr std::int64_t kMaxHighRateSamples = std::int64_t{1} << 27;
 
 // How one ball impact sounds (before channel gain): contact duration and amplitude scale with
 // impact speed (Hertz: tau ~ v^-1/5; impulse ~ v).
@@ -67,18 +74,60 @@ ImpactVoice VoiceFor(const SynthesisOptions& options, double unit_peak, double i
 // mode above 100 Hz with margin.
 constexpr double kPeakSearchS = 0.05;
 
-// Mean square of one impact's direct sound over the round(window_s * rate) samples that start
-// at the first sample at or after its arrival (a sample count, so rounding of t_i never adds or
-// drops a sample at the window's end).
-double WindowPower(std::span<const PlateMode> modes, double contact_s, double scale,
-                   double arrival_s, double window_s, double sample_rate_hz) {
+// Renders one excitation of the modes (and its contact click when click_peak != 0) at the
+// output samples [first_output, first_output + out.size()): directly at sample_rate_hz without
+// a chain, else at the chain's high rate through its decimator.
+void RenderDirectSound(std::span<const PlateMode> modes, const AntiAliasingFilter* filter,
+                       double arrival_s, double scale, double contact_s, double click_peak,
+                       double sample_rate_hz, std::int64_t first_output, std::span<float> out) {
+  if (filter == nullptr) {
+    // Rendered into a buffer whose sample 0 is sample first_output of the file.
+    const double arrival_in_out_s = arrival_s - static_cast<double>(first_output) / sample_rate_hz;
+    const ModalExcitation excitation{arrival_in_out_s, scale, contact_s};
+    RenderModalExcitations(modes, std::span(&excitation, 1), sample_rate_hz, out);
+    if (click_peak != 0.0) {
+      const ContactClick click{arrival_in_out_s, click_peak, contact_s};
+      AddContactClicks(std::span(&click, 1), sample_rate_hz, 0, out);
+    }
+    return;
+  }
+  const double high_rate_hz = sample_rate_hz * filter->oversampling;
+  const HighRateRange range =
+      DecimatorInput(*filter, first_output, static_cast<std::int64_t>(out.size()));
+  std::vector<float> high(static_cast<size_t>(range.count), 0.0f);
+  const double arrival_in_high_s = arrival_s - static_cast<double>(range.first) / high_rate_hz;
+  const ModalExcitation excitation{arrival_in_high_s, scale, contact_s};
+  RenderModalExcitations(modes, std::span(&excitation, 1), high_rate_hz, high);
+  if (click_peak != 0.0) {
+    const ContactClick click{arrival_in_high_s, click_peak, contact_s};
+    AddContactClicks(std::span(&click, 1), high_rate_hz, 0, high);
+  }
+  Decimate(*filter, high, range.first, first_output, out);
+}
+
+// The sampled peak of a reference impact (unit scale, onset on a sample) through the chain: with
+// a chain, peak_amplitude means the peak of what reaches the file.
+double ChainSampledPeak(std::span<const PlateMode> modes, const AntiAliasingFilter& filter,
+                        double contact_s, double sample_rate_hz, double span_s) {
+  const auto count = static_cast<size_t>(span_s * sample_rate_hz) + 1;
+  std::vector<float> rendered(count, 0.0f);
+  RenderDirectSound(modes, &filter, 0.0, 1.0, contact_s, 0.0, sample_rate_hz, 0, rendered);
+  double peak = 0.0;
+  for (float value : rendered) peak = std::max(peak, std::abs(double{value}));
+  return peak;
+}
+
+// Mean square of one impact's direct sound (with its contact click) over the
+// round(window_s * rate) samples that start at the first sample at or after its arrival (a
+// sample count, so rounding of t_i never adds or drops a sample at the window's end).
+double WindowPower(std::span<const PlateMode> modes, const AntiAliasingFilter* filter,
+                   double contact_s, double scale, double click_peak, double arrival_s,
+                   double window_s, double sample_rate_hz) {
   const std::int64_t first = FirstSampleAtOrAfter(arrival_s, sample_rate_hz);
   const auto count = std::max<std::int64_t>(1, std::llround(window_s * sample_rate_hz));
-  // Rendered into a window-sized buffer whose sample 0 is sample `first` of the file.
   std::vector<float> window(static_cast<size_t>(count), 0.0f);
-  const ModalExcitation excitation{arrival_s - static_cast<double>(first) / sample_rate_hz, scale,
-                                   contact_s};
-  RenderModalExcitations(modes, std::span(&excitation, 1), sample_rate_hz, window);
+  RenderDirectSound(modes, filter, arrival_s, scale, contact_s, click_peak, sample_rate_hz, first,
+                    window);
   double sum = 0.0;
   for (float value : window) sum += static_cast<double>(value) * value;
   return sum / static_cast<double>(count);
@@ -220,6 +269,16 @@ double RestitutionLaw::Evaluate(double impact_speed_mps) const {
   return constant + slope_per_mps * impact_speed_mps;
 }
 
+std::string_view ToString(AdcFilterPhase phase) {
+  switch (phase) {
+    case AdcFilterPhase::kLinear:
+      return "linear-phase";
+    case AdcFilterPhase::kMinimum:
+      return "minimum-phase";
+  }
+  return "unknown";
+}
+
 std::string_view ToString(SoundEventKind kind) {
   switch (kind) {
     case SoundEventKind::kBallImpact:
@@ -286,9 +345,18 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
   ValidateSynthesisOptions(options);
   const double rate_hz = options.sample_rate_hz;
   const std::vector<SynthesizedEvent> ball_impacts = PlanBallImpacts(options);
-  const std::vector<PlateMode> modes = AudibleModes(options);
+  const std::optional<AntiAliasingFilter> filter =
+      options.chain ? std::optional(DesignAntiAliasingFilter(*options.chain, rate_hz))
+                    : std::nullopt;
+  const AntiAliasingFilter* chain_filter = filter ? &*filter : nullptr;
+  const double acoustic_rate_hz = filter ? rate_hz * filter->oversampling : rate_hz;
+  const std::vector<PlateMode> modes = AudibleModes(options.modes, acoustic_rate_hz);
   const double unit_peak =
-      ModalImpact(modes, options.contact_duration_s).SampledPeak(rate_hz, kPeakSearchS);
+      filter ? ChainSampledPeak(
+                   modes, *filter, options.contact_duration_s, rate_hz,
+                   std::min(kPeakSearchS,
+                            ModalImpact(modes, options.contact_duration_s).ring_duration_s()))
+             : ModalImpact(modes, options.contact_duration_s).SampledPeak(rate_hz, kPeakSearchS);
   if (!(unit_peak > 0.0)) {
     throw ConfigError(
         "synthesis option modes: the audible modes give a silent impact; give "
@@ -303,12 +371,14 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
   }
   // Every event of the truth, before truncation to the file length.
   std::vector<SynthesizedEvent> events;
+  std::vector<double> impact_peaks(ball_impacts.size());
   for (size_t k = 0; k < ball_impacts.size(); ++k) {
     SynthesizedEvent impact = ball_impacts[k];
     impact.peak_amplitude = options.peak_amplitude *
                             std::pow(impact.impact_speed_mps / options.reference_speed_mps,
                                      options.amplitude_speed_exponent) *
                             jitter[k];
+    impact_peaks[k] = impact.peak_amplitude;
     events.push_back(impact);
     if (options.precursor) {
       events.push_back({impact.onset_s - options.precursor->lead_s, SoundEventKind::kPrecursor,
@@ -336,6 +406,18 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
         "tail_s above 0");
   }
   std::erase_if(events, [&](const SynthesizedEvent& event) { return event.onset_s >= duration_s; });
+  // With a chain the high-rate signal runs on past the last output sample by the filter's lead.
+  const HighRateRange acoustic_range =
+      filter ? DecimatorInput(*filter, 0, frame_count) : HighRateRange{0, frame_count};
+  const std::int64_t acoustic_count = acoustic_range.first + acoustic_range.count;
+  if (filter && acoustic_count > kMaxHighRateSamples) {
+    throw ConfigError(
+        "synthesis option chain: " + Number(duration_s) + " s at " +
+        std::to_string(filter->oversampling) + " x " + std::to_string(options.sample_rate_hz) +
+        " Hz needs " + std::to_string(acoustic_count) +
+        " high-rate samples per channel, more than " + std::to_string(kMaxHighRateSamples) +
+        "; lower chain.oversampling or render a shorter file");
+  }
   for (const SynthesizedEvent& event : events) {
     if (event.onset_s < options.leading_digital_silence_s) {
       throw ConfigError("synthesis option leading_digital_silence_s = " +
@@ -372,18 +454,32 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
     recording.source_channel_count = static_cast<int>(options.channels.size());
     recording.samples.assign(static_cast<size_t>(frame_count), 0.0f);
     std::span<float> out(recording.samples);
+    // The acoustic signal: the output itself, or with a chain a high-rate buffer starting at
+    // time 0 (nothing sounds before it) that is decimated into the output below.
+    std::vector<float> high_rate;
+    std::span<float> acoustic = out;
+    if (filter) {
+      high_rate.assign(static_cast<size_t>(acoustic_count), 0.0f);
+      acoustic = high_rate;
+    }
 
     std::vector<double> direct_power;  // per ball impact, for the SNR
     std::vector<ModalExcitation> excitations;
+    std::vector<ContactClick> clicks;
     for (size_t k = 0; k < ball_impacts.size(); ++k) {
       const SynthesizedEvent& impact = ball_impacts[k];
       if (impact.onset_s >= duration_s) break;
       const ImpactVoice voice = VoiceFor(options, unit_peak, impact.impact_speed_mps, jitter[k]);
       const double arrival_s = impact.onset_s + channel.delay_s;
       const double scale = voice.scale * channel_gain;
+      const double click_peak = options.click_gain * impact_peaks[k] * channel_gain;
       for (size_t e = 0; e < echo_delays_s.size(); ++e) {
         excitations.push_back(
             {arrival_s + echo_delays_s[e], scale * echo_gains[e], voice.contact_s});
+        if (click_peak != 0.0) {
+          clicks.push_back(
+              {arrival_s + echo_delays_s[e], click_peak * echo_gains[e], voice.contact_s});
+        }
         if (options.precursor) {
           excitations.push_back({arrival_s + echo_delays_s[e] - options.precursor->lead_s,
                                  scale * echo_gains[e] * DbToGain(options.precursor->gain_db),
@@ -391,22 +487,33 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
         }
       }
       if (options.noise) {
-        direct_power.push_back(WindowPower(modes, voice.contact_s, scale, arrival_s,
-                                           options.noise->window_s, rate_hz));
+        direct_power.push_back(WindowPower(modes, chain_filter, voice.contact_s, scale, click_peak,
+                                           arrival_s, options.noise->window_s, rate_hz));
       }
     }
-    RenderModalExcitations(modes, excitations, rate_hz, out);
+    RenderModalExcitations(modes, excitations, acoustic_rate_hz, acoustic);
+    if (!clicks.empty()) AddContactClicks(clicks, acoustic_rate_hz, 0, acoustic);
     for (size_t i = 0; i < options.extra_events.size(); ++i) {
       const ExtraEvent& extra = options.extra_events[i];
+      // Past the file's end an event is not in the truth; with a chain its pre-ringing could
+      // otherwise reach the last samples (without one it would write nothing anyway).
+      if (filter && extra.onset_s >= duration_s) continue;
       for (size_t e = 0; e < echo_delays_s.size(); ++e) {
         AddExtraEventSound(extra.kind, extra.onset_s + channel.delay_s + echo_delays_s[e],
-                           extra.peak_amplitude * channel_gain * echo_gains[e], rate_hz,
-                           RandomStream(options.seed, kExtraEventStream, i), 0, out);
+                           extra.peak_amplitude * channel_gain * echo_gains[e], acoustic_rate_hz,
+                           RandomStream(options.seed, kExtraEventStream, i), 0, acoustic);
       }
     }
     if (options.reverb && options.reverb->rt60_s > 0.0) {
-      AddConvolution(
-          DiffuseTail(*options.reverb, rate_hz, RandomStream(options.seed, kReverbStream, c)), out);
+      AddConvolution(DiffuseTail(*options.reverb, acoustic_rate_hz,
+                                 RandomStream(options.seed, kReverbStream, c)),
+                     acoustic);
+    }
+    if (filter) {
+      Decimate(*filter, high_rate, 0, 0, out);
+      high_rate = std::vector<float>();  // release it before the next channel's
+      // Digital silence stays exact zeros, even where an event just after it pre-rings.
+      std::fill(out.begin(), out.begin() + silence_frames, 0.0f);
     }
 
     double noise_rms = 0.0;
@@ -454,11 +561,43 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
     result.channel_delay_s.push_back(channel.delay_s);
   }
   result.events = std::move(events);
+  result.click_gain = options.click_gain;
+  if (filter) {
+    RecordingChain chain = *options.chain;
+    chain.oversampling = filter->oversampling;
+    result.chain =
+        RecordingChainSummary{.chain = chain,
+                              .taps = static_cast<int>(filter->taps.size()),
+                              .high_rate_hz = acoustic_rate_hz,
+                              .kaiser_beta = filter->kaiser_beta,
+                              .passband_ripple_db = filter->figures.passband_ripple_db,
+                              .stopband_attenuation_db = filter->figures.stopband_attenuation_db,
+                              .pre_ring_span_s = filter->lead / acoustic_rate_hz};
+  }
   return result;
 }
 
 std::string TruthCsv(const SynthesizedRecording& recording) {
   std::ostringstream out;
+  if (recording.chain) {
+    const RecordingChainSummary& chain = *recording.chain;
+    out << "# recording chain: " << ToString(chain.chain.phase) << " anti-aliasing FIR, "
+        << chain.taps << " taps at " << Number(chain.high_rate_hz) << " Hz ("
+        << chain.chain.oversampling << " x the file rate), passband to "
+        << Number(chain.chain.passband_edge_fraction) << " fs (ripple "
+        << Number(chain.passband_ripple_db) << " dB), stop band from "
+        << Number(chain.chain.stopband_edge_fraction) << " fs ("
+        << Number(chain.stopband_attenuation_db) << " dB)\n";
+    out << (chain.chain.phase == AdcFilterPhase::kLinear
+                ? "# onsets are contact times; the zero-phase filter spreads energy up to " +
+                      Number(chain.pre_ring_span_s) + " s before them\n"
+                : std::string("# onsets are contact times; the causal filter puts nothing before "
+                              "them\n"));
+  }
+  if (recording.click_gain != 0.0) {
+    out << "# contact click: half-sine of each impact's contact duration, peak "
+        << Number(recording.click_gain) << " x its peak_amplitude\n";
+  }
   out << "onset_s,impact_speed_mps,kind,drop,peak_amplitude\n";
   out.setf(std::ios::fixed);
   for (const SynthesizedEvent& event : recording.events) {

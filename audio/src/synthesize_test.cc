@@ -9,6 +9,7 @@
 #include <span>
 #include <string>
 
+#include "bouncecal/audio/impact_csv.h"
 #include "bouncecal/error.h"
 
 namespace bouncecal::audio {
@@ -507,6 +508,242 @@ TEST(SynthesizeBounces, ModesAboveNyquistAreLeftOutAtLowSampleRates) {
   EXPECT_THROW(SynthesizeBounces(options), ConfigError);
 }
 
+// --- Recording chain and contact click -------------------------------------------------------
+
+TEST(SynthesizeBounces, LinearPhaseChainGivesPassBandModesBackInPhaseAndRemovesStopBandModes) {
+  SynthesisOptions options = ExplicitImpacts({{0.1, 2.0}});
+  options.modes = {{2000.0, 10.0, 1.0}, {9000.0, 10.0, 1.0}};  // 10 s decay: steady tones
+  options.duration_s = 0.4;
+  const auto open = SynthesizeBounces(options).channels[0].samples;
+  options.chain = RecordingChain{};
+  const auto chained = SynthesizeBounces(options).channels[0].samples;
+  // 0.2-0.3 s, long after the onset. Both tones lie in the pass band at 48 kHz, and the filter
+  // is zero-phase, so the chain gives the same samples: up to its ripple (1e-5), the same again
+  // in the peak normalisation, and float rounding. A group delay off by one high-rate sample
+  // (2.6 us) would turn the 9 kHz tone by 0.15 rad, a difference of ~15 % of its amplitude.
+  // Relative to the largest sample over 0.2-0.3 s.
+  const auto largest_difference = [](const std::vector<float>& a, const std::vector<float>& b,
+                                     double rate) {
+    double worst = 0.0, peak = 0.0;
+    for (auto i = static_cast<size_t>(0.2 * rate); i < static_cast<size_t>(0.3 * rate); ++i) {
+      worst = std::max(worst, std::abs(double{a[i]} - b[i]));
+      peak = std::max(peak, std::abs(double{a[i]}));
+    }
+    return worst / peak;
+  };
+  EXPECT_LT(largest_difference(open, chained, 48000), 5e-5);
+
+  // At 16 kHz the 9 kHz mode lies above the stop-band edge (8.74 kHz). Without a chain it is
+  // left out (it would alias to 7 kHz); with one it is rendered at 384 kHz and the filter
+  // removes it 100 dB down: after 0.2 s the file holds the 2 kHz mode alone, in phase. (Only
+  // its scale differs: the 9 kHz mode's onset transient passes the filter and lifts the early
+  // peak that peak_amplitude is normalised by, so compare after removing the best scale.)
+  options.sample_rate_hz = 16000;
+  options.chain.reset();
+  const auto low_open = SynthesizeBounces(options).channels[0].samples;
+  options.chain = RecordingChain{};
+  const auto low_chained = SynthesizeBounces(options).channels[0].samples;
+  double dot = 0.0, norm = 0.0;
+  for (size_t i = 3200; i < 4800; ++i) {
+    dot += double{low_open[i]} * low_chained[i];
+    norm += double{low_open[i]} * low_open[i];
+  }
+  std::vector<float> scaled(low_open.size());
+  for (size_t i = 0; i < scaled.size(); ++i)
+    scaled[i] = static_cast<float>(dot / norm * low_open[i]);
+  // Same bound; the 9 kHz residue is 1e-5 of its amplitude, a one-sample-of-384-kHz phase error
+  // of the 2 kHz tone 1.6 %.
+  EXPECT_LT(largest_difference(scaled, low_chained, 16000), 5e-5);
+}
+
+// Energy of x over the samples in [onset_s - window_s, onset_s).
+double EnergyBefore(const std::vector<float>& x, double rate, double onset_s, double window_s) {
+  const auto first = static_cast<size_t>(std::ceil((onset_s - window_s) * rate));
+  double energy = 0.0;
+  for (size_t i = first; static_cast<double>(i) / rate < onset_s; ++i) {
+    energy += static_cast<double>(x[i]) * x[i];
+  }
+  return energy;
+}
+
+TEST(SynthesizeBounces, LinearPhaseChainPutsEnergyBeforeTheOnsetThatGrowsWithTheImpactLevel) {
+  // Each impact alone in its file at 16 kHz (where the filter cuts into the plate's modes, so it
+  // rings most), at the same sub-sample position, so that only its level differs; contact click
+  // on, as real balls have.
+  constexpr double kRate = 16000;
+  const double onset_s = 0.1 + 0.37 / kRate;
+  const std::vector<double> speeds = {0.5, 1.0, 2.0, 4.0};
+  const auto render = [&](double speed, double exponent, std::optional<RecordingChain> chain) {
+    SynthesisOptions options = ExplicitImpacts({{onset_s, speed}});
+    options.sample_rate_hz = static_cast<int>(kRate);
+    options.duration_s = 0.2;
+    options.click_gain = 0.2;
+    options.contact_duration_speed_exponent = exponent;
+    options.chain = chain;
+    return SynthesizeBounces(options);
+  };
+  std::vector<double> rigid, hertz;
+  for (double speed : speeds) {
+    const auto recording = render(speed, 0.0, RecordingChain{});
+    rigid.push_back(EnergyBefore(recording.channels[0].samples, kRate, onset_s, 0.002));
+    // A Hertz contact also shortens with speed, which moves the pulse's centre against the
+    // sample grid; the filter's ringing depends on that position (none for a centre on a
+    // sample: the cutoff is exactly fs / 2), so sum over four positions a quarter sample apart.
+    double summed = 0.0;
+    for (double quarter : {0.0, 0.25, 0.5, 0.75}) {
+      SynthesisOptions options = ExplicitImpacts({{0.1 + quarter / kRate, speed}});
+      options.sample_rate_hz = static_cast<int>(kRate);
+      options.duration_s = 0.2;
+      options.click_gain = 0.2;
+      options.chain = RecordingChain{};
+      summed += EnergyBefore(SynthesizeBounces(options).channels[0].samples, kRate,
+                             0.1 + quarter / kRate, 0.002);
+    }
+    hertz.push_back(summed);
+    // The artefact is not negligible: before contact the file already exceeds 0.4 % of the
+    // impact's peak (0.9 % at this position), so a threshold at 1 % of the peak fires early on
+    // the louder impacts of a drop.
+    double before = 0.0;
+    const auto& x = recording.channels[0].samples;
+    for (size_t i = 0; static_cast<double>(i) / kRate < onset_s; ++i) {
+      before = std::max(before, std::abs(double{x[i]}));
+    }
+    EXPECT_GT(before, 0.004 * recording.events[0].peak_amplitude) << speed;
+  }
+  // A rigid contact keeps its pulse shape, and the chain is linear: the energy before the onset
+  // scales exactly as the level squared (float rounding, 1e-5).
+  for (size_t k = 1; k < speeds.size(); ++k) {
+    const double expected = std::pow(speeds[k] / speeds[0], 2);
+    EXPECT_NEAR(rigid[k] / rigid[0], expected, 1e-5 * expected);
+    // With a Hertz contact (shorter, brighter pulses when faster) it grows too, about as v^2.3.
+    EXPECT_GT(hertz[k], 3.0 * hertz[k - 1]);
+  }
+  // The causal filter and no filter at all leave nothing before contact.
+  for (double speed : speeds) {
+    const RecordingChain minimum{.phase = AdcFilterPhase::kMinimum};
+    EXPECT_EQ(EnergyBefore(render(speed, -0.2, minimum).channels[0].samples, kRate, onset_s, 0.1),
+              0.0);
+    EXPECT_EQ(
+        EnergyBefore(render(speed, -0.2, std::nullopt).channels[0].samples, kRate, onset_s, 0.1),
+        0.0);
+  }
+}
+
+double HalfSine(double t_s, double contact_s) {
+  return t_s >= 0.0 && t_s < contact_s ? std::sin(std::numbers::pi * t_s / contact_s) : 0.0;
+}
+
+TEST(SynthesizeBounces, ContactClickWithoutAChainIsTheSampledHalfSineWithTheImpactsEchoesAndDelay) {
+  SynthesisOptions options = ExplicitImpacts({{0.1000123, 2.0}});
+  options.reverb = ReverbOptions{.rt60_s = 0.0, .echoes = {{0.009, -12.0}}};
+  options.channels = {ChannelOptions{}, ChannelOptions{.delay_s = 0.00025, .gain_db = -6.0}};
+  const auto plain = SynthesizeBounces(options);
+  options.click_gain = 0.3;
+  const auto clicked = SynthesizeBounces(options);
+  const double peak = clicked.events[0].peak_amplitude;
+  EXPECT_DOUBLE_EQ(peak, plain.events[0].peak_amplitude);       // the click leaves the truth alone
+  const double contact_s = 70e-6 * std::pow(2.0 / 1.98, -0.2);  // Hertz scaling of the default
+  const double echo = std::pow(10.0, -12.0 / 20.0);
+  for (size_t c = 0; c < 2; ++c) {
+    const double gain = c == 0 ? 1.0 : std::pow(10.0, -6.0 / 20.0);
+    const double arrival_s = 0.1000123 + (c == 0 ? 0.0 : 0.00025);
+    double worst = 0.0;
+    int touched = 0;
+    for (size_t i = 0; i < clicked.channels[c].samples.size(); ++i) {
+      const double t_s = static_cast<double>(i) / 48000;
+      const double expected = 0.3 * peak * gain *
+                              (HalfSine(t_s - arrival_s, contact_s) +
+                               echo * HalfSine(t_s - arrival_s - 0.009, contact_s));
+      const double added = double{clicked.channels[c].samples[i]} - plain.channels[c].samples[i];
+      worst = std::max(worst, std::abs(added - expected));
+      touched += expected != 0.0;
+    }
+    EXPECT_LT(worst, 1e-6) << c;  // float rounding of the sum
+    // A 70 us pulse covers 3-4 samples at 48 kHz, so the sampled click is at the mercy of where
+    // the contact falls between them (aliased): that is what the chain is for.
+    EXPECT_GE(touched, 4);
+    EXPECT_LE(touched, 8);
+  }
+}
+
+TEST(SynthesizeBounces, ChainPreservesTheAreaOfTheContactClick) {
+  // The filter's DC gain is 1 and each of its polyphase branches sums to 1 / M (its response at
+  // multiples of fs lies in the stop band): the file holds the click's impulse, the sum of its
+  // high-rate samples over the high rate, to ~M x 1e-5.
+  SynthesisOptions options = ExplicitImpacts({{0.1000123, 2.0}});
+  options.duration_s = 0.2;
+  options.chain = RecordingChain{};
+  const auto plain = SynthesizeBounces(options);
+  options.click_gain = 0.2;
+  const auto clicked = SynthesizeBounces(options);
+  ASSERT_TRUE(clicked.chain.has_value());
+  const double high_rate = clicked.chain->high_rate_hz;
+  const double contact_s = 70e-6 * std::pow(2.0 / 1.98, -0.2);
+  const double peak = 0.2 * clicked.events[0].peak_amplitude;
+  double impulse = 0.0;
+  for (auto j = static_cast<std::int64_t>(0.1 * high_rate); j < 0.1001 * high_rate; ++j) {
+    impulse += peak * HalfSine(static_cast<double>(j) / high_rate - 0.1000123, contact_s);
+  }
+  impulse /= high_rate;
+  double file_impulse = 0.0;
+  for (size_t i = 0; i < plain.channels[0].samples.size(); ++i) {
+    file_impulse += double{clicked.channels[0].samples[i]} - plain.channels[0].samples[i];
+  }
+  file_impulse /= 48000;
+  EXPECT_NEAR(file_impulse / impulse, 1.0, 2e-4);
+  // Which is the half-sine's area, 2 tau / pi x peak, to its sampling at 384 kHz (~0.1 %).
+  EXPECT_NEAR(impulse / (2 * contact_s / std::numbers::pi * peak), 1.0, 2e-3);
+}
+
+TEST(SynthesizeBounces, ChainKeepsTheTruthThePeakAmplitudeAndTheSnrDefinition) {
+  SynthesisOptions options = ExplicitImpacts({{0.1, 1.98}, {0.6, 1.2}});
+  options.peak_amplitude = 0.3;
+  const auto plain = SynthesizeBounces(options);
+  options.chain = RecordingChain{};
+  const auto chained = SynthesizeBounces(options);
+  ASSERT_EQ(chained.events.size(), plain.events.size());
+  for (size_t i = 0; i < plain.events.size(); ++i) {
+    EXPECT_EQ(chained.events[i].onset_s, plain.events[i].onset_s);
+    EXPECT_EQ(chained.events[i].peak_amplitude, plain.events[i].peak_amplitude);
+  }
+  // With a chain, peak_amplitude is the sampled peak of what reaches the file (onset on a
+  // sample, as it is normalised): float rounding.
+  EXPECT_NEAR(PeakIn(chained.channels[0], 0.1, 0.15), 0.3, 1e-6);
+  // The SNR's signal power is the direct sound as recorded, click and chain included; 0.01 dB as
+  // in MeasuredSnrMatchesTheRequestForWhiteAndPinkNoise.
+  SynthesisOptions noisy = ExplicitImpacts({{0.2, 1.0}});
+  noisy.noise = NoiseOptions{.snr_db = 10.0};
+  noisy.click_gain = 0.3;
+  EXPECT_NEAR(MeasuredSnrDb(noisy, 0.2), 10.0, 0.01);
+  noisy.chain = RecordingChain{};
+  EXPECT_NEAR(MeasuredSnrDb(noisy, 0.2), 10.0, 0.01);
+  noisy.sample_rate_hz = 16000;
+  noisy.chain = RecordingChain{.phase = AdcFilterPhase::kMinimum};
+  EXPECT_NEAR(MeasuredSnrDb(noisy, 0.2), 10.0, 0.01);
+  // And the same options render the same samples.
+  EXPECT_EQ(SynthesizeBounces(noisy).channels[0].samples,
+            SynthesizeBounces(noisy).channels[0].samples);
+}
+
+TEST(SynthesizeBounces, TruthCsvDescribesTheChainAndClickInCommentsReadersSkip) {
+  SynthesisOptions options;
+  const std::string plain = TruthCsv(SynthesizeBounces(options));
+  EXPECT_EQ(plain.rfind("onset_s,", 0), 0u);  // unchanged without them
+  options.chain = RecordingChain{};
+  options.click_gain = 0.2;
+  const auto recording = SynthesizeBounces(options);
+  ASSERT_TRUE(recording.chain.has_value());
+  EXPECT_EQ(recording.chain->chain.oversampling, 8);  // resolved from automatic
+  EXPECT_GE(recording.chain->stopband_attenuation_db, 100.0);
+  const std::string csv = TruthCsv(recording);
+  EXPECT_EQ(csv.rfind("# recording chain: linear-phase anti-aliasing FIR, ", 0), 0u) << csv;
+  EXPECT_NE(csv.find("# contact click: "), std::string::npos) << csv;
+  const auto impacts = ParseImpactCsv(csv, "truth.csv");
+  const auto onsets = recording.BallImpactOnsetsS();
+  ASSERT_EQ(impacts.size(), onsets.size());
+  for (size_t i = 0; i < onsets.size(); ++i) EXPECT_NEAR(impacts[i].onset_s, onsets[i], 5e-10);
+}
+
 void ExpectConfigErrorNaming(const SynthesisOptions& options, const std::string& name) {
   try {
     SynthesizeBounces(options);
@@ -555,6 +792,19 @@ TEST(SynthesizeBounces, InvalidOptionsGiveOneLineErrorsNamingTheOption) {
   options = {};
   options.clip_level = 1.5;
   ExpectConfigErrorNaming(options, "clip_level");
+  options = {};
+  options.chain = RecordingChain{.oversampling = 1};
+  ExpectConfigErrorNaming(options, "chain.oversampling = 1 leaves nothing to decimate");
+  options.chain = RecordingChain{.stopband_edge_fraction = 0.6};
+  ExpectConfigErrorNaming(options, "chain.stopband_edge_fraction = 0.6");
+  options.chain = RecordingChain{.stopband_attenuation_db = 200.0};
+  ExpectConfigErrorNaming(options, "chain.stopband_attenuation_db");
+  options.chain = RecordingChain{};
+  options.duration_s = 400.0;  // 154 million samples at 384 kHz
+  ExpectConfigErrorNaming(options, "high-rate samples per channel");
+  options = {};
+  options.click_gain = std::nan("");
+  ExpectConfigErrorNaming(options, "click_gain");
 }
 
 }  // namespace

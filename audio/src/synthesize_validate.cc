@@ -145,6 +145,31 @@ void ValidateSynthesisOptions(const SynthesisOptions& options) {
                  "Hz");
   }
   RequireRange("leading_digital_silence_s", options.leading_digital_silence_s, 0.0, 3600.0, "s");
+  RequireRange("click_gain", options.click_gain, -10.0, 10.0, "x the impact's peak");
+  if (options.chain) {
+    const RecordingChain& chain = *options.chain;
+    if (chain.oversampling == 1) {
+      throw ConfigError(
+          "synthesis option chain.oversampling = 1 leaves nothing to decimate, so there is no "
+          "anti-aliasing filter to model; use 2 or more (0 = automatic, >= 384 kHz), or "
+          "band_limit_hz for a filter at the output rate");
+    }
+    RequireRange("chain.oversampling", chain.oversampling, 0, 64, "(0 = automatic)");
+    RequireAbove("chain.passband_edge_fraction", chain.passband_edge_fraction, 0.05, 0.49,
+                 "x sample_rate_hz");
+    const double passband = chain.passband_edge_fraction;
+    if (!(std::isfinite(chain.stopband_edge_fraction) &&
+          chain.stopband_edge_fraction > passband + 0.005 &&
+          chain.stopband_edge_fraction <= 1.0 - passband)) {
+      throw ConfigError("synthesis option chain.stopband_edge_fraction = " +
+                        Number(chain.stopband_edge_fraction) +
+                        " must lie above passband_edge_fraction + 0.005 and at most 1 - "
+                        "passband_edge_fraction (" +
+                        Number(1.0 - passband) +
+                        ", beyond which aliases fall into the passband); choose a value in range");
+    }
+    RequireRange("chain.stopband_attenuation_db", chain.stopband_attenuation_db, 40.0, 150.0, "dB");
+  }
 
   if (options.channels.empty() || options.channels.size() > 64) {
     throw ConfigError("synthesis option channels has " + std::to_string(options.channels.size()) +

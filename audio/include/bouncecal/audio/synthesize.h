@@ -198,6 +198,55 @@ struct ChannelOptions {
   double snr_offset_db = 0.0;
 };
 
+// The converter between the air and the file. A sigma-delta ADC (and a sample-rate converter)
+// samples far above the output rate and decimates through a sharp FIR anti-aliasing filter; that
+// filter, not the microphone, sets how a click's energy is spread in time. Linear-phase filters
+// (the usual choice) ring symmetrically, so a click's energy appears a few samples BEFORE contact;
+// minimum-phase ("low latency", "short delay") filters are causal and ring only after it.
+enum class AdcFilterPhase {
+  kLinear,   // zero-phase: its group delay is compensated, so file times stay contact times
+  kMinimum,  // the causal filter with the same magnitude response (homomorphic design)
+};
+std::string_view ToString(AdcFilterPhase phase);
+
+// SynthesisOptions::chain: the acoustic signal (modes, echoes, reverb, extra events, contact
+// clicks) is rendered at oversampling x sample_rate_hz (the closed-form rendering is exact at any
+// rate, and modes up to 0.45 x that rate are kept, since the filter removes them) and decimated
+// by a Kaiser-windowed FIR low-pass (Kaiser 1974; Oppenheim & Schafer, "Discrete-Time Signal
+// Processing", 7.5-7.6) whose band edges are fractions of sample_rate_hz. Noise, hum, DC offset,
+// clipping and band_limit_hz are applied after it, at the output rate, as without a chain: they
+// stand for the converter's own noise floor, mains pickup in the cabling, and the saturation of
+// the output word (an analogue overload before the converter would instead be band-limited by
+// the filter and overshoot). peak_amplitude then means the sampled peak of what reaches the
+// file, and the SNR's signal power is the direct sound as recorded (filter and click included).
+// How early the energy appears (docs/synthesis.md, bench/chain_lead_bench): at 16 kHz, where
+// the filter cuts into the plate's modes, 1 % of an impact's peak is reached 0.3-0.5 ms before
+// contact; at 44.1-48 kHz only a 35 us click's ringing shows, 20-40 us before contact.
+// The defaults are those of audio converter data sheets:
+//  - band edges 0.4535 / 0.5465 fs: Cirrus Logic CS8421 sample-rate converter (DS641: passband
+//    0.4535 Fso, ripple +-0.007 dB, stop band from 0.5465 Fso, 125 dB) and the AKM "sharp
+//    roll-off" filters (AK4385, AK4436: PB 0.4535 fs, SB 0.546 fs);
+//  - 100 dB stop band: between the sigma-delta ADCs' 95 dB (Cirrus CS5381, DS563: passband
+//    0.47 Fs, stop band from 0.58 Fs, group delay 12/Fs) and the converters' 125 dB; TI's
+//    PCM1820/PCM1840 ADCs give 74-98 dB (passband 0.454 fs +-0.05 dB, 17.1/fs group delay);
+//  - a stop band from 0.5 fs instead (stopband_edge_fraction = 0.5) is the alias-free choice of
+//    software resamplers.
+// The filter's figures are listed in SynthesizedRecording::chain.
+struct RecordingChain {
+  AdcFilterPhase phase = AdcFilterPhase::kLinear;
+  // 2 to 64, or 0: automatic, the smallest factor >= 8 that renders at >= 384 kHz (8 at 48 and
+  // 96 kHz, 9 at 44.1 kHz, 24 at 16 kHz). The filter's length in output samples does not depend
+  // on it (the band edges set it), but the contact click is sampled at the high rate before
+  // filtering, and its spectrum near that rate aliases: at 384 kHz the aliases stay 50 dB (35 us
+  // contact) and 59 dB (70 us) under the filtered click's peak; 8 x 16 kHz gives only 36-45 dB.
+  // 1 is refused: with nothing to decimate there is no anti-aliasing filter to model (use
+  // band_limit_hz for a filter at the output rate).
+  int oversampling = 0;
+  double passband_edge_fraction = 0.4535;  // of sample_rate_hz; ripple below it is ~delta
+  double stopband_edge_fraction = 0.5465;  // of sample_rate_hz, > passband, <= 1 - passband
+  double stopband_attenuation_db = 100.0;  // 40 to 150 dB (delta = 10^(-dB/20) in both bands)
+};
+
 struct SynthesisOptions {
   int sample_rate_hz = 48000;  // 8 kHz to 384 kHz
   // Length of the file; 0 = up to the last event plus tail_s. Events at or after duration_s
@@ -240,6 +289,25 @@ struct SynthesisOptions {
   std::optional<double> band_limit_hz;
   double leading_digital_silence_s = 0.0;  // exact zeros (no noise, hum or DC) at the start
 
+  // Acceleration noise (Akay 1978, "A review of impact noise", JASA 64(4) 977; Richards,
+  // Westcott & Jeyapalan 1979, "On the prediction of impact noise, I: Acceleration noise",
+  // J. Sound Vib. 62(4) 547): the ball's sudden deceleration radiates a pressure pulse of its
+  // own, before the plate has started to ring. Its time history follows the deceleration, i.e.
+  // the contact force, so each ball impact adds a half-sine of its contact duration peaking at
+  // click_gain x its peak_amplitude, with the impact's echoes and channel delay; precursors have
+  // none. Positive is a compression (the side of the ball the deceleration points to, i.e. a
+  // microphone above it); the plate modes' sign is not physical, so a negative gain is as
+  // plausible a recording. This is the near-field term of the decelerating sphere's dipole
+  // (Koss 1974, "Transient sound from colliding spheres", J. Sound Vib. 36(4) 541); beyond
+  // c tau (1-2 cm for 35-70 us) the far-field term, the pulse's time derivative, dominates and
+  // makes the real pulse bipolar with more energy near the band edge (so it would ring more
+  // through a linear-phase chain); both start at contact. 0 = off. Without a chain the
+  // half-sine is sampled as it is at the output rate: a 35-70 us pulse is not band-limited at
+  // audio rates, so it ALIASES (its sampled peak depends on where the contact falls between
+  // samples); give a chain for a recording whose click went through a real converter.
+  double click_gain = 0.0;
+  std::optional<RecordingChain> chain;  // unset: modes rendered at the output rate, no filter
+
   std::vector<ChannelOptions> channels = {ChannelOptions{}};
   std::uint64_t seed = 1;
 };
@@ -257,12 +325,28 @@ struct SynthesizedEvent {
   double peak_amplitude = 0.0;
 };
 
+// The anti-aliasing filter a chain used, as designed and measured (on a dense frequency grid of
+// its taps).
+struct RecordingChainSummary {
+  RecordingChain chain;                  // as used: oversampling resolved when it was automatic
+  int taps = 0;                          // at oversampling x sample_rate_hz
+  double high_rate_hz = 0.0;             // oversampling x sample_rate_hz
+  double kaiser_beta = 0.0;              // of the linear-phase design
+  double passband_ripple_db = 0.0;       // largest |gain| in dB from 0 to the passband edge
+  double stopband_attenuation_db = 0.0;  // smallest attenuation from the stopband edge up
+  // Linear phase: the group delay, (taps - 1) / 2 high-rate samples, compensated (so energy
+  // reaches this far BEFORE an onset). Minimum phase: 0 (nothing before an onset).
+  double pre_ring_span_s = 0.0;
+};
+
 struct SynthesizedRecording {
-  std::vector<Recording> channels;        // equal lengths, source_path empty
-  std::vector<SynthesizedEvent> events;   // every event, sorted by onset_s
-  std::vector<double> noise_rms;          // per channel; 0 without noise
-  std::vector<int> clipped_sample_count;  // per channel
-  std::vector<double> channel_delay_s;    // per channel: it hears an event at onset_s + this
+  std::vector<Recording> channels;             // equal lengths, source_path empty
+  std::vector<SynthesizedEvent> events;        // every event, sorted by onset_s
+  std::vector<double> noise_rms;               // per channel; 0 without noise
+  std::vector<int> clipped_sample_count;       // per channel
+  std::vector<double> channel_delay_s;         // per channel: it hears an event at onset_s + this
+  std::optional<RecordingChainSummary> chain;  // set when SynthesisOptions::chain was
+  double click_gain = 0.0;                     // SynthesisOptions::click_gain
 
   // Onsets of the ball impacts only, sorted; optionally of one drop.
   std::vector<double> BallImpactOnsetsS(std::optional<int> drop_index = std::nullopt) const;
@@ -279,7 +363,9 @@ std::vector<SynthesizedEvent> PlanBallImpacts(const SynthesisOptions& options);
 SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options);
 
 // CSV of the truth: header "onset_s,impact_speed_mps,kind,drop,peak_amplitude" and one line per
-// event, times with 9 decimals (ns).
+// event, times with 9 decimals (ns). With a recording chain or a contact click, '#' comment
+// lines before the header describe them (readers of impact CSVs skip such lines); without, the
+// text is exactly as before they existed.
 std::string TruthCsv(const SynthesizedRecording& recording);
 
 }  // namespace bouncecal::audio
