@@ -46,6 +46,8 @@ struct SynthArguments {
   double channel_gain_db = 0.0;
   double channel_snr_offset_db = 0.0;
   std::string format = "pcm16";
+  std::string adc;  // empty: no recording chain
+  audio::RecordingChain chain;
 };
 
 audio::SynthesisOptions BuildOptions(const SynthArguments& args) {
@@ -81,6 +83,11 @@ audio::SynthesisOptions BuildOptions(const SynthArguments& args) {
     options.hum = audio::HumOptions{*args.hum_hz, args.hum_dbfs, args.hum_harmonics};
   }
   options.clip_level = args.clip_level;
+  if (!args.adc.empty()) {
+    options.chain = args.chain;
+    options.chain->phase = args.adc == "minimum-phase" ? audio::AdcFilterPhase::kMinimum
+                                                       : audio::AdcFilterPhase::kLinear;
+  }
   const std::pair<const std::vector<double>*, audio::SoundEventKind> extras[] = {
       {&args.knock_s, audio::SoundEventKind::kKnock},
       {&args.thump_s, audio::SoundEventKind::kThump},
@@ -131,6 +138,29 @@ void RunSynth(const SynthArguments& args) {
   const auto onsets = recording.BallImpactOnsetsS();
   if (!onsets.empty()) {
     fmt::print("ball impacts from {:.6f} s to {:.6f} s\n", onsets.front(), onsets.back());
+  }
+  if (recording.chain) {
+    const audio::RecordingChainSummary& chain = *recording.chain;
+    const double rate_hz = options.sample_rate_hz;
+    fmt::print(
+        "recording chain: {} anti-aliasing FIR, {} taps at {:.0f} Hz ({} x {} Hz): passband to "
+        "{:.0f} Hz (ripple {:.1e} dB), stop band from {:.0f} Hz ({:.1f} dB)\n",
+        ToString(chain.chain.phase), chain.taps, chain.high_rate_hz, chain.chain.oversampling,
+        options.sample_rate_hz, chain.chain.passband_edge_fraction * rate_hz,
+        chain.passband_ripple_db, chain.chain.stopband_edge_fraction * rate_hz,
+        chain.stopband_attenuation_db);
+    if (chain.chain.phase == audio::AdcFilterPhase::kLinear) {
+      fmt::print(
+          "  zero-phase: truth onsets are contact times, and energy reaches up to {:.3f} ms "
+          "before them\n",
+          chain.pre_ring_span_s * 1e3);
+    } else {
+      fmt::print("  causal: nothing before the truth onsets (contact times)\n");
+    }
+  }
+  if (options.click_gain != 0.0) {
+    fmt::print("contact click: half-sine of each contact, peak {} x the impact's peak{}\n",
+               options.click_gain, options.chain ? "" : " (sampled without a chain: aliased)");
   }
   if (options.noise) {
     fmt::print("noise rms {:.3g} full scale (SNR {} dB re the {} impact, {} noise)\n",
@@ -273,6 +303,40 @@ void AddSynthCommand(CLI::App& app) {
                       "Hard-clip at +-this level (full scale, 0 < level <= 1)");
   command->add_option("--band-limit-hz", o.band_limit_hz,
                       "Low-pass everything here like a lossy codec (Hz), e.g. 7000");
+  auto* adc =
+      command
+          ->add_option("--adc", args->adc,
+                       "Record through an ADC/resampler chain: render at --adc-oversampling x "
+                       "the rate and decimate with a linear-phase (zero-phase: energy before "
+                       "each onset) or minimum-phase (causal) anti-aliasing FIR")
+          ->check(CLI::IsMember({"linear-phase", "minimum-phase"}));
+  command
+      ->add_option("--adc-oversampling", args->chain.oversampling,
+                   "Rendering rate of the chain as a multiple of the sample rate (2-64; 0 = the "
+                   "smallest >= 8 reaching 384 kHz)")
+      ->capture_default_str()
+      ->needs(adc);
+  command
+      ->add_option("--adc-passband-fs", args->chain.passband_edge_fraction,
+                   "Passband edge of the chain's filter as a fraction of the sample rate")
+      ->capture_default_str()
+      ->needs(adc);
+  command
+      ->add_option("--adc-stopband-fs", args->chain.stopband_edge_fraction,
+                   "Stop-band edge of the chain's filter as a fraction of the sample rate (0.5: "
+                   "alias-free, as resamplers)")
+      ->capture_default_str()
+      ->needs(adc);
+  command
+      ->add_option("--adc-stopband-db", args->chain.stopband_attenuation_db,
+                   "Stop-band attenuation of the chain's filter (dB, 40-150)")
+      ->capture_default_str()
+      ->needs(adc);
+  command
+      ->add_option("--click-gain", o.click_gain,
+                   "Add the ball's acceleration noise: a half-sine of each contact peaking at "
+                   "this x the impact's peak (e.g. 0.2; aliased without --adc)")
+      ->capture_default_str();
   command->add_option("--knock-s", args->knock_s,
                       "Add a knock (not a ball impact) at this time (s), repeatable");
   command->add_option("--thump-s", args->thump_s,

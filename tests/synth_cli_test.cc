@@ -82,5 +82,43 @@ TEST(SynthCli, BadOptionsMissingInputsAndUnwritableOutputsMapToExitStatuses) {
   EXPECT_TRUE(std::filesystem::is_empty(dir));  // nothing written by any failed run
 }
 
+TEST(SynthCli, AdcChainAndContactClickAreAppliedAndDescribedInTheSummaryAndTruth) {
+  const auto dir = FreshDir("adc");
+  const auto result =
+      RunBouncecal("synth -o " + (dir / "a.wav").string() + " --truth " + (dir / "a.csv").string() +
+                   " --adc linear-phase --click-gain 0.2 --sample-rate-hz 16000 "
+                   "--format float --seed 4");
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  // 16 kHz: automatic oversampling 24 (384 kHz), the default band edges and stop band.
+  EXPECT_NE(result.output.find("recording chain: linear-phase anti-aliasing FIR"),
+            std::string::npos)
+      << result.output;
+  EXPECT_NE(result.output.find("at 384000 Hz (24 x 16000 Hz)"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("passband to 7256 Hz"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("contact click: "), std::string::npos) << result.output;
+  const std::string truth = ReadText(dir / "a.csv");
+  EXPECT_EQ(truth.rfind("# recording chain: linear-phase", 0), 0u) << truth;
+  EXPECT_NE(truth.find("# contact click: "), std::string::npos) << truth;
+
+  // The same render through the library: the CLI adds nothing of its own.
+  audio::SynthesisOptions options;
+  options.sample_rate_hz = 16000;
+  options.click_gain = 0.2;
+  options.chain = audio::RecordingChain{};
+  options.seed = 4;
+  const auto expected = audio::SynthesizeBounces(options);
+  EXPECT_EQ(truth, audio::TruthCsv(expected));
+
+  // --adc-* without --adc, and an oversampling of 1, are refused (exit 3) and write nothing.
+  const auto lone = RunBouncecal("synth -o " + (dir / "b.wav").string() + " --adc-oversampling 4");
+  EXPECT_EQ(lone.exit_status, 3) << lone.output;
+  const auto one = RunBouncecal("synth -o " + (dir / "c.wav").string() +
+                                " --adc minimum-phase --adc-oversampling 1");
+  EXPECT_EQ(one.exit_status, 3) << one.output;
+  EXPECT_NE(one.output.find("chain.oversampling = 1"), std::string::npos) << one.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "b.wav"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "c.wav"));
+}
+
 }  // namespace
 }  // namespace bouncecal::testing
