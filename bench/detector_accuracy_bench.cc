@@ -85,6 +85,41 @@ std::vector<Condition> Conditions() {
          o.sample_rate_hz = 16000;
          o.band_limit_hz = 0.45 * o.sample_rate_hz;
        }},
+      // A real recording chain: rendered at >= 384 kHz and decimated by a linear-phase
+      // anti-aliasing filter (energy appears before contact, the more the louder the impact),
+      // or its minimum-phase counterpart, with the contact's acceleration-noise click.
+      {"chain linear 48k",
+       [](SynthesisOptions& o) {
+         o.chain = RecordingChain{};
+         o.click_gain = 0.2;
+         o.contact_duration_s = 35e-6;
+       }},
+      {"chain linear 44.1k",
+       [](SynthesisOptions& o) {
+         o.sample_rate_hz = 44100;
+         o.chain = RecordingChain{};
+         o.click_gain = 0.2;
+         o.contact_duration_s = 35e-6;
+       }},
+      {"chain linear 16k",
+       [](SynthesisOptions& o) {
+         o.sample_rate_hz = 16000;
+         o.chain = RecordingChain{};
+         o.click_gain = 0.2;
+       }},
+      {"chain minimum 48k",
+       [](SynthesisOptions& o) {
+         o.chain = RecordingChain{};
+         o.chain->phase = AdcFilterPhase::kMinimum;
+         o.click_gain = 0.2;
+       }},
+      {"chain linear 16k jitter",
+       [](SynthesisOptions& o) {
+         o.sample_rate_hz = 16000;
+         o.chain = RecordingChain{};
+         o.click_gain = 0.2;
+         o.level_jitter_db = 3;
+       }},
       {"low e 0.3",
        [](SynthesisOptions& o) {
          o.drop.restitution.constant = 0.3;

@@ -474,3 +474,72 @@ TEST(DetectorGroundTruth, ALossyBallFormsAShortSequenceWithTheDropHeight) {
 
 }  // namespace
 }  // namespace bouncecal::audio
+
+namespace bouncecal::audio {
+namespace {
+
+// A real recording chain (issue 16): the sound rendered at 384 kHz and decimated by a
+// linear-phase anti-aliasing filter spreads every click's energy a few samples BEFORE contact,
+// the more the louder the impact (at 16 kHz the first impact's energy passes 1 % of its peak
+// ~0.4 ms early, docs/synthesis.md). A picker that takes the first sample out of the noise
+// then times the loud first impacts early and the quiet late ones late: measured with the
+// detector before constant-fraction timing, the first impact's error minus the third's was
+// -697 us at 16 kHz (median of 6 drops) and intervals were off by 869 us at p95. Timed where
+// each edge reaches 12 % of its peak, the error must not depend on loudness: the first
+// impact's error stays within 2 stated sigmas (combined) of the quietest matched impact's, and
+// the intervals hold the issue's 16 kHz target (p95 <= 200 us) and, at 48 kHz, its clean one
+// (median <= 20 us, p95 <= 100 us). Measured over these 6 seeds: p95 90 us (16 kHz) and 41 us
+// (48 kHz) in bench/detector_accuracy_bench's runs of 12.
+TEST(DetectorGroundTruth, OnsetsThroughALinearPhaseChainDoNotDependOnLoudness) {
+  for (int rate : {16000, 48000}) {
+    std::vector<double> intervals;
+    for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+      auto options = Reference(30.0);
+      options.seed = seed;
+      options.sample_rate_hz = rate;
+      options.chain = RecordingChain{};
+      options.click_gain = 0.2;
+      options.contact_duration_s = 35e-6;
+      options.drop.drop_height_m = 0.2 + 0.05 * static_cast<double>(seed);
+      const auto synthesized = SynthesizeBounces(options);
+      auto detection = DetectImpacts(synthesized.channels[0]);
+      GroupBounces(detection);
+      const auto truth = synthesized.BallImpactOnsetsS();
+      std::vector<double> errors, sigmas;
+      for (double t : truth) {
+        double best = 1e9, sigma = 0;
+        for (const auto& impact : detection.impacts) {
+          if (std::fabs(impact.onset_s - t) < std::fabs(best)) {
+            best = impact.onset_s - t;
+            sigma = impact.onset_uncertainty_s;
+          }
+        }
+        errors.push_back(std::fabs(best) < kMatchS ? best : std::nan(""));
+        sigmas.push_back(sigma);
+      }
+      ASSERT_FALSE(std::isnan(errors.front())) << rate << " seed " << seed;
+      std::size_t quiet = errors.size() - 1;
+      while (quiet > 0 && std::isnan(errors[quiet])) --quiet;
+      ASSERT_GT(quiet, 2u) << rate << " seed " << seed;
+      EXPECT_LE(std::fabs(errors.front() - errors[quiet]),
+                2 * std::hypot(sigmas.front(), sigmas[quiet]))
+          << rate << " seed " << seed;
+      for (std::size_t k = 1; k < errors.size(); ++k) {
+        if (!std::isnan(errors[k]) && !std::isnan(errors[k - 1])) {
+          intervals.push_back(std::fabs(errors[k] - errors[k - 1]));
+        }
+      }
+    }
+    const double median = Quantile(intervals, 0.5);
+    const double p95 = Quantile(intervals, 0.95);
+    std::printf("[ figures  ] chain %d Hz: interval error median %.1f us, p95 %.1f us\n", rate,
+                median * 1e6, p95 * 1e6);
+    EXPECT_LT(p95, rate == 16000 ? 200e-6 : kIntervalP95S) << rate;
+    if (rate == 48000) {
+      EXPECT_LT(median, kIntervalMedianS);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace bouncecal::audio
