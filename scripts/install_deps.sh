@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config git
-  libsndfile1-dev libfftw3-dev libnlopt-cxx-dev
+  libsndfile1-dev libfftw3-dev libnlopt-cxx-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libfmt-dev
   gnuplot-nox chromium
   lammps liggghts mpi-default-bin
