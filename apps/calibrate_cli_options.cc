@@ -13,10 +13,11 @@ void CalibrateCliOptions::AddFitOptions(CLI::App& command) {
                   "(onset_s[,onset_uncertainty_s[,sequence]]) or bouncecal analyze --json "
                   "files; several are fitted jointly")
       ->required();
-  drop.Add(command);
-  command.add_flag("--unknown-drop-height", unknown_drop_height,
-                   "The drop height is not known: simulations start from the apex of the first "
-                   "measured flight");
+  drop.Add(command, /*with_law=*/true, DropCliOptions::Geometry::kAsGiven);
+  command
+      .add_flag("--unknown-drop-height", unknown_drop_height,
+                "The drop height is not known (the default without --drop-height)")
+      ->group("");
   command.add_option("--drop-height-uncertainty", drop_height_uncertainty_m,
                      "One-sigma uncertainty of --drop-height in m, propagated into the "
                      "confidence interval (default 0)");
@@ -36,12 +37,11 @@ void CalibrateCliOptions::AddFitOptions(CLI::App& command) {
   command.add_option("--global-evaluations", global_evaluations,
                      "DIRECT-L evaluations before the local method (count; -1 automatic: none "
                      "for one parameter under mean-energy-loss, else 12 per parameter)");
-  command.add_option("--bootstrap", bootstrap,
-                     "Bootstrap refits for the confidence intervals (count, 0 skips, default 32)");
+  command.add_option("--bootstrap", bootstrap, "No longer used")->group("");
+  command.add_option("--seed", seed, "No longer used")->group("");
   command.add_option("--confidence", confidence,
                      "Confidence level of the intervals (fraction, default 0.95)");
-  command.add_option("--seed", seed, "Random seed of the bootstrap (integer, default 1)");
-  command.add_option("--threads", threads, "Threads for the bootstrap (count, default 2)");
+  command.add_option("--threads", threads, "Threads for --compare-laws (count, default 2)");
   command.add_option("--onset-uncertainty", onset_uncertainty_s,
                      "One-sigma onset uncertainty in s where an input gives none (default 1e-5)");
 }
@@ -50,9 +50,6 @@ calibrate::FitOptions CalibrateCliOptions::FitOptions(bool validate_law) const {
   const CalibrateCliOptions& cli = *this;
   // The library checks these too, in one sentence for all; here each names its option.
   if (first_n < 1) throw ConfigError(fmt::format("--first must be at least 1, got {}", first_n));
-  if (bootstrap < 0) {
-    throw ConfigError(fmt::format("--bootstrap must be >= 0 refits (0 skips), got {}", bootstrap));
-  }
   if (!(confidence > 0 && confidence < 1)) {
     throw ConfigError(fmt::format("--confidence must be in (0, 1), e.g. 0.95, got {}", confidence));
   }
@@ -61,15 +58,27 @@ calibrate::FitOptions CalibrateCliOptions::FitOptions(bool validate_law) const {
     throw ConfigError(
         fmt::format("--drop-height-uncertainty must be >= 0 m, got {}", drop_height_uncertainty_m));
   }
+  if (unknown_drop_height && drop.drop_height_m) {
+    throw ConfigError(
+        "--unknown-drop-height contradicts --drop-height; give the height or leave both out");
+  }
+  if (drop_height_uncertainty_m > 0 && !drop.drop_height_m) {
+    throw ConfigError(
+        "--drop-height-uncertainty needs --drop-height (without a height nothing depends on it)");
+  }
+  if (drop.drop_height_m && !(*drop.drop_height_m > 0 && *drop.drop_height_m < 1e3)) {
+    throw ConfigError(
+        fmt::format("--drop-height must be in (0, 1000) m, got {}", *drop.drop_height_m));
+  }
   if (max_evaluations < 1) {
     throw ConfigError(fmt::format("--max-evaluations must be >= 1, got {}", max_evaluations));
   }
   calibrate::FitOptions options;
   options.law = cli.drop.Law(validate_law);
   options.fitted_parameters = cli.fitted;
-  options.ball = cli.drop.Ball();
-  options.drop_height_m =
-      cli.unknown_drop_height ? std::nullopt : std::optional<double>(cli.drop.drop_height_m);
+  options.ball = cli.drop.GivenBall();
+  options.ball_preset = cli.drop.ball_preset;
+  options.drop_height_m = cli.drop.drop_height_m;
   options.gravity_mps2 = cli.drop.gravity_mps2;
   options.drag = cli.drop.Drag();
   options.integrator = cli.drop.Integrator();
@@ -82,9 +91,7 @@ calibrate::FitOptions CalibrateCliOptions::FitOptions(bool validate_law) const {
   options.minimizer.local_method = calibrate::LocalMethodFromString(cli.optimizer);
   options.minimizer.max_evaluations = cli.max_evaluations;
   options.minimizer.global_evaluations = cli.global_evaluations;
-  options.uncertainty.bootstrap_samples = cli.bootstrap;
   options.uncertainty.confidence_level = cli.confidence;
-  options.uncertainty.seed = cli.seed;
   options.uncertainty.threads = cli.threads;
   options.uncertainty.drop_height_uncertainty_m = cli.drop_height_uncertainty_m;
   return options;
@@ -98,6 +105,17 @@ std::vector<calibrate::MeasuredSequence> CalibrateCliOptions::LoadSequences() co
   calibrate::SequenceInputOptions input;
   input.impact_times.default_uncertainty_s = onset_uncertainty_s;
   return calibrate::LoadSequences(inputs, input);
+}
+
+std::vector<std::string> CalibrateCliOptions::DeprecationWarnings() const {
+  std::vector<std::string> warnings;
+  if (bootstrap || seed) {
+    warnings.push_back(
+        "--bootstrap and --seed no longer change anything: the interval now comes from the "
+        "impacts' own scatter and the timing noise (docs/calibration.md, uncertainty model), "
+        "without random draws; remove them from the command");
+  }
+  return warnings;
 }
 
 }  // namespace bouncecal::apps

@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@ namespace bouncecal::apps {
 struct CalibrateCliOptions {
   std::vector<std::filesystem::path> inputs;
   DropCliOptions drop;
+  // Hidden alias of the default (no --drop-height), kept so older scripts still run.
   bool unknown_drop_height = false;
   double drop_height_uncertainty_m = 0;
   std::string objective = "mean-energy-loss";
@@ -26,9 +28,10 @@ struct CalibrateCliOptions {
   std::string optimizer = "bobyqa";
   int max_evaluations = 200;
   int global_evaluations = -1;
-  int bootstrap = 32;
+  // Hidden and ignored: the interval is no longer a bootstrap (DeprecationWarnings names them).
+  std::optional<int> bootstrap;
+  std::optional<unsigned long long> seed;
   double confidence = 0.95;
-  unsigned long long seed = 1;
   int threads = 2;
   double onset_uncertainty_s = 10e-6;
 
@@ -39,6 +42,9 @@ struct CalibrateCliOptions {
   calibrate::FitOptions FitOptions(bool validate_law = true) const;
   // Validates --onset-uncertainty and loads every input through calibrate::LoadSequences.
   std::vector<calibrate::MeasuredSequence> LoadSequences() const;
+  // One line per option that is accepted for old scripts but no longer does anything, naming
+  // what to do instead; empty when none was given.
+  std::vector<std::string> DeprecationWarnings() const;
 };
 
 }  // namespace bouncecal::apps

@@ -34,6 +34,10 @@ void Run(const CalibrateCommandOptions& cli) {
   // Read before the fit so a malformed SOURCE_DATE_EPOCH fails at once, not after minutes.
   const std::time_t card_created_at = CardCreationTimeFromEnvironment();
   const auto options = cli.FitOptions(/*validate_law=*/!cli.compare_laws);
+  // A card needs the ball: refuse before the (possibly long) fit rather than after it.
+  if (!cli.card.empty()) calibrate::CheckCardOptions(options);
+  for (const auto& warning : cli.DeprecationWarnings())
+    fmt::print(stderr, "bouncecal: warning: {}\n", warning);
   const auto sequences = cli.LoadSequences();
 
   if (cli.compare_laws) {
@@ -82,8 +86,10 @@ void AddCalibrateCommand(CLI::App& app) {
       "Fit the contact damping so single-ball DEM drops lose the energy the recordings show.");
   command->footer(
       "Example:\n"
-      "  bouncecal calibrate drop1.wav drop2.wav --drop-height 0.2 --card steel.json\n"
-      "  bouncecal calibrate drop.wav --objective intervals --compare-laws --plot fit.png");
+      "  bouncecal calibrate drop1.wav drop2.wav --ball steel-10mm --drop-height 0.2 --card "
+      "steel.json\n"
+      "  bouncecal calibrate drop.wav --ball tennis --objective intervals --compare-laws --plot "
+      "fit.png");
   cli->AddFitOptions(*command);
   command->add_flag("--compare-laws", cli->compare_laws,
                     "Fit several laws to the same recordings and rank them by BIC");

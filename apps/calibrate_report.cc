@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace bouncecal::apps {
@@ -25,16 +26,63 @@ std::string FixedParameters(const calibrate::FitSummary& summary) {
 
 void PrintParameters(const calibrate::FitSummary& summary, double confidence_level) {
   for (const auto& parameter : summary.parameters) {
-    std::string interval = "no interval (bootstrap off)";
+    std::string interval = "no interval (" + summary.uncertainty.message + ")";
     if (parameter.confidence_interval) {
-      interval = fmt::format("{:.0f} % CI [{}, {}]", 100 * confidence_level,
+      interval = fmt::format("{:.0f} % CI [{}, {}]{}", 100 * confidence_level,
                              FormatValue(parameter.confidence_interval->first),
-                             FormatValue(parameter.confidence_interval->second));
+                             FormatValue(parameter.confidence_interval->second),
+                             parameter.interval_clipped ? " (cut at the search range)" : "");
     }
     fmt::print("  {} = {} {}   {}{}\n", parameter.name, FormatValue(parameter.value),
                parameter.unit == "1" ? "" : parameter.unit, interval,
                parameter.at_bound ? "   (at the edge of its search range)" : "");
   }
+}
+
+std::string BallLine(const calibrate::FitSummary& summary, const calibrate::FitOptions& options) {
+  if (!options.ball) {
+    return fmt::format(
+        "ball: not given ({} loses the same fraction of energy whatever the ball, so the drops "
+        "simulate the 1 cm steel reference; give --ball for a card)",
+        dem::ToString(summary.law.kind));
+  }
+  return fmt::format("ball: {}d = {} m, m = {:.4g} kg",
+                     options.ball_preset.empty() ? "" : options.ball_preset + ", ",
+                     FormatValue(options.ball->diameter_m), options.ball->MassKg());
+}
+
+std::string DropHeightLine(const calibrate::FitSummary& summary,
+                           const calibrate::FitOptions& options) {
+  if (options.drop_height_m) return "drop height " + FormatValue(*options.drop_height_m) + " m";
+  std::string apexes;
+  for (const auto& sequence : summary.sequences) {
+    if (sequence.measured.bounce_height_m.empty()) continue;
+    apexes += (apexes.empty() ? "" : ", ") +
+              fmt::format("{:.3g}", sequence.measured.bounce_height_m.front());
+  }
+  return "drop height not given: e_1 and eta_1 are not computed and the drops start from the "
+         "first measured bounce apex (" +
+         apexes + " m)";
+}
+
+void PrintAcrossRecordings(const calibrate::FitSummary& summary, double confidence_level) {
+  const auto& uncertainty = summary.uncertainty;
+  if (uncertainty.recordings.size() < 2 || !uncertainty.energy_loss_sd_across) return;
+  std::string per_recording;
+  for (const auto& recording : uncertainty.recordings) {
+    if (recording.parameter_values.empty()) continue;
+    per_recording +=
+        (per_recording.empty() ? "" : ", ") + FormatValue(recording.parameter_values.front());
+  }
+  fmt::print(
+      "  across {} recordings: eta-bar = {:.4f} +- {:.2g} (sd), {:.0f} % interval of the mean "
+      "[{:.4f}, {:.4f}]{}\n",
+      uncertainty.recordings.size(), uncertainty.energy_loss_mean,
+      *uncertainty.energy_loss_sd_across, 100 * confidence_level,
+      uncertainty.energy_loss_mean_interval->first, uncertainty.energy_loss_mean_interval->second,
+      per_recording.empty() || summary.parameters.empty()
+          ? ""
+          : "; " + summary.parameters.front().name + " of each alone: " + per_recording);
 }
 
 }  // namespace
@@ -46,22 +94,35 @@ void PrintFit(const calibrate::FitSummary& summary, const calibrate::FitOptions&
              summary.objective == calibrate::FitObjective::kMeanEnergyLoss
                  ? fmt::format(" (first {} impacts)", options.first_n)
                  : "");
-  fmt::print("ball: d = {} m, m = {:.4g} kg; drop height {}; integrator {}{}\n",
-             options.ball.diameter_m, options.ball.MassKg(),
-             options.drop_height_m ? FormatValue(*options.drop_height_m) + " m" : "unknown",
-             dem::ToString(options.integrator), options.drag.enabled ? ", air drag on" : "");
-  for (const auto& sequence : summary.sequences) {
-    const auto& measured = sequence.measured;
-    fmt::print("  {}: {} impacts, eta-bar(first {}) = {}\n", sequence.source,
-               measured.intervals_s.size() + 1, options.first_n,
-               measured.energy_loss_mean_first_n
-                   ? fmt::format("{:.4f} +- {:.2g}", *measured.energy_loss_mean_first_n,
-                                 *measured.energy_loss_mean_first_n_uncertainty)
-                   : "n/a");
+  fmt::print("{}\n{}; integrator {}{}\n", BallLine(summary, options),
+             DropHeightLine(summary, options), dem::ToString(options.integrator),
+             options.drag.enabled ? ", air drag on" : "");
+  const double scatter = summary.uncertainty.per_impact_scatter;
+  for (size_t r = 0; r < summary.sequences.size(); ++r) {
+    const auto& measured = summary.sequences[r].measured;
+    std::string eta_bar = "n/a";
+    if (measured.energy_loss_mean_first_n) {
+      // Scatter and timing, as the uncertainty model combines them for the first N.
+      const double timing = *measured.energy_loss_mean_first_n_uncertainty;
+      eta_bar = fmt::format(
+          "{:.4f} +- {:.2g} (timing alone +- {:.2g})", *measured.energy_loss_mean_first_n,
+          std::sqrt(scatter * scatter / options.first_n + timing * timing), timing);
+    }
+    std::string spread;
+    if (r < summary.uncertainty.recordings.size() &&
+        summary.uncertainty.recordings[r].impacts_used >= 2) {
+      const auto& recording = summary.uncertainty.recordings[r];
+      spread = fmt::format("; eta_k about the law: sd {:.2g} over {} fitted impacts",
+                           recording.energy_loss_scatter, recording.impacts_used);
+    }
+    fmt::print("  {}: {} impacts, eta-bar(first {}) = {}{}\n", summary.sequences[r].source,
+               measured.intervals_s.size() + 1, options.first_n, eta_bar, spread);
   }
   fmt::print("fitted parameters ({}):\n", FixedParameters(summary));
   PrintParameters(summary, options.uncertainty.confidence_level);
-  fmt::print("  uncertainty: {}\n", summary.uncertainty_method);
+  fmt::print("  uncertainty: {}\n", summary.uncertainty.model);
+  PrintAcrossRecordings(summary, options.uncertainty.confidence_level);
+  fmt::print("  model adequacy: {}\n", summary.adequacy.message);
   fmt::print("  implied first impact: e = {:.4f}, eta = {:.4f}\n", summary.implied_restitution,
              summary.implied_energy_loss);
   const auto& check = summary.check;
@@ -71,10 +132,11 @@ void PrintFit(const calibrate::FitSummary& summary, const calibrate::FitOptions&
                check.energy_loss_mean, check.energy_loss_mean_uncertainty, check.gamma_n_formula);
     fmt::print(
         "  fitted - formula = {:+.4f}; time-step error {:+.4f} (eta-bar {:.4f} with this "
-        "step vs {:.4f} exact), formula model error {:+.4f}\n",
+        "step vs {:.4f} exact), gravity during contact {:+.4f}{}\n",
         check.difference, check.time_step_gamma_error, check.energy_loss_mean_chosen_step,
-        check.energy_loss_mean_exact, check.model_gamma_error);
-    fmt::print("  {}{}\n", check.warning ? "WARNING: " : "", check.message);
+        check.energy_loss_mean_exact, check.model_gamma_error,
+        options.drag.enabled ? fmt::format(", air drag {:+.4f}", check.drag_gamma_error) : "");
+    fmt::print("  {}\n", check.message);
   } else {
     fmt::print("analytic check: not applicable ({})\n", check.message);
   }
@@ -83,6 +145,7 @@ void PrintFit(const calibrate::FitSummary& summary, const calibrate::FitOptions&
       "{} data ({} dof); fit {:.3f} s, total {:.3f} s\n",
       summary.stop_message, ToString(summary.stop), summary.evaluations, summary.residual,
       summary.data_points, summary.degrees_of_freedom, summary.fit_time_s, summary.total_time_s);
+  for (const auto& warning : summary.warnings) fmt::print("WARNING: {}\n", warning);
 }
 
 void PrintComparison(const calibrate::LawComparison& comparison, size_t sequence_count) {
@@ -101,9 +164,8 @@ void PrintComparison(const calibrate::LawComparison& comparison, size_t sequence
       if (parameter.confidence_interval) {
         parameters += fmt::format(" [{}, {}]", FormatValue(parameter.confidence_interval->first),
                                   FormatValue(parameter.confidence_interval->second));
-      } else if (fit.bootstrap_failures > 0) {
-        parameters +=
-            fmt::format(" (no interval: {} bootstrap refits failed)", fit.bootstrap_failures);
+      } else {
+        parameters += " (no interval)";
       }
     }
     fmt::print("  {:<22} {:>12.5g} {:>5} {:>10.4g} {:>10.4g} {:>10.3g} {:>9}  {}\n",
@@ -111,6 +173,10 @@ void PrintComparison(const calibrate::LawComparison& comparison, size_t sequence
                fit.bic - best, fit.degrees_of_freedom, parameters);
   }
   fmt::print("  dBIC > 10 is very strong evidence against a law (Kass & Raftery 1995)\n");
+  const auto& winner = comparison.fits.front();
+  fmt::print("  model adequacy of {}: {}\n", dem::ToString(winner.law.kind),
+             winner.adequacy.message);
+  for (const auto& warning : winner.warnings) fmt::print("WARNING: {}\n", warning);
 }
 
 std::vector<PlotPanel> FitPlotPanels(const calibrate::FitSummary& summary,

@@ -46,10 +46,15 @@ std::string InputsSection(const CalibrationReportContent& content) {
   }
   html += "</table>\n";
   const auto& options = content.options;
+  const dem::Ball ball = options.ball.value_or(calibrate::ReferenceBall());
   html += fmt::format(
-      "<p>Ball: d = {} m, m = {} kg; drop height {}; gravity {} m/s&sup2;; integrator {}{}.</p>\n",
-      Number(options.ball.diameter_m), Number(options.ball.MassKg(), 4),
-      options.drop_height_m ? Number(*options.drop_height_m) + " m" : "unknown (fit from the apex)",
+      "<p>Ball: {}d = {} m, m = {} kg; drop height {}; gravity {} m/s&sup2;; integrator "
+      "{}{}.</p>\n",
+      options.ball_preset.empty() ? "" : EscapeHtml(options.ball_preset) + ", ",
+      Number(ball.diameter_m), Number(ball.MassKg(), 4),
+      options.drop_height_m ? Number(*options.drop_height_m) + " m"
+                            : "not given (e_1 and eta_1 not computed; drops start from the first "
+                              "measured bounce apex)",
       Number(options.gravity_mps2), dem::ToString(options.integrator),
       options.drag.enabled ? ", air drag on" : "");
   html += "<p>Command: <code>" + EscapeHtml(content.command_line) + "</code></p>\n";
@@ -111,7 +116,7 @@ std::string FitSection(const CalibrationReportContent& content) {
         parameter.confidence_interval
             ? fmt::format("[{}, {}]", Number(parameter.confidence_interval->first),
                           Number(parameter.confidence_interval->second))
-            : "none (bootstrap off)";
+            : "none (" + EscapeHtml(summary.uncertainty.message) + ")";
     html += Row({EscapeHtml(parameter.name), Number(parameter.value), EscapeHtml(parameter.unit),
                  interval, parameter.at_bound ? "at the edge of its search range" : ""});
   }
@@ -131,7 +136,9 @@ std::string FitSection(const CalibrationReportContent& content) {
       Number(summary.implied_restitution, 4) + " / " + Number(summary.implied_energy_loss, 4));
   add("optimiser stop", EscapeHtml(summary.stop_message));
   add("drop simulations", std::to_string(summary.evaluations));
-  add("uncertainty", EscapeHtml(summary.uncertainty_method));
+  add("uncertainty", EscapeHtml(summary.uncertainty.model));
+  add("model adequacy", EscapeHtml(summary.adequacy.message));
+  for (const auto& warning : summary.warnings) add("warning", EscapeHtml(warning));
   add("time (fit / total)",
       Number(summary.fit_time_s, 3) + " s / " + Number(summary.total_time_s, 3) + " s");
   html += "</table>\n";

@@ -56,7 +56,7 @@ void Run(const CompareCliOptions& cli) {
       options.laws.push_back(law);
     }
   }
-  options.drop_height_m = cli.drop.drop_height_m;
+  options.drop_height_m = cli.drop.DropHeightM();
   options.gravity_mps2 = cli.drop.gravity_mps2;
   options.drag = cli.drop.Drag();
   options.integrator = cli.drop.Integrator();

@@ -2,18 +2,32 @@
 
 #include <cmath>
 
+#include "bouncecal/calibrate/ball_preset.h"
 #include "bouncecal/dem/contact_law_kind.h"
 #include "bouncecal/error.h"
 
 namespace bouncecal::apps {
 
-void DropCliOptions::Add(CLI::App& command, bool with_law) {
-  command.add_option("--diameter", diameter_m, "Ball diameter in m (default 0.01)");
-  auto* density = command.add_option("--density", density_kg_per_m3,
-                                     "Ball density in kg/m^3 (default 7800, steel)");
+void DropCliOptions::Add(CLI::App& command, bool with_law, Geometry geometry) {
+  geometry_ = geometry;
+  const bool paper = geometry == Geometry::kPaperDefaults;
+  auto* preset =
+      command.add_option("--ball", ball_preset,
+                         "Named ball: " + calibrate::BallPresetNames() +
+                             " (size and mass from the rules or densities in docs/calibration.md)");
+  auto* diameter = command.add_option("--diameter", diameter_m,
+                                      paper ? "Ball diameter in m (default 0.01)"
+                                            : "Ball diameter in m (with --density or --mass)");
+  auto* density = command.add_option(
+      "--density", density_kg_per_m3,
+      paper ? "Ball density in kg/m^3 (default 7800, steel)" : "Ball density in kg/m^3");
   auto* mass = command.add_option("--mass", mass_kg, "Ball mass in kg (instead of --density)");
   density->excludes(mass);
   mass->excludes(density);
+  for (auto* explicit_option : {diameter, density, mass}) {
+    preset->excludes(explicit_option);
+    explicit_option->excludes(preset);
+  }
   if (with_law) {
     command.add_option("--law", law,
                        "Contact law: " + dem::ContactLawNames() + " (default walton-braun)");
@@ -25,7 +39,10 @@ void DropCliOptions::Add(CLI::App& command, bool with_law) {
                      "(e.g. --param effective_modulus_pa=1e11)");
   command.add_option(
       "--drop-height", drop_height_m,
-      "Release height of the ball's lowest point above the plate in m (default 0.2)");
+      paper ? "Release height of the ball's lowest point above the plate in m (default 0.2)"
+            : "Release height of the ball's lowest point above the plate in m. Without it e_1 "
+              "and eta_1 are not computed and the simulated drops start from the apex of the "
+              "first measured bounce");
   command.add_option("--gravity", gravity_mps2,
                      "Gravitational acceleration in m/s^2 (default 9.81)");
   command.add_option("--integrator", integrator,
@@ -44,23 +61,37 @@ void DropCliOptions::Add(CLI::App& command, bool with_law) {
                      "Air density in kg/m^3 (default 1.204)");
 }
 
-dem::Ball DropCliOptions::Ball() const {
-  dem::Ball ball;
-  if (!(diameter_m > 0 && diameter_m < 10)) {
-    throw ConfigError("--diameter must be in (0, 10) m, got " + std::to_string(diameter_m));
+std::optional<dem::Ball> DropCliOptions::GivenBall() const {
+  if (!ball_preset.empty()) return calibrate::FindBallPreset(ball_preset).ToBall();
+  if (!diameter_m && !density_kg_per_m3 && !mass_kg) return std::nullopt;
+  if (geometry_ == Geometry::kAsGiven) {
+    if (!diameter_m) {
+      throw ConfigError(
+          "--density or --mass needs --diameter (the ball's size), or use --ball NAME");
+    }
+    if (!density_kg_per_m3 && !mass_kg) {
+      throw ConfigError(
+          "--diameter needs --density or --mass (the ball's mass), or use --ball NAME");
+    }
   }
-  if (!(density_kg_per_m3 > 0 && density_kg_per_m3 < 1e5)) {
+  dem::Ball ball;  // completed with the paper's 1 cm steel under kPaperDefaults
+  if (diameter_m) ball.diameter_m = *diameter_m;
+  if (density_kg_per_m3) ball.density_kg_per_m3 = *density_kg_per_m3;
+  ball.mass_kg = mass_kg;
+  if (!(ball.diameter_m > 0 && ball.diameter_m < 10)) {
+    throw ConfigError("--diameter must be in (0, 10) m, got " + std::to_string(ball.diameter_m));
+  }
+  if (!(ball.density_kg_per_m3 > 0 && ball.density_kg_per_m3 < 1e5)) {
     throw ConfigError("--density must be in (0, 1e5) kg/m^3, got " +
-                      std::to_string(density_kg_per_m3));
+                      std::to_string(ball.density_kg_per_m3));
   }
   if (mass_kg && !(*mass_kg > 0 && std::isfinite(*mass_kg))) {
     throw ConfigError("--mass must be a positive number of kg, got " + std::to_string(*mass_kg));
   }
-  ball.diameter_m = diameter_m;
-  ball.density_kg_per_m3 = density_kg_per_m3;
-  ball.mass_kg = mass_kg;
   return ball;
 }
+
+dem::Ball DropCliOptions::Ball() const { return GivenBall().value_or(dem::Ball{}); }
 
 dem::ContactLawConfig DropCliOptions::Law(bool validate) const {
   dem::ContactLawConfig config;

@@ -46,6 +46,9 @@ void Run(const ReportCommandOptions& cli, const std::string& command_line) {
   }
   const std::time_t card_created_at = CardCreationTimeFromEnvironment();
   const auto options = cli.FitOptions();
+  calibrate::CheckCardOptions(options);  // the page holds the material card
+  for (const auto& warning : cli.DeprecationWarnings())
+    fmt::print(stderr, "bouncecal: warning: {}\n", warning);
   const auto sequences = cli.LoadSequences();
   const auto summary = calibrate::Fit(sequences, options);
 
@@ -88,7 +91,7 @@ void AddReportCommand(CLI::App& app) {
       "material card, for a lab notebook or a paper's supplement.");
   command->footer(
       "Example:\n"
-      "  bouncecal report drop1.wav drop2.wav --drop-height 0.2 --bootstrap 16 -o steel.html\n"
+      "  bouncecal report drop1.wav drop2.wav --ball steel-10mm --drop-height 0.2 -o steel.html\n"
       "Takes every fit option of `bouncecal calibrate`; the page uses no script and no external "
       "resource, so it opens offline.");
   cli->AddFitOptions(*command);

@@ -25,7 +25,7 @@ struct SweepCliOptions {
 
 void Plot(const SweepCliOptions& cli, const calibrate::SweepSummary& summary) {
   PlotPanel panel{"Simulated energy loss vs " + cli.parameter + " (" + cli.drop.law +
-                      ", h0 = " + fmt::format("{:g}", cli.drop.drop_height_m) + " m)",
+                      ", h0 = " + fmt::format("{:g}", cli.drop.DropHeightM()) + " m)",
                   cli.parameter + " (1)",
                   "energy loss eta (1)",
                   {},
@@ -71,7 +71,7 @@ void Run(const SweepCliOptions& cli) {
     throw ConfigError(std::string("--gamma/--values: ") + error.what());
   }
   options.ball = cli.drop.Ball();
-  options.drop_height_m = cli.drop.drop_height_m;
+  options.drop_height_m = cli.drop.DropHeightM();
   options.gravity_mps2 = cli.drop.gravity_mps2;
   options.integrator = cli.drop.Integrator();
   options.time_step_s = cli.drop.time_step_s;

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -16,17 +17,21 @@ std::filesystem::path Temp(const std::string& name) {
   return std::filesystem::temp_directory_path() / ("bouncecal_calibrate_cli_" + name);
 }
 
+// The README's sample command: the paper's experiment, whose ball and height are known.
+const std::string kPaperSetUp = " --ball steel-10mm --drop-height 0.2";
+
 TEST(CalibrateCli, ShippedSampleGivesGammaNearTheFormulaWithJsonAndCard) {
   const auto json = Temp("fit.json"), card = Temp("card.json");
-  const auto result = RunBouncecal("calibrate " + Sample() + " --json " + json.string() +
-                                   " --card " + card.string() + " --bootstrap 8");
+  const auto result = RunBouncecal("calibrate " + Sample() + kPaperSetUp + " --json " +
+                                   json.string() + " --card " + card.string());
   ASSERT_EQ(result.exit_status, 0) << result.output;
   EXPECT_NE(result.output.find("gamma_n"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("analytic check"), std::string::npos) << result.output;
   std::ifstream in(json);
   const auto fit = nlohmann::json::parse(in);
-  for (const char* key : {"law", "parameters", "confidence_interval", "analytic", "objective",
-                          "residual", "evaluations", "stop_reason"}) {
+  for (const char* key :
+       {"law", "parameters", "confidence_interval", "analytic", "objective", "residual",
+        "evaluations", "stop_reason", "uncertainty", "model_adequacy", "warnings"}) {
     EXPECT_TRUE(fit.contains(key)) << key;
   }
   // The sample was synthesised with a constant eta = 0.58 (samples/README.md): gamma_n from the
@@ -35,7 +40,16 @@ TEST(CalibrateCli, ShippedSampleGivesGammaNearTheFormulaWithJsonAndCard) {
   EXPECT_NEAR(fit["parameters"]["gamma_n"].get<double>(), 0.408, 5e-3);
   EXPECT_TRUE(fit["analytic"]["gamma_n"].is_number());
   std::ifstream card_in(card);
-  EXPECT_EQ(nlohmann::json::parse(card_in)["format"], "bouncecal-material/1");
+  const auto material = nlohmann::json::parse(card_in);
+  EXPECT_EQ(material["format"], "bouncecal-material/1");
+  // The card states the ball, the height and what its interval includes.
+  EXPECT_EQ(material["ball"]["preset"], "steel-10mm");
+  EXPECT_DOUBLE_EQ(material["fit"]["drop_height_m"].get<double>(), 0.2);
+  EXPECT_EQ(material["fit"]["release"], "drop-height");
+  EXPECT_EQ(material["fit"]["uncertainty"]["recordings"], 1);
+  EXPECT_EQ(material["fit"]["uncertainty"]["sequences"], 1);
+  EXPECT_NE(material["fit"]["uncertainty"]["model"].get<std::string>().find("per-impact scatter"),
+            std::string::npos);
   std::filesystem::remove(json);
   std::filesystem::remove(card);
 }
@@ -50,7 +64,7 @@ std::string ReadFile(const std::filesystem::path& path) {
 TEST(CalibrateCli, SourceDateEpochMakesTheCardByteIdentical) {
   const auto first = Temp("epoch_1.json"), second = Temp("epoch_2.json");
   const std::string environment = "SOURCE_DATE_EPOCH=1700000000";
-  const std::string arguments = "calibrate " + Sample() + " --bootstrap 0 --card ";
+  const std::string arguments = "calibrate " + Sample() + kPaperSetUp + " --card ";
   ASSERT_EQ(RunBouncecal(arguments + first.string(), environment).exit_status, 0);
   ASSERT_EQ(RunBouncecal(arguments + second.string(), environment).exit_status, 0);
   const auto card = ReadFile(first);
@@ -64,7 +78,7 @@ TEST(CalibrateCli, MalformedSourceDateEpochIsAnOptionErrorBeforeTheFit) {
   const auto card = Temp("epoch_bad.json");
   for (const char* value : {"yesterday", "-5", "1e9", "99999999999999"}) {
     const auto result =
-        RunBouncecal("calibrate " + Sample() + " --bootstrap 0 --card " + card.string(),
+        RunBouncecal("calibrate " + Sample() + kPaperSetUp + " --card " + card.string(),
                      std::string("SOURCE_DATE_EPOCH=") + value);
     EXPECT_EQ(result.exit_status, 3) << value << ": " << result.output;
     EXPECT_NE(result.output.find("SOURCE_DATE_EPOCH"), std::string::npos) << result.output;
@@ -84,8 +98,74 @@ TEST(CalibrateCli, UnknownObjectiveOrLawExitsWithStatus3) {
 
 TEST(CalibrateCli, UnwritableCardExitsWithStatus4AndLeavesNothing) {
   const auto result =
-      RunBouncecal("calibrate " + Sample() + " --bootstrap 0 --card /nonexistent/dir/card.json");
+      RunBouncecal("calibrate " + Sample() + kPaperSetUp + " --card /nonexistent/dir/card.json");
   EXPECT_EQ(result.exit_status, 4) << result.output;
+}
+
+TEST(CalibrateCli, FirstReboundAboveTheGivenHeightExitsWithStatus3AndBothHeights) {
+  // The sample's first rebound rises to 0.2 * 0.42 = 0.084 m.
+  const auto result = RunBouncecal("calibrate " + Sample() + " --drop-height 0.05");
+  EXPECT_EQ(result.exit_status, 3) << result.output;
+  EXPECT_NE(result.output.find("first rebound rose to 0.08"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("drop height 0.05 m"), std::string::npos) << result.output;
+  // One line: the error and nothing else.
+  EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+}
+
+TEST(CalibrateCli, WithoutAHeightTheFitStartsFromTheFirstBounceAndSaysSo) {
+  const auto result = RunBouncecal("calibrate " + Sample());
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  EXPECT_NE(result.output.find("drop height not given"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("ball: not given"), std::string::npos) << result.output;
+  // The old flag still works, meaning the same; with a height it is a contradiction.
+  const auto alias = RunBouncecal("calibrate " + Sample() + " --unknown-drop-height");
+  EXPECT_EQ(alias.exit_status, 0) << alias.output;
+  EXPECT_EQ(alias.output.substr(0, alias.output.find("optimiser")),
+            result.output.substr(0, result.output.find("optimiser")));
+  EXPECT_EQ(RunBouncecal("calibrate " + Sample() + " --unknown-drop-height --drop-height 0.2")
+                .exit_status,
+            3);
+}
+
+TEST(CalibrateCli, CardWithoutABallExitsWithStatus3BeforeFitting) {
+  const auto card = Temp("no_ball.json");
+  const auto result = RunBouncecal("calibrate " + Sample() + " --card " + card.string());
+  EXPECT_EQ(result.exit_status, 3) << result.output;
+  EXPECT_NE(result.output.find("--ball"), std::string::npos) << result.output;
+  EXPECT_EQ(result.output.find("gamma_n ="), std::string::npos) << "fitted before refusing";
+  EXPECT_FALSE(std::filesystem::exists(card));
+  // A speed-dependent law needs it too; an unknown preset names the valid ones.
+  EXPECT_EQ(RunBouncecal("calibrate " + Sample() + " --law hertz-viscoelastic").exit_status, 3);
+  const auto unknown = RunBouncecal("calibrate " + Sample() + " --ball bowling");
+  EXPECT_EQ(unknown.exit_status, 3) << unknown.output;
+  EXPECT_NE(unknown.output.find("pingpong-40mm"), std::string::npos) << unknown.output;
+  // Half a ball is refused: a size needs a mass.
+  EXPECT_EQ(RunBouncecal("calibrate " + Sample() + " --diameter 0.04").exit_status, 3);
+}
+
+TEST(CalibrateCli, SameRecordingTwiceGivesTheSameIntervalWithAWarning) {
+  const auto once = Temp("once.json"), twice = Temp("twice.json");
+  const auto one = RunBouncecal("calibrate " + Sample() + " --json " + once.string());
+  const auto two =
+      RunBouncecal("calibrate " + Sample() + " " + Sample() + " --json " + twice.string());
+  ASSERT_EQ(one.exit_status, 0) << one.output;
+  ASSERT_EQ(two.exit_status, 0) << two.output;
+  std::ifstream once_in(once), twice_in(twice);
+  const auto a = nlohmann::json::parse(once_in), b = nlohmann::json::parse(twice_in);
+  EXPECT_EQ(a["confidence_interval"], b["confidence_interval"]);
+  EXPECT_EQ(b["uncertainty"]["duplicates"], 1);
+  EXPECT_NE(two.output.find("counted once"), std::string::npos) << two.output;
+  EXPECT_EQ(one.output.find("counted once"), std::string::npos) << one.output;
+  std::filesystem::remove(once);
+  std::filesystem::remove(twice);
+}
+
+TEST(CalibrateCli, RetiredBootstrapOptionsAreAcceptedWithAWarning) {
+  const auto result = RunBouncecal("calibrate " + Sample() + " --bootstrap 16 --seed 3");
+  EXPECT_EQ(result.exit_status, 0) << result.output;
+  EXPECT_NE(result.output.find("--bootstrap and --seed no longer change anything"),
+            std::string::npos)
+      << result.output;
 }
 
 TEST(SweepCli, PrintsTheAnalyticColumnForWaltonBraun) {

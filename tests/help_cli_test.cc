@@ -67,7 +67,8 @@ TEST(HelpCli, BadOptionValuesNameTheOptionAndItsRangeWithExitStatus3) {
   // The input file need not exist: option values are checked before any file is read.
   const Case cases[] = {
       {"calibrate missing.json --confidence 2", "--confidence", "(0, 1)"},
-      {"calibrate missing.json --bootstrap -1", "--bootstrap", ">= 0"},
+      {"calibrate missing.json --drop-height 0.2 --drop-height-uncertainty -1",
+       "--drop-height-uncertainty", ">= 0"},
       {"calibrate missing.json --first 0", "--first", "at least 1"},
       {"report missing.json --threads 0 -o r.html", "--threads", ">= 1"},
       {"sweep --gamma 0.1:0.9:0", "--gamma", "0 < step"},

@@ -48,7 +48,7 @@ class ReportCli : public ::testing::Test {
       return;
     }
     run_ = new CliResult(RunBouncecal("report " + Input().string() +
-                                      " --drop-height 0.2 --bootstrap 0 -o " +
+                                      " --drop-height 0.2 --ball steel-10mm -o " +
                                       (*folder_ / "report.html").string()));
   }
   static void TearDownTestSuite() {

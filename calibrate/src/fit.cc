@@ -4,14 +4,15 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
-#include <numeric>
-#include <random>
 #include <string>
 #include <thread>
 
 #include "bouncecal/error.h"
 #include "fit_problem.h"
+#include "fit_uncertainty.h"
+#include "model_adequacy.h"
 
 namespace bouncecal::calibrate {
 namespace {
@@ -19,20 +20,16 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using internal::ParameterMap;
 
-constexpr double kMaxBirgeRatio = 10;
 using internal::SequencePlan;
 
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// SplitMix64 (Steele, Lea & Flood 2014): decorrelated per-replicate seeds from one user seed, so
-// a replicate's random numbers do not depend on which thread runs it.
-std::uint64_t SplitMix64(std::uint64_t value) {
-  value += 0x9e3779b97f4a7c15ULL;
-  value = (value ^ (value >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  value = (value ^ (value >> 27)) * 0x94d049bb133111ebULL;
-  return value ^ (value >> 31);
+std::string Format(const char* format, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
 }
 
 void ValidateOptions(const FitOptions& options) {
@@ -53,12 +50,65 @@ void ValidateOptions(const FitOptions& options) {
                       std::to_string(options.max_intervals));
   }
   const auto& u = options.uncertainty;
-  if (u.bootstrap_samples < 0 || !(u.confidence_level > 0 && u.confidence_level < 1) ||
-      u.threads < 1 || !(u.drop_height_uncertainty_m >= 0)) {
+  if (!(u.confidence_level > 0 && u.confidence_level < 1) || u.threads < 1 ||
+      !(u.drop_height_uncertainty_m >= 0)) {
     throw ConfigError(
-        "uncertainty options: bootstrap samples >= 0, confidence level in (0, 1), threads >= 1 and "
-        "drop-height uncertainty >= 0 m are required");
+        "uncertainty options: confidence level in (0, 1), threads >= 1 and drop-height "
+        "uncertainty >= 0 m are required");
   }
+  if (u.drop_height_uncertainty_m > 0 && !options.drop_height_m) {
+    throw ConfigError(
+        "a drop-height uncertainty needs a drop height; give --drop-height or drop "
+        "--drop-height-uncertainty");
+  }
+  if (options.ball) {
+    options.ball->Validate();
+  } else if (const auto why = WhyResultDependsOnBall(options); !why.empty()) {
+    throw ConfigError("the ball is needed: with " + why +
+                      " the fitted damping depends on its size and mass; give --ball NAME (e.g. "
+                      "steel-10mm, pingpong-40mm, tennis) or --diameter with --density or --mass");
+  }
+}
+
+// The ball every drop simulates: the given one, or the reference where the result does not
+// depend on it.
+FitOptions WithSimulatedBall(const FitOptions& options) {
+  FitOptions result = options;
+  if (!result.ball) result.ball = ReferenceBall();
+  return result;
+}
+
+// Sequences with identical impact times are one recording given twice (the same file, a copy,
+// or the analyze --json of it): fitting both would count one measurement as two and shrink the
+// interval. The first is kept.
+std::vector<MeasuredSequence> DistinctSequences(const std::vector<MeasuredSequence>& sequences,
+                                                std::vector<std::string>& warnings,
+                                                int& duplicates) {
+  std::vector<MeasuredSequence> distinct;
+  for (const auto& sequence : sequences) {
+    const MeasuredSequence* original = nullptr;
+    for (const auto& kept : distinct) {
+      const bool same =
+          kept.impacts.size() == sequence.impacts.size() &&
+          std::equal(kept.impacts.begin(), kept.impacts.end(), sequence.impacts.begin(),
+                     [](const TimedImpact& a, const TimedImpact& b) {
+                       return a.onset_s == b.onset_s && a.uncertainty_s == b.uncertainty_s;
+                     });
+      if (same) original = &kept;
+    }
+    if (original == nullptr) {
+      distinct.push_back(sequence);
+      continue;
+    }
+    ++duplicates;
+    const bool same_file =
+        !sequence.content_hash.empty() && sequence.content_hash == original->content_hash;
+    warnings.push_back(sequence.source + " has the same impact times as " + original->source +
+                       (same_file ? " (same file content, " + sequence.content_hash + ")" : "") +
+                       ", so it is counted once; give a separate recording of another drop to "
+                       "narrow the interval");
+  }
+  return distinct;
 }
 
 // The search problem over a fixed set of plans: objective evaluation and the minimisation.
@@ -111,108 +161,31 @@ MinimizerOptions MainMinimizerOptions(const FitOptions& options, size_t paramete
   return result;
 }
 
-double Quantile(std::vector<double> values, double probability) {
-  std::sort(values.begin(), values.end());
-  const double position = probability * static_cast<double>(values.size() - 1);
-  const size_t below = static_cast<size_t>(std::floor(position));
-  const size_t above = std::min(below + 1, values.size() - 1);
-  const double fraction = position - static_cast<double>(below);
-  return values[below] * (1 - fraction) + values[above] * fraction;
-}
-
-// Parametric bootstrap (Efron & Tibshirani 1993, ch. 6): each replicate redraws every onset from
-// N(measured, (inflation sigma)^2) and the drop height from N(h0, sigma_h0^2); with several
-// recordings it also resamples the recordings with replacement, so their spread enters. Each
-// replicate is refitted with the local method from the best fit. The interval is the percentile
-// interval of the refitted values.
-void Bootstrap(const std::vector<MeasuredSequence>& sequences, const FitOptions& options,
-               const ParameterMap& map, const std::vector<double>& best_x, double inflation,
-               FitSummary& summary) {
-  const int samples = options.uncertainty.bootstrap_samples;
-  if (samples == 0) return;
-  std::vector<std::vector<double>> replicate_x(static_cast<size_t>(samples));
-  std::vector<char> ok(static_cast<size_t>(samples), 0);
-  MinimizerOptions local = options.minimizer;
-  local.global_evaluations = 0;
-  local.parameter_tolerance = std::max(local.parameter_tolerance, 1e-4);
-  local.max_evaluations = 60 * static_cast<int>(map.size());
-  local.max_time_s = 0;
-
-  std::atomic<int> next{0};
-  auto worker = [&] {
-    for (int r = next++; r < samples; r = next++) {
-      std::mt19937_64 random(SplitMix64(options.uncertainty.seed ^ SplitMix64(r)));
-      std::normal_distribution<double> normal(0.0, 1.0);
-      std::vector<MeasuredSequence> drawn;
-      for (size_t s = 0; s < sequences.size(); ++s) {
-        const size_t pick = sequences.size() > 1 ? random() % sequences.size() : s;
-        MeasuredSequence copy = sequences[pick];
-        for (auto& impact : copy.impacts)
-          impact.onset_s += inflation * impact.uncertainty_s * normal(random);
-        drawn.push_back(std::move(copy));
-      }
-      std::optional<double> drop_height = options.drop_height_m;
-      if (drop_height)
-        *drop_height += options.uncertainty.drop_height_uncertainty_m * normal(random);
-      try {
-        const Problem problem(options, map, MakePlans(drawn, options, drop_height));
-        replicate_x[static_cast<size_t>(r)] = problem.Minimize(local, best_x).x;
-        ok[static_cast<size_t>(r)] = 1;
-      } catch (const Error&) {
-        // A redraw can reorder two close late onsets; such a replicate is counted, not fitted.
-      }
-    }
-  };
-  const int threads = std::min(options.uncertainty.threads, samples);
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& thread : pool) thread.join();
-
-  const double tail = (1 - options.uncertainty.confidence_level) / 2;
-  for (size_t i = 0; i < map.size(); ++i) {
-    std::vector<double> values;
-    for (int r = 0; r < samples; ++r) {
-      if (ok[static_cast<size_t>(r)]) values.push_back(map.Value(i, replicate_x[r][i]));
-    }
-    summary.bootstrap_samples_used = static_cast<int>(values.size());
-    if (values.size() < 2) continue;
-    auto& parameter = summary.parameters[i];
-    parameter.confidence_interval = {Quantile(values, tail), Quantile(values, 1 - tail)};
-    const double mean = std::accumulate(values.begin(), values.end(), 0.0) / values.size();
-    double variance = 0;
-    for (double v : values) variance += (v - mean) * (v - mean);
-    parameter.bootstrap_std = std::sqrt(variance / (values.size() - 1));
-  }
-  summary.bootstrap_failures = samples - summary.bootstrap_samples_used;
-  summary.uncertainty_method =
-      "parametric bootstrap, " + std::to_string(summary.bootstrap_samples_used) +
-      " refits of onsets redrawn from their timing uncertainty" +
-      (inflation >= kMaxBirgeRatio
-           ? " (scaled by the Birge ratio, capped at 10: the law misfits the data, so the "
-             "interval is a lower bound)"
-       : inflation > 1 ? " (scaled by the Birge ratio " + std::to_string(inflation) + ")"
-                       : std::string()) +
-      (sequences.size() > 1 ? " with the recordings resampled" : "") +
-      (options.uncertainty.drop_height_uncertainty_m > 0 ? " and the drop height redrawn" : "") +
-      "; " +
-      std::to_string(static_cast<int>(std::lround(100 * options.uncertainty.confidence_level))) +
-      " % percentile interval";
+// eta-bar (first N) of the reference sequence simulated with `law`, optionally with another
+// integrator or without drag.
+double SimulatedEnergyLossMean(const FitOptions& options, const dem::ContactLawConfig& law,
+                               const SequencePlan& plan, bool drag,
+                               std::optional<dem::Integrator> integrator = {}) {
+  FitOptions variant = options;
+  variant.drag.enabled = drag && options.drag.enabled;
+  return internal::MeanOfFirst(
+      internal::SimulateSequence(law, plan, variant, integrator).energy_loss, options.first_n);
 }
 
 AnalyticCheck MakeCheck(const FitOptions& options, const dem::ContactLawConfig& law,
-                        const std::vector<SequencePlan>& plans) {
+                        const std::vector<SequencePlan>& plans,
+                        const UncertaintySummary& uncertainty, MinimizerStop stop) {
   AnalyticCheck check;
   if (law.kind != dem::ContactLawKind::kWaltonBraun) {
     check.message = "the closed form eta = 2 gamma / (1 + gamma) holds for walton-braun only";
     return check;
   }
-  double sum = 0, variance = 0;
+  double sum = 0, timing_variance = 0;
   int count = 0;
   for (const auto& plan : plans) {
     if (!plan.measured.energy_loss_mean_first_n) continue;
     sum += *plan.measured.energy_loss_mean_first_n;
-    variance += std::pow(*plan.measured.energy_loss_mean_first_n_uncertainty, 2);
+    timing_variance += std::pow(*plan.measured.energy_loss_mean_first_n_uncertainty, 2);
     ++count;
   }
   if (count == 0) {
@@ -223,43 +196,76 @@ AnalyticCheck MakeCheck(const FitOptions& options, const dem::ContactLawConfig& 
   check.applicable = true;
   const double eta = sum / count;
   check.energy_loss_mean = eta;
-  check.energy_loss_mean_uncertainty = std::sqrt(variance) / count;
+  // The uncertainty model's components for the mean of the first N of each recording.
+  const double scatter = std::pow(uncertainty.per_impact_scatter, 2) / options.first_n;
+  const double between = std::pow(uncertainty.between_recording_sd, 2);
+  check.energy_loss_mean_uncertainty =
+      std::sqrt(timing_variance / (count * count) + (scatter + between) / count);
   check.gamma_n_formula = eta / (2 - eta);
   const double gamma = law.Get("gamma_n");
   check.gamma_n_fitted = gamma;
   check.difference = gamma - check.gamma_n_formula;
 
   const SequencePlan& reference = plans.front();
-  const auto chosen = internal::SimulateSequence(law, reference, options);
-  check.energy_loss_mean_chosen_step = internal::MeanOfFirst(chosen.energy_loss, options.first_n);
+  check.energy_loss_mean_chosen_step = SimulatedEnergyLossMean(options, law, reference, true);
+  const double chosen_without_drag = SimulatedEnergyLossMean(options, law, reference, false);
   check.energy_loss_formula = 2 * gamma / (1 + gamma);
   const double slope = 2 / std::pow(1 + gamma, 2);  // d eta / d gamma of the closed form
   try {
-    const auto exact = internal::SimulateSequence(law, reference, options, dem::Integrator::kExact);
-    check.energy_loss_mean_exact = internal::MeanOfFirst(exact.energy_loss, options.first_n);
+    check.energy_loss_mean_exact =
+        SimulatedEnergyLossMean(options, law, reference, false, dem::Integrator::kExact);
   } catch (const ConfigError&) {
-    check.energy_loss_mean_exact = check.energy_loss_mean_chosen_step;  // no exact path
+    check.energy_loss_mean_exact = chosen_without_drag;  // no exact path
   }
-  check.time_step_gamma_error =
-      (check.energy_loss_mean_chosen_step - check.energy_loss_mean_exact) / slope;
+  check.time_step_gamma_error = (chosen_without_drag - check.energy_loss_mean_exact) / slope;
   check.model_gamma_error = (check.energy_loss_mean_exact - check.energy_loss_formula) / slope;
+  check.drag_gamma_error = (check.energy_loss_mean_chosen_step - chosen_without_drag) / slope;
   const double formula_sigma = check.energy_loss_mean_uncertainty * 2 / std::pow(2 - eta, 2);
   check.explained = std::abs(check.time_step_gamma_error) + std::abs(check.model_gamma_error) +
-                    2 * formula_sigma + 1e-4;  // + the optimiser's tolerance on gamma
+                    std::abs(check.drag_gamma_error) + 2 * formula_sigma +
+                    1e-4;  // + the optimiser's tolerance on gamma
   check.warning = std::abs(check.difference) > check.explained;
-  char text[400];
-  std::snprintf(
-      text, sizeof text,
-      check.warning ? "fitted gamma_n differs from the formula by %.4f, more than the %.4f that "
-                      "time-step error (%.4f), the formula's neglect of gravity during contact "
-                      "(%.4f) and timing noise explain: one constant gamma does not describe these "
-                      "impacts (try --compare-laws or --objective mean-energy-loss)"
-                    : "fitted gamma_n differs from the formula by %.4f, within the %.4f that "
-                      "time-step error (%.4f), the formula's neglect of gravity during contact "
-                      "(%.4f) and timing noise explain",
-      check.difference, check.explained, check.time_step_gamma_error, check.model_gamma_error);
+  char text[600];
+  std::snprintf(text, sizeof text,
+                "fitted gamma_n differs from the formula by %.4f, %s the %.4f that time-step error "
+                "(%.4f), gravity during contact (%.4f)%s and the uncertainty of eta-bar explain",
+                check.difference, check.warning ? "more than" : "within", check.explained,
+                check.time_step_gamma_error, check.model_gamma_error,
+                options.drag.enabled
+                    ? (", air drag (" + Format("%.4f", check.drag_gamma_error) + ")").c_str()
+                    : "");
   check.message = text;
+  if (check.warning) {
+    // The next step depends on why the fit and eta-bar disagree.
+    if (options.objective != FitObjective::kMeanEnergyLoss) {
+      check.message +=
+          ": the " + std::string(ToString(options.objective)) +
+          " fit also weights later, slower impacts whose energy loss differs, so one constant "
+          "gamma does not describe these impacts; fit the first impacts only with --objective "
+          "mean-energy-loss, or rank speed-dependent laws with --compare-laws";
+    } else if (!IsConverged(stop)) {
+      check.message +=
+          ": the optimiser did not converge, so the fit does not reproduce eta-bar; raise "
+          "--max-evaluations";
+    } else {
+      check.message +=
+          ": the drops do not reproduce eta-bar within the optimiser's reach (a jagged objective, "
+          "as on a fixed step grid); raise --global-evaluations or --steps-per-contact";
+    }
+  }
   return check;
+}
+
+// The trend test over the residuals of every measured impact about the fitted law.
+ModelAdequacy TestAdequacy(const FitOptions& options, const dem::ContactLawConfig& law,
+                           const std::vector<SequencePlan>& plans, bool comparing) {
+  internal::AdequacyContext context;
+  context.law = std::string(dem::ToString(options.law.kind));
+  FitOptions without_drag = options;
+  without_drag.drag.enabled = false;
+  context.speed_dependent = ResultDependsOnBall(without_drag);
+  context.comparing = comparing;
+  return internal::TestSpeedTrend(internal::EveryImpactResiduals(plans, options, law), context);
 }
 
 }  // namespace
@@ -327,22 +333,73 @@ ParameterRange DefaultParameterRange(const dem::ContactLawConfig& config, std::s
   return range;
 }
 
-FitSummary Fit(const std::vector<MeasuredSequence>& sequences, const FitOptions& options) {
-  const auto start = Clock::now();
-  ValidateOptions(options);
-  if (sequences.empty()) throw ConfigError("no recording to fit; give at least one");
-  const ParameterMap map(options);
-  const Problem problem(options, map, MakePlans(sequences, options, options.drop_height_m));
+dem::Ball ReferenceBall() {
+  dem::Ball ball;
+  ball.diameter_m = 0.01;
+  ball.density_kg_per_m3 = 7800;
+  return ball;
+}
 
+std::string WhyResultDependsOnBall(const FitOptions& options) {
+  if (options.drag.enabled) return "air drag";
+  const auto kind = options.law.kind;
+  if (kind == dem::ContactLawKind::kHertz || kind == dem::ContactLawKind::kHertzViscoelastic)
+    return "the " + std::string(dem::ToString(kind)) + " law";
+  if (kind == dem::ContactLawKind::kWaltonBraunPlastic) {
+    const auto& fitted = options.fitted_parameters;
+    const bool flow_fitted =
+        std::find(fitted.begin(), fitted.end(), "plastic_flow_overlap_m") != fitted.end();
+    if (flow_fitted || options.law.Get("plastic_flow_overlap_m") > 0)
+      return "the plastic law's flow overlap";
+  }
+  return "";
+}
+
+bool ResultDependsOnBall(const FitOptions& options) {
+  return !WhyResultDependsOnBall(options).empty();
+}
+
+namespace {
+
+FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOptions& given,
+                        bool comparing) {
+  const auto start = Clock::now();
+  ValidateOptions(given);
+  if (input.empty()) throw ConfigError("no recording to fit; give at least one");
+  const FitOptions options = WithSimulatedBall(given);
   FitSummary summary;
+  summary.ball_given = given.ball.has_value();
   summary.objective = options.objective;
-  const auto minimized =
+  const auto sequences = DistinctSequences(input, summary.warnings, summary.uncertainty.duplicates);
+  const ParameterMap map(options);
+  const auto plans = MakePlans(sequences, options, options.drop_height_m);
+  const Problem problem(options, map, plans);
+
+  auto minimized =
       problem.Minimize(MainMinimizerOptions(options, map.size()), map.StartPoint(options.law));
+  // Timing noise alone would weight the recordings of a joint mean-energy-loss fit by how clean
+  // their onsets are, whereas their eta-bar differ by the impacts' own scatter: refit once with
+  // each recording's eta-bar variance including the per-impact scatter (and the between-recording
+  // spread) found at the first fit. Intervals and heights keep their timing weights (their
+  // interval accounts for the scatter all the same).
+  std::vector<SequencePlan> weighted = plans;
+  if (options.objective == FitObjective::kMeanEnergyLoss && plans.size() >= 2) {
+    const auto scatter = internal::ScatterAt(plans, options, map, minimized.x);
+    for (auto& plan : weighted) {
+      plan.extra_variance = scatter.within_variance / options.first_n + scatter.between_variance;
+    }
+    MinimizerOptions local = options.minimizer;
+    local.global_evaluations = 0;
+    const Problem reweighted(options, map, weighted);
+    const int first_evaluations = minimized.evaluations;
+    minimized = reweighted.Minimize(local, minimized.x);
+    minimized.evaluations += first_evaluations;
+  }
   summary.fit_time_s = SecondsSince(start);
   summary.stop = minimized.stop;
   summary.stop_message = minimized.message;
   summary.evaluations = minimized.evaluations;
-  summary.residual = minimized.value;
+  summary.residual = problem.Evaluate(minimized.x);  // timing-weighted, whatever the pass
   summary.law = map.Apply(options.law, minimized.x);
 
   for (size_t i = 0; i < map.size(); ++i) {
@@ -359,7 +416,7 @@ FitSummary Fit(const std::vector<MeasuredSequence>& sequences, const FitOptions&
     summary.parameters.push_back(parameter);
   }
 
-  for (const auto& plan : problem.plans()) {
+  for (const auto& plan : plans) {
     SequenceFit fit;
     fit.source = plan.source;
     fit.measured = plan.measured;
@@ -385,7 +442,7 @@ FitSummary Fit(const std::vector<MeasuredSequence>& sequences, const FitOptions&
       for (double onset : simulated.onsets_s) timed.push_back({onset, 0.0});
       fit.simulated = AnalyzeRestitution(timed, restitution);
     }
-    if (&plan == &problem.plans().front()) {
+    if (&plan == &plans.front()) {
       summary.implied_restitution = simulated.first_restitution;
       summary.implied_energy_loss = 1 - simulated.first_restitution * simulated.first_restitution;
     }
@@ -398,17 +455,48 @@ FitSummary Fit(const std::vector<MeasuredSequence>& sequences, const FitOptions&
   summary.aic = summary.residual + 2.0 * k;
   summary.bic = summary.residual + k * std::log(std::max(summary.data_points, 1));
 
-  if (options.analytic_check) summary.check = MakeCheck(options, summary.law, problem.plans());
-  // Birge ratio: when the misfit exceeds what the stated timing noise explains, the noise (or the
-  // model) is worse than stated; scaling the redraws keeps the interval honest.
-  // Capped at 10: beyond that the law does not describe the data (see CompareLaws) and redraws
-  // that large would reorder the late onsets; the interval is then a lower bound, and says so.
-  const double birge = summary.reduced_chi_square > 1 ? std::sqrt(summary.reduced_chi_square) : 1.0;
-  const double inflation = std::min(birge, kMaxBirgeRatio);
-  summary.uncertainty_method = "none (bootstrap samples = 0)";
-  Bootstrap(sequences, options, map, minimized.x, inflation, summary);
+  const int duplicates = summary.uncertainty.duplicates;
+  auto uncertainty = internal::EstimateUncertainty(weighted, options, map, minimized.x);
+  summary.uncertainty = std::move(uncertainty.summary);
+  summary.uncertainty.duplicates = duplicates;
+  for (size_t i = 0; i < map.size(); ++i) {
+    auto& parameter = summary.parameters[i];
+    parameter.confidence_interval = uncertainty.parameters[i].interval;
+    parameter.interval_clipped = uncertainty.parameters[i].clipped;
+    parameter.standard_error = uncertainty.parameters[i].standard_error;
+  }
+  if (!summary.uncertainty.per_impact_estimable && summary.uncertainty.available &&
+      sequences.size() == 1) {
+    summary.warnings.push_back(
+        "with one fitted impact the impact-to-impact scatter cannot be estimated, so the interval "
+        "holds timing noise only and is too narrow; fit three or more impacts (--first 3) or "
+        "give several recordings");
+  }
+  summary.adequacy = TestAdequacy(options, summary.law, plans, comparing);
+  if (summary.adequacy.trend) summary.warnings.push_back(summary.adequacy.message);
+  for (const auto& parameter : summary.parameters) {
+    if (!parameter.at_bound) continue;
+    const bool low =
+        parameter.value - parameter.range.lower < parameter.range.upper - parameter.value;
+    summary.warnings.push_back(
+        parameter.name + " = " + Format("%.6g", parameter.value) + " is at the " +
+        (low ? "lower" : "upper") + " edge of its search range, so the data ask for " +
+        (low ? "less" : "more") + " damping than the law allows; check the drop height and the " +
+        "first impact (bouncecal analyze), or rank other laws with --compare-laws");
+  }
+
+  if (options.analytic_check) {
+    summary.check = MakeCheck(options, summary.law, plans, summary.uncertainty, summary.stop);
+    if (summary.check.warning) summary.warnings.push_back(summary.check.message);
+  }
   summary.total_time_s = SecondsSince(start);
   return summary;
+}
+
+}  // namespace
+
+FitSummary Fit(const std::vector<MeasuredSequence>& sequences, const FitOptions& options) {
+  return FitSequences(sequences, options, /*comparing=*/false);
 }
 
 LawComparison CompareLaws(const std::vector<MeasuredSequence>& sequences,
@@ -434,7 +522,7 @@ LawComparison CompareLaws(const std::vector<MeasuredSequence>& sequences,
         law_options.fitted_parameters.clear();
         law_options.ranges.clear();
         law_options.uncertainty.threads = 1;  // the laws already share the threads
-        fits[i] = Fit(sequences, law_options);
+        fits[i] = FitSequences(sequences, law_options, /*comparing=*/true);
       } catch (...) {
         errors[i] = std::current_exception();
       }

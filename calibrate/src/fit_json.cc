@@ -1,5 +1,7 @@
 #include "bouncecal/calibrate/fit_json.h"
 
+#include <cmath>
+#include <optional>
 #include <string>
 
 #include "bouncecal/dem/contact_law_json.h"
@@ -19,6 +21,68 @@ nlohmann::json ToJson(const RestitutionAnalysis& analysis) {
           {"energy_loss_mean_first_n", analysis.energy_loss_mean_first_n
                                            ? nlohmann::json(*analysis.energy_loss_mean_first_n)
                                            : nlohmann::json(nullptr)}};
+}
+
+template <typename T>
+nlohmann::json Optional(const std::optional<T>& value) {
+  return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+}
+
+// JSON has no infinity: known-variance-only intervals state their dof as null.
+nlohmann::json FiniteOrNull(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+
+nlohmann::json ToJson(const UncertaintySummary& uncertainty) {
+  nlohmann::json recordings = nlohmann::json::array();
+  for (const auto& recording : uncertainty.recordings) {
+    recordings.push_back({{"source", recording.source},
+                          {"impacts_used", recording.impacts_used},
+                          {"energy_loss_mean", recording.energy_loss_mean},
+                          {"energy_loss_mean_uncertainty", recording.energy_loss_mean_uncertainty},
+                          {"energy_loss_scatter", recording.energy_loss_scatter},
+                          {"parameter_values", recording.parameter_values}});
+  }
+  nlohmann::json interval = nullptr;
+  if (uncertainty.energy_loss_mean_interval) {
+    interval = {uncertainty.energy_loss_mean_interval->first,
+                uncertainty.energy_loss_mean_interval->second};
+  }
+  return {{"available", uncertainty.available},
+          {"message", uncertainty.message},
+          {"model", uncertainty.model},
+          {"confidence_level", uncertainty.confidence_level},
+          {"sequences", uncertainty.sequences},
+          {"duplicates", uncertainty.duplicates},
+          {"impacts_used", uncertainty.impacts_used},
+          {"per_impact_scatter", uncertainty.per_impact_scatter},
+          {"per_impact_dof", uncertainty.per_impact_dof},
+          {"per_impact_estimable", uncertainty.per_impact_estimable},
+          {"between_recording_sd", uncertainty.between_recording_sd},
+          {"between_dof", uncertainty.between_dof},
+          {"variance_shares",
+           {{"timing", uncertainty.timing_share},
+            {"per_impact_scatter", uncertainty.scatter_share},
+            {"between_recordings", uncertainty.between_share},
+            {"drop_height", uncertainty.drop_height_share}}},
+          {"effective_dof", FiniteOrNull(uncertainty.effective_dof)},
+          {"t_quantile", uncertainty.t_quantile},
+          {"energy_loss_mean", uncertainty.energy_loss_mean},
+          {"energy_loss_mean_uncertainty", uncertainty.energy_loss_mean_uncertainty},
+          {"energy_loss_sd_across", Optional(uncertainty.energy_loss_sd_across)},
+          {"energy_loss_mean_interval", interval},
+          {"recordings", recordings}};
+}
+
+nlohmann::json ToJson(const ModelAdequacy& adequacy) {
+  return {{"tested", adequacy.tested},
+          {"impacts", adequacy.impacts},
+          {"speed_range_mps", {adequacy.speed_min_mps, adequacy.speed_max_mps}},
+          {"slope_per_ln_speed", adequacy.slope_per_ln_speed},
+          {"slope_uncertainty_per_ln_speed", adequacy.slope_uncertainty_per_ln_speed},
+          {"change_over_range", adequacy.change_over_range},
+          {"trend", adequacy.trend},
+          {"message", adequacy.message}};
 }
 
 }  // namespace
@@ -42,7 +106,8 @@ nlohmann::json ToJson(const FitSummary& summary) {
                       {"range", {parameter.range.lower, parameter.range.upper}},
                       {"log_scale", parameter.range.log_scale},
                       {"at_bound", parameter.at_bound},
-                      {"bootstrap_std", parameter.bootstrap_std}});
+                      {"interval_clipped", parameter.interval_clipped},
+                      {"standard_error", parameter.standard_error}});
   }
   const auto& check = summary.check;
   nlohmann::json analytic = {{"applicable", check.applicable}, {"message", check.message}};
@@ -57,6 +122,7 @@ nlohmann::json ToJson(const FitSummary& summary) {
                      {"energy_loss_formula", check.energy_loss_formula},
                      {"time_step_gamma_error", check.time_step_gamma_error},
                      {"model_gamma_error", check.model_gamma_error},
+                     {"drag_gamma_error", check.drag_gamma_error},
                      {"explained", check.explained},
                      {"warning", check.warning}});
   } else {
@@ -75,9 +141,10 @@ nlohmann::json ToJson(const FitSummary& summary) {
           {"parameters", parameters},
           {"fitted_parameters", fitted},
           {"confidence_interval", intervals},
-          {"uncertainty_method", summary.uncertainty_method},
-          {"bootstrap_samples_used", summary.bootstrap_samples_used},
-          {"bootstrap_failures", summary.bootstrap_failures},
+          {"uncertainty", ToJson(summary.uncertainty)},
+          {"model_adequacy", ToJson(summary.adequacy)},
+          {"ball_given", summary.ball_given},
+          {"warnings", summary.warnings},
           {"analytic", analytic},
           {"objective", ToString(summary.objective)},
           {"residual", summary.residual},

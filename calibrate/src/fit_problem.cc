@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "bouncecal/error.h"
@@ -31,6 +32,17 @@ SequencePlan MakePlan(const MeasuredSequence& sequence, const FitOptions& option
   }
   plan.known_drop_height = drop_height_m.has_value();
   if (plan.known_drop_height) {
+    const double first_rebound_m = plan.measured.bounce_height_m.front();
+    if (first_rebound_m > *drop_height_m) {
+      char text[400];
+      std::snprintf(text, sizeof text,
+                    "recording %s: the first rebound rose to %.4g m (a %.4g s flight), higher than "
+                    "the drop height %.4g m; give the height the ball was released from, or omit "
+                    "--drop-height to fit from the measured bounces",
+                    sequence.source.c_str(), first_rebound_m, plan.measured.intervals_s.front(),
+                    *drop_height_m);
+      throw ConfigError(text);
+    }
     plan.release_height_m = *drop_height_m;
     plan.first_matched_impact = 0;
   } else {
@@ -132,7 +144,7 @@ SimulatedSequence SimulateSequence(const dem::ContactLawConfig& law, const Seque
                                    std::optional<dem::Integrator> integrator_override) {
   dem::DropOptions drop;
   drop.law = law;
-  drop.ball = options.ball;
+  drop.ball = options.ball.value_or(ReferenceBall());
   drop.drop_height_m = plan.release_height_m;
   drop.gravity_mps2 = options.gravity_mps2;
   drop.drag = options.drag;
@@ -160,19 +172,20 @@ SimulatedSequence SimulateSequence(const dem::ContactLawConfig& law, const Seque
   return simulated;
 }
 
-double SequenceResidual(const SequencePlan& plan, const SimulatedSequence& simulated,
-                        const FitOptions& options, int* data_points) {
+ObjectiveTerms Terms(const SequencePlan& plan, const SimulatedSequence& simulated,
+                     const FitOptions& options) {
   const auto& measured = plan.measured;
+  ObjectiveTerms terms;
   if (options.objective == FitObjective::kMeanEnergyLoss) {
-    const double target = *measured.energy_loss_mean_first_n;
-    const double sigma =
+    terms.model.push_back(MeanOfFirst(simulated.energy_loss, options.first_n));
+    terms.data.push_back(*measured.energy_loss_mean_first_n);
+    const double timing =
         std::max(*measured.energy_loss_mean_first_n_uncertainty, kMinSigmaS);  // dimensionless
-    const double residual = (MeanOfFirst(simulated.energy_loss, options.first_n) - target) / sigma;
-    if (data_points) *data_points = 1;
-    return residual * residual;
+    terms.sigma.push_back(std::sqrt(timing * timing + plan.extra_variance));
+    return terms;
   }
   const int count = plan.impacts_needed - 1;
-  double chi_square = 0;
+  const double g = options.gravity_mps2;
   for (int j = 0; j < count; ++j) {
     const size_t m = static_cast<size_t>(plan.first_matched_impact + j);
     const double measured_interval = measured.intervals_s[m];
@@ -180,20 +193,40 @@ double SequenceResidual(const SequencePlan& plan, const SimulatedSequence& simul
     // A ball that came to rest early has flights of zero length left.
     const double simulated_interval =
         j < static_cast<int>(simulated.intervals_s.size()) ? simulated.intervals_s[j] : 0.0;
-    double residual = 0;
     if (options.objective == FitObjective::kIntervals) {
-      residual = (simulated_interval - measured_interval) / sigma;
+      terms.model.push_back(simulated_interval);
+      terms.data.push_back(measured_interval);
+      terms.sigma.push_back(sigma);
     } else {
-      const double g = options.gravity_mps2;
-      const double height_sigma = g * measured_interval * sigma / 4.0;
-      residual = g *
-                 (simulated_interval * simulated_interval - measured_interval * measured_interval) /
-                 8.0 / std::max(height_sigma, 1e-12);
+      terms.model.push_back(g * simulated_interval * simulated_interval / 8.0);
+      terms.data.push_back(g * measured_interval * measured_interval / 8.0);
+      terms.sigma.push_back(std::max(g * measured_interval * sigma / 4.0, 1e-12));
     }
+  }
+  return terms;
+}
+
+double SequenceResidual(const SequencePlan& plan, const SimulatedSequence& simulated,
+                        const FitOptions& options, int* data_points) {
+  const auto terms = Terms(plan, simulated, options);
+  double chi_square = 0;
+  for (size_t i = 0; i < terms.model.size(); ++i) {
+    const double residual = (terms.model[i] - terms.data[i]) / terms.sigma[i];
     chi_square += residual * residual;
   }
-  if (data_points) *data_points = count;
+  if (data_points) *data_points = static_cast<int>(terms.model.size());
   return chi_square;
+}
+
+std::vector<size_t> UsedEnergyLossEntries(const SequencePlan& plan) {
+  std::vector<size_t> used;
+  const int first = plan.first_matched_impact;
+  const int last = plan.first_matched_impact + plan.impacts_needed - 2;
+  for (size_t j = 0; j < plan.measured.impact_index.size(); ++j) {
+    const int impact = plan.measured.impact_index[j];
+    if (impact >= first && impact <= last) used.push_back(j);
+  }
+  return used;
 }
 
 }  // namespace bouncecal::calibrate::internal

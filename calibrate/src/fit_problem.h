@@ -21,11 +21,22 @@ struct SequencePlan {
   int first_matched_impact = 0;
   int impacts_needed = 0;  // simulated impacts the objective compares
   double max_time_s = 0;
+  // Added to the timing variance of eta-bar under kMeanEnergyLoss: the per-impact scatter the
+  // uncertainty model found (tau^2 / n), so a joint fit weights recordings by what they are
+  // worth rather than by their onset timing alone. 0 in the first pass.
+  double extra_variance = 0;
 };
 
-// Builds the plan; throws ConfigError when the sequence is too short for the objective.
+// Builds the plan. Throws ConfigError when the sequence is too short for the objective, and when
+// the first measured rebound rose higher than the given drop height (a wrong height, or the
+// first impact was missed): no restitution above 1 is ever fitted.
 SequencePlan MakePlan(const MeasuredSequence& sequence, const FitOptions& options,
                       std::optional<double> drop_height_m);
+
+// The indices into plan.measured.energy_loss of the impacts the objective depends on: those whose
+// incoming and outgoing flights are both simulated and compared (the first first_n under
+// kMeanEnergyLoss). The simulated energy_loss of a SimulatedSequence has the same indices.
+std::vector<size_t> UsedEnergyLossEntries(const SequencePlan& plan);
 
 // The fitted parameters in the optimiser's coordinates (log where the range says so).
 class ParameterMap {
@@ -57,6 +68,16 @@ struct SimulatedSequence {
 SimulatedSequence SimulateSequence(const dem::ContactLawConfig& law, const SequencePlan& plan,
                                    const FitOptions& options,
                                    std::optional<dem::Integrator> integrator_override = {});
+
+// What one sequence contributes to the objective: chi-square = sum ((model - data) / sigma)^2.
+// kMeanEnergyLoss: one entry (eta-bar); kIntervals / kHeights: one per compared flight.
+struct ObjectiveTerms {
+  std::vector<double> model;
+  std::vector<double> data;
+  std::vector<double> sigma;
+};
+ObjectiveTerms Terms(const SequencePlan& plan, const SimulatedSequence& simulated,
+                     const FitOptions& options);
 
 // The chi-square share and the number of data it compares.
 double SequenceResidual(const SequencePlan& plan, const SimulatedSequence& simulated,

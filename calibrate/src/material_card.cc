@@ -100,12 +100,22 @@ std::string UtcTimestamp(std::time_t seconds_since_epoch) {
   return text;
 }
 
+void CheckCardOptions(const FitOptions& options) {
+  if (!options.ball) {
+    throw ConfigError(
+        "a material card records the ball its damping was calibrated with (exported damping "
+        "scales with its mass); give --ball NAME or --diameter with --density or --mass");
+  }
+}
+
 MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& options,
                               const std::vector<std::filesystem::path>& recordings,
                               std::time_t created_at) {
+  CheckCardOptions(options);
   MaterialCard card;
   card.law = summary.law;
-  card.ball = options.ball;
+  card.ball = *options.ball;
+  card.ball_preset = options.ball_preset;
   card.implied_restitution = summary.implied_restitution;
   card.implied_energy_loss = summary.implied_energy_loss;
   auto& fit = card.fit;
@@ -122,7 +132,16 @@ MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& optio
   fit.fixed_step_grid = options.fixed_step_grid;
   fit.drag = options.drag.enabled;
   fit.confidence_level = options.uncertainty.confidence_level;
-  fit.uncertainty_method = summary.uncertainty_method;
+  fit.uncertainty_method = summary.uncertainty.model;
+  const auto& uncertainty = summary.uncertainty;
+  fit.uncertainty.model = uncertainty.model;
+  fit.uncertainty.sequences = uncertainty.sequences;
+  fit.uncertainty.duplicates = uncertainty.duplicates;
+  fit.uncertainty.impacts_used = uncertainty.impacts_used;
+  fit.uncertainty.per_impact_scatter = uncertainty.per_impact_scatter;
+  fit.uncertainty.between_recording_sd = uncertainty.between_recording_sd;
+  if (uncertainty.available && std::isfinite(uncertainty.effective_dof))
+    fit.uncertainty.effective_dof = uncertainty.effective_dof;
   for (const auto& parameter : summary.parameters) {
     if (parameter.confidence_interval)
       fit.confidence_interval[parameter.name] = *parameter.confidence_interval;
@@ -131,8 +150,15 @@ MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& optio
     fit.energy_loss_mean_measured = summary.check.energy_loss_mean;
     fit.gamma_n_formula = summary.check.gamma_n_formula;
   }
-  for (const auto& path : recordings)
-    card.recordings.push_back({path.filename().string(), FileContentHash(path)});
+  for (const auto& path : recordings) {
+    RecordingReference reference{path.filename().string(), FileContentHash(path)};
+    const bool listed = std::any_of(card.recordings.begin(), card.recordings.end(),
+                                    [&](const RecordingReference& other) {
+                                      return other.content_hash == reference.content_hash;
+                                    });
+    if (!listed) card.recordings.push_back(std::move(reference));
+  }
+  fit.uncertainty.recordings = static_cast<int>(card.recordings.size());
   card.tool_version = std::string(Version());
   card.created_utc = UtcTimestamp(created_at);
   return card;
@@ -149,14 +175,16 @@ nlohmann::json ToJson(const MaterialCard& card) {
   for (const auto& recording : card.recordings)
     recordings.push_back({{"file", recording.file}, {"content_hash", recording.content_hash}});
   const auto& fit = card.fit;
+  nlohmann::json ball = {{"diameter_m", card.ball.diameter_m},
+                         {"density_kg_per_m3", card.ball.density_kg_per_m3},
+                         {"mass_kg", card.ball.MassKg()}};
+  if (!card.ball_preset.empty()) ball["preset"] = card.ball_preset;
+  const auto& uncertainty = fit.uncertainty;
   return {
       {"format", kMaterialCardFormat},
       {"contact_law", dem::ToJson(card.law)},
       {"parameter_units", units},
-      {"ball",
-       {{"diameter_m", card.ball.diameter_m},
-        {"density_kg_per_m3", card.ball.density_kg_per_m3},
-        {"mass_kg", card.ball.MassKg()}}},
+      {"ball", ball},
       {"implied",
        {{"restitution", card.implied_restitution}, {"energy_loss", card.implied_energy_loss}}},
       {"fit",
@@ -167,6 +195,7 @@ nlohmann::json ToJson(const MaterialCard& card) {
         {"evaluations", fit.evaluations},
         {"stop_reason", fit.stop_reason},
         {"drop_height_m", Optional(fit.drop_height_m)},
+        {"release", fit.drop_height_m ? "drop-height" : "first-bounce-apex"},
         {"integrator", fit.integrator},
         {"time_step_s", Optional(fit.time_step_s)},
         {"steps_per_contact", Optional(fit.steps_per_contact)},
@@ -175,6 +204,15 @@ nlohmann::json ToJson(const MaterialCard& card) {
         {"confidence_interval", intervals},
         {"confidence_level", fit.confidence_level},
         {"uncertainty_method", fit.uncertainty_method},
+        {"uncertainty",
+         {{"model", uncertainty.model},
+          {"recordings", uncertainty.recordings},
+          {"sequences", uncertainty.sequences},
+          {"duplicates", uncertainty.duplicates},
+          {"impacts_used", uncertainty.impacts_used},
+          {"per_impact_scatter", uncertainty.per_impact_scatter},
+          {"between_recording_sd", uncertainty.between_recording_sd},
+          {"effective_dof", Optional(uncertainty.effective_dof)}}},
         {"energy_loss_mean_measured", Optional(fit.energy_loss_mean_measured)},
         {"gamma_n_formula", Optional(fit.gamma_n_formula)}}},
       {"recordings", recordings},
@@ -202,7 +240,8 @@ MaterialCard MaterialCardFromJson(const nlohmann::json& object, std::string_view
   if (object.contains("ball")) {
     const auto& ball = ObjectAt(object, "ball", where);
     const std::string at = where + ": ball";
-    RejectUnknownKeys(ball, at, {"diameter_m", "density_kg_per_m3", "mass_kg"});
+    RejectUnknownKeys(ball, at, {"diameter_m", "density_kg_per_m3", "mass_kg", "preset"});
+    card.ball_preset = StringAt(ball, "preset", at).value_or("");
     card.ball.diameter_m = NumberAt(ball, "diameter_m", at).value_or(card.ball.diameter_m);
     card.ball.density_kg_per_m3 =
         NumberAt(ball, "density_kg_per_m3", at).value_or(card.ball.density_kg_per_m3);
@@ -225,9 +264,9 @@ MaterialCard MaterialCardFromJson(const nlohmann::json& object, std::string_view
     RejectUnknownKeys(
         fit, at,
         {"objective", "first_n", "residual", "data_points", "evaluations", "stop_reason",
-         "drop_height_m", "integrator", "time_step_s", "steps_per_contact", "fixed_step_grid",
-         "drag", "confidence_interval", "confidence_level", "uncertainty_method",
-         "energy_loss_mean_measured", "gamma_n_formula"});
+         "drop_height_m", "release", "integrator", "time_step_s", "steps_per_contact",
+         "fixed_step_grid", "drag", "confidence_interval", "confidence_level", "uncertainty_method",
+         "uncertainty", "energy_loss_mean_measured", "gamma_n_formula"});
     auto& record = card.fit;
     record.objective = StringAt(fit, "objective", at).value_or("");
     record.first_n = IntegerAt(fit, "first_n", at).value_or(3);
@@ -236,6 +275,17 @@ MaterialCard MaterialCardFromJson(const nlohmann::json& object, std::string_view
     record.evaluations = IntegerAt(fit, "evaluations", at).value_or(0);
     record.stop_reason = StringAt(fit, "stop_reason", at).value_or("");
     record.drop_height_m = NumberAt(fit, "drop_height_m", at);
+    if (const auto release = StringAt(fit, "release", at)) {
+      if (*release != "drop-height" && *release != "first-bounce-apex") {
+        throw InputError(at +
+                         ": \"release\" must be \"drop-height\" or \"first-bounce-apex\", not \"" +
+                         *release + "\"");
+      }
+      if ((*release == "drop-height") != record.drop_height_m.has_value()) {
+        throw InputError(at + ": \"release\" is \"" + *release + "\" but \"drop_height_m\" is " +
+                         (record.drop_height_m ? "given" : "null") + "; make them agree");
+      }
+    }
     record.integrator = StringAt(fit, "integrator", at).value_or("");
     record.time_step_s = NumberAt(fit, "time_step_s", at);
     record.steps_per_contact = NumberAt(fit, "steps_per_contact", at);
@@ -243,6 +293,24 @@ MaterialCard MaterialCardFromJson(const nlohmann::json& object, std::string_view
     record.drag = BoolAt(fit, "drag", at).value_or(false);
     record.confidence_level = NumberAt(fit, "confidence_level", at).value_or(0.95);
     record.uncertainty_method = StringAt(fit, "uncertainty_method", at).value_or("");
+    if (fit.contains("uncertainty")) {
+      const auto& uncertainty = ObjectAt(fit, "uncertainty", at);
+      const std::string where_uncertainty = at + ": uncertainty";
+      RejectUnknownKeys(uncertainty, where_uncertainty,
+                        {"model", "recordings", "sequences", "duplicates", "impacts_used",
+                         "per_impact_scatter", "between_recording_sd", "effective_dof"});
+      auto& out = record.uncertainty;
+      out.model = StringAt(uncertainty, "model", where_uncertainty).value_or("");
+      out.recordings = IntegerAt(uncertainty, "recordings", where_uncertainty).value_or(0);
+      out.sequences = IntegerAt(uncertainty, "sequences", where_uncertainty).value_or(0);
+      out.duplicates = IntegerAt(uncertainty, "duplicates", where_uncertainty).value_or(0);
+      out.impacts_used = IntegerAt(uncertainty, "impacts_used", where_uncertainty).value_or(0);
+      out.per_impact_scatter =
+          NumberAt(uncertainty, "per_impact_scatter", where_uncertainty).value_or(0.0);
+      out.between_recording_sd =
+          NumberAt(uncertainty, "between_recording_sd", where_uncertainty).value_or(0.0);
+      out.effective_dof = NumberAt(uncertainty, "effective_dof", where_uncertainty);
+    }
     record.energy_loss_mean_measured = NumberAt(fit, "energy_loss_mean_measured", at);
     record.gamma_n_formula = NumberAt(fit, "gamma_n_formula", at);
     if (fit.contains("confidence_interval")) {

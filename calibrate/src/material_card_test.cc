@@ -73,6 +73,67 @@ TEST(MaterialCard, UnwritableTargetIsAnOutputError) {
   EXPECT_THROW(WriteMaterialCard("/nonexistent/folder/card.json", ExampleCard()), OutputError);
 }
 
+TEST(MaterialCard, RecordsTheBallTheReleaseAndTheUncertaintyModel) {
+  auto card = ExampleCard();
+  card.ball_preset = "pingpong-40mm";
+  card.fit.drop_height_m.reset();
+  card.fit.uncertainty.model = "per-impact scatter + timing";
+  card.fit.uncertainty.recordings = 2;
+  card.fit.uncertainty.sequences = 3;
+  card.fit.uncertainty.duplicates = 1;
+  card.fit.uncertainty.per_impact_scatter = 0.02;
+  card.fit.uncertainty.effective_dof = 7.5;
+  const auto json = ToJson(card);
+  EXPECT_EQ(json["ball"]["preset"], "pingpong-40mm");
+  EXPECT_TRUE(json["fit"]["drop_height_m"].is_null());
+  EXPECT_EQ(json["fit"]["release"], "first-bounce-apex");
+  EXPECT_EQ(json["fit"]["uncertainty"]["recordings"], 2);
+  const auto read = MaterialCardFromJson(json, "test");
+  EXPECT_EQ(read.ball_preset, "pingpong-40mm");
+  EXPECT_FALSE(read.fit.drop_height_m.has_value());
+  EXPECT_EQ(read.fit.uncertainty.model, "per-impact scatter + timing");
+  EXPECT_EQ(read.fit.uncertainty.sequences, 3);
+  EXPECT_EQ(read.fit.uncertainty.duplicates, 1);
+  EXPECT_DOUBLE_EQ(read.fit.uncertainty.per_impact_scatter, 0.02);
+  EXPECT_DOUBLE_EQ(*read.fit.uncertainty.effective_dof, 7.5);
+}
+
+TEST(MaterialCard, CardsWithoutTheNewerKeysStillRead) {
+  auto json = ToJson(ExampleCard());
+  json["fit"].erase("release");
+  json["fit"].erase("uncertainty");
+  const auto card = MaterialCardFromJson(json, "old card");
+  EXPECT_EQ(card.fit.uncertainty.recordings, 0);
+  EXPECT_DOUBLE_EQ(*card.fit.drop_height_m, 0.3);
+}
+
+TEST(MaterialCard, ReleaseThatContradictsTheDropHeightIsAnInputError) {
+  auto json = ToJson(ExampleCard());  // drop_height_m 0.3
+  json["fit"]["release"] = "first-bounce-apex";
+  EXPECT_THROW(MaterialCardFromJson(json, "test"), InputError);
+  json["fit"]["release"] = "sideways";
+  EXPECT_THROW(MaterialCardFromJson(json, "test"), InputError);
+}
+
+TEST(MakeMaterialCard, NeedsTheBallAndListsARecordingGivenTwiceOnce) {
+  FitSummary summary;
+  summary.law = {dem::ContactLawKind::kWaltonBraun, {{"gamma_n", 0.4}}};
+  FitOptions options;
+  EXPECT_THROW(MakeMaterialCard(summary, options, {}, 0), ConfigError);
+  EXPECT_THROW(CheckCardOptions(options), ConfigError);
+  options.ball = ReferenceBall();
+  options.ball_preset = "steel-10mm";
+  const auto path = std::filesystem::temp_directory_path() / "bouncecal_card_recording.csv";
+  std::ofstream(path) << "onset_s\n0.1\n0.3\n";
+  const auto card = MakeMaterialCard(summary, options, {path, path}, 0);
+  EXPECT_EQ(card.recordings.size(), 1u);
+  EXPECT_EQ(card.fit.uncertainty.recordings, 1);
+  EXPECT_EQ(card.ball_preset, "steel-10mm");
+  EXPECT_FALSE(card.fit.drop_height_m.has_value());
+  EXPECT_EQ(ToJson(card)["fit"]["release"], "first-bounce-apex");
+  std::filesystem::remove(path);
+}
+
 TEST(UtcTimestamp, FormatsSecondsSinceTheEpochAsIso8601Utc) {
   EXPECT_EQ(UtcTimestamp(0), "1970-01-01T00:00:00Z");
   // 2026-11-21T18:00:00Z: 20778 days after the epoch plus 18 h.

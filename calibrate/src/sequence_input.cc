@@ -1,6 +1,7 @@
 #include "bouncecal/calibrate/sequence_input.h"
 
 #include "bouncecal/audio/bounce_analysis.h"
+#include "bouncecal/calibrate/content_hash.h"
 #include "bouncecal/error.h"
 
 namespace bouncecal::calibrate {
@@ -43,6 +44,9 @@ std::vector<MeasuredSequence> LoadSequences(const std::vector<std::filesystem::p
     }
     auto read = IsImpactTimesFile(input) ? ReadImpactTimes(input, options.impact_times)
                                          : FromRecording(input, options);
+    // Names the file in the duplicate warning of a fit (the same file given twice).
+    const std::string hash = FileContentHash(input);
+    for (auto& sequence : read) sequence.content_hash = hash;
     sequences.insert(sequences.end(), read.begin(), read.end());
   }
   return sequences;

@@ -12,6 +12,7 @@
 #include "bouncecal/calibrate/impact_times.h"
 #include "bouncecal/calibrate/minimizer.h"
 #include "bouncecal/calibrate/restitution.h"
+#include "bouncecal/calibrate/uncertainty.h"
 #include "bouncecal/dem/contact_law.h"
 #include "bouncecal/dem/drop.h"
 
@@ -51,19 +52,20 @@ std::vector<std::string> DefaultFittedParameters(dem::ContactLawKind kind);
 // ConfigError for a name the law does not have.
 ParameterRange DefaultParameterRange(const dem::ContactLawConfig& config, std::string_view name);
 
+// The uncertainty model is described in uncertainty.h (and docs/calibration.md); it draws no
+// random numbers, so its intervals do not depend on a seed or on the thread count.
 struct UncertaintyOptions {
-  // Bootstrap replicates; 0 skips the confidence intervals. 32 replicates give the 2.5 % and
-  // 97.5 % quantiles to about +-15 % of the interval width, enough for a calibration report and
-  // affordable within the 0.5 s budget; raise it for a publication figure.
-  int bootstrap_samples = 32;
   double confidence_level = 0.95;
-  std::uint64_t seed = 1;
-  // Threads for the bootstrap refits (and CompareLaws); results do not depend on it.
+  // Threads for CompareLaws (one law per thread); results do not depend on it.
   int threads = 2;
-  // One-sigma uncertainty of the drop height, propagated by the bootstrap (h0 sets dt_0, so it
-  // enters eta_1 directly); 0 treats h0 as exact.
+  // One-sigma uncertainty of the drop height, propagated into the intervals (h0 sets dt_0, so it
+  // enters eta_1 directly); 0 treats h0 as exact. Requires drop_height_m.
   double drop_height_uncertainty_m = 0;
 };
+
+// The ball simulated when none is given and the result does not depend on it (the paper's 1 cm
+// steel ball): see ResultDependsOnBall.
+dem::Ball ReferenceBall();
 
 struct FitOptions {
   // The law, its fixed parameters and the start values of the fitted ones.
@@ -73,11 +75,15 @@ struct FitOptions {
   // Overrides of DefaultParameterRange per parameter name.
   std::map<std::string, ParameterRange, std::less<>> ranges;
 
-  dem::Ball ball;  // 1 cm steel, 7800 kg/m^3 (the paper's)
-  // Release height of the ball's lowest point. Unset: unknown, and each simulation then starts
-  // from rest at the apex of the first measured flight (g dt_1^2 / 8), matched to the measured
-  // impacts from the second one on.
-  std::optional<double> drop_height_m = 0.2;
+  // The ball dropped. Unset: not given, which Fit accepts only when the result does not depend on
+  // it (ResultDependsOnBall); the drops then use ReferenceBall() and the summary says so.
+  std::optional<dem::Ball> ball;
+  std::string ball_preset;  // the preset name the ball came from, if any (recorded in the card)
+  // Release height of the ball's lowest point. Unset (the default: an experiment's geometry is
+  // never assumed): e_1 and eta_1 are not computed, and each simulation starts from rest at the
+  // apex of the first measured flight (g dt_1^2 / 8), matched to the measured impacts from the
+  // second one on. Set: a first rebound higher than it is refused (ConfigError).
+  std::optional<double> drop_height_m;
   double gravity_mps2 = 9.81;
   dem::AirDrag drag;
   dem::Integrator integrator = dem::Integrator::kVelocityVerlet;
@@ -115,9 +121,11 @@ struct FittedParameter {
   double value = 0;
   ParameterRange range;
   bool at_bound = false;  // within 1e-3 of the range width of a bound: the range may be too tight
-  // Bootstrap percentile interval at UncertaintyOptions::confidence_level; empty when skipped.
+  // The interval at UncertaintyOptions::confidence_level of the uncertainty model (uncertainty.h);
+  // empty when the model does not apply (parameters not separately determined).
   std::optional<std::pair<double, double>> confidence_interval;
-  double bootstrap_std = 0;
+  bool interval_clipped = false;  // the interval reached the search range and was cut there
+  double standard_error = 0;      // linearised, in the parameter's unit
 };
 
 // The paper's closed form eta = 2 gamma / (1 + gamma) (walton-braun only) beside the fit.
@@ -128,19 +136,23 @@ struct AnalyticCheck {
   double gamma_n_formula = 0;  // eta-bar / (2 - eta-bar)
   double gamma_n_fitted = 0;
   double difference = 0;  // fitted - formula
-  // Measured, not tabulated: the fitted parameters are simulated with the chosen integrator and
-  // step and with the exact (event-driven) integrator; the eta-bar difference, converted to
-  // gamma through d eta / d gamma = 2 / (1 + gamma)^2, is the time-step error. The exact drop
-  // against the formula gives the model error of the formula (gravity during contact, onsets vs
-  // the centre of the contact), converted the same way.
-  double energy_loss_mean_chosen_step = 0;
-  double energy_loss_mean_exact = 0;
+  // Measured, not tabulated, each converted to gamma through d eta / d gamma = 2 / (1 + gamma)^2:
+  //  - time-step error: the fitted law simulated without drag with the chosen integrator and step
+  //    against the exact (event-driven) integrator;
+  //  - model error of the formula: the exact drop against the formula (gravity during contact,
+  //    onsets vs the centre of the contact);
+  //  - air drag (with drag on): the chosen-step drop with drag against the same drop without it.
+  double energy_loss_mean_chosen_step = 0;  // as fitted (drag included when on)
+  double energy_loss_mean_exact = 0;        // exact integrator, no drag
   double energy_loss_formula = 0;
   double time_step_gamma_error = 0;
-  double model_gamma_error = 0;
-  double explained = 0;  // |time-step| + |model| + 2 sigma of gamma_n_formula
+  double model_gamma_error = 0;  // gravity during contact
+  double drag_gamma_error = 0;   // 0 without drag
+  // |time-step| + |model| + |drag| + 2 sigma of gamma_n_formula (sigma from the uncertainty
+  // model's eta-bar uncertainty) + the optimiser's tolerance.
+  double explained = 0;
   bool warning = false;
-  std::string message;  // one sentence
+  std::string message;  // one sentence; a warning names the next step
 };
 
 struct SequenceFit {
@@ -166,21 +178,36 @@ struct FitSummary {
   std::string stop_message;
   int evaluations = 0;  // drop simulations in the main fit (each covers every recording)
   double fit_time_s = 0;
-  double total_time_s = 0;  // fit + check + bootstrap
-  std::vector<SequenceFit> sequences;
+  double total_time_s = 0;             // fit + check + uncertainty
+  std::vector<SequenceFit> sequences;  // the distinct ones
   AnalyticCheck check;
   // Restitution and energy loss the fitted law implies for the first impact from the drop
   // height (speed-dependent laws: at that speed), from the simulated drop.
   double implied_restitution = 0;
   double implied_energy_loss = 0;
-  std::string uncertainty_method;  // one sentence
-  int bootstrap_samples_used = 0;
-  int bootstrap_failures = 0;
+  UncertaintySummary uncertainty;
+  ModelAdequacy adequacy;
+  // Whether the ball was given; when not, the drops used ReferenceBall().
+  bool ball_given = false;
+  // Everything the user should act on, one sentence each, each naming the next step: duplicate
+  // recordings, a parameter at its range's edge, a trend with impact speed, the analytic check.
+  std::vector<std::string> warnings;
 };
 
+// True when the fitted parameters depend on the ball's size or mass: air drag, the Hertz laws
+// (their restitution depends on impact speed through mass and radius) and Luding's plastic flow.
+// The hysteretic, plastic (1986) and dashpot laws lose a fixed fraction of energy per impact
+// whatever the ball; the ball then sets only the contact duration, which moves gamma_n by less
+// than 1e-4 through gravity during contact (the analytic check measures it).
+bool ResultDependsOnBall(const FitOptions& options);
+// Why, as a phrase ("air drag", "the hertz-viscoelastic law"), or empty.
+std::string WhyResultDependsOnBall(const FitOptions& options);
+
 // Fits the law's parameters so single-ball DEM drops (dem::SimulateDrop) reproduce the measured
-// sequences jointly. Throws ConfigError for bad options (named, with the valid range) and when a
-// sequence has too few impacts for the objective.
+// sequences jointly. Sequences with identical impact times (the same recording given twice) are
+// fitted once, with a warning. Throws ConfigError for bad options (named, with the valid range),
+// for a missing ball where the result depends on it, when a sequence has too few impacts for the
+// objective and when a first rebound rose above the given drop height.
 FitSummary Fit(const std::vector<MeasuredSequence>& sequences, const FitOptions& options = {});
 
 // CompareLaws fits each law with the same options and ranks them.

@@ -15,6 +15,9 @@ struct MeasuredSequence {
   std::string source;  // file name, with "#k" (1-based sequence number) when a file holds several
   std::filesystem::path path;  // the file it came from (hashed into material cards)
   std::vector<TimedImpact> impacts;
+  // FileContentHash of `path` when read through LoadSequences, else empty; named in the warning
+  // when the same content is given twice.
+  std::string content_hash;
 };
 
 struct ImpactTimesOptions {

@@ -24,6 +24,19 @@ struct RecordingReference {
   std::string content_hash;  // "fnv1a64:<16 hex digits>"
 };
 
+// What the card's confidence intervals include (uncertainty.h), and how many distinct
+// measurements they rest on.
+struct UncertaintyRecord {
+  std::string model;                    // one sentence
+  int recordings = 0;                   // distinct recording files (by content hash)
+  int sequences = 0;                    // distinct bounce sequences fitted
+  int duplicates = 0;                   // sequences dropped as repeats of another
+  int impacts_used = 0;                 // impacts whose energy loss the fit used
+  double per_impact_scatter = 0;        // sd of eta_k beyond timing noise
+  double between_recording_sd = 0;      // sd of a recording's eta beyond its impacts' scatter
+  std::optional<double> effective_dof;  // of the first parameter's interval; null: known variances
+};
+
 // How the card's parameters were obtained.
 struct FitRecord {
   std::string objective;
@@ -32,6 +45,8 @@ struct FitRecord {
   int data_points = 0;
   int evaluations = 0;
   std::string stop_reason;
+  // The drop height given; unset: unknown, and the drops started from the first measured bounce
+  // apex ("release": "first-bounce-apex" in the JSON, else "drop-height").
   std::optional<double> drop_height_m;
   std::string integrator;
   std::optional<double> time_step_s;
@@ -40,20 +55,24 @@ struct FitRecord {
   bool drag = false;
   std::map<std::string, std::pair<double, double>, std::less<>> confidence_interval;
   double confidence_level = 0.95;
-  std::string uncertainty_method;
+  std::string uncertainty_method;  // = uncertainty.model, kept for older readers
+  UncertaintyRecord uncertainty;
   std::optional<double> energy_loss_mean_measured;  // eta-bar, first N impacts
   std::optional<double> gamma_n_formula;            // eta-bar / (2 - eta-bar), walton-braun
 };
 
 // The calibrated material (JSON, "format": "bouncecal-material/1"; dem_interfaces.md):
 // {"format", "contact_law": {"law", "parameters"}, "parameter_units": {name: unit},
-//  "ball": {"diameter_m", "density_kg_per_m3", "mass_kg"}, "implied": {"restitution",
-//  "energy_loss"}, "fit": {...}, "recordings": [{"file", "content_hash"}], "tool_version",
-//  "created_utc"}. Scenes that need only the law read "contact_law" with
-// dem::ContactLawConfigFromJson.
+//  "ball": {"diameter_m", "density_kg_per_m3", "mass_kg"[, "preset"]}, "implied":
+//  {"restitution", "energy_loss"}, "fit": {..., "drop_height_m" (null: unknown), "release",
+//  "uncertainty": {...}}, "recordings": [{"file", "content_hash"}] (distinct files),
+//  "tool_version", "created_utc"}. Scenes that need only the law read "contact_law" with
+// dem::ContactLawConfigFromJson. Keys added since the first cards ("preset", "release",
+// "uncertainty") are optional when read.
 struct MaterialCard {
   dem::ContactLawConfig law;
   dem::Ball ball;
+  std::string ball_preset;         // the preset the ball came from, or empty
   double implied_restitution = 0;  // first impact from the drop height
   double implied_energy_loss = 0;
   FitRecord fit;
@@ -62,12 +81,18 @@ struct MaterialCard {
   std::string created_utc;  // ISO 8601, e.g. 2026-11-21T18:20:00Z
 };
 
-// The card of a fit; hashes each recording file (InputError if one cannot be read) and stamps
-// the tool version and `created_at` (seconds since 1970-01-01 UTC). The caller chooses the time
-// so a build can pin it (SOURCE_DATE_EPOCH) and the card becomes reproducible.
+// The card of a fit; hashes each recording file (InputError if one cannot be read; a file given
+// twice is listed once) and stamps the tool version and `created_at` (seconds since 1970-01-01
+// UTC). The caller chooses the time so a build can pin it (SOURCE_DATE_EPOCH) and the card
+// becomes reproducible. Throws ConfigError when options.ball is unset: a card states the ball its
+// damping belongs to (exported damping coefficients scale with its mass).
 MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& options,
                               const std::vector<std::filesystem::path>& recordings,
                               std::time_t created_at);
+
+// The ConfigError MakeMaterialCard would throw for these options, so a command can refuse before
+// a long fit rather than after it.
+void CheckCardOptions(const FitOptions& options);
 
 nlohmann::json ToJson(const MaterialCard& card);
 // Throws InputError naming `context` and the key for a wrong format or a malformed field,

@@ -1,0 +1,385 @@
+#include "fit_uncertainty.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+#include "bouncecal/error.h"
+#include "sandwich.h"
+#include "student_t.h"
+
+namespace bouncecal::calibrate::internal {
+namespace {
+
+// Onset step of the numerical derivatives: far below any timing noise, far above the rounding of
+// onsets of up to an hour (1e-12 s), so the central difference of the (analytic) data is exact to
+// about 1e-8 relative.
+constexpr double kOnsetStepS = 1e-7;
+// Relative step of the first flight (the release height of an unknown-height fit) and of the drop
+// height: the simulated drop is smooth in them, and 1e-3 keeps the time-step jitter of the drop
+// engine (~1e-9 relative in an interval) out of the derivative.
+constexpr double kRelativeStep = 1e-3;
+
+Eigen::VectorXd ToVector(const std::vector<double>& values) {
+  return Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
+}
+
+std::optional<double> DropHeightOf(const SequencePlan& plan) {
+  return plan.known_drop_height ? std::optional<double>(plan.release_height_m) : std::nullopt;
+}
+
+Eigen::VectorXd ModelAt(const SequencePlan& plan, const dem::ContactLawConfig& law,
+                        const FitOptions& options) {
+  return ToVector(Terms(plan, SimulateSequence(law, plan, options), options).model);
+}
+
+// The parameter step of the central difference, in optimiser coordinates. A fixed step grid makes
+// eta(gamma) jagged on the scale of 1e-3 of the range, so its slope is taken over a wider span.
+double ParameterStep(const FitOptions& options, const ParameterMap& map, size_t i) {
+  const double width = map.UpperBounds()[i] - map.LowerBounds()[i];
+  return (options.fixed_step_grid ? 0.05 : 0.005) * width;
+}
+
+struct Linearized {
+  SequenceLinearization linearization;
+  ImpactResiduals impacts;
+  std::vector<size_t> used;
+  SimulatedSequence simulated;
+};
+
+// Residuals of the used eta_k at the law and their timing covariance; with `full`, everything
+// else the sandwich needs.
+Linearized Linearize(const SequencePlan& plan, const FitOptions& options, const ParameterMap& map,
+                     const std::vector<double>& x, bool full) {
+  Linearized result;
+  const auto law = map.Apply(options.law, x);
+  result.simulated = SimulateSequence(law, plan, options);
+  const auto terms = Terms(plan, result.simulated, options);
+  const auto terms_count = static_cast<Eigen::Index>(terms.model.size());
+  auto& linear = result.linearization;
+  linear.residual = ToVector(terms.model) - ToVector(terms.data);
+  linear.weights = ToVector(terms.sigma).array().square().inverse();
+
+  // Used impacts the simulated ball also made: where it came to rest early there is no simulated
+  // eta_k to compare with (that misfit is the objective's business, not scatter).
+  for (size_t j : UsedEnergyLossEntries(plan)) {
+    if (j < result.simulated.energy_loss.size()) result.used.push_back(j);
+  }
+  const auto used_count = static_cast<Eigen::Index>(result.used.size());
+  result.impacts.residual.resize(used_count);
+  for (Eigen::Index u = 0; u < used_count; ++u) {
+    const size_t j = result.used[static_cast<size_t>(u)];
+    result.impacts.residual[u] = plan.measured.energy_loss[j] - result.simulated.energy_loss[j];
+  }
+
+  // Onsets up to the last one the objective compares; later ones change nothing.
+  const int last = plan.first_matched_impact + plan.impacts_needed - 1;
+  const Eigen::Index onsets = last + 1;
+  Eigen::MatrixXd eta_by_onset = Eigen::MatrixXd::Zero(used_count, onsets);
+  linear.onsets = Eigen::MatrixXd::Zero(terms_count, onsets);
+  linear.onset_variance.resize(onsets);
+  for (Eigen::Index m = 0; m < onsets; ++m) {
+    const double sigma = plan.impacts[static_cast<size_t>(m)].uncertainty_s;
+    linear.onset_variance[m] = sigma * sigma;
+    Eigen::VectorXd data[2], eta[2];
+    for (int side = 0; side < 2; ++side) {
+      MeasuredSequence moved;
+      moved.source = plan.source;
+      moved.impacts = plan.impacts;
+      moved.impacts[static_cast<size_t>(m)].onset_s += side == 0 ? kOnsetStepS : -kOnsetStepS;
+      const SequencePlan moved_plan = MakePlan(moved, options, DropHeightOf(plan));
+      data[side] = ToVector(Terms(moved_plan, result.simulated, options).data);
+      eta[side].resize(used_count);
+      for (Eigen::Index u = 0; u < used_count; ++u)
+        eta[side][u] = moved_plan.measured.energy_loss[result.used[static_cast<size_t>(u)]];
+    }
+    linear.onsets.col(m) = -(data[0] - data[1]) / (2 * kOnsetStepS);
+    eta_by_onset.col(m) = (eta[0] - eta[1]) / (2 * kOnsetStepS);
+  }
+  result.impacts.timing_covariance =
+      eta_by_onset * linear.onset_variance.asDiagonal() * eta_by_onset.transpose();
+  if (!full) return result;
+
+  const size_t p = map.size();
+  linear.parameters.resize(terms_count, static_cast<Eigen::Index>(p));
+  for (size_t i = 0; i < p; ++i) {
+    const double step = ParameterStep(options, map, i);
+    auto above = x, below = x;
+    above[i] = std::min(x[i] + step, map.UpperBounds()[i]);
+    below[i] = std::max(x[i] - step, map.LowerBounds()[i]);
+    linear.parameters.col(static_cast<Eigen::Index>(i)) =
+        (ModelAt(plan, map.Apply(options.law, above), options) -
+         ModelAt(plan, map.Apply(options.law, below), options)) /
+        (above[i] - below[i]);
+  }
+
+  if (!plan.known_drop_height) {
+    // The release is the apex of the first measured flight, so the model moves with t_0 and t_1.
+    const double first = plan.measured.intervals_s.front();
+    const double g = options.gravity_mps2;
+    Eigen::VectorXd model[2];
+    for (int side = 0; side < 2; ++side) {
+      SequencePlan moved = plan;
+      const double flight = first * (1 + (side == 0 ? kRelativeStep : -kRelativeStep));
+      moved.release_height_m = g * flight * flight / 8.0;
+      model[side] = ModelAt(moved, law, options);
+    }
+    const Eigen::VectorXd by_flight = (model[0] - model[1]) / (2 * kRelativeStep * first);
+    linear.onsets.col(0) -= by_flight;
+    linear.onsets.col(1) += by_flight;
+  }
+
+  // A change d eta at impact k changes e_k by -d eta / (2 e_k) and stretches every later flight
+  // by the factor e_k'/e_k, so onset m > k moves by (t_m - t_k) d e_k / e_k.
+  const auto& measured = plan.measured;
+  linear.jitter =
+      Eigen::MatrixXd::Zero(onsets, static_cast<Eigen::Index>(measured.energy_loss.size()));
+  for (size_t j = 0; j < measured.energy_loss.size(); ++j) {
+    const int k = measured.impact_index[j];
+    const double e = measured.restitution[j];
+    for (int m = k + 1; m <= last; ++m) {
+      linear.jitter(m, static_cast<Eigen::Index>(j)) =
+          -(plan.impacts[static_cast<size_t>(m)].onset_s -
+            plan.impacts[static_cast<size_t>(k)].onset_s) /
+          (2 * e * e);
+    }
+  }
+
+  if (plan.known_drop_height && options.uncertainty.drop_height_uncertainty_m > 0) {
+    // Forward difference: a higher drop can never turn the first rebound into one above it.
+    const double step = kRelativeStep * plan.release_height_m;
+    MeasuredSequence sequence;
+    sequence.source = plan.source;
+    sequence.impacts = plan.impacts;
+    const SequencePlan higher = MakePlan(sequence, options, plan.release_height_m + step);
+    const auto higher_terms = Terms(higher, SimulateSequence(law, higher, options), options);
+    const Eigen::VectorXd residual = ToVector(higher_terms.model) - ToVector(higher_terms.data);
+    linear.drop_height = (residual - linear.residual) / step;
+  }
+  return result;
+}
+
+std::string Format(const char* format, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
+}
+
+double Mean(const Eigen::VectorXd& values) { return values.size() ? values.mean() : 0.0; }
+
+double SampleSd(const std::vector<double>& values) {
+  if (values.size() < 2) return 0;
+  double mean = 0;
+  for (double v : values) mean += v / static_cast<double>(values.size());
+  double squares = 0;
+  for (double v : values) squares += (v - mean) * (v - mean);
+  return std::sqrt(squares / static_cast<double>(values.size() - 1));
+}
+
+// The scatter about one speed line per sequence, or about a constant per sequence when there are
+// too few impacts for a slope.
+SpeedTrendFit EveryImpactTrend(const std::vector<SequencePlan>& plans, const FitOptions& options,
+                               const dem::ContactLawConfig& law) {
+  const auto impacts = EveryImpactResiduals(plans, options, law);
+  const auto with_slope = FitSpeedTrend(impacts, /*with_slope=*/true);
+  return with_slope.ok && with_slope.dof >= 2 ? with_slope
+                                              : FitSpeedTrend(impacts, /*with_slope=*/false);
+}
+
+}  // namespace
+
+std::vector<AdequacyImpact> EveryImpactResiduals(const std::vector<SequencePlan>& plans,
+                                                 const FitOptions& options,
+                                                 const dem::ContactLawConfig& law) {
+  std::vector<AdequacyImpact> impacts;
+  for (size_t r = 0; r < plans.size(); ++r) {
+    SequencePlan whole = plans[r];
+    whole.impacts_needed = static_cast<int>(whole.impacts.size()) - whole.first_matched_impact;
+    const auto simulated = SimulateSequence(law, whole, options).energy_loss;
+    const auto& measured = whole.measured;
+    for (size_t j = 0; j < measured.energy_loss.size() && j < simulated.size(); ++j) {
+      const int k = measured.impact_index[j];
+      const double speed =
+          k == 0 ? std::sqrt(2 * options.gravity_mps2 * whole.release_height_m)
+                 : options.gravity_mps2 * measured.intervals_s[static_cast<size_t>(k - 1)] / 2;
+      impacts.push_back({static_cast<int>(r), speed, measured.energy_loss[j] - simulated[j],
+                         std::pow(measured.energy_loss_uncertainty[j], 2)});
+    }
+  }
+  return impacts;
+}
+
+ScatterEstimate ScatterAt(const std::vector<SequencePlan>& plans, const FitOptions& options,
+                          const ParameterMap& map, const std::vector<double>& x) {
+  std::vector<ImpactResiduals> impacts;
+  for (const auto& plan : plans)
+    impacts.push_back(Linearize(plan, options, map, x, /*full=*/false).impacts);
+  const auto trend = EveryImpactTrend(plans, options, map.Apply(options.law, x));
+  return EstimateScatter(impacts, static_cast<int>(map.size()), &trend);
+}
+
+FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
+                                   const FitOptions& options, const ParameterMap& map,
+                                   const std::vector<double>& x) {
+  FitUncertainty result;
+  auto& summary = result.summary;
+  summary.confidence_level = options.uncertainty.confidence_level;
+  summary.sequences = static_cast<int>(plans.size());
+  result.parameters.resize(map.size());
+
+  std::vector<Linearized> linearized;
+  std::vector<SequenceLinearization> linearizations;
+  std::vector<ImpactResiduals> impacts;
+  for (const auto& plan : plans) {
+    linearized.push_back(Linearize(plan, options, map, x, /*full=*/true));
+    linearizations.push_back(linearized.back().linearization);
+    impacts.push_back(linearized.back().impacts);
+    summary.impacts_used += static_cast<int>(linearized.back().used.size());
+  }
+  const auto trend = EveryImpactTrend(plans, options, map.Apply(options.law, x));
+  const ScatterEstimate scatter = EstimateScatter(impacts, static_cast<int>(map.size()), &trend);
+  summary.per_impact_estimable = scatter.within_estimable;
+  summary.per_impact_scatter = std::sqrt(scatter.within_variance);
+  summary.per_impact_dof = scatter.within_dof;
+  summary.between_recording_sd = std::sqrt(scatter.between_variance);
+  summary.between_dof = scatter.between_dof;
+
+  // The paper's protocol: eta-bar per sequence, across sequences mean +- sd and the interval of
+  // the mean.
+  std::vector<double> means;
+  double mean_variance = 0;
+  for (size_t r = 0; r < plans.size(); ++r) {
+    RecordingSpread spread;
+    spread.source = plans[r].source;
+    const auto& used = linearized[r].used;
+    spread.impacts_used = static_cast<int>(used.size());
+    double sum = 0;
+    for (size_t j : used) sum += plans[r].measured.energy_loss[j];
+    const double n = std::max<double>(1.0, static_cast<double>(used.size()));
+    spread.energy_loss_mean = sum / n;
+    const double variance = scatter.within_variance / n + TimingVarianceOfMean(impacts[r]);
+    spread.energy_loss_mean_uncertainty = std::sqrt(variance);
+    mean_variance += variance;
+    const auto& residual = impacts[r].residual;
+    if (residual.size() >= 2) {
+      spread.energy_loss_scatter =
+          std::sqrt((residual.array() - Mean(residual)).square().sum() / (residual.size() - 1.0));
+    }
+    means.push_back(spread.energy_loss_mean);
+    summary.recordings.push_back(std::move(spread));
+  }
+  const double count = static_cast<double>(plans.size());
+  for (double mean : means) summary.energy_loss_mean += mean / count;
+  summary.energy_loss_mean_uncertainty =
+      std::sqrt(mean_variance / (count * count) + scatter.between_variance / count);
+  const double tail = 0.5 + summary.confidence_level / 2;
+  if (plans.size() >= 2) {
+    const double sd = SampleSd(means);
+    summary.energy_loss_sd_across = sd;
+    const double half = StudentTQuantile(tail, count - 1) * sd / std::sqrt(count);
+    summary.energy_loss_mean_interval =
+        std::make_pair(summary.energy_loss_mean - half, summary.energy_loss_mean + half);
+  }
+
+  const CovarianceParts parts = SandwichCovariance(linearizations);
+  if (!parts.ok) {
+    summary.message = std::to_string(map.size()) +
+                      " fitted parameters are not separately determined by these data (the "
+                      "Gauss-Newton matrix is singular or has condition number " +
+                      Format("%.2g", parts.condition) + "), so no linear interval applies";
+    summary.model = "none: " + summary.message;
+    return result;
+  }
+  summary.available = true;
+  for (size_t r = 0; r < plans.size(); ++r) {
+    const Eigen::VectorXd step = SingleSequenceStep(linearizations[r]);
+    if (step.size() == 0) continue;
+    for (size_t i = 0; i < map.size(); ++i)
+      summary.recordings[r].parameter_values.push_back(
+          map.Value(i, x[i] + step[static_cast<Eigen::Index>(i)]));
+  }
+
+  const double height_variance =
+      options.drop_height_m ? std::pow(options.uncertainty.drop_height_uncertainty_m, 2) : 0.0;
+  for (size_t i = 0; i < map.size(); ++i) {
+    const auto d = static_cast<Eigen::Index>(i);
+    const double timing = parts.timing(d, d);
+    const double within = scatter.within_variance * parts.within(d, d);
+    const double between = scatter.between_variance * parts.between(d, d);
+    const double height = height_variance * parts.drop_height(d, d);
+    const double total = timing + within + between + height;
+    // Satterthwaite (1946): the estimated parts carry their degrees of freedom, the stated timing
+    // and drop-height variances are taken as known.
+    double denominator = 0;
+    if (scatter.between_variance > 0) {
+      // tau_b^2 = MS_b - mean(1/n) tau_w^2 - timing: the variance is a combination of the two
+      // estimated mean squares, so Satterthwaite's degrees of freedom are those of that
+      // combination (in a balanced design the within part cancels and MS_b's R - 1 remain).
+      const double c_w = parts.within(d, d), c_b = parts.between(d, d);
+      const double a_w = (c_w - c_b * scatter.mean_inverse_count) * scatter.within_variance;
+      const double a_b = c_b * scatter.between_mean_square;
+      if (scatter.within_dof > 0) denominator += a_w * a_w / scatter.within_dof;
+      denominator += a_b * a_b / scatter.between_dof;
+    } else {
+      if (scatter.within_dof > 0) denominator += within * within / scatter.within_dof;
+      if (scatter.between_dof > 0) denominator += between * between / scatter.between_dof;
+    }
+    const double dof =
+        denominator > 0 ? total * total / denominator : std::numeric_limits<double>::infinity();
+    const double t = StudentTQuantile(tail, dof);
+    const double half = t * std::sqrt(total);
+    auto& parameter = result.parameters[i];
+    const double low = x[i] - half, high = x[i] + half;
+    parameter.clipped = low < map.LowerBounds()[i] || high > map.UpperBounds()[i];
+    parameter.interval = std::make_pair(map.Value(i, low), map.Value(i, high));
+    const double value = map.Value(i, x[i]);
+    parameter.standard_error =
+        (map.ranges()[i].log_scale ? value : 1.0) * std::sqrt(std::max(total, 0.0));
+    if (i == 0) {
+      const double share = total > 0 ? 1.0 / total : 0.0;
+      summary.timing_share = timing * share;
+      summary.scatter_share = within * share;
+      summary.between_share = between * share;
+      summary.drop_height_share = height * share;
+      summary.effective_dof = dof;
+      summary.t_quantile = t;
+    }
+  }
+
+  std::string model = "linearised through the DEM drops at the fit: ";
+  if (scatter.within_estimable) {
+    model += "per-impact scatter of eta_k about the law (sd " +
+             Format("%.2g", summary.per_impact_scatter) + ", " +
+             std::to_string(scatter.within_dof) + " dof, from " +
+             (scatter.within_from_every_impact ? "every measured impact" : "the fitted impacts") +
+             ")";
+  } else {
+    model += "per-impact scatter not estimable (one fitted impact per recording)";
+  }
+  model += " + onset timing (each onset's stated sigma)";
+  if (plans.size() >= 2) {
+    model += " + between-recording spread (sd " + Format("%.2g", summary.between_recording_sd) +
+             ", " + std::to_string(scatter.between_dof) + " dof)";
+  }
+  if (height_variance > 0) {
+    model += " + drop height (+- " + Format("%.3g", options.uncertainty.drop_height_uncertainty_m) +
+             " m)";
+  }
+  model += "; " + Format("%.0f", 100 * summary.confidence_level) +
+           " % Student-t interval, t = " + Format("%.3g", summary.t_quantile) +
+           (std::isinf(summary.effective_dof)
+                ? std::string(" (known variances only)")
+                : " at " + Format("%.1f", summary.effective_dof) + " effective dof") +
+           "; variance of " + map.names().front() + ": scatter " +
+           Format("%.0f", 100 * summary.scatter_share) + " %, timing " +
+           Format("%.0f", 100 * summary.timing_share) + " %";
+  if (plans.size() >= 2) model += ", between " + Format("%.0f", 100 * summary.between_share) + " %";
+  if (height_variance > 0)
+    model += ", drop height " + Format("%.0f", 100 * summary.drop_height_share) + " %";
+  summary.model = model;
+  return result;
+}
+
+}  // namespace bouncecal::calibrate::internal
