@@ -96,9 +96,15 @@ std::string ImpactsSection(const CalibrationReportContent& content) {
     }
     html += "</table>\n";
     if (measured.energy_loss_mean_first_n) {
-      html += fmt::format("<p>Mean energy loss of the first {} impacts: {} &plusmn; {}</p>\n",
-                          content.options.first_n, Number(*measured.energy_loss_mean_first_n, 4),
-                          Number(*measured.energy_loss_mean_first_n_uncertainty, 2));
+      // Scatter and timing, as the uncertainty model combines them for the first N.
+      const double timing = *measured.energy_loss_mean_first_n_uncertainty;
+      const double scatter = content.summary.uncertainty.per_impact_scatter;
+      html += fmt::format(
+          "<p>Mean energy loss of the first {} impacts: {} &plusmn; {} (timing alone &plusmn; "
+          "{}; per-impact scatter sd {})</p>\n",
+          content.options.first_n, Number(*measured.energy_loss_mean_first_n, 4),
+          Number(std::sqrt(scatter * scatter / content.options.first_n + timing * timing), 2),
+          Number(timing, 2), Number(scatter, 2));
     }
   }
   return html;

@@ -11,10 +11,12 @@ namespace bouncecal::apps {
 void DropCliOptions::Add(CLI::App& command, bool with_law, Geometry geometry) {
   geometry_ = geometry;
   const bool paper = geometry == Geometry::kPaperDefaults;
-  auto* preset =
-      command.add_option("--ball", ball_preset,
-                         "Named ball: " + calibrate::BallPresetNames() +
-                             " (size and mass from the rules or densities in docs/calibration.md)");
+  auto* preset = command.add_option(
+      "--ball", ball_preset,
+      "Named ball: " + calibrate::BallPresetNames() +
+          " (size and mass from the rules or densities in docs/calibration.md)" +
+          (paper ? std::string(" (default: 1 cm steel)")
+                 : std::string("; needed with --card, --drag and the Hertz laws")));
   auto* diameter = command.add_option("--diameter", diameter_m,
                                       paper ? "Ball diameter in m (default 0.01)"
                                             : "Ball diameter in m (with --density or --mass)");
