@@ -10,8 +10,8 @@ namespace bouncecal::calibrate::internal {
 // The standard normal quantile: Phi(x) = p, p in (0, 1).
 double NormalQuantile(double p);
 
-// Student's t quantile with `dof` degrees of freedom (any real dof > 0; +infinity gives the
-// normal quantile), p in (0, 1). Accurate to about 1e-10 relative.
+// Student's t quantile with `dof` degrees of freedom (any real dof > 0; above 1e7, +infinity
+// included, the normal quantile), p in (0, 1). Accurate to about 1e-10 relative.
 double StudentTQuantile(double p, double dof);
 
 // P(T <= t) for Student's t with `dof` > 0 degrees of freedom.

@@ -36,8 +36,11 @@ TEST(StudentT, InfiniteDegreesOfFreedomIsTheNormal) {
   EXPECT_NEAR(NormalQuantile(0.001), -3.090232306167814, 1e-9);
   EXPECT_EQ(StudentTQuantile(0.975, std::numeric_limits<double>::infinity()),
             NormalQuantile(0.975));
-  // A million degrees of freedom is indistinguishable from the normal at 1e-5.
+  // A million degrees of freedom is indistinguishable from the normal at 1e-5, and astronomically
+  // many (Satterthwaite's when timing dominates) must not lose precision on the way.
   EXPECT_NEAR(StudentTQuantile(0.975, 1e6), NormalQuantile(0.975), 1e-5);
+  EXPECT_NEAR(StudentTQuantile(0.975, 5e6), NormalQuantile(0.975), 1e-6);
+  EXPECT_EQ(StudentTQuantile(0.975, 1e30), NormalQuantile(0.975));
 }
 
 TEST(StudentT, FractionalDegreesOfFreedomLieBetweenTheirNeighbours) {
