@@ -100,7 +100,8 @@ BENCHMARK(BM_CalibrateFiveRecordings)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 
-// Real recordings through the whole command (../shared/recordings, when present): the longest
+// Real recordings by others through the whole command (BOUNCECAL_SHARED_DIR/recordings, when
+// present; docs/recordings.md): the longest
 // one (ub-mth337 ping-pong, 12 s, 59 impacts) alone, and five of them fitted jointly. Five
 // different balls make no material, but they are the CPU cost of five real files.
 std::vector<std::filesystem::path> SharedRecordings(int count) {

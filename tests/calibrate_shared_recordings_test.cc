@@ -1,5 +1,6 @@
-// calibrate on the shared real recordings (../shared/recordings, SOURCES.md there), with the
-// defaults a new user gets: no drop height, no ball. Skipped when the recordings are absent.
+// calibrate on the real recordings by others (BOUNCECAL_SHARED_DIR/recordings, not
+// redistributable; docs/recordings.md, origins in docs/bibliography.md), with the defaults a new
+// user gets: no drop height, no ball. Skipped when the recordings are absent.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -82,7 +83,8 @@ TEST_F(CalibrateSharedRecordings, PingPongIntervalReflectsItsImpactToImpactScatt
 }
 
 TEST_F(CalibrateSharedRecordings, PingPongWhoseRestitutionRisesAsItSlowsIsNotOneConstantGamma) {
-  // ub-mth337's ping-pong ball: e rises from 0.907 to 0.95 as the bounces slow (SOURCES.md).
+  // ub-mth337's ping-pong ball: e rises from 0.907 to 0.95 as the bounces slow
+  // (docs/recordings.md).
   const auto summary = FitDefault("ub-mth337/pingpong.wav");
   EXPECT_TRUE(summary.adequacy.trend) << summary.adequacy.message;
   EXPECT_GT(summary.adequacy.change_over_range, 0);  // eta rises with speed

@@ -12,7 +12,7 @@ namespace bouncecal::calibrate {
 namespace {
 
 TEST(BallPreset, SteelTenMillimetreIsThePapersBall) {
-  // PHYSICS.md: m = rho pi d^3 / 6 = 4.08 g for 1 cm of steel at 7800 kg/m^3.
+  // docs/physics.md: m = rho pi d^3 / 6 = 4.08 g for 1 cm of steel at 7800 kg/m^3.
   const auto ball = FindBallPreset("steel-10mm").ToBall();
   EXPECT_DOUBLE_EQ(ball.diameter_m, 0.01);
   EXPECT_NEAR(ball.MassKg(), 4.084e-3, 1e-6);
