@@ -42,6 +42,13 @@ void Run(const CompareCliOptions& cli) {
   if (cli.gamma_values.empty() == cli.material.empty()) {
     throw ConfigError("give exactly one of --gamma LIST or --material CARD");
   }
+  // The simulated drops start at the release height, and the measured arcs are set against
+  // them: an assumed height would be a silent wrong answer.
+  if (!cli.drop.drop_height_m) {
+    throw ConfigError(
+        "compare needs --drop-height (the height the ball was released from, m) to simulate the "
+        "drop the recording shows; without it, fit the recording with bouncecal calibrate");
+  }
   calibrate::TrajectoryCompareOptions options;
   options.ball = cli.drop.Ball();
   if (!cli.material.empty()) {
@@ -71,6 +78,12 @@ void Run(const CompareCliOptions& cli) {
 
   fmt::print("bouncecal compare: {} ({} impacts), h0 = {:g} m; measured arcs vs simulated drops\n",
              sequences.front().source, onsets.size(), options.drop_height_m);
+  fmt::print("  ball: d = {:g} m, m = {:.6g} kg{}\n", options.ball.diameter_m,
+             options.ball.MassKg(),
+             cli.material.empty() && !cli.drop.GivenBall()
+                 ? " (no --ball given: the paper's 1 cm steel ball; walton-braun's heights do not "
+                   "depend on it)"
+                 : "");
   fmt::print("  {:<40} {:>18}\n", "simulated law", "RMS height error m");
   nlohmann::json curves = nlohmann::json::array();
   for (const auto& curve : summary.simulated) {

@@ -225,7 +225,8 @@ const std::string kBall = R"({"diameter_m": 0.01, "density_kg_per_m3": 7800})";
 // Both readers of a card: the problem, its exit status, the words the message must hold.
 void ExpectCardRefused(BadInput& test, const fs::path& card, int status,
                        const std::string& problem) {
-  test.ExpectRefused("compare " + SourceDir().string() + "/samples/steel_ball_h0.2m.csv --material",
+  test.ExpectRefused("compare " + SourceDir().string() +
+                         "/samples/steel_ball_h0.2m.csv --drop-height 0.2 --material",
                      card, status, problem);
   test.ExpectRefused("export --engine lammps --material", card, status, problem, "-o");
 }

@@ -175,10 +175,18 @@ TEST(SweepCli, PrintsTheAnalyticColumnForWaltonBraun) {
 }
 
 TEST(CompareCli, NeedsExactlyOneOfGammaOrMaterial) {
-  EXPECT_EQ(RunBouncecal("compare " + Sample()).exit_status, 3);
-  const auto result = RunBouncecal("compare " + Sample() + " --gamma 0.3,0.5");
+  EXPECT_EQ(RunBouncecal("compare " + Sample() + " --drop-height 0.2").exit_status, 3);
+  const auto result = RunBouncecal("compare " + Sample() + " --gamma 0.3,0.5 --drop-height 0.2");
   EXPECT_EQ(result.exit_status, 0) << result.output;
   EXPECT_NE(result.output.find("RMS"), std::string::npos) << result.output;
+}
+
+// compare sets the measured arcs against drops released from the given height: it does not
+// assume one (it assumed the paper's 0.2 m).
+TEST(CompareCli, RefusesToAssumeADropHeight) {
+  const auto result = RunBouncecal("compare " + Sample() + " --gamma 0.3,0.5");
+  EXPECT_EQ(result.exit_status, 3) << result.output;
+  EXPECT_NE(result.output.find("--drop-height"), std::string::npos) << result.output;
 }
 
 }  // namespace
