@@ -5,7 +5,7 @@
 #include <span>
 
 #include "bouncecal/audio/synthesize.h"
-#include "random_stream.h"
+#include "bouncecal/random_stream.h"
 
 namespace bouncecal::audio {
 

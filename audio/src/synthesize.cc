@@ -13,7 +13,7 @@
 #include "extra_event_sound.h"
 #include "modal_impact.h"
 #include "noise.h"
-#include "random_stream.h"
+#include "bouncecal/random_stream.h"
 #include "recording_chain.h"
 #include "reverb.h"
 
