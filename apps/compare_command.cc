@@ -50,11 +50,11 @@ void Run(const CompareCliOptions& cli) {
         "drop the recording shows; without it, fit the recording with bouncecal calibrate");
   }
   calibrate::TrajectoryCompareOptions options;
-  options.ball = cli.drop.Ball();
+  options.drop = cli.drop.DropSetUp();
   if (!cli.material.empty()) {
     const auto card = calibrate::ReadMaterialCard(cli.material);
     options.laws.push_back(card.law);
-    options.ball = card.ball;
+    options.drop.ball = card.ball;
   } else {
     for (double gamma : calibrate::ParseValueList(cli.gamma_values)) {
       auto law = cli.drop.Law();
@@ -63,13 +63,6 @@ void Run(const CompareCliOptions& cli) {
       options.laws.push_back(law);
     }
   }
-  options.drop_height_m = cli.drop.DropHeightM();
-  options.gravity_mps2 = cli.drop.gravity_mps2;
-  options.drag = cli.drop.Drag();
-  options.integrator = cli.drop.Integrator();
-  options.time_step_s = cli.drop.time_step_s;
-  options.steps_per_contact = cli.drop.steps_per_contact;
-  options.fixed_step_grid = cli.drop.fixed_step_grid;
   options.sample_interval_s = cli.sample_interval_s;
   const auto sequences = calibrate::LoadSequences({cli.input});
   std::vector<double> onsets;
@@ -77,9 +70,9 @@ void Run(const CompareCliOptions& cli) {
   const auto summary = calibrate::CompareTrajectories(onsets, options);
 
   fmt::print("bouncecal compare: {} ({} impacts), h0 = {:g} m; measured arcs vs simulated drops\n",
-             sequences.front().source, onsets.size(), options.drop_height_m);
-  fmt::print("  ball: d = {:g} m, m = {:.6g} kg{}\n", options.ball.diameter_m,
-             options.ball.MassKg(),
+             sequences.front().source, onsets.size(), options.drop.drop_height_m);
+  fmt::print("  ball: d = {:g} m, m = {:.6g} kg{}\n", options.drop.ball.diameter_m,
+             options.drop.ball.MassKg(),
              cli.material.empty() && !cli.drop.GivenBall()
                  ? " (no --ball given: the paper's 1 cm steel ball; walton-braun's heights do not "
                    "depend on it)"
@@ -93,7 +86,7 @@ void Run(const CompareCliOptions& cli) {
   }
   if (!cli.json.empty()) {
     WriteFileAtomically(cli.json, nlohmann::json{{"source", sequences.front().source},
-                                                 {"drop_height_m", options.drop_height_m},
+                                                 {"drop_height_m", options.drop.drop_height_m},
                                                  {"curves", curves}}
                                           .dump(2) +
                                       "\n");

@@ -131,4 +131,18 @@ dem::AirDrag DropCliOptions::Drag() const {
   return air;
 }
 
+dem::DropOptions DropCliOptions::DropSetUp() const {
+  dem::DropOptions drop;
+  drop.law = Law();
+  drop.ball = Ball();
+  drop.drop_height_m = DropHeightM();
+  drop.gravity_mps2 = gravity_mps2;
+  drop.drag = Drag();
+  drop.integrator = Integrator();
+  drop.time_step_s = time_step_s;
+  if (steps_per_contact) drop.steps_per_contact = *steps_per_contact;
+  drop.fixed_step_grid = fixed_step_grid;
+  return drop;
+}
+
 }  // namespace bouncecal::apps

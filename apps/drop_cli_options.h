@@ -50,6 +50,10 @@ struct DropCliOptions {
   dem::ContactLawConfig Law(bool validate = true) const;
   dem::Integrator Integrator() const;
   dem::AirDrag Drag() const;
+  // The drop set-up every option above describes, in one place so no subcommand can leave one
+  // out (sweep once ignored --drag): ball (Ball()), DropHeightM(), gravity, drag, integrator,
+  // time step or steps per contact, step grid, and the validated Law().
+  dem::DropOptions DropSetUp() const;
 
  private:
   Geometry geometry_ = Geometry::kPaperDefaults;

@@ -63,25 +63,18 @@ void Plot(const SweepCliOptions& cli, const calibrate::SweepSummary& summary) {
 void Run(const SweepCliOptions& cli) {
   if (!cli.plot.empty()) CheckPlotTarget(cli.plot);
   calibrate::SweepOptions options;
-  options.law = cli.drop.Law();
+  options.drop = cli.drop.DropSetUp();
   options.parameter = cli.parameter;
   try {
     options.values = calibrate::ParseValueList(cli.values);
   } catch (const ConfigError& error) {
     throw ConfigError(std::string("--gamma/--values: ") + error.what());
   }
-  options.ball = cli.drop.Ball();
-  options.drop_height_m = cli.drop.DropHeightM();
-  options.gravity_mps2 = cli.drop.gravity_mps2;
-  options.integrator = cli.drop.Integrator();
-  options.time_step_s = cli.drop.time_step_s;
-  options.steps_per_contact = cli.drop.steps_per_contact;
-  options.fixed_step_grid = cli.drop.fixed_step_grid;
   options.first_n = cli.first_n;
   const auto summary = calibrate::Sweep(options);
 
   fmt::print("bouncecal sweep: {} {} values, h0 = {:g} m, integrator {}\n", options.values.size(),
-             cli.parameter, options.drop_height_m, cli.drop.integrator);
+             cli.parameter, options.drop.drop_height_m, cli.drop.integrator);
   fmt::print("  {:>10} {:>12} {:>16} {:>12} {:>12} {:>12}\n", cli.parameter, "eta first",
              fmt::format("eta-bar first {}", cli.first_n), "analytic", "first-analytic",
              "time step s");
@@ -111,7 +104,7 @@ void Run(const SweepCliOptions& cli) {
     WriteFileAtomically(cli.json, nlohmann::json{{"law", cli.drop.law},
                                                  {"parameter", cli.parameter},
                                                  {"first_n", cli.first_n},
-                                                 {"drop_height_m", options.drop_height_m},
+                                                 {"drop_height_m", options.drop.drop_height_m},
                                                  {"points", rows}}
                                           .dump(2) +
                                       "\n");

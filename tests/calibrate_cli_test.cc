@@ -4,12 +4,15 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.h"
 
 namespace bouncecal::testing {
 namespace {
+
+namespace fs = std::filesystem;
 
 std::string Sample() { return (SourceDir() / "samples" / "steel_ball_h0.2m.wav").string(); }
 
@@ -179,6 +182,49 @@ TEST(CompareCli, NeedsExactlyOneOfGammaOrMaterial) {
   const auto result = RunBouncecal("compare " + Sample() + " --gamma 0.3,0.5 --drop-height 0.2");
   EXPECT_EQ(result.exit_status, 0) << result.output;
   EXPECT_NE(result.output.find("RMS"), std::string::npos) << result.output;
+}
+
+// Every drop option given to sweep or compare changes the drops they simulate (one set-up,
+// DropCliOptions::DropSetUp; sweep once accepted --drag and ignored it). Each option is compared
+// with the run without it on a ping-pong ball, whose flights drag shortens visibly; the JSON
+// results must differ.
+TEST(DropOptionsCli, EveryDropOptionChangesWhatSweepAndCompareSimulate) {
+  const fs::path folder = fs::temp_directory_path() / "bouncecal_drop_options_cli";
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  // Each variation replaces or adds one option of the base set-up.
+  const std::map<std::string, std::string> base = {{"--ball", "pingpong-40mm"},
+                                                   {"--drop-height", "0.2"}};
+  const std::vector<std::pair<std::string, std::string>> variations = {{"--drag", ""},
+                                                                       {"--gravity", "9.5"},
+                                                                       {"--drop-height", "0.3"},
+                                                                       {"--integrator", "euler"},
+                                                                       {"--time-step", "2e-6"},
+                                                                       {"--steps-per-contact", "5"},
+                                                                       {"--fixed-step-grid", ""},
+                                                                       {"--ball", "tennis"}};
+  const auto command = [&](const std::string& head, const std::map<std::string, std::string>& set,
+                           const fs::path& json) {
+    std::string text = head;
+    for (const auto& [option, value] : set)
+      text += " " + option + (value.empty() ? "" : " " + value);
+    return text + " --json " + json.string();
+  };
+  for (const std::string& head :
+       std::vector<std::string>{"sweep --gamma 0.3,0.5", "compare " + Sample() + " --gamma 0.3"}) {
+    const std::string name = head.substr(0, head.find(' '));
+    const auto reference = folder / (name + "_reference.json");
+    ASSERT_EQ(RunBouncecal(command(head, base, reference)).exit_status, 0) << name;
+    for (std::size_t i = 0; i < variations.size(); ++i) {
+      auto set = base;
+      set[variations[i].first] = variations[i].second;
+      const auto changed = folder / (name + "_" + std::to_string(i) + ".json");
+      const auto result = RunBouncecal(command(head, set, changed));
+      ASSERT_EQ(result.exit_status, 0) << command(head, set, changed) << "\n" << result.output;
+      EXPECT_NE(ReadFile(changed), ReadFile(reference)) << name << " " << variations[i].first;
+    }
+  }
+  fs::remove_all(folder);
 }
 
 // compare sets the measured arcs against drops released from the given height: it does not

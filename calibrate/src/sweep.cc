@@ -57,17 +57,9 @@ SweepSummary Sweep(const SweepOptions& options) {
   }
   SweepSummary summary;
   for (double value : options.values) {
-    dem::DropOptions drop;
-    drop.law = options.law;
+    dem::DropOptions drop = options.drop;
     drop.law.parameters[options.parameter] = value;
     drop.law.Validate();
-    drop.ball = options.ball;
-    drop.drop_height_m = options.drop_height_m;
-    drop.gravity_mps2 = options.gravity_mps2;
-    drop.integrator = options.integrator;
-    drop.time_step_s = options.time_step_s;
-    if (options.steps_per_contact) drop.steps_per_contact = *options.steps_per_contact;
-    drop.fixed_step_grid = options.fixed_step_grid;
     drop.max_impacts = options.first_n + 1;
     const auto result = dem::SimulateDrop(drop);
 
@@ -81,7 +73,7 @@ SweepSummary Sweep(const SweepOptions& options) {
     }
     // Flight-time energy losses, padded with 1 (all energy lost) if the ball came to rest.
     std::vector<double> energy_loss;
-    double incoming = DropFlightTime(options.drop_height_m, options.gravity_mps2);
+    double incoming = DropFlightTime(drop.drop_height_m, drop.gravity_mps2);
     for (size_t k = 0; k + 1 < result.impacts.size(); ++k) {
       const double outgoing = result.impacts[k + 1].time_s - result.impacts[k].time_s;
       energy_loss.push_back(1 - std::pow(outgoing / incoming, 2));
@@ -92,7 +84,7 @@ SweepSummary Sweep(const SweepOptions& options) {
     double sum = 0;
     for (int k = 0; k < options.first_n; ++k) sum += energy_loss[static_cast<size_t>(k)];
     point.energy_loss_mean_first_n = sum / options.first_n;
-    if (options.law.kind == dem::ContactLawKind::kWaltonBraun && options.parameter == "gamma_n")
+    if (drop.law.kind == dem::ContactLawKind::kWaltonBraun && options.parameter == "gamma_n")
       point.analytic_energy_loss = 2 * value / (1 + value);
     summary.points.push_back(point);
   }

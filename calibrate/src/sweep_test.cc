@@ -26,7 +26,7 @@ TEST(Sweep, DefaultOptionsAreValid) {
 
 TEST(Sweep, ExactDropsFollowTheClosedFormUpToGravityDuringContact) {
   SweepOptions options;
-  options.integrator = dem::Integrator::kExact;
+  options.drop.integrator = dem::Integrator::kExact;
   const auto summary = Sweep(options);
   ASSERT_EQ(summary.points.size(), 5u);
   for (const auto& point : summary.points) {

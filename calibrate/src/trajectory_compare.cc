@@ -63,20 +63,12 @@ TrajectoryCompareSummary CompareTrajectories(const std::vector<double>& onsets_s
                                              const TrajectoryCompareOptions& options) {
   if (options.laws.empty()) throw ConfigError("no law to simulate; give --gamma or --material");
   TrajectoryCompareSummary summary;
-  summary.measured = MeasuredTrajectory(onsets_s, options.drop_height_m, options.gravity_mps2,
-                                        options.sample_interval_s);
+  summary.measured = MeasuredTrajectory(onsets_s, options.drop.drop_height_m,
+                                        options.drop.gravity_mps2, options.sample_interval_s);
   const double end = summary.measured.time_s.back();
   for (const auto& law : options.laws) {
-    dem::DropOptions drop;
+    dem::DropOptions drop = options.drop;
     drop.law = law;
-    drop.ball = options.ball;
-    drop.drop_height_m = options.drop_height_m;
-    drop.gravity_mps2 = options.gravity_mps2;
-    drop.drag = options.drag;
-    drop.integrator = options.integrator;
-    drop.time_step_s = options.time_step_s;
-    if (options.steps_per_contact) drop.steps_per_contact = *options.steps_per_contact;
-    drop.fixed_step_grid = options.fixed_step_grid;
     drop.max_time_s = end + options.sample_interval_s;
     drop.trajectory_interval_s = options.sample_interval_s;
     const auto result = dem::SimulateDrop(drop);

@@ -13,16 +13,12 @@ namespace bouncecal::calibrate {
 // The paper's Fig. 6: simulated energy loss against one law parameter (gamma_n by default), next
 // to the closed form eta = 2 gamma / (1 + gamma) where it exists (walton-braun).
 struct SweepOptions {
-  dem::ContactLawConfig law;  // kind and the fixed parameters
+  // The simulated drop: its law is the kind and the fixed parameters, `parameter` takes each of
+  // `values` in turn; every other field (ball, height, gravity, drag, integrator, step) is used
+  // as given. max_impacts is set to first_n + 1.
+  dem::DropOptions drop;
   std::string parameter = "gamma_n";
   std::vector<double> values = {0.1, 0.3, 0.5, 0.7, 0.9};
-  dem::Ball ball;
-  double drop_height_m = 0.2;
-  double gravity_mps2 = 9.81;
-  dem::Integrator integrator = dem::Integrator::kVelocityVerlet;
-  std::optional<double> time_step_s;
-  std::optional<double> steps_per_contact;
-  bool fixed_step_grid = false;  // dem::DropOptions::fixed_step_grid (the paper's classic grid)
   int first_n = 3;
 };
 

@@ -29,14 +29,9 @@ double RmsHeightError(const HeightCurve& measured, const HeightCurve& simulated)
 
 struct TrajectoryCompareOptions {
   std::vector<dem::ContactLawConfig> laws;  // one simulated curve each
-  dem::Ball ball;
-  double drop_height_m = 0.2;
-  double gravity_mps2 = 9.81;
-  dem::AirDrag drag;
-  dem::Integrator integrator = dem::Integrator::kVelocityVerlet;
-  std::optional<double> time_step_s;
-  std::optional<double> steps_per_contact;
-  bool fixed_step_grid = false;     // dem::DropOptions::fixed_step_grid (the paper's classic grid)
+  // The simulated drop set-up (ball, release height, gravity, drag, integrator, step) for every
+  // law; its own law is replaced by each of `laws`.
+  dem::DropOptions drop;
   double sample_interval_s = 5e-4;  // 0.5 ms resolves the last, ~10 ms flights
 };
 
