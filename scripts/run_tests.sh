@@ -3,6 +3,6 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install_deps.sh
-scripts/build.sh -DBOUNCECAL_BUILD_TESTS=ON -DBOUNCECAL_BUILD_BENCH=ON
+scripts/build.sh -DBOUNCECAL_BUILD_TESTS=ON -DBOUNCECAL_BUILD_BENCH=ON -DBOUNCECAL_WARNINGS_AS_ERRORS=ON
 cd build
 ctest --output-on-failure -j"$(nproc)"

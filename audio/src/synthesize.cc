@@ -9,11 +9,11 @@
 #include "anti_aliasing_filter.h"
 #include "band_limit.h"
 #include "bouncecal/error.h"
+#include "bouncecal/random_stream.h"
 #include "contact_click.h"
 #include "extra_event_sound.h"
 #include "modal_impact.h"
 #include "noise.h"
-#include "bouncecal/random_stream.h"
 #include "recording_chain.h"
 #include "reverb.h"
 
