@@ -46,8 +46,8 @@ struct EngineSettings {
   // A chunk of the pair list runs every listed pair through the contact arithmetic (no
   // compaction) once at least this fraction of its pairs interacted in the previous step, and
   // only the interacting ones otherwise. Speed only: results are the same bit for bit. 0 always
-  // runs all listed pairs, > 1 always compacts (tests compare the two). First simulated second
-  // of the paper 000 pour, 1 thread: 5.90-5.91 s at 0.5, 5.91-5.94 s at 0.3, 5.98-5.99 s at 0.7.
+  // runs all listed pairs, > 1 always compacts (tests compare the two). 0.5 was the fastest of
+  // the values tried on the paper 000 pour (docs/packing.md, "Figures behind the engine's code").
   double dense_pair_fraction = 0.5;
   bool brute_force_pairs = false;  // list every pair i < j (tests only: O(N^2))
   // Reorder the particles by grid cell at each rebuild (inside the engine only: state() keeps

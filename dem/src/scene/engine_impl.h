@@ -88,7 +88,7 @@ class Engine final : public EngineBase<Dim> {
         double move2 = 0;
         for (auto i = static_cast<std::int32_t>(begin); i < end; ++i) {
           // The load is handed over in registers: reading back what GatherForce just stored
-          // stalled on store forwarding (a quarter of this loop's time).
+          // stalled on store forwarding.
           const Load load = GatherForce(i);
           if (last) {
             // Only the last step's load is read again (by the next Advance's opening kick).
@@ -136,7 +136,7 @@ class Engine final : public EngineBase<Dim> {
 
   // Everything the stepping loop reads of one particle, in one record of two cache lines: a
   // pair's far member then costs two lines fetched together instead of one line in each of
-  // three arrays, and the kick-drift reads one record (about 3-4 % of a settled step).
+  // three arrays, and the kick-drift reads one record.
   struct alignas(64) Hot {
     Packed position_radius;
     Packed velocity_mass;
@@ -280,8 +280,8 @@ class Engine final : public EngineBase<Dim> {
   }
 
   // The pair pass runs one of two ways, chosen per chunk from its previous step: when most
-  // listed pairs touch (a settled pack: ~97 %), every listed pair goes through the contact stages
-  // in list order (PairRangeDense): no compaction and no indirection, ~6 % off a settled step.
+  // listed pairs touch (a settled pack), every listed pair goes through the contact stages in
+  // list order (PairRangeDense): no compaction and no indirection.
   // When few do (a pour's falling phase), only the interacting ones are compacted into blocks
   // (PairRangeCompacted), which spares the stages the others. A pair's arithmetic is the same
   // either way, so the choice changes no bit. Both return the number of interacting pairs.
@@ -752,9 +752,8 @@ class Engine final : public EngineBase<Dim> {
   }
 
   // The arithmetic of a block, compiled three times (baseline, AVX2, AVX-512) from the same
-  // source. The AVX-512 build uses the full 512-bit width: 8 contacts per instruction took about
-  // 10 % off a settled pack's step on this machine (AMD Zen 5) against AVX2, while AVX-512 at
-  // 256 bits gained nothing over AVX2.
+  // source. The AVX-512 build uses the full 512-bit width (8 contacts per instruction): at 256
+  // bits it gained nothing over AVX2.
   // kWall: the block holds particle-wall contacts (see WallRange).
   template <bool kWall>
   [[gnu::always_inline]] inline void ContactArithmetic(Scratch& t, int n) {

@@ -8,7 +8,7 @@ namespace {
 // Polling budget before sleeping on the futex. A step of a few thousand particles is
 // ~100-300 us and its serial part (neighbour rebuild, first-contact stop) up to ~1 ms, while a
 // futex wake-up costs tens of microseconds in a VM: with ~5-10 us of polling (200 pauses) a
-// 2-thread run lost a quarter of its CPU to sleeping and waking. Polling for up to kSpinBudget
+// 2-thread run spent much of its CPU sleeping and waking. Polling for up to kSpinBudget
 // catches the next loop of the same or the next step without a system call; on a busy machine
 // a waiter still gives its core away after that long, a small fraction of a scheduler slice.
 constexpr auto kSpinBudget = std::chrono::microseconds(100);

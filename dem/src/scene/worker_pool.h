@@ -11,7 +11,7 @@ namespace bouncecal::dem::scene {
 
 // Persistent threads for the two short parallel loops of every DEM step. A step of a few
 // thousand particles takes ~100 us, so the hand-off must be cheap, yet the machine may be shared:
-// OpenMP's default spin-waiting made a 2-thread run 20x slower than 1 thread on a loaded 2-core
+// OpenMP's default spin-waiting made a 2-thread run many times slower than 1 thread on a loaded
 // machine. Waiters poll for up to ~100 us, then sleep on a futex (C++20 atomic wait).
 // Chunks are fixed contiguous ranges, so work splits identically on every run, but any thread
 // may run any chunk: when the machine is busy and a worker has no core, the caller runs its
@@ -31,9 +31,8 @@ class WorkerPool {
   int threads() const { return static_cast<int>(workers_.size()) + 1; }
   // Chunks per loop: several per thread, so that a thread whose chunks are cheap (falling
   // particles with few contacts) claims more of them instead of waiting at the barrier for one
-  // holding the dense bottom of a pour. 8 per thread waste less at the barrier than 4 (settled
-  // pack on 2 threads: 1.45-1.47 s against 1.51-1.52 s) and 16 gain nothing more. Callers size
-  // per-chunk scratch by this.
+  // holding the dense bottom of a pour. 8 per thread waste less at the barrier than 4, and 16
+  // gain nothing more. Callers size per-chunk scratch by this.
   int chunks() const { return workers_.empty() ? 1 : threads() * kChunksPerThread; }
 
   // Calls body(chunk, begin, end) once for each of chunks() contiguous chunks of [0, n), on

@@ -70,7 +70,7 @@ struct DropOptions {
   // both the whole contact and the stiffest branch's oscillation get steps_per_contact steps.
   std::optional<double> time_step_s;
   // [1, 1e7]. 50: velocity Verlet keeps eta_1 within 4e-4 of the exact path on walton-braun
-  // (2.4e-4 plastic, 4e-6 hertz, 3.5e-3 dashpot) at ~25 us CPU per drop (docs/drop_accuracy.md).
+  // (2.4e-4 plastic, 4e-6 hertz, 3.5e-3 dashpot); its cost per drop is in docs/drop_accuracy.md.
   double steps_per_contact = 50;
   // A step beyond the integrator's stability limit for this law is refused unless set.
   bool allow_unstable_step = false;

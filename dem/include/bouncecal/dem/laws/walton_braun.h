@@ -35,7 +35,7 @@ class WaltonBraun {
   double NormalForce(const NormalContact& contact, NormalHistory& /*history*/) const {
     const double elastic = params_.stiffness_n_per_m * contact.overlap_m;
     // Selects, not jumps: in a dense pack the sign of the overlap rate is random from contact
-    // to contact (mispredicted jumps cost the packing engine ~15 % of its step), and the
+    // to contact (mispredicted jumps were a large share of the packing engine's step), and the
     // packing engine evaluates this for a whole block of contacts in SIMD lanes. Same products
     // as (1 +- gamma_n) k xi, bit for bit.
     const double rate = contact.overlap_rate_mps;
