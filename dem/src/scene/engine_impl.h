@@ -11,15 +11,7 @@
 #include <variant>
 
 #include "scene/engine.h"
-
-// The contact arithmetic is also compiled for AVX2 and AVX-512 and picked at run time: the build
-// itself targets baseline x86-64 (CI and users' machines may lack either).
-#if (defined(__x86_64__) || defined(__i386__)) && defined(__GNUC__)
-#define BOUNCECAL_SCENE_HAS_SIMD_PATHS 1
-#include <immintrin.h>
-#else
-#define BOUNCECAL_SCENE_HAS_SIMD_PATHS 0
-#endif
+#include "scene/simd_helpers.h"
 
 namespace bouncecal::dem::scene {
 
@@ -321,8 +313,9 @@ class Engine final : public EngineBase<Dim> {
     const int written = ScatterTransposed(t, b, n, interacting);
     return interacting + DenseScatter(t, b, written, n);
   }
-  [[gnu::target("avx512f,avx512dq,avx512vl,prefer-vector-width=512")]] std::int64_t
-  DenseBlockAvx512(Scratch& t, std::int64_t b, int n) {
+  [[gnu::target(BOUNCECAL_SCENE_AVX512_TARGET)]] std::int64_t DenseBlockAvx512(Scratch& t,
+                                                                               std::int64_t b,
+                                                                               int n) {
     DenseGather(t, b, GatherTransposed(t, b, n), n);
     ContactArithmetic<false>(t, n);
     std::int64_t interacting = 0;
@@ -332,30 +325,6 @@ class Engine final : public EngineBase<Dim> {
 #endif
 
 #if BOUNCECAL_SCENE_HAS_SIMD_PATHS
-  // Four 4-double rows in, four columns out.
-  [[gnu::always_inline, gnu::target("avx2")]] static inline void Transpose4(__m256d& r0,
-                                                                            __m256d& r1,
-                                                                            __m256d& r2,
-                                                                            __m256d& r3) {
-    const __m256d t0 = _mm256_unpacklo_pd(r0, r1);
-    const __m256d t1 = _mm256_unpackhi_pd(r0, r1);
-    const __m256d t2 = _mm256_unpacklo_pd(r2, r3);
-    const __m256d t3 = _mm256_unpackhi_pd(r2, r3);
-    r0 = _mm256_permute2f128_pd(t0, t2, 0x20);
-    r1 = _mm256_permute2f128_pd(t1, t3, 0x20);
-    r2 = _mm256_permute2f128_pd(t0, t2, 0x31);
-    r3 = _mm256_permute2f128_pd(t1, t3, 0x31);
-  }
-  // The four particles' 32-byte records at `offset` in Hot, as columns (x, y, z, scalar).
-  [[gnu::always_inline, gnu::target("avx2")]] static inline void LoadColumns(
-      const Hot* const (&particle)[4], std::size_t offset, __m256d (&column)[4]) {
-    for (int q = 0; q < 4; ++q) {
-      column[q] = _mm256_load_pd(
-          reinterpret_cast<const double*>(reinterpret_cast<const char*>(particle[q]) + offset));
-    }
-    Transpose4(column[0], column[1], column[2], column[3]);
-  }
-
   // The first multiple of 4 of a dense block's n contacts (3D; none in 2D); returns how many.
   [[gnu::always_inline, gnu::target("avx2")]] inline int GatherTransposed(Scratch& t,
                                                                           std::int64_t b,
@@ -775,8 +744,7 @@ class Engine final : public EngineBase<Dim> {
     ContactArithmetic<kWall>(t, n);
   }
   template <bool kWall>
-  [[gnu::target("avx512f,avx512dq,avx512vl,prefer-vector-width=512")]] void ContactArithmeticAvx512(
-      Scratch& t, int n) {
+  [[gnu::target(BOUNCECAL_SCENE_AVX512_TARGET)]] void ContactArithmeticAvx512(Scratch& t, int n) {
     ContactArithmetic<kWall>(t, n);
   }
 #endif
