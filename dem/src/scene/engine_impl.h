@@ -11,6 +11,7 @@
 #include <variant>
 
 #include "scene/engine.h"
+#include "scene/particle_records.h"
 #include "scene/simd_helpers.h"
 
 namespace bouncecal::dem::scene {
@@ -41,7 +42,7 @@ class Engine final : public EngineBase<Dim> {
     if (!this->forces_valid_) {
       ForcesInWorkingOrder();
     } else {
-      LoadHot();
+      LoadRecords();
     }
     const std::int32_t n = this->state_.size();
     const double dt = this->settings_.time_step_s;
@@ -68,10 +69,10 @@ class Engine final : public EngineBase<Dim> {
       }
       if (!this->pairs_valid_ || this->settings_.stop_at_first_contact) {
         // The rebuild and the first-contact stop work on state_: hand it the current state.
-        StoreHot();
+        StoreRecords();
         PrepareStep();
         if (this->settings_.stop_at_first_contact) this->StopFirstContacts();
-        LoadHot();
+        LoadRecords();
       }
       PairForces();
       const bool last = step + 1 == steps;
@@ -94,7 +95,7 @@ class Engine final : public EngineBase<Dim> {
       });
       ++this->steps_;
     }
-    StoreHot();
+    StoreRecords();
     this->forces_valid_ = true;
     this->LeaveWorkingOrder();
   }
@@ -103,64 +104,22 @@ class Engine final : public EngineBase<Dim> {
   using V = Vec<Dim>;
   using S = Spin<Dim>;
   using PairResult = typename EngineBase<Dim>::PairResult;
+  using Record = ParticleRecord<Dim>;
   static double Square(double x) { return x * x; }
 
   void ForcesInWorkingOrder() {
     PrepareStep();
-    LoadHot();
+    LoadRecords();
     PairForces();
     const std::int32_t n = this->state_.size();
     for (std::int32_t i = 0; i < n; ++i) StoreLoad(i, GatherForce(i));
     this->forces_valid_ = true;
   }
 
-  // A vector and one scalar of a particle in one aligned 32-byte record, so that a pair's
-  // member costs one cache line per quantity instead of two or three (a 24-byte Vec straddles a
-  // line boundary in 3 of 8 slots, and the scalar lives in another array).
-  struct alignas(32) Packed {
-    V v;
-    double s;
-  };
-  struct alignas(Dim == 3 ? 32 : 16) PackedSpin {
-    S w;
-    double inverse_inertia;
-  };
-
-  // Everything the stepping loop reads of one particle, in one record of two cache lines: a
-  // pair's far member then costs two lines fetched together instead of one line in each of
-  // three arrays, and the kick-drift reads one record.
-  struct alignas(64) Hot {
-    Packed position_radius;
-    Packed velocity_mass;
-    PackedSpin spin_inertia;
-    V origin;  // the position at the last neighbour-list build
-    double inverse_mass;
-  };
-
   // state_ holds the particles outside the stepping loop (and for the rebuild and the
-  // first-contact stop); inside it the loop works on these records. Both copies hold the
-  // same values, so the arithmetic is unchanged.
-  void LoadHot() {
-    const auto& s = this->state_;
-    const auto n = static_cast<std::size_t>(s.size());
-    hot_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      hot_[i].position_radius = {s.position_m[i], s.radius_m[i]};
-      hot_[i].velocity_mass = {s.velocity_mps[i], s.mass_kg[i]};
-      hot_[i].spin_inertia = {s.angular_velocity_radps[i], s.inverse_inertia[i]};
-      hot_[i].origin = this->position_at_rebuild_[i];
-      hot_[i].inverse_mass = s.inverse_mass[i];
-    }
-  }
-  void StoreHot() {
-    auto& s = this->state_;
-    const auto n = static_cast<std::size_t>(s.size());
-    for (std::size_t i = 0; i < n; ++i) {
-      s.position_m[i] = hot_[i].position_radius.v;
-      s.velocity_mps[i] = hot_[i].velocity_mass.v;
-      s.angular_velocity_radps[i] = hot_[i].spin_inertia.w;
-    }
-  }
+  // first-contact stop); inside it the loop works on records_ (particle_records.h).
+  void LoadRecords() { LoadParticleRecords(this->state_, this->position_at_rebuild_, records_); }
+  void StoreRecords() { StoreParticleRecords(records_, this->state_); }
 
   void PrepareStep() {
     if (!this->pairs_valid_) {
@@ -186,11 +145,11 @@ class Engine final : public EngineBase<Dim> {
     // Component by component, each new value kept in a register: whole-vector assignments made
     // GCC re-read components just stored one by one as one wider load (or copy them through the
     // stack), which cannot be store-forwarded and stalled the loop. Same operations, same results.
-    const double velocity_kick = kick * hot_[k].inverse_mass;
+    const double velocity_kick = kick * records_[k].inverse_mass;
     const double dt = this->settings_.time_step_s;
-    auto& velocity = hot_[k].velocity_mass.v;
-    auto& position = hot_[k].position_radius.v;
-    const auto& origin = hot_[k].origin;
+    auto& velocity = records_[k].velocity_mass.v;
+    auto& position = records_[k].position_radius.v;
+    const auto& origin = records_[k].origin;
     double move2 = 0;
     for (int d = 0; d < Dim; ++d) {
       const double v = velocity[d] + velocity_kick * load.force[d];
@@ -201,11 +160,11 @@ class Engine final : public EngineBase<Dim> {
       move2 += moved * moved;
     }
     if constexpr (Phys::kRotation) {
-      const double spin_kick = kick * hot_[k].spin_inertia.inverse_inertia;
+      const double spin_kick = kick * records_[k].spin_inertia.inverse_inertia;
       if constexpr (Dim == 3) {
-        for (int d = 0; d < 3; ++d) hot_[k].spin_inertia.w[d] += spin_kick * load.torque[d];
+        for (int d = 0; d < 3; ++d) records_[k].spin_inertia.w[d] += spin_kick * load.torque[d];
       } else {
-        hot_[k].spin_inertia.w += spin_kick * load.torque;
+        records_[k].spin_inertia.w += spin_kick * load.torque;
       }
     }
     return move2;
@@ -213,9 +172,10 @@ class Engine final : public EngineBase<Dim> {
 
   void HalfKick(std::int32_t i, double half_dt, const Load& load) {
     const auto k = static_cast<std::size_t>(i);
-    hot_[k].velocity_mass.v += (half_dt * hot_[k].inverse_mass) * load.force;
+    records_[k].velocity_mass.v += (half_dt * records_[k].inverse_mass) * load.force;
     if constexpr (Phys::kRotation)
-      hot_[k].spin_inertia.w += (half_dt * hot_[k].spin_inertia.inverse_inertia) * load.torque;
+      records_[k].spin_inertia.w +=
+          (half_dt * records_[k].spin_inertia.inverse_inertia) * load.torque;
   }
 
   static constexpr int kBlock = 64;
@@ -346,15 +306,15 @@ class Engine final : public EngineBase<Dim> {
   [[gnu::always_inline, gnu::target("avx2")]] inline void GatherFourTransposed(
       Scratch& t, int k, std::int64_t b, const std::int32_t* first, const std::int32_t* second,
       double cutoff_gap_m) const {
-    const Hot* const hot = hot_.data();
-    const Hot* const particle_i[4] = {hot + first[k], hot + first[k + 1], hot + first[k + 2],
-                                      hot + first[k + 3]};
-    const Hot* const particle_j[4] = {hot + second[k], hot + second[k + 1], hot + second[k + 2],
-                                      hot + second[k + 3]};
+    const Record* const records = records_.data();
+    const Record* const particle_i[4] = {records + first[k], records + first[k + 1],
+                                         records + first[k + 2], records + first[k + 3]};
+    const Record* const particle_j[4] = {records + second[k], records + second[k + 1],
+                                         records + second[k + 2], records + second[k + 3]};
     __m256d xi[4];
     __m256d xj[4];
-    LoadColumns(particle_i, offsetof(Hot, position_radius), xi);
-    LoadColumns(particle_j, offsetof(Hot, position_radius), xj);
+    LoadColumns(particle_i, offsetof(Record, position_radius), xi);
+    LoadColumns(particle_j, offsetof(Record, position_radius), xj);
     __m256d d2 = _mm256_setzero_pd();
     for (int c = 0; c < 3; ++c) {
       const __m256d d = _mm256_sub_pd(xi[c], xj[c]);
@@ -368,16 +328,16 @@ class Engine final : public EngineBase<Dim> {
     _mm256_store_pd(&t.radius_j[k], xj[3]);
     __m256d vi[4];
     __m256d vj[4];
-    LoadColumns(particle_i, offsetof(Hot, velocity_mass), vi);
-    LoadColumns(particle_j, offsetof(Hot, velocity_mass), vj);
+    LoadColumns(particle_i, offsetof(Record, velocity_mass), vi);
+    LoadColumns(particle_j, offsetof(Record, velocity_mass), vj);
     for (int c = 0; c < 3; ++c) _mm256_store_pd(&t.velocity[c][k], _mm256_sub_pd(vi[c], vj[c]));
     _mm256_store_pd(&t.mass_i[k], vi[3]);
     _mm256_store_pd(&t.mass_j[k], vj[3]);
     if constexpr (Phys::kRotation) {
       __m256d wi[4];
       __m256d wj[4];
-      LoadColumns(particle_i, offsetof(Hot, spin_inertia), wi);
-      LoadColumns(particle_j, offsetof(Hot, spin_inertia), wj);
+      LoadColumns(particle_i, offsetof(Record, spin_inertia), wi);
+      LoadColumns(particle_j, offsetof(Record, spin_inertia), wj);
       for (int c = 0; c < 3; ++c) {
         _mm256_store_pd(&t.spin[c][k],
                         _mm256_add_pd(_mm256_mul_pd(xi[3], wi[c]), _mm256_mul_pd(xj[3], wj[c])));
@@ -463,7 +423,7 @@ class Engine final : public EngineBase<Dim> {
   // results and springs written in pair order. Pairs beyond the cutoff come out zero by the same
   // selects as a separating contact (and `within` for the van der Waals pull).
   [[gnu::always_inline]] inline void DenseGather(Scratch& t, std::int64_t b, int k, int n) const {
-    const Hot* x = hot_.data();
+    const Record* x = records_.data();
     const std::int32_t* first = this->pairs_.first.data() + b;
     const std::int32_t* second = this->pairs_.second.data() + b;
     const V* shear = this->pair_shear_.data() + b;
@@ -471,8 +431,8 @@ class Engine final : public EngineBase<Dim> {
     for (; k < n; ++k) {
       const std::int32_t i = first[k];
       const std::int32_t j = second[k];
-      const Hot& particle_i = x[i];
-      const Hot& particle_j = x[j];
+      const Record& particle_i = x[i];
+      const Record& particle_j = x[j];
       const double r_i = particle_i.position_radius.s;
       const double r_j = particle_j.position_radius.s;
       double d2 = 0;
@@ -546,7 +506,7 @@ class Engine final : public EngineBase<Dim> {
   // contact laws together (ContactBlock).
   std::int64_t PairRangeCompacted(Scratch& t, std::int64_t begin, std::int64_t end) {
     std::int64_t interacting = 0;
-    const Hot* x = hot_.data();
+    const Record* x = records_.data();
     const std::int32_t* first = this->pairs_.first.data();
     const std::int32_t* second = this->pairs_.second.data();
     std::uint8_t* live = this->pair_live_.data();
@@ -599,13 +559,13 @@ class Engine final : public EngineBase<Dim> {
     for (auto i = static_cast<std::size_t>(begin); i < static_cast<std::size_t>(end); ++i) {
       const std::uint64_t near = this->wall_near_[i];
       if (near == 0 && wall_count <= 64) continue;
-      const Hot& hot = hot_[i];
-      const double r_i = hot.position_radius.s;
+      const Record& record = records_[i];
+      const double r_i = record.position_radius.s;
       for (std::size_t w = 0; w < wall_count; ++w) {
         if (w < 64 && ((near >> w) & 1) == 0) continue;
         const std::size_t h = i * wall_count + w;
         V n;
-        const double overlap = this->walls_[w].Overlap(hot.position_radius.v, r_i, n);
+        const double overlap = this->walls_[w].Overlap(record.position_radius.v, r_i, n);
         if (overlap <= 0) {
           wall_result_[h] = {V::Zero(), ZeroSpin<Dim>()};
           if constexpr (Phys::kTangential) this->wall_shear_[h] = V::Zero();
@@ -615,16 +575,16 @@ class Engine final : public EngineBase<Dim> {
         t.pair[count] = static_cast<std::int32_t>(h);
         t.overlap[count] = overlap;
         t.radius_i[count] = r_i;
-        t.mass_i[count] = hot.velocity_mass.s;
+        t.mass_i[count] = record.velocity_mass.s;
         for (int c = 0; c < Dim; ++c) {
           t.normal[c][count] = n[c];
-          t.velocity[c][count] = hot.velocity_mass.v[c];
+          t.velocity[c][count] = record.velocity_mass.v[c];
         }
         if constexpr (Phys::kRotation) {
           if constexpr (Dim == 3) {
-            for (int c = 0; c < 3; ++c) t.spin[c][count] = r_i * hot.spin_inertia.w[c];
+            for (int c = 0; c < 3; ++c) t.spin[c][count] = r_i * record.spin_inertia.w[c];
           } else {
-            t.spin[0][count] = r_i * hot.spin_inertia.w;
+            t.spin[0][count] = r_i * record.spin_inertia.w;
           }
         }
         if constexpr (Phys::kTangential) {
@@ -698,8 +658,8 @@ class Engine final : public EngineBase<Dim> {
       const std::int32_t p = t.pair[k];
       const auto i = static_cast<std::size_t>(t.first[k]);
       const auto j = static_cast<std::size_t>(t.second[k]);
-      const Packed& v_i = hot_[i].velocity_mass;
-      const Packed& v_j = hot_[j].velocity_mass;
+      const PackedVector<Dim>& v_i = records_[i].velocity_mass;
+      const PackedVector<Dim>& v_j = records_[j].velocity_mass;
       const double r_i = t.radius_i[k];
       const double r_j = t.radius_j[k];
       t.mass_i[k] = v_i.s;
@@ -708,9 +668,10 @@ class Engine final : public EngineBase<Dim> {
       if constexpr (Phys::kRotation) {
         if constexpr (Dim == 3) {
           for (int c = 0; c < 3; ++c)
-            t.spin[c][k] = r_i * hot_[i].spin_inertia.w[c] + r_j * hot_[j].spin_inertia.w[c];
+            t.spin[c][k] =
+                r_i * records_[i].spin_inertia.w[c] + r_j * records_[j].spin_inertia.w[c];
         } else {
-          t.spin[0][k] = r_i * hot_[i].spin_inertia.w + r_j * hot_[j].spin_inertia.w;
+          t.spin[0][k] = r_i * records_[i].spin_inertia.w + r_j * records_[j].spin_inertia.w;
         }
       }
       if constexpr (Phys::kTangential) {
@@ -951,8 +912,8 @@ class Engine final : public EngineBase<Dim> {
   // stored, and returned for the integrator.
   [[gnu::always_inline]] Load GatherForce(std::int32_t i) {
     const auto& pairs = this->pairs_;
-    const double r_i = hot_[static_cast<std::size_t>(i)].position_radius.s;
-    V force = hot_[static_cast<std::size_t>(i)].velocity_mass.s * gravity_;
+    const double r_i = records_[static_cast<std::size_t>(i)].position_radius.s;
+    V force = records_[static_cast<std::size_t>(i)].velocity_mass.s * gravity_;
     // Every pair's torque on i is -r_i (n x F_t): the twists are summed and scaled once.
     S twist = ZeroSpin<Dim>();
     const auto* results = this->pair_result_.data();
@@ -981,17 +942,17 @@ class Engine final : public EngineBase<Dim> {
       // energy without a velocity scale and leaves the state at rest unchanged.
       const double alpha = this->settings_.local_damping;
       for (int d = 0; d < Dim; ++d) {
-        const double v = hot_[static_cast<std::size_t>(i)].velocity_mass.v[d];
+        const double v = records_[static_cast<std::size_t>(i)].velocity_mass.v[d];
         if (v != 0) force[d] -= alpha * std::abs(force[d]) * (v > 0 ? 1.0 : -1.0);
       }
       if constexpr (Phys::kRotation) {
         if constexpr (Dim == 3) {
           for (int d = 0; d < 3; ++d) {
-            const double w = hot_[static_cast<std::size_t>(i)].spin_inertia.w[d];
+            const double w = records_[static_cast<std::size_t>(i)].spin_inertia.w[d];
             if (w != 0) torque[d] -= alpha * std::abs(torque[d]) * (w > 0 ? 1.0 : -1.0);
           }
         } else {
-          const double w = hot_[static_cast<std::size_t>(i)].spin_inertia.w;
+          const double w = records_[static_cast<std::size_t>(i)].spin_inertia.w;
           if (w != 0) torque -= alpha * std::abs(torque) * (w > 0 ? 1.0 : -1.0);
         }
       }
@@ -1004,7 +965,7 @@ class Engine final : public EngineBase<Dim> {
   ContactSimd simd_;                // the build of the contact arithmetic (same results)
   double shear_per_force_m_per_n_;  // 1 / -k_t: the spring of a sliding contact from its force
   std::vector<Scratch> scratch_;    // one per pool chunk
-  std::vector<Hot> hot_;            // see LoadHot
+  std::vector<Record> records_;     // see LoadRecords
   // Force on the particle and n x F_t of each (particle, wall) contact, particle * walls + wall;
   // written every step for the walls a particle is near (WallRange), zero when not touching.
   std::vector<PairResult> wall_result_;
