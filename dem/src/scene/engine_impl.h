@@ -11,6 +11,7 @@
 #include <variant>
 
 #include "scene/engine.h"
+#include "scene/integrator.h"
 #include "scene/particle_records.h"
 #include "scene/simd_helpers.h"
 
@@ -49,14 +50,15 @@ class Engine final : public EngineBase<Dim> {
     const double half_dt = 0.5 * dt;
     auto& pool = *this->pool_;
     std::vector<double> chunk_move2(static_cast<std::size_t>(pool.chunks()), 0.0);
-    // Velocity Verlet (Verlet 1967; Allen & Tildesley ch. 3) with the closing half kick of one
-    // step fused into the opening half kick and drift of the next, so a step costs two passes.
+    // Velocity Verlet with the closing half kick of one step fused into the opening half kick
+    // and drift of the next, so a step costs two passes (integrator.h).
     auto kick_drift = [&](int chunk, std::int64_t begin, std::int64_t end) {
       double move2 = 0;
       for (auto i = static_cast<std::int32_t>(begin); i < end; ++i) {
         Load load{this->state_.force_n[i], ZeroSpin<Dim>()};
         if constexpr (Phys::kRotation) load.torque = this->state_.torque_nm[i];
-        move2 = std::max(move2, KickDrift(i, half_dt, load));
+        move2 =
+            std::max(move2, VerletKickDrift<Dim, Phys::kRotation>(records_[i], half_dt, dt, load));
       }
       chunk_move2[static_cast<std::size_t>(chunk)] = move2;
     };
@@ -86,9 +88,10 @@ class Engine final : public EngineBase<Dim> {
           if (last) {
             // Only the last step's load is read again (by the next Advance's opening kick).
             StoreLoad(i, load);
-            HalfKick(i, half_dt, load);
+            VerletHalfKick<Dim, Phys::kRotation>(records_[i], half_dt, load);
           } else {
-            move2 = std::max(move2, KickDrift(i, dt, load));
+            move2 =
+                std::max(move2, VerletKickDrift<Dim, Phys::kRotation>(records_[i], dt, dt, load));
           }
         }
         chunk_move2[static_cast<std::size_t>(chunk)] = move2;
@@ -105,6 +108,7 @@ class Engine final : public EngineBase<Dim> {
   using S = Spin<Dim>;
   using PairResult = typename EngineBase<Dim>::PairResult;
   using Record = ParticleRecord<Dim>;
+  using Load = ParticleLoad<Dim>;
   static double Square(double x) { return x * x; }
 
   void ForcesInWorkingOrder() {
@@ -127,55 +131,9 @@ class Engine final : public EngineBase<Dim> {
     }
   }
 
-  // The force and torque on a particle.
-  struct Load {
-    V force;
-    S torque;
-  };
-
   void StoreLoad(std::int32_t i, const Load& load) {
     this->state_.force_n[i] = load.force;
     if constexpr (Phys::kRotation) this->state_.torque_nm[i] = load.torque;
-  }
-
-  // v(t + dt/2) = v + kick a; x += dt v. Returns the squared distance moved since the last
-  // neighbour-list build.
-  [[gnu::always_inline]] double KickDrift(std::int32_t i, double kick, const Load& load) {
-    const auto k = static_cast<std::size_t>(i);
-    // Component by component, each new value kept in a register: whole-vector assignments made
-    // GCC re-read components just stored one by one as one wider load (or copy them through the
-    // stack), which cannot be store-forwarded and stalled the loop. Same operations, same results.
-    const double velocity_kick = kick * records_[k].inverse_mass;
-    const double dt = this->settings_.time_step_s;
-    auto& velocity = records_[k].velocity_mass.v;
-    auto& position = records_[k].position_radius.v;
-    const auto& origin = records_[k].origin;
-    double move2 = 0;
-    for (int d = 0; d < Dim; ++d) {
-      const double v = velocity[d] + velocity_kick * load.force[d];
-      velocity[d] = v;
-      const double x = position[d] + dt * v;
-      position[d] = x;
-      const double moved = x - origin[d];
-      move2 += moved * moved;
-    }
-    if constexpr (Phys::kRotation) {
-      const double spin_kick = kick * records_[k].spin_inertia.inverse_inertia;
-      if constexpr (Dim == 3) {
-        for (int d = 0; d < 3; ++d) records_[k].spin_inertia.w[d] += spin_kick * load.torque[d];
-      } else {
-        records_[k].spin_inertia.w += spin_kick * load.torque;
-      }
-    }
-    return move2;
-  }
-
-  void HalfKick(std::int32_t i, double half_dt, const Load& load) {
-    const auto k = static_cast<std::size_t>(i);
-    records_[k].velocity_mass.v += (half_dt * records_[k].inverse_mass) * load.force;
-    if constexpr (Phys::kRotation)
-      records_[k].spin_inertia.w +=
-          (half_dt * records_[k].spin_inertia.inverse_inertia) * load.torque;
   }
 
   static constexpr int kBlock = 64;
