@@ -12,6 +12,7 @@
 
 #include "scene/engine.h"
 #include "scene/integrator.h"
+#include "scene/local_damping.h"
 #include "scene/particle_records.h"
 #include "scene/simd_helpers.h"
 
@@ -895,25 +896,9 @@ class Engine final : public EngineBase<Dim> {
     }
     S torque = -r_i * twist;
     if constexpr (Phys::kLocalDamping) {
-      // Cundall (1987) local non-viscous damping, as in paper 004 eq. 12: each component of the
-      // unbalanced force is reduced by alpha |F| against the velocity. It removes kinetic
-      // energy without a velocity scale and leaves the state at rest unchanged.
-      const double alpha = this->settings_.local_damping;
-      for (int d = 0; d < Dim; ++d) {
-        const double v = records_[static_cast<std::size_t>(i)].velocity_mass.v[d];
-        if (v != 0) force[d] -= alpha * std::abs(force[d]) * (v > 0 ? 1.0 : -1.0);
-      }
-      if constexpr (Phys::kRotation) {
-        if constexpr (Dim == 3) {
-          for (int d = 0; d < 3; ++d) {
-            const double w = records_[static_cast<std::size_t>(i)].spin_inertia.w[d];
-            if (w != 0) torque[d] -= alpha * std::abs(torque[d]) * (w > 0 ? 1.0 : -1.0);
-          }
-        } else {
-          const double w = records_[static_cast<std::size_t>(i)].spin_inertia.w;
-          if (w != 0) torque -= alpha * std::abs(torque) * (w > 0 ? 1.0 : -1.0);
-        }
-      }
+      const Record& record = records_[static_cast<std::size_t>(i)];
+      ApplyLocalDamping<Dim, Phys::kRotation>(this->settings_.local_damping, record.velocity_mass.v,
+                                              record.spin_inertia.w, force, torque);
     }
     return {force, torque};
   }
