@@ -9,6 +9,7 @@
 
 #include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
+#include "scene/van_der_waals.h"
 
 namespace bouncecal::dem::scene {
 
@@ -103,7 +104,7 @@ std::optional<std::string> VanDerWaalsOverlapProblem(const Scene& scene,
   const double h = scene.material.vdw_min_gap_m;
   for (const double radius_m : {bodies.lightest_radius_m, bodies.largest_radius_m}) {
     const double r_eff = radius_m / 2;
-    const double pull_n = scene.material.hamaker_j * r_eff / (6 * h * h);
+    const double pull_n = VanDerWaalsForceN(0.0, r_eff, scene.material.hamaker_j, h);  // at contact
     const NormalContact deep{kMaxVanDerWaalsOverlap * r_eff, 0, bodies.lightest_mass_kg / 2, r_eff};
     NormalHistory fresh{};
     const double push_n =

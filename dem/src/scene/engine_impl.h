@@ -15,6 +15,7 @@
 #include "scene/local_damping.h"
 #include "scene/particle_records.h"
 #include "scene/simd_helpers.h"
+#include "scene/van_der_waals.h"
 
 namespace bouncecal::dem::scene {
 
@@ -855,16 +856,6 @@ class Engine final : public EngineBase<Dim> {
         if (!touching) this->pair_normal_history_[p] = NormalHistory{};
       }
     }
-  }
-
-  // Hamaker (1937) sphere-sphere attraction for gaps h << R: F = A R_eff / (6 h^2), i.e.
-  // A R / (12 h^2) for equal spheres (paper 004 eq. 2). It diverges at contact, so the gap is
-  // floored at vdw_min_gap_m (an interatomic distance, Israelachvili ch. 13). Magnitude, towards
-  // the other particle.
-  static double VanDerWaalsForceN(double overlap_m, double effective_radius_m, double hamaker_j,
-                                  double min_gap_m) {
-    const double gap = std::max(-overlap_m, min_gap_m);
-    return hamaker_j * effective_radius_m / (6 * gap * gap);
   }
 
   // Sum of the pair forces of particle i in a fixed order, plus walls, gravity and damping;
