@@ -15,6 +15,7 @@
 #include "scene/local_damping.h"
 #include "scene/particle_records.h"
 #include "scene/simd_helpers.h"
+#include "scene/tangential_spring.h"
 #include "scene/van_der_waals.h"
 
 namespace bouncecal::dem::scene {
@@ -712,24 +713,12 @@ class Engine final : public EngineBase<Dim> {
         t.velocity[c][k] = v_rel[c] - v_n * nv[c];
       }
       if constexpr (Phys::kTangential) {
-        // Cundall & Strack (1979) tangential spring on the accumulated tangential displacement
-        // (paper 000 eq. 5-6), first rotated into the current tangent plane with its length
-        // kept, so a rolling contact does not grow a normal component (LAMMPS
-        // gran/hooke/history projects without the rescale; pair granular rescales like this):
-        // the projection here, the rescale factor's square root for the whole block at once.
-        double old2 = 0;
-        for (int c = 0; c < Dim; ++c) old2 += t.shear[c][k] * t.shear[c][k];
-        double along = 0;
-        for (int c = 0; c < Dim; ++c) along += t.shear[c][k] * nv[c];
-        double projected[Dim];
-        for (int c = 0; c < Dim; ++c) projected[c] = t.shear[c][k] - along * nv[c];
-        double new2 = 0;
-        for (int c = 0; c < Dim; ++c) new2 += projected[c] * projected[c];
-        const bool had_spring = old2 > 0;
-        for (int c = 0; c < Dim; ++c) t.shear[c][k] = had_spring ? projected[c] : t.shear[c][k];
-        // Nothing to rescale (no spring, or none left after the projection): factor 1.
-        const bool rescale = had_spring & (new2 > 0);
-        t.shear_factor[k] = std::sqrt((rescale ? old2 : 1.0) / (rescale ? new2 : 1.0));
+        // The spring turned into the current tangent plane (tangential_spring.h); the factor
+        // restoring its length is applied in stage 3.
+        double spring[Dim];
+        for (int c = 0; c < Dim; ++c) spring[c] = t.shear[c][k];
+        t.shear_factor[k] = ProjectSpring<Dim>(spring, nv);
+        for (int c = 0; c < Dim; ++c) t.shear[c][k] = spring[c];
       }
     }
   }
@@ -762,14 +751,14 @@ class Engine final : public EngineBase<Dim> {
     }
   }
 
-  // Stage 3: tangential force with the Coulomb cap, the pair force and its twist. When it
-  // slides the spring is reset to the Coulomb force, so |F_t| never exceeds mu |F_n|.
+  // Stage 3: the tangential spring with its Coulomb cap (tangential_spring.h), the pair force
+  // and its twist, and the van der Waals pull.
   template <bool kWall>
   [[gnu::always_inline]] inline void ForceStage(Scratch& t, int n) const {
-    const double dt = this->settings_.time_step_s;
-    const double ks = this->settings_.tangential_stiffness_n_per_m;
+    const SpringConstants spring_constants{this->settings_.time_step_s,
+                                           this->settings_.tangential_stiffness_n_per_m,
+                                           shear_per_force_m_per_n_};
     const double friction = kWall ? this->settings_.wall_friction : this->settings_.friction;
-    const double shear_per_force = shear_per_force_m_per_n_;
     const double hamaker_j = this->settings_.hamaker_j;
     const double min_gap_m = this->settings_.vdw_min_gap_m;
     for (int k = 0; k < n; ++k) {
@@ -777,35 +766,25 @@ class Engine final : public EngineBase<Dim> {
       double force[Dim];
       for (int c = 0; c < Dim; ++c) force[c] = normal_force * t.normal[c][k];
       if constexpr (Phys::kTangential) {
-        double shear[Dim];
-        double tangential[Dim];
+        double spring[Dim];
+        double tangential_velocity[Dim];
         for (int c = 0; c < Dim; ++c) {
-          shear[c] = t.shear[c][k] * t.shear_factor[k];
-          shear[c] += dt * t.velocity[c][k];
-          tangential[c] = shear[c] * -ks;
+          spring[c] = t.shear[c][k];
+          tangential_velocity[c] = t.velocity[c][k];
         }
-        const double cap = friction * std::abs(normal_force);
-        double f2 = 0;
-        for (int c = 0; c < Dim; ++c) f2 += tangential[c] * tangential[c];
-        // Sliding: the force is scaled back to the Coulomb cap and the spring reset to it.
-        const bool slides = f2 > cap * cap;
-        const double scale = cap / std::sqrt(f2);
+        double tangential[Dim];
+        CoulombSpringForce<Dim>(spring, t.shear_factor[k], tangential_velocity, normal_force,
+                                friction, spring_constants, tangential);
         for (int c = 0; c < Dim; ++c) {
-          const double capped = tangential[c] * scale;
-          tangential[c] = slides ? capped : tangential[c];
-          t.shear[c][k] = slides ? capped * shear_per_force : shear[c];
+          t.shear[c][k] = spring[c];
           force[c] += tangential[c];
         }
-        if constexpr (Phys::kRotation) {  // n x F_t
+        if constexpr (Phys::kRotation) {
           double nv[Dim];
           for (int c = 0; c < Dim; ++c) nv[c] = t.normal[c][k];
-          if constexpr (Dim == 3) {
-            t.twist[0][k] = nv[1] * tangential[2] - nv[2] * tangential[1];
-            t.twist[1][k] = nv[2] * tangential[0] - nv[0] * tangential[2];
-            t.twist[2][k] = nv[0] * tangential[1] - nv[1] * tangential[0];
-          } else {
-            t.twist[0][k] = nv[0] * tangential[1] - nv[1] * tangential[0];
-          }
+          double twist[kSpinDim];
+          SpringTwist<Dim>(nv, tangential, twist);
+          for (int c = 0; c < kSpinDim; ++c) t.twist[c][k] = twist[c];
         }
       }
       // A pair within the van der Waals cutoff but not touching feels only the attraction.
