@@ -10,13 +10,12 @@
 #include <cstdint>
 #include <variant>
 
+#include "scene/contact_stages.h"
 #include "scene/engine.h"
 #include "scene/integrator.h"
 #include "scene/local_damping.h"
 #include "scene/particle_records.h"
 #include "scene/simd_helpers.h"
-#include "scene/tangential_spring.h"
-#include "scene/van_der_waals.h"
 
 namespace bouncecal::dem::scene {
 
@@ -28,10 +27,9 @@ class Engine final : public EngineBase<Dim> {
  public:
   Engine(const EngineSettings& settings, std::vector<Wall<Dim>> walls, Law law)
       : EngineBase<Dim>(settings, std::move(walls)),
-        law_(std::move(law)),
+        stages_(std::move(law), settings),
         gravity_(this->Gravity()),
         simd_(std::min(settings.max_contact_simd, CpuContactSimd())),
-        shear_per_force_m_per_n_(1.0 / -settings.tangential_stiffness_n_per_m),
         scratch_(static_cast<std::size_t>(this->pool_->chunks())) {}
 
   void ComputeForces() override {
@@ -112,6 +110,8 @@ class Engine final : public EngineBase<Dim> {
   using PairResult = typename EngineBase<Dim>::PairResult;
   using Record = ParticleRecord<Dim>;
   using Load = ParticleLoad<Dim>;
+  using Scratch = ContactScratch<Dim>;
+  static constexpr int kBlock = Scratch::kBlock;
   static double Square(double x) { return x * x; }
 
   void ForcesInWorkingOrder() {
@@ -138,32 +138,6 @@ class Engine final : public EngineBase<Dim> {
     this->state_.force_n[i] = load.force;
     if constexpr (Phys::kRotation) this->state_.torque_nm[i] = load.torque;
   }
-
-  static constexpr int kBlock = 64;
-  static constexpr int kSpinDim = Dim == 3 ? 3 : 1;
-  // Per-thread temporaries of one block of contacts, one array per component (structure of
-  // arrays) so that the arithmetic stages below vectorise across contacts.
-  struct Scratch {
-    bool dense = false;  // how this chunk runs its pairs (see PairRangeDense)
-    std::int32_t pair[kBlock];
-    std::int32_t first[kBlock];  // the pair's particles (compacted pair blocks)
-    std::int32_t second[kBlock];
-    alignas(32) double normal[Dim][kBlock];     // x_i - x_j, then the unit normal from j to i
-    alignas(32) double velocity[Dim][kBlock];   // v_i - v_j, then the tangential relative velocity
-    alignas(32) double spin[kSpinDim][kBlock];  // r_i w_i + r_j w_j
-    alignas(32) double shear[Dim][kBlock];
-    alignas(32) double force[Dim][kBlock];
-    alignas(32) double twist[kSpinDim][kBlock];
-    alignas(32) double radius_i[kBlock];
-    alignas(32) double within[kBlock];  // dense blocks: 1 when closer than the cutoff, else 0
-    alignas(32) double radius_j[kBlock];
-    alignas(32) double mass_i[kBlock];
-    alignas(32) double mass_j[kBlock];
-    alignas(32) double overlap[kBlock];
-    alignas(32) double overlap_rate[kBlock];
-    alignas(32) double normal_force[kBlock];
-    alignas(32) double shear_factor[kBlock];
-  };
 
   // Each chunk of the pair list runs its pairs through the contact stages in blocks of kBlock
   // (vectorised across contacts), either all of them or only the interacting ones (see
@@ -223,13 +197,13 @@ class Engine final : public EngineBase<Dim> {
   // Each returns the number of interacting pairs in the block.
   std::int64_t DenseBlockBaseline(Scratch& t, std::int64_t b, int n) {
     DenseGather(t, b, 0, n);
-    ContactArithmetic<false>(t, n);
+    stages_.template Arithmetic<false>(t, n, this->pair_normal_history_);
     return DenseScatter(t, b, 0, n);
   }
 #if BOUNCECAL_SCENE_HAS_SIMD_PATHS
   [[gnu::target("avx2")]] std::int64_t DenseBlockAvx2(Scratch& t, std::int64_t b, int n) {
     DenseGather(t, b, GatherTransposed(t, b, n), n);
-    ContactArithmetic<false>(t, n);
+    stages_.template Arithmetic<false>(t, n, this->pair_normal_history_);
     std::int64_t interacting = 0;
     const int written = ScatterTransposed(t, b, n, interacting);
     return interacting + DenseScatter(t, b, written, n);
@@ -238,7 +212,7 @@ class Engine final : public EngineBase<Dim> {
                                                                                std::int64_t b,
                                                                                int n) {
     DenseGather(t, b, GatherTransposed(t, b, n), n);
-    ContactArithmetic<false>(t, n);
+    stages_.template Arithmetic<false>(t, n, this->pair_normal_history_);
     std::int64_t interacting = 0;
     const int written = ScatterTransposed(t, b, n, interacting);
     return interacting + DenseScatter(t, b, written, n);
@@ -561,7 +535,7 @@ class Engine final : public EngineBase<Dim> {
   }
 
   void WallBlock(int n, Scratch& t) {
-    RunContactArithmetic<true>(t, n);
+    stages_.template Run<true>(simd_, t, n, this->wall_normal_history_);
     for (int k = 0; k < n; ++k) {
       const auto h = static_cast<std::size_t>(t.pair[k]);
       auto& result = wall_result_[h];
@@ -581,37 +555,12 @@ class Engine final : public EngineBase<Dim> {
 
   // The forces of the first `n` pairs of the block (all closer than their cutoff; the distance
   // pass has filled in pair, normal = x_i - x_j and the radii); their whole pair_result_ is
-  // written.
-  // A contact is one long chain of dependent square roots and divisions. The rest of the block is
-  // gathered from the particles into per-component arrays, then each arithmetic stage runs over
-  // the whole block without branches (every contact takes every path, a select keeps the right
-  // value), so the compiler vectorises it: 8 contacts per instruction with AVX-512, 4 with AVX2,
-  // 2 with the baseline SSE2. Every stage is element-wise IEEE arithmetic in the same order as the
-  // scalar formula (no FMA contraction, no reassociation: see dem/CMakeLists.txt), so the results
-  // are bit-identical across the builds and do not depend on how contacts fall into blocks.
+  // written. The rest of the block is gathered from the particles, then the stages run over it
+  // (contact_stages.h).
   void ContactBlock(int n, Scratch& t) {
     GatherBlock(n, t);
-    RunContactArithmetic<false>(t, n);
+    stages_.template Run<false>(simd_, t, n, this->pair_normal_history_);
     ScatterBlock(n, t);
-  }
-
-  template <bool kWall>
-  void RunContactArithmetic(Scratch& t, int n) {
-#if BOUNCECAL_SCENE_HAS_SIMD_PATHS
-    switch (simd_) {
-      case ContactSimd::kAvx512:
-        ContactArithmeticAvx512<kWall>(t, n);
-        break;
-      case ContactSimd::kAvx2:
-        ContactArithmeticAvx2<kWall>(t, n);
-        break;
-      case ContactSimd::kBaseline:
-        ContactArithmeticBaseline<kWall>(t, n);
-        break;
-    }
-#else
-    ContactArithmeticBaseline<kWall>(t, n);
-#endif
   }
 
   void GatherBlock(int n, Scratch& t) const {
@@ -639,178 +588,6 @@ class Engine final : public EngineBase<Dim> {
         const V& shear = this->pair_shear_[static_cast<std::size_t>(p)];
         for (int c = 0; c < Dim; ++c) t.shear[c][k] = shear[c];
       }
-    }
-  }
-
-  // The arithmetic of a block, compiled three times (baseline, AVX2, AVX-512) from the same
-  // source. The AVX-512 build uses the full 512-bit width (8 contacts per instruction): at 256
-  // bits it gained nothing over AVX2.
-  // kWall: the block holds particle-wall contacts (see WallRange).
-  template <bool kWall>
-  [[gnu::always_inline]] inline void ContactArithmetic(Scratch& t, int n) {
-    GeometryStage<kWall>(t, n);
-    if constexpr (Law::kNeedsHistory) {
-      NormalForcesWithHistory<kWall>(t, n);
-    } else {
-      NormalForceStage<kWall>(t, n);
-    }
-    ForceStage<kWall>(t, n);
-  }
-  template <bool kWall>
-  void ContactArithmeticBaseline(Scratch& t, int n) {
-    ContactArithmetic<kWall>(t, n);
-  }
-#if BOUNCECAL_SCENE_HAS_SIMD_PATHS
-  template <bool kWall>
-  [[gnu::target("avx2")]] void ContactArithmeticAvx2(Scratch& t, int n) {
-    ContactArithmetic<kWall>(t, n);
-  }
-  template <bool kWall>
-  [[gnu::target(BOUNCECAL_SCENE_AVX512_TARGET)]] void ContactArithmeticAvx512(Scratch& t, int n) {
-    ContactArithmetic<kWall>(t, n);
-  }
-#endif
-
-  // Stage 1: geometry, relative velocity and the spring projected into the tangent plane. A wall
-  // contact arrives with its unit normal, overlap, v_i and r_i w_i already in place (the wall
-  // is at rest).
-  template <bool kWall>
-  [[gnu::always_inline]] inline void GeometryStage(Scratch& t, int n) const {
-    for (int k = 0; k < n; ++k) {
-      double nv[Dim];
-      if constexpr (kWall) {
-        for (int c = 0; c < Dim; ++c) nv[c] = t.normal[c][k];
-      } else {
-        double dist2 = 0;
-        for (int c = 0; c < Dim; ++c) dist2 += t.normal[c][k] * t.normal[c][k];
-        const double dist = std::sqrt(dist2);
-        const double inverse = 1.0 / dist;
-        for (int c = 0; c < Dim; ++c) nv[c] = t.normal[c][k] * inverse;
-        t.overlap[k] = (t.radius_i[k] + t.radius_j[k]) - dist;
-      }
-      double v_rel[Dim];
-      for (int c = 0; c < Dim; ++c) v_rel[c] = t.velocity[c][k];
-      if constexpr (Phys::kRotation) {
-        // v_rel -= spin x n
-        if constexpr (Dim == 3) {
-          const double w0 = t.spin[0][k];
-          const double w1 = t.spin[1][k];
-          const double w2 = t.spin[2][k];
-          v_rel[0] -= w1 * nv[2] - w2 * nv[1];
-          v_rel[1] -= w2 * nv[0] - w0 * nv[2];
-          v_rel[2] -= w0 * nv[1] - w1 * nv[0];
-        } else {
-          const double w = t.spin[0][k];
-          v_rel[0] -= -w * nv[1];
-          v_rel[1] -= w * nv[0];
-        }
-      }
-      double v_n = 0;
-      for (int c = 0; c < Dim; ++c) v_n += v_rel[c] * nv[c];
-      t.overlap_rate[k] = -v_n;
-      for (int c = 0; c < Dim; ++c) {
-        t.normal[c][k] = nv[c];
-        t.velocity[c][k] = v_rel[c] - v_n * nv[c];
-      }
-      if constexpr (Phys::kTangential) {
-        // The spring turned into the current tangent plane (tangential_spring.h); the factor
-        // restoring its length is applied in stage 3.
-        double spring[Dim];
-        for (int c = 0; c < Dim; ++c) spring[c] = t.shear[c][k];
-        t.shear_factor[k] = ProjectSpring<Dim>(spring, nv);
-        for (int c = 0; c < Dim; ++c) t.shear[c][k] = spring[c];
-      }
-    }
-  }
-
-  // The law's view of block contact k: reduced mass and effective radius of the pair. A wall is
-  // a body of infinite mass and curvature radius: m_eff = m, R_eff = r.
-  template <bool kWall>
-  [[gnu::always_inline]] static inline NormalContact ContactAt(const Scratch& t, int k) {
-    if constexpr (kWall) return {t.overlap[k], t.overlap_rate[k], t.mass_i[k], t.radius_i[k]};
-    const double r_i = t.radius_i[k];
-    const double r_j = t.radius_j[k];
-    const double m_i = t.mass_i[k];
-    const double m_j = t.mass_j[k];
-    return {t.overlap[k], t.overlap_rate[k], m_i * m_j / (m_i + m_j), r_i * r_j / (r_i + r_j)};
-  }
-
-  // Stage 2: the normal law. A separate loop, so a law that does not vectorise does not stop
-  // the stages around it. Every contact is evaluated; the non-touching ones are dropped in
-  // stage 3 (the laws return 0 or a value that is discarded for them).
-  template <bool kWall>
-  [[gnu::always_inline]] inline void NormalForceStage(Scratch& t, int n) const {
-    {
-      // Copies of members: loaded once, not through `this` (which might alias t) per contact,
-      // which would stop the vectoriser.
-      const Law law = law_;
-      for (int k = 0; k < n; ++k) {
-        NormalHistory none{};
-        t.normal_force[k] = law.NormalForce(ContactAt<kWall>(t, k), none);
-      }
-    }
-  }
-
-  // Stage 3: the tangential spring with its Coulomb cap (tangential_spring.h), the pair force
-  // and its twist, and the van der Waals pull.
-  template <bool kWall>
-  [[gnu::always_inline]] inline void ForceStage(Scratch& t, int n) const {
-    const SpringConstants spring_constants{this->settings_.time_step_s,
-                                           this->settings_.tangential_stiffness_n_per_m,
-                                           shear_per_force_m_per_n_};
-    const double friction = kWall ? this->settings_.wall_friction : this->settings_.friction;
-    const double hamaker_j = this->settings_.hamaker_j;
-    const double min_gap_m = this->settings_.vdw_min_gap_m;
-    for (int k = 0; k < n; ++k) {
-      const double normal_force = t.normal_force[k];
-      double force[Dim];
-      for (int c = 0; c < Dim; ++c) force[c] = normal_force * t.normal[c][k];
-      if constexpr (Phys::kTangential) {
-        double spring[Dim];
-        double tangential_velocity[Dim];
-        for (int c = 0; c < Dim; ++c) {
-          spring[c] = t.shear[c][k];
-          tangential_velocity[c] = t.velocity[c][k];
-        }
-        double tangential[Dim];
-        CoulombSpringForce<Dim>(spring, t.shear_factor[k], tangential_velocity, normal_force,
-                                friction, spring_constants, tangential);
-        for (int c = 0; c < Dim; ++c) {
-          t.shear[c][k] = spring[c];
-          force[c] += tangential[c];
-        }
-        if constexpr (Phys::kRotation) {
-          double nv[Dim];
-          for (int c = 0; c < Dim; ++c) nv[c] = t.normal[c][k];
-          double twist[kSpinDim];
-          SpringTwist<Dim>(nv, tangential, twist);
-          for (int c = 0; c < kSpinDim; ++c) t.twist[c][k] = twist[c];
-        }
-      }
-      // A pair within the van der Waals cutoff but not touching feels only the attraction.
-      const bool touching = t.overlap[k] > 0;
-      for (int c = 0; c < Dim; ++c) force[c] = touching ? force[c] : 0.0;
-      if constexpr (Phys::kVanDerWaals && !kWall) {
-        const double r_i = t.radius_i[k];
-        const double r_j = t.radius_j[k];
-        const double effective_radius_m = r_i * r_j / (r_i + r_j);
-        const double attraction =
-            VanDerWaalsForceN(t.overlap[k], effective_radius_m, hamaker_j, min_gap_m);
-        for (int c = 0; c < Dim; ++c) force[c] -= attraction * t.normal[c][k];
-      }
-      for (int c = 0; c < Dim; ++c) t.force[c][k] = force[c];
-    }
-  }
-
-  // A law with a per-contact history (walton-braun-plastic) runs one touching contact at a time.
-  template <bool kWall>
-  void NormalForcesWithHistory(Scratch& t, int n) {
-    auto& history = kWall ? this->wall_normal_history_ : this->pair_normal_history_;
-    for (int k = 0; k < n; ++k) {
-      t.normal_force[k] = 0;
-      if (!(t.overlap[k] > 0)) continue;
-      t.normal_force[k] =
-          law_.NormalForce(ContactAt<kWall>(t, k), history[static_cast<std::size_t>(t.pair[k])]);
     }
   }
 
@@ -873,12 +650,11 @@ class Engine final : public EngineBase<Dim> {
     return {force, torque};
   }
 
-  Law law_;
+  ContactStages<Dim, Law, Phys> stages_;
   V gravity_;
-  ContactSimd simd_;                // the build of the contact arithmetic (same results)
-  double shear_per_force_m_per_n_;  // 1 / -k_t: the spring of a sliding contact from its force
-  std::vector<Scratch> scratch_;    // one per pool chunk
-  std::vector<Record> records_;     // see LoadRecords
+  ContactSimd simd_;              // the build of the contact arithmetic (same results)
+  std::vector<Scratch> scratch_;  // one per pool chunk
+  std::vector<Record> records_;   // see LoadRecords
   // Force on the particle and n x F_t of each (particle, wall) contact, particle * walls + wall;
   // written every step for the walls a particle is near (WallRange), zero when not touching.
   std::vector<PairResult> wall_result_;
