@@ -15,6 +15,7 @@
 #include "scene/energy_budget.h"
 #include "scene/engine.h"
 #include "scene/insertion.h"
+#include "scene/particle_file.h"
 
 namespace bouncecal::dem {
 

@@ -10,8 +10,8 @@
 #include "bouncecal/dem/contact_law_json.h"
 #include "bouncecal/dem/scene.h"
 #include "bouncecal/error.h"
-#include "scene/insertion.h"
 #include "scene/json_reader.h"
+#include "scene/particle_file.h"
 
 namespace bouncecal::dem {
 

@@ -1,4 +1,4 @@
-#include "scene/insertion.h"
+#include "scene/particle_file.h"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bouncecal/error.h"
+#include "scene/insertion.h"
 
 namespace bouncecal::dem::scene {
 namespace {
