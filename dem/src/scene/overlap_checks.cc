@@ -3,10 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 #include "bouncecal/error.h"
+#include "scene/cell_grid.h"
 
 namespace bouncecal::dem::scene {
 
@@ -16,65 +16,70 @@ using particle_file::Where;
 
 namespace {
 
-// A cell index of a grid of spacing `cell_m`, clamped so that any finite coordinate (a file may
-// hold 1e300 beside 1e-6 radii) converts without overflow.
-std::int64_t CellIndex(double x, double cell_m) {
-  constexpr double kLimit = 0x1p62;
-  const double c = std::floor(x / cell_m);
-  return static_cast<std::int64_t>(std::clamp(c, -kLimit, kLimit));
+// A start file spread over more than the cell grid (and so the engine's pair list) covers:
+// refused naming the two particles furthest apart along the first such axis. A misplaced row
+// far away would otherwise leave the engine without any contact search.
+[[noreturn]] void RefuseSpan(const std::vector<FileParticle>& particles,
+                             const std::filesystem::path& path, int dimension, double limit_m) {
+  static constexpr char kAxis[] = "xyz";
+  for (int d = 0; d < dimension; ++d) {
+    std::size_t lo = 0;
+    std::size_t hi = 0;
+    for (std::size_t i = 1; i < particles.size(); ++i) {
+      if (particles[i].particle.position_m[d] < particles[lo].particle.position_m[d]) lo = i;
+      if (particles[i].particle.position_m[d] > particles[hi].particle.position_m[d]) hi = i;
+    }
+    const double span = particles[hi].particle.position_m[d] - particles[lo].particle.position_m[d];
+    if (!(span <= limit_m)) {
+      throw InputError(fmt::format(
+          "{}: the particle at {} lies {:.3g} m along {} from the particle on line {}, more than "
+          "the {:.0e} m a packing can span; fix the misplaced row",
+          Where(path, particles[hi].line), Position(particles[hi].particle.position_m, dimension),
+          span, kAxis[d], particles[lo].line, limit_m));
+    }
+  }
+  // Finite positions spanning less than the limit always give a grid.
+  throw InputError(path.string() + ": the particles' positions cannot be searched for contacts");
 }
 
-}  // namespace
-
-// A grid of cells one largest radius wide holds every heavily overlapping pair in neighbouring
-// cells (the distance is below 0.5 (r_i + r_j) <= r_max); sorted by cell, each particle looks up
-// its 27 (9 in 2D) neighbour cells by binary search, so a file of N particles costs O(N log N),
-// not O(N^2).
-void RefuseHeavyOverlaps(const std::vector<FileParticle>& particles,
-                         const std::filesystem::path& path, int dimension) {
+// A grid of cells at least one largest radius wide (the shared cell grid, cell_grid.h) holds
+// every heavily overlapping pair in neighbouring cells: the distance is below
+// 0.5 (r_i + r_j) <= r_max.
+template <int Dim>
+void RefuseHeavyOverlapsIn(const std::vector<FileParticle>& particles,
+                           const std::filesystem::path& path) {
+  const int dimension = Dim;
   double r_max = 0;
-  for (const auto& f : particles) r_max = std::max(r_max, f.particle.radius_m);
-  using Cell = std::array<std::int64_t, 3>;
-  std::vector<Cell> cell_of(particles.size());
-  std::vector<std::pair<Cell, std::size_t>> sorted(particles.size());
+  std::vector<Vec<Dim>> x(particles.size());
   for (std::size_t i = 0; i < particles.size(); ++i) {
-    const Vec3& x = particles[i].particle.position_m;
-    cell_of[i] = {CellIndex(x[0], r_max), CellIndex(x[1], r_max),
-                  dimension == 3 ? CellIndex(x[2], r_max) : 0};
-    sorted[i] = {cell_of[i], i};
+    r_max = std::max(r_max, particles[i].particle.radius_m);
+    for (int d = 0; d < Dim; ++d) x[i][d] = particles[i].particle.position_m[d];
   }
-  std::sort(sorted.begin(), sorted.end());
-  const std::int64_t dz = dimension == 3 ? 1 : 0;
+  const CellGrid<Dim> grid = CellGrid<Dim>::Covering(x, r_max);
+  if (!grid.valid()) RefuseSpan(particles, path, dimension, CellGrid<Dim>::kMaxSpanM);
+  const CellBins bins = BinByCell(grid, x);
   for (std::size_t i = 0; i < particles.size(); ++i) {
     const NewParticle& p = particles[i].particle;
     // The earliest particle of the file that p overlaps, so the message is the same whatever
     // the cell order.
     std::size_t partner = i;
     double partner_distance = 0;
-    for (std::int64_t a = -1; a <= 1; ++a) {
-      for (std::int64_t b = -1; b <= 1; ++b) {
-        for (std::int64_t c = -dz; c <= dz; ++c) {
-          const Cell key{cell_of[i][0] + a, cell_of[i][1] + b, cell_of[i][2] + c};
-          auto it =
-              std::lower_bound(sorted.begin(), sorted.end(), key,
-                               [](const auto& entry, const Cell& k) { return entry.first < k; });
-          for (; it != sorted.end() && it->first == key; ++it) {
-            const std::size_t j = it->second;
-            if (j >= partner) continue;
-            const NewParticle& q = particles[j].particle;
-            double dist2 = 0;
-            for (int d = 0; d < dimension; ++d) {
-              dist2 += (p.position_m[d] - q.position_m[d]) * (p.position_m[d] - q.position_m[d]);
-            }
-            const double limit = 0.5 * (p.radius_m + q.radius_m);
-            if (dist2 < limit * limit) {
-              partner = j;
-              partner_distance = std::sqrt(dist2);
-            }
-          }
+    grid.ForEachNeighbour(grid.CoordOf(x[i]), [&](std::int64_t cell) {
+      for (std::int32_t s = bins.start[cell]; s < bins.start[cell + 1]; ++s) {
+        const auto j = static_cast<std::size_t>(bins.sorted[s]);
+        if (j >= partner) break;  // a cell holds its particles in file order
+        const NewParticle& q = particles[j].particle;
+        double dist2 = 0;
+        for (int d = 0; d < dimension; ++d) {
+          dist2 += (p.position_m[d] - q.position_m[d]) * (p.position_m[d] - q.position_m[d]);
+        }
+        const double limit = 0.5 * (p.radius_m + q.radius_m);
+        if (dist2 < limit * limit) {
+          partner = j;
+          partner_distance = std::sqrt(dist2);
         }
       }
-    }
+    });
     if (partner != i) {
       const NewParticle& q = particles[partner].particle;
       throw InputError(fmt::format(
@@ -84,6 +89,17 @@ void RefuseHeavyOverlaps(const std::vector<FileParticle>& particles,
           Where(path, particles[i].line), Position(p.position_m, dimension), partner_distance,
           particles[partner].line, 0.5 * (p.radius_m + q.radius_m)));
     }
+  }
+}
+
+}  // namespace
+
+void RefuseHeavyOverlaps(const std::vector<FileParticle>& particles,
+                         const std::filesystem::path& path, int dimension) {
+  if (dimension == 3) {
+    RefuseHeavyOverlapsIn<3>(particles, path);
+  } else {
+    RefuseHeavyOverlapsIn<2>(particles, path);
   }
 }
 

@@ -71,7 +71,9 @@ class PlacementGrid {
 // Throws InputError for a start file holding two particles closer than half the sum of their
 // radii (a duplicated row or an unsettled pack: the contact law would fling them apart at the
 // first step), naming both lines: the first such particle of the file and the earliest one it
-// overlaps, so the message is the same whatever the grid's order.
+// overlaps, so the message is the same whatever the grid's order. Also refuses a file whose
+// particles span more than the cell grid covers (CellGrid::kMaxSpanM, 1e12 m: a misplaced row),
+// which the engine could not search for contacts.
 void RefuseHeavyOverlaps(const std::vector<particle_file::FileParticle>& particles,
                          const std::filesystem::path& path, int dimension);
 

@@ -189,6 +189,20 @@ TEST_F(ParticleFile, OverlapGridAgreesWithAllPairs) {
   EXPECT_LT(refused, 55);
 }
 
+// A row far outside the pack (a slip in its exponent) would leave the engine's contact search
+// without a grid, and so without any contact: refused, naming both rows.
+TEST_F(ParticleFile, ARowBeyondTheSpanOfTheContactSearchIsRefused) {
+  const std::string header = "x_m,y_m,z_m,diameter_m\n";
+  const auto message =
+      ErrorOf(Write("far.csv", header + "0,0,0.005,0.01\n0,0,2e12,0.01\n0.02,0,0.005,0.01\n"), 3);
+  EXPECT_TRUE(Mentions(message, "far.csv:3")) << message;
+  EXPECT_TRUE(Mentions(message, "along z from the particle on line 2")) << message;
+  // Far, but within the span, reads: the grid widens its cells instead.
+  EXPECT_EQ(
+      ReadParticleFile(Write("far_ok.csv", header + "0,0,0.005,0.01\n0,0,5e11,0.01\n"), 3).size(),
+      2u);
+}
+
 TEST_F(ParticleFile, HundredThousandParticleLatticeReads) {
   std::string text = "x_m,y_m,z_m,diameter_m\n";
   for (int i = 0; i < 100'000; ++i) {
