@@ -1,11 +1,13 @@
 #ifndef BOUNCECAL_DEM_SCENE_CELL_GRID_H_
 #define BOUNCECAL_DEM_SCENE_CELL_GRID_H_
 
-// The one uniform cell grid behind the neighbour searches of the scene code (the engine's pair
-// list and particle order, pair_list.cc). Cells are at least as wide as the largest distance
-// searched for, so any two points closer than that lie in the same or in neighbouring cells
-// (3^Dim of them). A point outside the grid's box is clamped into an edge cell, which keeps that
-// property. The grid maps points to cells; CellBins holds the points of each cell.
+// The one uniform cell grid behind every neighbour search of the scene code: the engine's pair
+// list and particle order (pair_list.cc), the overlap test of random placement and the
+// heavy-overlap check of start files (overlap_checks.cc). Cells are at least as wide as the
+// largest distance searched for, so any two points closer than that lie in the same or in
+// neighbouring cells (3^Dim of them). A point outside the grid's box is clamped into an edge
+// cell, which keeps that property. The grid maps points to cells; CellBins (a fixed set) and
+// CellLists (a set that grows) hold the points of each cell.
 
 #include <algorithm>
 #include <array>
@@ -101,6 +103,35 @@ struct CellBins {
 // The points of x binned on a valid grid.
 template <int Dim>
 CellBins BinByCell(const CellGrid<Dim>& grid, const std::vector<Vec<Dim>>& x);
+
+// A set of points that grows one at a time (random placement): a linked list per cell. The
+// points are numbered in the order they are added.
+class CellLists {
+ public:
+  CellLists() = default;
+  explicit CellLists(std::int64_t cells) : head_(static_cast<std::size_t>(cells), -1) {}
+
+  // Adds a point to `cell`; returns its number.
+  std::int32_t Add(std::int64_t cell) {
+    const auto point = static_cast<std::int32_t>(next_.size());
+    next_.push_back(head_[static_cast<std::size_t>(cell)]);
+    head_[static_cast<std::size_t>(cell)] = point;
+    return point;
+  }
+  // Calls test(point) for the points of `cell` until one returns true; returns whether one did.
+  template <class Test>
+  bool AnyIn(std::int64_t cell, Test&& test) const {
+    for (std::int32_t k = head_[static_cast<std::size_t>(cell)]; k >= 0;
+         k = next_[static_cast<std::size_t>(k)]) {
+      if (test(k)) return true;
+    }
+    return false;
+  }
+
+ private:
+  std::vector<std::int32_t> head_;  // per cell, -1 when empty
+  std::vector<std::int32_t> next_;  // per point, -1 at the end of its cell's list
+};
 
 }  // namespace bouncecal::dem::scene
 

@@ -106,9 +106,9 @@ std::vector<NewParticle> PlaceInRegion(const Scene& scene, const std::vector<New
   for (const auto& p : existing) r_max = std::max(r_max, p.radius_m);
   std::vector<NewParticle> placed;
   if (pending.empty()) return placed;
-  PlacementGrid grid(2 * r_max, scene.dimension);
+  PlacedParticles occupied(region, scene.dimension, r_max, existing.size() + pending.size());
   for (const auto& p : existing) {
-    if (RegionContains(region, scene.dimension, p.position_m, 2 * r_max)) grid.Add(p);
+    if (RegionContains(region, scene.dimension, p.position_m, 2 * r_max)) occupied.Add(p);
   }
   std::int64_t attempts = 0;
   const std::int64_t budget = scene.insertion.max_attempts;
@@ -128,10 +128,10 @@ std::vector<NewParticle> PlaceInRegion(const Scene& scene, const std::vector<New
                           ": insertion.region is smaller than a particle; make it at least one "
                           "diameter wide in every direction");
       }
-      if (grid.Overlaps(x, p.radius_m)) continue;
+      if (occupied.Overlaps(x, p.radius_m)) continue;
       NewParticle q = p;
       q.position_m = x;
-      grid.Add(q);
+      occupied.Add(q);
       placed.push_back(q);
       done = true;
     }

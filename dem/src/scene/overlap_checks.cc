@@ -16,6 +16,30 @@ using particle_file::Where;
 
 namespace {
 
+Vec<3> GridPoint(const Vec3& x) { return Vec<3>{{x[0], x[1], x[2]}}; }
+
+// The box the placement grid covers: the region's bounding box widened by `margin`, flat in 2D.
+CellGrid<3> PlacementGrid(const RegionSpec& region, int dimension, double margin,
+                          double max_cells) {
+  Vec<3> lo = Vec<3>::Zero();
+  Vec<3> hi = Vec<3>::Zero();
+  if (region.kind == RegionKind::kBox) {
+    for (int d = 0; d < dimension; ++d) {
+      lo[d] = region.min_m[d] - margin;
+      hi[d] = region.max_m[d] + margin;
+    }
+  } else {
+    for (int d = 0; d < 2; ++d) {
+      lo[d] = region.center_m[d] - region.radius_m - margin;
+      hi[d] = region.center_m[d] + region.radius_m + margin;
+    }
+    lo[2] = region.z_min_m - margin;
+    hi[2] = region.z_max_m + margin;
+  }
+  if (dimension == 2) lo[2] = hi[2] = 0;
+  return CellGrid<3>(lo, hi, margin, max_cells);
+}
+
 // A start file spread over more than the cell grid (and so the engine's pair list) covers:
 // refused naming the two particles furthest apart along the first such axis. A misplaced row
 // far away would otherwise leave the engine without any contact search.
@@ -93,6 +117,36 @@ void RefuseHeavyOverlapsIn(const std::vector<FileParticle>& particles,
 }
 
 }  // namespace
+
+PlacedParticles::PlacedParticles(const RegionSpec& region, int dimension, double r_max_m,
+                                 std::size_t expected)
+    : grid_(PlacementGrid(region, dimension, 2 * r_max_m,
+                          8.0 * static_cast<double>(expected) + 1024)) {
+  // The scene checks make the region finite; a grid over it always exists.
+  if (!grid_.valid()) throw ConfigError("insertion.region is not finite");
+  lists_ = CellLists(grid_.cells());
+}
+
+void PlacedParticles::Add(const NewParticle& p) {
+  lists_.Add(grid_.IndexOf(GridPoint(p.position_m)));
+  placed_.push_back(p);
+}
+
+bool PlacedParticles::Overlaps(const Vec3& x, double r) const {
+  bool overlaps = false;
+  grid_.ForEachNeighbour(grid_.CoordOf(GridPoint(x)), [&](std::int64_t cell) {
+    overlaps = overlaps || lists_.AnyIn(cell, [&](std::int32_t k) {
+      const NewParticle& o = placed_[static_cast<std::size_t>(k)];
+      double dist2 = 0;
+      for (int d = 0; d < 3; ++d) {
+        dist2 += (x[d] - o.position_m[d]) * (x[d] - o.position_m[d]);
+      }
+      const double touch = r + o.radius_m;
+      return dist2 < touch * touch;
+    });
+  });
+  return overlaps;
+}
 
 void RefuseHeavyOverlaps(const std::vector<FileParticle>& particles,
                          const std::filesystem::path& path, int dimension) {
