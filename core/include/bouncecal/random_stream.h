@@ -13,8 +13,8 @@ namespace bouncecal {
 // thread runs it. The standard library's distributions (std::normal_distribution, ...) are
 // implementation-defined, so the draws here are written out: the same seed gives the same numbers
 // with every standard library, which the byte-identical outputs of the README rely on.
-// Header-only and small on purpose: it is the one stream of the project (audio/src keeps an
-// identical copy until its rewrite can switch to this one; the sequences are the same).
+// Header-only and small on purpose: it is the one stream of the project (a scene's insertion
+// draws straight from SplitMix64 below, a sequence its shipped packs are pinned to).
 class RandomStream {
  public:
   RandomStream(std::uint64_t seed, std::uint64_t stream, std::uint64_t substream = 0) {

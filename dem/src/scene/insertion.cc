@@ -5,16 +5,12 @@
 #include <utility>
 
 #include "bouncecal/error.h"
+#include "bouncecal/random_stream.h"
 #include "scene/overlap_checks.h"
 
 namespace bouncecal::dem::scene {
 
-std::uint64_t SceneRandom::Next() {
-  std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
+std::uint64_t SceneRandom::Next() { return RandomStream::SplitMix64(state_); }
 
 std::vector<NewParticle> DrawParticles(const Scene& scene, SceneRandom& random) {
   const auto& p = scene.particles;

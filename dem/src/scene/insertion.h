@@ -18,9 +18,9 @@ struct NewParticle {
   std::int32_t species = 0;
 };
 
-// A small, portable random source (SplitMix64, Steele et al. 2014): the same seed gives the same
-// scene on every compiler and standard library, which std::uniform_real_distribution does not
-// promise.
+// A small, portable random source (one SplitMix64 sequence, core/random_stream.h): the same seed
+// gives the same scene on every compiler and standard library, which std::uniform_real_distribution
+// does not promise.
 class SceneRandom {
  public:
   explicit SceneRandom(std::uint64_t seed) : state_(seed) {}
