@@ -6,8 +6,11 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config git clang-format
   libsndfile1-dev libfftw3-dev libnlopt-cxx-dev libeigen3-dev
+  libavformat-dev libavcodec-dev libswresample-dev libavutil-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libfmt-dev
   gnuplot-nox chromium
+  # The ffmpeg command encodes the lossy recordings of the codec tests and bench/codec_timing_bench.
+  ffmpeg
   lammps liggghts mpi-default-bin
   "$@"
 )

@@ -127,6 +127,34 @@ TEST_F(BadInput, UnreadableRecordingsAreInputErrorsWithoutOutput) {
                 "codec.wav");
 }
 
+// What libsndfile does not recognise goes to FFmpeg, which must refuse media that is not a
+// recording as firmly, and must not follow a playlist or script to other files.
+TEST_F(BadInput, MediaFilesThatAreNotRecordingsAreRefusedInOneLine) {
+  std::string mp4 = std::string("\0\0\0\x18", 4) + "ftypM4A " + std::string(4, '\0') + "M4A mp42";
+  for (int i = 0; i < 3000; ++i) mp4.push_back(static_cast<char>((i * 7919) % 251));
+  ExpectRefused("analyze", Write("garbage.m4a", mp4), 2, "garbage.m4a");
+  Write("drop.wav", Pcm16Wav(48000));
+  ExpectRefused("analyze",
+                Write("playlist.m3u8",
+                      "#EXTM3U\n#EXT-X-TARGETDURATION:1\n#EXTINF:1,\ndrop.wav\n"
+                      "#EXT-X-ENDLIST\n"),
+                2, "not a readable audio file");
+  ExpectRefused("analyze", Write("script.ffconcat", "ffconcat version 1.0\nfile 'drop.wav'\n"), 2,
+                "not a readable audio file");
+  // An Ogg page header with nothing decodable behind it.
+  ExpectRefused("analyze", Write("empty.ogg", std::string("OggS\0\x02", 6) + std::string(40, '\0')),
+                2, "empty.ogg");
+}
+
+TEST_F(BadInput, TheRefusalOfAnUnreadableFileListsTheFormatsThatAreRead) {
+  const auto text = Write("notes.wav", "drop 1: 0.20 m\n");
+  ExpectRefused("analyze", text, 2, "not a readable audio file");
+  const auto result = RunBouncecal("analyze '" + text.string() + "'");
+  for (const std::string format : {"WAV", "FLAC", "OGG", "MP3", "M4A/AAC"}) {
+    EXPECT_NE(result.output.find(format), std::string::npos) << format << ": " << result.output;
+  }
+}
+
 TEST_F(BadInput, TruncatedOrLyingRecordingsAreRefusedAsTruncated) {
   const std::string whole = Pcm16Wav(48000);
   ExpectRefused("analyze", Write("cut_in_data.wav", whole.substr(0, whole.size() / 2)), 2,

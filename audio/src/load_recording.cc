@@ -4,28 +4,25 @@
 #include <limits>
 #include <string>
 
+#include "audio_source.h"
 #include "bouncecal/error.h"
-#include "sound_file.h"
 
 namespace bouncecal::audio {
 
-RecordingReader::RecordingReader(const std::filesystem::path& path)
-    : file_(std::make_unique<SoundFile>(SoundFile::OpenForReading(path))) {
-  info_.path = path;
-  info_.sample_rate_hz = file_->sample_rate_hz();
-  info_.channel_count = file_->channels();
-  info_.header_frames = file_->frames();
-  // libsndfile shortens the frame count of a WAV whose data chunk runs past the end of the
-  // file and notes "data : N (should be M)" in its log; that is a truncated copy.
-  const std::string log = file_->LogInfo();
-  const auto data_line = log.find("data : ");
-  if (data_line != std::string::npos &&
-      log.substr(data_line, log.find('\n', data_line) - data_line).find("should be") !=
-          std::string::npos) {
-    throw InputError(path.string() +
-                     ": truncated (the data chunk is shorter than its header says); copy or "
-                     "export the file again");
+std::string_view ToString(EncoderDelay delay) {
+  switch (delay) {
+    case EncoderDelay::kNone:
+      return "none";
+    case EncoderDelay::kRemoved:
+      return "removed";
+    case EncoderDelay::kUnknown:
+      return "unknown";
   }
+  return "unknown";
+}
+
+RecordingReader::RecordingReader(const std::filesystem::path& path)
+    : source_(OpenAudioSource(path)), info_(source_->info()) {
   // The detector's windows are sized in seconds, so a corrupt header claiming hundreds of MHz
   // would make it allocate gigabytes (a fuzzing finding); no recorder exceeds 768 kHz.
   if (info_.sample_rate_hz > kMaxSampleRateHz) {
@@ -47,7 +44,7 @@ bool RecordingReader::ReadBlock(std::vector<std::vector<float>>& channels, std::
   const auto channel_count = static_cast<std::size_t>(info_.channel_count);
   channels.resize(channel_count);
   interleaved_.resize(max_frames * channel_count);
-  const std::int64_t got = finished_ ? 0 : file_->ReadFrames(interleaved_);
+  const std::int64_t got = finished_ ? 0 : source_->ReadFrames(interleaved_);
   const auto frames = static_cast<std::size_t>(got);
   // One branch-free pass over the block (it vectorises; NaN fails the comparison), and the
   // sample-by-sample search only when it found something: checking each sample with a branch

@@ -8,6 +8,17 @@
 namespace bouncecal::audio {
 
 SoundFile SoundFile::OpenForReading(const std::filesystem::path& path) {
+  std::string why_not;
+  auto file = TryOpenForReading(path, &why_not);
+  if (!file) {
+    throw InputError(path.string() + ": not a readable audio file (" + why_not +
+                     "); give a WAV, FLAC, OGG or MP3 recording");
+  }
+  return std::move(*file);
+}
+
+std::optional<SoundFile> SoundFile::TryOpenForReading(const std::filesystem::path& path,
+                                                      std::string* why_not) {
   std::error_code ignored;
   if (!std::filesystem::exists(path, ignored)) {
     throw InputError(path.string() + ": no such file; check the path");
@@ -16,13 +27,13 @@ SoundFile SoundFile::OpenForReading(const std::filesystem::path& path) {
     throw InputError(path.string() + ": is a directory, not a recording; give an audio file");
   }
   if (std::filesystem::file_size(path, ignored) == 0) {
-    throw InputError(path.string() + ": file is empty; give a WAV/FLAC/OGG recording");
+    throw InputError(path.string() + ": file is empty; give the recording itself");
   }
   SF_INFO info{};
   SNDFILE* handle = sf_open(path.c_str(), SFM_READ, &info);
   if (handle == nullptr) {
-    throw InputError(path.string() + ": not a readable audio file (" + sf_strerror(nullptr) +
-                     "); give a WAV, FLAC or OGG recording");
+    if (why_not) *why_not = sf_strerror(nullptr);
+    return std::nullopt;
   }
   if (info.samplerate <= 0 || info.channels <= 0) {
     sf_close(handle);
@@ -80,6 +91,119 @@ SoundFile& SoundFile::operator=(SoundFile&& other) noexcept {
 
 SoundFile::~SoundFile() {
   if (handle_ != nullptr) sf_close(handle_);
+}
+
+std::string SoundFile::container_name() const {
+  switch (info_.format & SF_FORMAT_TYPEMASK) {
+    case SF_FORMAT_WAV:
+    case SF_FORMAT_WAVEX:
+      return "wav";
+    case SF_FORMAT_AIFF:
+      return "aiff";
+    case SF_FORMAT_AU:
+      return "au";
+    case SF_FORMAT_W64:
+      return "w64";
+    case SF_FORMAT_RF64:
+      return "rf64";
+    case SF_FORMAT_FLAC:
+      return "flac";
+    case SF_FORMAT_CAF:
+      return "caf";
+    case SF_FORMAT_OGG:
+      return "ogg";
+    case SF_FORMAT_MPEG:
+      return "mp3";
+    default: {
+      SF_FORMAT_INFO format{};
+      format.format = info_.format & SF_FORMAT_TYPEMASK;
+      if (sf_command(nullptr, SFC_GET_FORMAT_INFO, &format, sizeof(format)) == 0 &&
+          format.extension != nullptr) {
+        return format.extension;
+      }
+      return "unknown";
+    }
+  }
+}
+
+std::string SoundFile::codec_name() const {
+  if ((info_.format & SF_FORMAT_TYPEMASK) == SF_FORMAT_FLAC) return "flac";
+  switch (info_.format & SF_FORMAT_SUBMASK) {
+    case SF_FORMAT_PCM_S8:
+      return "pcm_s8";
+    case SF_FORMAT_PCM_U8:
+      return "pcm_u8";
+    case SF_FORMAT_PCM_16:
+      return "pcm_s16";
+    case SF_FORMAT_PCM_24:
+      return "pcm_s24";
+    case SF_FORMAT_PCM_32:
+      return "pcm_s32";
+    case SF_FORMAT_FLOAT:
+      return "pcm_f32";
+    case SF_FORMAT_DOUBLE:
+      return "pcm_f64";
+    case SF_FORMAT_ULAW:
+      return "pcm_mulaw";
+    case SF_FORMAT_ALAW:
+      return "pcm_alaw";
+    case SF_FORMAT_IMA_ADPCM:
+      return "adpcm_ima";
+    case SF_FORMAT_MS_ADPCM:
+      return "adpcm_ms";
+    case SF_FORMAT_GSM610:
+      return "gsm";
+    case SF_FORMAT_VORBIS:
+      return "vorbis";
+    case SF_FORMAT_OPUS:
+      return "opus";
+    case SF_FORMAT_ALAC_16:
+    case SF_FORMAT_ALAC_20:
+    case SF_FORMAT_ALAC_24:
+    case SF_FORMAT_ALAC_32:
+      return "alac";
+    case SF_FORMAT_MPEG_LAYER_I:
+      return "mp1";
+    case SF_FORMAT_MPEG_LAYER_II:
+      return "mp2";
+    case SF_FORMAT_MPEG_LAYER_III:
+      return "mp3";
+    default: {
+      SF_FORMAT_INFO format{};
+      format.format = info_.format & SF_FORMAT_SUBMASK;
+      if (sf_command(nullptr, SFC_GET_FORMAT_INFO, &format, sizeof(format)) == 0 &&
+          format.name != nullptr) {
+        return format.name;
+      }
+      return "unknown";
+    }
+  }
+}
+
+bool SoundFile::lossy() const {
+  if ((info_.format & SF_FORMAT_TYPEMASK) == SF_FORMAT_FLAC) return false;
+  switch (info_.format & SF_FORMAT_SUBMASK) {
+    case SF_FORMAT_PCM_S8:
+    case SF_FORMAT_PCM_U8:
+    case SF_FORMAT_PCM_16:
+    case SF_FORMAT_PCM_24:
+    case SF_FORMAT_PCM_32:
+    case SF_FORMAT_FLOAT:
+    case SF_FORMAT_DOUBLE:
+    case SF_FORMAT_ALAC_16:
+    case SF_FORMAT_ALAC_20:
+    case SF_FORMAT_ALAC_24:
+    case SF_FORMAT_ALAC_32:
+    case SF_FORMAT_DWVW_12:
+    case SF_FORMAT_DWVW_16:
+    case SF_FORMAT_DWVW_24:
+    case SF_FORMAT_DWVW_N:
+    case SF_FORMAT_DPCM_8:
+    case SF_FORMAT_DPCM_16:
+      return false;
+    default:
+      return true;
+  }
 }
 
 std::string SoundFile::LogInfo() const {

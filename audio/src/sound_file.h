@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -16,6 +17,10 @@ class SoundFile {
  public:
   // Opens for reading; throws InputError (missing file, directory, not audio, unsupported codec).
   static SoundFile OpenForReading(const std::filesystem::path& path);
+  // The same, but a file libsndfile does not recognise gives nullopt and libsndfile's reason in
+  // *why_not (another decoder may read it); a missing, empty or directory path still throws.
+  static std::optional<SoundFile> TryOpenForReading(const std::filesystem::path& path,
+                                                    std::string* why_not);
   // Opens for writing with a libsndfile format such as SF_FORMAT_WAV | SF_FORMAT_PCM_16.
   static SoundFile OpenForWriting(const std::filesystem::path& path, int sample_rate_hz,
                                   int channels, int format);
@@ -32,6 +37,13 @@ class SoundFile {
   // ReadFrames returns, not this.
   std::int64_t frames() const { return info_.frames; }
   int format() const { return info_.format; }
+  // The format in FFmpeg's vocabulary, so both decoders name codecs alike: container "wav",
+  // "flac", "ogg", "mp3", ...; codec "pcm_s16", "pcm_f32", "flac", "vorbis", "opus", "mp3", ...
+  std::string container_name() const;
+  std::string codec_name() const;
+  // Whether the codec discards signal: everything but PCM, float, FLAC, ALAC and the lossless
+  // delta codings (DWVW, DPCM).
+  bool lossy() const;
   const std::filesystem::path& path() const { return path_; }
   // libsndfile's parse log of the header (used to spot a data chunk longer than the file).
   std::string LogInfo() const;
