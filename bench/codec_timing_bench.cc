@@ -1,0 +1,273 @@
+// How much a lossy codec moves the onsets the detector finds: synthetic drops with exact ground
+// truth are written as 16-bit WAV, encoded with Debian's encoders (the `ffmpeg` command: FFmpeg's
+// AAC, LAME, libvorbis, libopus) at phone and export bit rates, decoded by the loader
+// (load_recording.h) and analysed like the WAV. Per encoder setting and sample rate it prints
+// the onset shift against the WAV's onsets (each drop's median shift removed: a constant offset
+// cancels in every interval), the interval and eta-bar errors against the truth, and the sigma
+// that covers 95 % of the shifts at 1.96 sigma: the codec timing uncertainty
+// (audio/src/codec_timing.cc holds the table derived from it, docs/codecs.md quotes it). It
+// prints figures and asserts nothing.
+//
+//   build/bench/codec_timing_bench                      # every setting, 3 rates, 8 seeds
+//   build/bench/codec_timing_bench --seeds 4 --only Opus
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bouncecal/audio/bounce_analysis.h"
+#include "bouncecal/audio/impact_detector.h"
+#include "bouncecal/audio/load_recording.h"
+#include "bouncecal/audio/synthesize.h"
+#include "bouncecal/audio/write_recording.h"
+#include "lossy_encode.h"
+
+namespace {
+
+namespace audio = bouncecal::audio;
+namespace fs = std::filesystem;
+using bouncecal::testing::LossyEncoding;
+
+// Two scenes a phone records: a steel ball on a damped steel plate (modes ringing tens of ms) and
+// a ping-pong ball on a counter (dense modes ringing over the next bounce, 9 ms echo). Drop
+// height, restitution and loudness vary with the seed, 30 dB SNR referred to the weakest impact.
+audio::SynthesisOptions Scene(const std::string& scene, int seed, int rate_hz) {
+  audio::SynthesisOptions options;
+  options.seed = static_cast<std::uint64_t>(seed);
+  options.sample_rate_hz = rate_hz;
+  const double u = std::fmod(0.6180339887 * seed, 1.0);
+  const double w = std::fmod(0.7548776662 * seed, 1.0);
+  options.peak_amplitude = 0.2 + 0.5 * std::fmod(0.5698402910 * seed, 1.0);
+  options.drop.min_flight_s = 0.03;
+  audio::NoiseOptions noise;
+  noise.snr_db = 30;
+  noise.reference = audio::SnrReference::kWeakestImpact;
+  options.noise = noise;
+  if (scene == "steel") {
+    options.drop.drop_height_m = 0.15 + 0.35 * u;
+    options.drop.restitution.constant = 0.55 + 0.35 * w;
+    for (auto& mode : options.modes) mode.decay_s *= 0.1;
+  } else {
+    options.modes = audio::CounterTopModes();
+    options.contact_duration_s = 50e-6;
+    options.drop.drop_height_m = 0.2 + 0.2 * u;
+    options.drop.restitution.constant = 0.85 + 0.1 * w;
+    options.drop.max_impacts_per_drop = 25;
+    audio::ReverbOptions reverb;
+    reverb.rt60_s = 0.2;
+    reverb.echoes = {{0.009, -12.0}};
+    options.reverb = reverb;
+  }
+  return options;
+}
+
+struct Detected {
+  std::vector<std::optional<double>> onsets;  // per true impact: the matched onset, if any
+  int extra = 0;
+  bool sequence = false;
+  std::optional<double> bit_rate_bps;
+  int sample_rate_hz = 0;
+};
+
+constexpr double kMatchS = 5e-3;
+
+Detected Analyse(const fs::path& path, const std::vector<double>& truth) {
+  const auto recording = audio::LoadRecording(path);
+  const audio::RecordingReader reader(path);
+  auto detection = audio::DetectImpacts(recording);
+  const auto grouping = audio::GroupBounces(detection);
+  Detected result;
+  result.bit_rate_bps = reader.info().bit_rate_bps;
+  result.sample_rate_hz = recording.sample_rate_hz;
+  result.sequence = !grouping.sequences.empty();
+  const auto& impacts = detection.impacts;
+  std::vector<bool> used(impacts.size(), false);
+  for (double t : truth) {
+    int best = -1;
+    for (std::size_t i = 0; i < impacts.size(); ++i) {
+      const double error = std::fabs(impacts[i].onset_s - t);
+      if (!used[i] && error < kMatchS &&
+          (best < 0 || error < std::fabs(impacts[static_cast<std::size_t>(best)].onset_s - t))) {
+        best = static_cast<int>(i);
+      }
+    }
+    if (best >= 0) {
+      used[static_cast<std::size_t>(best)] = true;
+      result.onsets.push_back(impacts[static_cast<std::size_t>(best)].onset_s);
+    } else {
+      result.onsets.push_back(std::nullopt);
+    }
+  }
+  for (bool u : used) result.extra += u ? 0 : 1;
+  return result;
+}
+
+// Mean of 1 - e_k^2 over the first three ratios (no drop height): five onsets.
+std::optional<double> EtaBar(const std::vector<std::optional<double>>& onsets) {
+  if (onsets.size() < 5) return std::nullopt;
+  for (int k = 0; k < 5; ++k) {
+    if (!onsets[static_cast<std::size_t>(k)]) return std::nullopt;
+  }
+  double sum = 0;
+  for (int k = 1; k <= 3; ++k) {
+    const auto at = [&](int i) { return *onsets[static_cast<std::size_t>(i)]; };
+    const double e = (at(k + 1) - at(k)) / (at(k) - at(k - 1));
+    sum += 1 - e * e;
+  }
+  return sum / 3;
+}
+
+struct Tally {
+  int drops = 0;
+  int sequences = 0;
+  int truth = 0;
+  int found = 0;
+  int extra = 0;
+  std::vector<double> shifts_s;           // codec - WAV onset, signed
+  std::vector<double> centred_shifts_s;   // less each drop's median shift
+  std::vector<double> interval_errors_s;  // |codec interval - true interval|
+  std::vector<double> eta_vs_wav;         // |eta-bar codec - eta-bar WAV|
+  std::vector<double> eta_vs_truth;       // |eta-bar codec - exact eta-bar|
+  std::vector<double> bit_rates_bps;
+  int decoded_rate_hz = 0;
+};
+
+double Quantile(std::vector<double> values, double q) {
+  if (values.empty()) return std::nan("");
+  std::sort(values.begin(), values.end());
+  return values[std::min(values.size() - 1, static_cast<std::size_t>(q * values.size()))];
+}
+
+std::vector<double> Abs(std::vector<double> values) {
+  for (double& v : values) v = std::fabs(v);
+  return values;
+}
+
+void Score(const Detected& codec, const Detected& wav, const std::vector<double>& truth,
+           Tally& tally) {
+  ++tally.drops;
+  tally.sequences += codec.sequence ? 1 : 0;
+  tally.truth += static_cast<int>(truth.size());
+  tally.extra += codec.extra;
+  tally.decoded_rate_hz = codec.sample_rate_hz;
+  if (codec.bit_rate_bps) tally.bit_rates_bps.push_back(*codec.bit_rate_bps);
+  std::vector<double> shifts;
+  for (std::size_t k = 0; k < truth.size(); ++k) {
+    if (codec.onsets[k]) ++tally.found;
+    if (codec.onsets[k] && wav.onsets[k]) shifts.push_back(*codec.onsets[k] - *wav.onsets[k]);
+    if (k > 0 && codec.onsets[k] && codec.onsets[k - 1]) {
+      tally.interval_errors_s.push_back(
+          std::fabs(*codec.onsets[k] - *codec.onsets[k - 1] - (truth[k] - truth[k - 1])));
+    }
+  }
+  if (!shifts.empty()) {
+    const double median = Quantile(shifts, 0.5);
+    for (double s : shifts) {
+      tally.shifts_s.push_back(s);
+      tally.centred_shifts_s.push_back(s - median);
+    }
+  }
+  std::vector<std::optional<double>> exact(truth.begin(), truth.end());
+  const auto eta = EtaBar(codec.onsets);
+  const auto eta_wav = EtaBar(wav.onsets);
+  const auto eta_exact = EtaBar(exact);
+  if (eta && eta_wav) tally.eta_vs_wav.push_back(std::fabs(*eta - *eta_wav));
+  if (eta && eta_exact) tally.eta_vs_truth.push_back(std::fabs(*eta - *eta_exact));
+}
+
+void PrintRow(const std::string& label, int rate_hz, const Tally& t, bool reference) {
+  const auto abs_centred = Abs(t.centred_shifts_s);
+  std::printf("%-10s %6d %6d %5.0f %2d/%-2d %4d/%-4d %5d", label.c_str(), rate_hz,
+              t.decoded_rate_hz,
+              t.bit_rates_bps.empty() ? 0.0 : Quantile(t.bit_rates_bps, 0.5) / 1e3, t.sequences,
+              t.drops, t.found, t.truth, t.extra);
+  if (reference) {
+    std::printf(" %8s %8s %8s %8s", "-", "-", "-", "-");
+  } else {
+    std::printf(" %8.1f %8.1f %8.1f %8.1f", Quantile(t.shifts_s, 0.5) * 1e6,
+                Quantile(abs_centred, 0.5) * 1e6, Quantile(abs_centred, 0.95) * 1e6,
+                abs_centred.empty()
+                    ? 0.0
+                    : *std::max_element(abs_centred.begin(), abs_centred.end()) * 1e6);
+  }
+  std::printf(" %8.1f %8.1f %8.4f %8.4f", Quantile(t.interval_errors_s, 0.5) * 1e6,
+              Quantile(t.interval_errors_s, 0.95) * 1e6,
+              reference ? 0.0 : Quantile(t.eta_vs_wav, 0.95), Quantile(t.eta_vs_truth, 0.95));
+  if (reference) {
+    std::printf(" %8s\n", "-");
+  } else {
+    std::printf(" %8.1f\n", Quantile(abs_centred, 0.95) / 1.96 * 1e6);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int seeds = 8;
+  std::string only;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc) {
+      seeds = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
+      only = argv[++i];
+    } else {
+      std::fprintf(stderr, "usage: %s [--seeds N] [--only SUBSTRING]\n", argv[0]);
+      return 2;
+    }
+  }
+  if (!bouncecal::testing::FfmpegAvailable()) {
+    std::fprintf(stderr, "codec_timing_bench: %s\n",
+                 bouncecal::testing::FfmpegMissingMessage().c_str());
+    return 1;
+  }
+  const fs::path folder =
+      fs::temp_directory_path() / ("bouncecal_codec_bench_" + std::to_string(::getpid()));
+  fs::create_directories(folder);
+  const std::vector<int> rates = {48000, 44100, 16000};
+  const std::vector<std::string> scenes = {"steel", "pingpong"};
+  const auto encodings = bouncecal::testing::CommonLossyEncodings();
+  std::map<std::pair<std::string, int>, Tally> tallies;  // (label, rate)
+  std::map<int, Tally> wav_tallies;
+  for (int rate : rates) {
+    for (const auto& scene : scenes) {
+      for (int seed = 1; seed <= seeds; ++seed) {
+        const auto synthesized = audio::SynthesizeBounces(Scene(scene, seed, rate));
+        const auto truth = synthesized.BallImpactOnsetsS();
+        const fs::path wav_path = folder / "drop.wav";
+        audio::WriteRecording(wav_path, synthesized.channels);
+        const auto wav = Analyse(wav_path, truth);
+        Score(wav, wav, truth, wav_tallies[rate]);
+        for (const auto& encoding : encodings) {
+          if (!only.empty() && encoding.label.find(only) == std::string::npos) continue;
+          const fs::path encoded = folder / ("drop." + encoding.extension);
+          fs::remove(encoded);
+          if (!bouncecal::testing::EncodeWithFfmpeg(wav_path, encoded, encoding.ffmpeg_options)) {
+            continue;  // a bit rate the rate does not allow (MP3 192k at 16 kHz)
+          }
+          Score(Analyse(encoded, truth), wav, truth, tallies[{encoding.label, rate}]);
+        }
+      }
+    }
+  }
+  fs::remove_all(folder);
+  std::printf("%d seeds x %zu scenes per row; shifts are codec onset - WAV onset\n", seeds,
+              scenes.size());
+  std::printf("%-10s %6s %6s %5s %5s %9s %5s %8s %8s %8s %8s %8s %8s %8s %8s %8s\n", "codec",
+              "rate", "dec_hz", "kbps", "seq", "found", "extra", "bias_us", "c50_us", "c95_us",
+              "cmax_us", "int50_us", "int95_us", "deta_wav", "deta_tru", "sigma_us");
+  for (int rate : rates) PrintRow("WAV", rate, wav_tallies[rate], true);
+  for (const auto& encoding : encodings) {
+    for (int rate : rates) {
+      const auto found = tallies.find({encoding.label, rate});
+      if (found != tallies.end()) PrintRow(encoding.label, rate, found->second, false);
+    }
+  }
+  return 0;
+}
