@@ -106,6 +106,15 @@ nlohmann::json ToJson(const FileAnalysis& analysis, const AnalyzeArgs& args) {
   }
   file["channel_impact_to_noise_db"] = scores;
   file["duration_s"] = detection.duration_s;
+  file["decoder"] = detection.info.decoder;
+  file["container"] = detection.info.container;
+  file["codec"] = detection.info.codec;
+  file["lossy"] = detection.info.lossy;
+  file["bit_rate_bps"] = OptionalNumber(detection.info.bit_rate_bps);
+  file["encoder_delay"] = std::string(audio::ToString(detection.info.encoder_delay));
+  // Already inside every onset_uncertainty_s below (added in quadrature); 0 for lossless input.
+  file["codec_timing_uncertainty_s"] =
+      detection.codec_timing ? detection.codec_timing->onset_uncertainty_s : 0.0;
   nlohmann::json impacts = nlohmann::json::array();
   const auto& list = detection.detection.impacts;
   for (size_t i = 0; i < list.size(); ++i) {
@@ -203,6 +212,11 @@ void PrintTable(const FileAnalysis& analysis, const AnalyzeArgs& args) {
   }
   fmt::print("{}\n  {} Hz, {:.3f} s, channel {} of {}{}\n", d.info.path.string(),
              d.info.sample_rate_hz, d.duration_s, d.channel, d.info.channel_count, channel_note);
+  fmt::print(
+      "  {} in {}, {}{}\n", d.info.codec, d.info.container, d.info.lossy ? "lossy" : "lossless",
+      d.codec_timing ? fmt::format(": onset uncertainties include +-{:.0f} us of codec timing",
+                                   d.codec_timing->onset_uncertainty_s * 1e6)
+                     : std::string());
   fmt::print("  {} impacts, {} sequence(s), {} rejected events\n", d.detection.impacts.size(),
              analysis.sequences.size(), analysis.rejected.size());
   for (size_t s = 0; s < analysis.sequences.size(); ++s) {
@@ -306,6 +320,36 @@ std::vector<AnalyzedRecording> ForPlot(const std::vector<FileAnalysis>& analyses
   return recordings;
 }
 
+// One line each: what a lossy codec does to the onsets, and an encoder delay the file does not
+// state (a constant offset of every onset, which intervals, e and eta do not see).
+void WarnAboutCodec(const std::string& path, const audio::FileDetection& detection) {
+  const auto& info = detection.info;
+  if (const auto& timing = detection.codec_timing) {
+    const std::string rate = info.bit_rate_bps
+                                 ? fmt::format("{:.0f} kbit/s", *info.bit_rate_bps / 1e3)
+                                 : std::string("unknown bit rate");
+    const std::string basis =
+        timing->measured
+            ? fmt::format("measured for {} {} {:.0f} kbit/s per channel", timing->family,
+                          timing->high_bit_rate ? "at or above" : "below",
+                          timing->high_bit_rate_bps_per_channel / 1e3)
+            : std::string("not measured for this codec: the largest measured codec error");
+    std::fprintf(stderr,
+                 "bouncecal: warning: %s: lossy %s (%s): every onset uncertainty widened by %.0f "
+                 "us in quadrature (%s; docs/codecs.md); record WAV or FLAC for the full "
+                 "precision\n",
+                 path.c_str(), info.codec.c_str(), rate.c_str(), timing->onset_uncertainty_s * 1e6,
+                 basis.c_str());
+  }
+  if (info.encoder_delay == audio::EncoderDelay::kUnknown) {
+    std::fprintf(stderr,
+                 "bouncecal: warning: %s: the %s stream does not state its encoder delay, so "
+                 "every onset time may be late by the same 20-50 ms; intervals, e and eta are "
+                 "unaffected\n",
+                 path.c_str(), info.codec.c_str());
+  }
+}
+
 void Run(const AnalyzeArgs& args) {
   if (args.first_n < 1)
     throw ConfigError("--first must be at least 1, got " + std::to_string(args.first_n));
@@ -327,6 +371,7 @@ void Run(const AnalyzeArgs& args) {
       std::fprintf(stderr, "bouncecal: note: %s: no bounce sequence among %zu impacts\n",
                    args.recordings[i].c_str(), analyses[i].detection.detection.impacts.size());
     }
+    WarnAboutCodec(args.recordings[i], analyses[i].detection);
     for (size_t s = 0; s < analyses[i].sequences.size(); ++s) {
       const auto& entry = analyses[i].sequences[s];
       if (!entry.sequence.short_sequence) continue;
@@ -380,7 +425,10 @@ void AddAnalyzeCommand(CLI::App& app) {
       "  bouncecal analyze drop1.wav drop2.wav --drop-height 0.20 --json out.json --plot out.png\n"
       "With several recordings, --json writes an array of per-file objects whose last element "
       "is {\"summary\": {...}} (mean and sample std of the first sequence's eta-bar).");
-  command->add_option("recordings", args->recordings, "Recordings (WAV, FLAC, OGG, ...)")
+  command
+      ->add_option("recordings", args->recordings,
+                   "Recordings (WAV, FLAC, OGG, MP3, M4A/AAC, WebM, ...; lossy ones get wider "
+                   "onset uncertainties)")
       ->required();
   command->add_option("--drop-height", args->drop_height_m,
                       "Release height h0 in m; gives e and eta of the first impact too");

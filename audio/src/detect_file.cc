@@ -46,6 +46,12 @@ FileDetection DetectImpactsInFile(const std::filesystem::path& path,
   }
   result.channel = channels[best];
   result.detection = std::move(detections[best]);
+  // Here, not in a caller, so every path from a file to onsets (analyze, the calibration input,
+  // AnalyzeBounces' other callers) carries it once, and the sequence search's tolerances see it.
+  result.codec_timing = CodecTimingOf(info);
+  if (result.codec_timing) {
+    WidenOnsetUncertainties(result.detection, result.codec_timing->onset_uncertainty_s);
+  }
   return result;
 }
 

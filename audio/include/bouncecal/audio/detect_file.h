@@ -5,6 +5,7 @@
 #include <optional>
 #include <vector>
 
+#include "bouncecal/audio/codec_timing.h"
 #include "bouncecal/audio/impact_detector.h"
 #include "bouncecal/audio/load_recording.h"
 
@@ -27,10 +28,14 @@ struct FileDetection {
   bool channel_chosen_automatically = false;
   // impact_to_noise_db of every channel analysed (one entry when a channel was given).
   std::vector<double> channel_impact_to_noise_db;
+  // Set for a lossy file: the codec's timing error, already added in quadrature to every onset
+  // uncertainty of `detection` (codec_timing.h).
+  std::optional<CodecTiming> codec_timing;
   DetectionResult detection;
 };
 
-// Streams the file once through one detector per candidate channel. Throws InputError for an
+// Streams the file once through one detector per candidate channel; for a lossy file, widens
+// every onset uncertainty by the codec's measured timing error. Throws InputError for an
 // unreadable file and ConfigError for a channel the file does not have or bad detector options.
 FileDetection DetectImpactsInFile(const std::filesystem::path& path,
                                   const FileDetectionOptions& options = {});
