@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <regex>
@@ -19,6 +20,7 @@
 #include "bouncecal/audio/synthesize.h"
 #include "bouncecal/audio/write_recording.h"
 #include "cli_runner.h"
+#include "lossy_encode.h"
 
 namespace bouncecal::testing {
 namespace {
@@ -153,6 +155,61 @@ TEST_F(BadInput, TheRefusalOfAnUnreadableFileListsTheFormatsThatAreRead) {
   for (const std::string format : {"WAV", "FLAC", "OGG", "MP3", "M4A/AAC"}) {
     EXPECT_NE(result.output.find(format), std::string::npos) << format << ": " << result.output;
   }
+}
+
+// Phone formats go through FFmpeg (or, for MP3, libsndfile's mpg123): a copy cut short or
+// damaged in transfer must be refused, never decoded around, since a frame dropped or concealed
+// mid-stream moves every later onset. The files are encoded by the ffmpeg command from a
+// 1 kHz tone, then cut in half or have 2000 bytes in the middle of their audio overwritten.
+TEST_F(BadInput, TruncatedOrCorruptPhoneRecordingsAreRefusedAsDamaged) {
+  if (!FfmpegAvailable()) GTEST_SKIP() << FfmpegMissingMessage();
+  const auto wav = folder_ / "tone.wav";
+  ASSERT_TRUE(RunFfmpeg({"-f", "lavfi", "-i", "sine=f=1000:d=3:r=48000"}, wav));
+  struct Setting {
+    std::string name;
+    std::vector<std::string> options;
+  };
+  // An M4A with its index (moov) at the end, as ffmpeg writes it; one with the index first, as
+  // phones write voice memos, whose cut copy keeps an index promising the lost audio; an MP3
+  // with the LAME tag that states its length.
+  const std::vector<Setting> settings = {
+      {"moov_last.m4a", {"-c:a", "aac", "-b:a", "128k"}},
+      {"moov_first.m4a", {"-c:a", "aac", "-b:a", "128k", "-movflags", "+faststart"}},
+      {"lame.mp3", {"-c:a", "libmp3lame", "-b:a", "128k"}},
+  };
+  for (const auto& setting : settings) {
+    const auto whole_path = folder_ / ("whole_" + setting.name);
+    ASSERT_TRUE(EncodeWithFfmpeg(wav, whole_path, setting.options)) << setting.name;
+    std::ifstream in(whole_path, std::ios::binary);
+    const std::string whole((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(whole.size(), 20000u) << setting.name;
+    ExpectRefused("analyze", Write("cut_" + setting.name, whole.substr(0, whole.size() / 2)), 2,
+                  "cut_" + setting.name);
+    std::string corrupt = whole;
+    for (std::size_t i = 0; i < 2000; ++i) {
+      corrupt[whole.size() / 2 + i] = static_cast<char>((i * 7919 + 13) % 251);
+    }
+    ExpectRefused("analyze", Write("corrupt_" + setting.name, corrupt), 2,
+                  "corrupt_" + setting.name);
+  }
+}
+
+TEST_F(BadInput, AVideoWithoutSoundIsRefusedForHavingNoAudioStream) {
+  if (!FfmpegAvailable()) GTEST_SKIP() << FfmpegMissingMessage();
+  const auto video = folder_ / "silent.mp4";
+  ASSERT_TRUE(RunFfmpeg({"-f", "lavfi", "-i", "testsrc=d=1:s=64x48:r=10", "-c:v", "mpeg4"}, video));
+  ExpectRefused("analyze", video, 2, "without an audio stream");
+}
+
+// Two microphones, or a drop and a commentary track: analysing the one FFmpeg ranks first would
+// be a guess, so the user is asked to pick.
+TEST_F(BadInput, AFileWithTwoAudioStreamsIsRefusedRatherThanGuessed) {
+  if (!FfmpegAvailable()) GTEST_SKIP() << FfmpegMissingMessage();
+  const auto two = folder_ / "two_microphones.m4a";
+  ASSERT_TRUE(RunFfmpeg({"-f", "lavfi", "-i", "sine=f=1000:d=2:r=48000", "-f", "lavfi", "-i",
+                         "sine=f=300:d=2:r=48000", "-map", "0:a", "-map", "1:a", "-c:a", "aac"},
+                        two));
+  ExpectRefused("analyze", two, 2, "2 audio streams");
 }
 
 TEST_F(BadInput, TruncatedOrLyingRecordingsAreRefusedAsTruncated) {

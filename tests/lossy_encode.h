@@ -51,22 +51,30 @@ inline std::string FfmpegMissingMessage() {
          "recordings of this test cannot be encoded";
 }
 
-// Encodes `input` into `output` (format from its extension) with the given output options;
-// false when ffmpeg fails (for one, an MP3 bit rate the sample rate does not allow).
-inline bool EncodeWithFfmpeg(const std::filesystem::path& input,
-                             const std::filesystem::path& output,
-                             const std::vector<std::string>& options) {
+// Runs `ffmpeg ARGUMENTS OUTPUT` (the format from the output's extension); false when ffmpeg
+// fails or writes nothing.
+inline bool RunFfmpeg(const std::vector<std::string>& arguments,
+                      const std::filesystem::path& output) {
   // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) about literal + temporary string.
-  std::string command = "ffmpeg -nostdin -hide_banner -loglevel error -y -i ";
-  command += ShellQuoted(input.string());
-  for (const auto& option : options) {
+  std::string command = "ffmpeg -nostdin -hide_banner -loglevel error -y";
+  for (const auto& argument : arguments) {
     command += ' ';
-    command += ShellQuoted(option);
+    command += ShellQuoted(argument);
   }
   command += ' ';
   command += ShellQuoted(output.string());
   command += " >/dev/null 2>&1";
   return std::system(command.c_str()) == 0 && std::filesystem::exists(output);
+}
+
+// Encodes `input` into `output` (format from its extension) with the given output options;
+// false when ffmpeg fails (for one, an MP3 bit rate the sample rate does not allow).
+inline bool EncodeWithFfmpeg(const std::filesystem::path& input,
+                             const std::filesystem::path& output,
+                             const std::vector<std::string>& options) {
+  std::vector<std::string> arguments = {"-i", input.string()};
+  arguments.insert(arguments.end(), options.begin(), options.end());
+  return RunFfmpeg(arguments, output);
 }
 
 }  // namespace bouncecal::testing

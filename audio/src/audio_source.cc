@@ -1,6 +1,7 @@
 #include "audio_source.h"
 
 #include <cmath>
+#include <fstream>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -15,6 +16,20 @@ namespace {
 // What the refusal of an unreadable file lists.
 constexpr const char* kReadableFormats =
     "give a WAV, FLAC, OGG (Vorbis, Opus), MP3, M4A/AAC, WebM or CAF recording";
+
+// An ID3 tag or an MPEG audio frame sync (11 set bits), which is how libsndfile recognises an
+// MP3 too.
+bool LooksLikeMpegAudio(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char head[3] = {};
+  if (!in.read(reinterpret_cast<char*>(head), sizeof(head))) return false;
+  return (head[0] == 'I' && head[1] == 'D' && head[2] == '3') ||
+         (head[0] == 0xff && (head[1] & 0xe0) == 0xe0);
+}
+
+bool IsMpegAudio(const std::string& codec) {
+  return codec == "mp1" || codec == "mp2" || codec == "mp3";
+}
 
 class SndfileSource final : public AudioSource {
  public:
@@ -66,7 +81,7 @@ class SndfileSource final : public AudioSource {
     if (info_.codec == "opus") return EncoderDelay::kRemoved;
     // mpg123 (libsndfile's MP3 decoder) drops the delay a LAME/Info tag states, as FFmpeg does;
     // FFmpeg's demuxer tells whether the file has one.
-    if (info_.codec == "mp1" || info_.codec == "mp2" || info_.codec == "mp3") {
+    if (IsMpegAudio(info_.codec)) {
       try {
         const auto probe = FfmpegDecoder::Open(path, nullptr);
         return probe ? probe->encoder_delay() : EncoderDelay::kUnknown;
@@ -112,9 +127,25 @@ class FfmpegSource final : public AudioSource {
 }  // namespace
 
 std::unique_ptr<AudioSource> OpenAudioSource(const std::filesystem::path& path) {
+  // libsndfile's MPEG decoder (mpg123) resyncs past a damaged frame without a word to the caller
+  // (a dropped frame moves every later onset) and prints its notes to stderr, even while
+  // sf_open parses the header; FFmpeg's refuses the frame. So MPEG audio goes to FFmpeg before
+  // libsndfile sees it, and libsndfile keeps an MPEG file only if FFmpeg cannot open it.
+  if (LooksLikeMpegAudio(path)) {
+    if (auto decoder = FfmpegDecoder::Open(path, nullptr)) {
+      return std::make_unique<FfmpegSource>(path, std::move(decoder));
+    }
+  }
   std::string sndfile_reason;
   auto file = SoundFile::TryOpenForReading(path, &sndfile_reason);
-  if (file) return std::make_unique<SndfileSource>(path, std::move(*file));
+  if (file) {
+    if (IsMpegAudio(file->codec_name())) {
+      if (auto decoder = FfmpegDecoder::Open(path, nullptr)) {
+        return std::make_unique<FfmpegSource>(path, std::move(decoder));
+      }
+    }
+    return std::make_unique<SndfileSource>(path, std::move(*file));
+  }
   std::string ffmpeg_reason;
   auto decoder = FfmpegDecoder::Open(path, &ffmpeg_reason);
   if (decoder) return std::make_unique<FfmpegSource>(path, std::move(decoder));

@@ -136,10 +136,28 @@ std::unique_ptr<FfmpegDecoder> FfmpegDecoder::Open(const std::filesystem::path& 
     if (why_not) *why_not = AvError(found);
     return nullptr;
   }
+  const std::string container = ContainerName(format->iformat->name, path);
+  unsigned audio_streams = 0;
+  for (unsigned i = 0; i < format->nb_streams; ++i) {
+    if (format->streams[i]->codecpar->codec_type == AVMEDIA_TYPE_AUDIO) ++audio_streams;
+  }
+  // FFmpeg recognised the file, so its own words are the clearer refusal than "not audio".
+  if (audio_streams == 0) {
+    throw InputError(path.string() + ": " + container +
+                     " file without an audio stream (a video recorded without sound?); give a "
+                     "file that holds the recording");
+  }
+  // Which of two microphones or languages is the drop cannot be guessed, and a guess that
+  // happened to pick the wrong one would be analysed without complaint.
+  if (audio_streams > 1) {
+    throw InputError(path.string() + ": holds " + std::to_string(audio_streams) +
+                     " audio streams and which one is the drop is unclear; extract it, e.g. "
+                     "ffmpeg -i FILE -map 0:a:0 drop.wav");
+  }
   const int stream = av_find_best_stream(format, AVMEDIA_TYPE_AUDIO, -1, -1, nullptr, 0);
   if (stream < 0) {
-    if (why_not) *why_not = std::string(format->iformat->name) + " file without an audio stream";
-    return nullptr;
+    throw InputError(path.string() + ": its audio stream cannot be decoded by this FFmpeg (" +
+                     AvError(stream) + "); convert it to WAV or FLAC");
   }
   const AVStream* audio = format->streams[stream];
   const std::string codec_name = avcodec_get_name(audio->codecpar->codec_id);
@@ -152,7 +170,7 @@ std::unique_ptr<FfmpegDecoder> FfmpegDecoder::Open(const std::filesystem::path& 
   for (unsigned i = 0; i < format->nb_streams; ++i) {
     if (static_cast<int>(i) != stream) format->streams[i]->discard = AVDISCARD_ALL;
   }
-  decoder->container_ = ContainerName(format->iformat->name, path);
+  decoder->container_ = container;
   decoder->codec_ = codec_name;
   const AVCodecDescriptor* descriptor = avcodec_descriptor_get(audio->codecpar->codec_id);
   // A codec FFmpeg does not call lossless is treated as lossy: wider uncertainties are the safe
@@ -187,6 +205,16 @@ std::unique_ptr<FfmpegDecoder> FfmpegDecoder::Open(const std::filesystem::path& 
   if (!decoder->DecodeNextFrame()) {
     throw InputError(path.string() + ": its " + codec_name +
                      " audio stream holds no decodable sample; the file is damaged or empty");
+  }
+  // A length the container states in its header (an MP4 sample table, a Xing/LAME frame count,
+  // Matroska's duration) is a promise a cut copy breaks without a damaged packet when the cut
+  // falls between frames; a length estimated from the file size or read from the last page
+  // (an MP3 without tag, ADTS, Ogg) promises nothing.
+  if (format->duration_estimation_method == AVFMT_DURATION_FROM_STREAM &&
+      audio->duration != AV_NOPTS_VALUE && audio->duration > 0 &&
+      std::string_view(format->iformat->name) != "ogg") {
+    decoder->promised_frames_ =
+        av_rescale_q(audio->duration, audio->time_base, AVRational{1, decoder->sample_rate_hz_});
   }
   decoder->encoder_delay_ = !decoder->codec_primes_  ? EncoderDelay::kNone
                             : decoder->delay_stated_ ? EncoderDelay::kRemoved
@@ -278,6 +306,21 @@ void FfmpegDecoder::ConvertFrame() {
   pending_.resize(static_cast<std::size_t>(converted) * static_cast<std::size_t>(channels));
 }
 
+void FfmpegDecoder::CheckLength() const {
+  // The slack covers what a stated length and the decoded one may differ by in a whole file: the
+  // rounding of a container's time base and a codec frame's worth of priming or padding (AAC's
+  // 2112 samples at most).
+  const std::int64_t slack = 4096;
+  if (promised_frames_ > 0 && frames_decoded_ + slack < promised_frames_) {
+    char lengths[96];
+    std::snprintf(lengths, sizeof(lengths), "%.3f s of the %.3f s",
+                  static_cast<double>(frames_decoded_) / sample_rate_hz_,
+                  static_cast<double>(promised_frames_) / sample_rate_hz_);
+    throw InputError(path_.string() + ": truncated, only " + lengths +
+                     " its header states are present; copy or export the file again");
+  }
+}
+
 std::int64_t FfmpegDecoder::ReadFrames(std::span<float> interleaved) {
   const auto channels = static_cast<std::size_t>(channels_);
   const std::size_t wanted = interleaved.size() / channels;
@@ -293,7 +336,10 @@ std::int64_t FfmpegDecoder::ReadFrames(std::span<float> interleaved) {
       frames_decoded_ += static_cast<std::int64_t>(take);
       continue;
     }
-    if (!DecodeNextFrame()) finished_ = true;
+    if (!DecodeNextFrame()) {
+      finished_ = true;
+      CheckLength();
+    }
   }
   return static_cast<std::int64_t>(got);
 }

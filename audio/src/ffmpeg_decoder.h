@@ -29,8 +29,9 @@ class FfmpegDecoder {
  public:
   // Opens the file and decodes up to its first audio frame (which fixes the output rate and
   // channel count). Returns nullptr, with the reason in *why_not, when FFmpeg does not recognise
-  // the file as media with an audio stream; throws InputError when it does but the stream cannot
-  // be decoded (a damaged file, an unsupported codec).
+  // the file as media; throws InputError when it does but holds no audio stream (a silent
+  // video), more than one (which is the drop cannot be guessed), or a stream that cannot be
+  // decoded (a damaged file, an unsupported codec).
   static std::unique_ptr<FfmpegDecoder> Open(const std::filesystem::path& path,
                                              std::string* why_not);
 
@@ -53,7 +54,7 @@ class FfmpegDecoder {
   // Reads up to interleaved.size() / channels() frames as float; returns the number read, 0 at
   // the end. Throws InputError for a packet that cannot be read or decoded (a frame dropped in
   // the middle would move every later onset), or a stream that changes its rate or channel
-  // count.
+  // count, or (at the end) a stream well short of the length its header states.
   std::int64_t ReadFrames(std::span<float> interleaved);
 
  private:
@@ -62,6 +63,8 @@ class FfmpegDecoder {
   // Decodes the next frame of the stream into pending_; false at the end of the stream.
   bool DecodeNextFrame();
   void ConvertFrame();
+  // Throws InputError when the stream ended well short of the length its header states.
+  void CheckLength() const;
   [[noreturn]] void Damaged(const std::string& what, int av_error) const;
 
   std::filesystem::path path_;
@@ -79,7 +82,8 @@ class FfmpegDecoder {
   bool flushed_ = false;
   bool finished_ = false;
   std::int64_t frames_decoded_ = 0;
-  std::vector<float> pending_;  // converted samples of the last frame, interleaved
+  std::int64_t promised_frames_ = 0;  // the header's length in output frames; 0: none stated
+  std::vector<float> pending_;        // converted samples of the last frame, interleaved
   std::size_t pending_offset_ = 0;
 };
 
