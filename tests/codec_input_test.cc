@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -314,6 +315,27 @@ TEST_F(CodecInput, AnAacCopyOfTheSteelSampleKeepsItsEtaBarAndSaysItIsLossy) {
       std::hypot(wav["sequences"][0]["energy_loss_mean_first_n_uncertainty"].get<double>(),
                  lossy["sequences"][0]["energy_loss_mean_first_n_uncertainty"].get<double>());
   EXPECT_LE(std::fabs(eta_aac - eta_wav), 2 * stated);
+}
+
+// The README's determinism promise holds for decoded input too: FFmpeg decodes on one thread,
+// so the same M4A and MP3 give the same bytes of JSON every run.
+TEST_F(CodecInput, AnalysingALossyFileTwiceWritesByteIdenticalJson) {
+  const auto wav = WriteWav(folder_ / "drop.wav", Drop(9));
+  for (const std::string name : {"drop.m4a", "drop.mp3"}) {
+    SCOPED_TRACE(name);
+    const auto encoded = Encode(wav, name, {"-b:a", "96k"});
+    std::string runs[2];
+    for (int run = 0; run < 2; ++run) {
+      const auto json = folder_ / ("run" + std::to_string(run) + ".json");
+      ASSERT_EQ(RunBouncecal("analyze '" + encoded.string() + "' --json '" + json.string() + "'")
+                    .exit_status,
+                0);
+      std::ifstream in(json, std::ios::binary);
+      runs[run].assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    EXPECT_FALSE(runs[0].empty());
+    EXPECT_EQ(runs[0], runs[1]);
+  }
 }
 
 TEST_F(CodecInput, TheCalibrationInputCarriesTheCodecErrorExactlyOnce) {
