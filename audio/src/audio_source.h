@@ -11,7 +11,7 @@
 namespace bouncecal::audio {
 
 // A decoder RecordingReader streams from: libsndfile for what it reads (WAV, FLAC, OGG
-// Vorbis/Opus, MP3, AIFF, ...), FFmpeg for the rest (M4A/AAC, WebM, CAF, AMR, ...).
+// Vorbis/Opus, AIFF, ...), FFmpeg for MPEG audio and the rest (MP3, M4A/AAC, WebM, CAF, AMR, ...).
 class AudioSource {
  public:
   virtual ~AudioSource() = default;
@@ -22,7 +22,8 @@ class AudioSource {
   virtual std::int64_t ReadFrames(std::span<float> interleaved) = 0;
 };
 
-// Opens the file with libsndfile, or with FFmpeg when libsndfile does not recognise it. Throws
+// Opens MPEG audio with FFmpeg, anything else with libsndfile, or with FFmpeg when libsndfile
+// does not recognise it. Throws
 // InputError (one line naming the file) for a missing, empty or unreadable file, listing the
 // formats that are read.
 std::unique_ptr<AudioSource> OpenAudioSource(const std::filesystem::path& path);

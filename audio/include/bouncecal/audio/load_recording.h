@@ -35,7 +35,7 @@ struct RecordingInfo {
   int sample_rate_hz = 0;
   int channel_count = 0;
   std::int64_t header_frames = 0;  // frames the header claims; 0 when it does not say
-  // Which library decodes it: "libsndfile", or "ffmpeg" for what libsndfile cannot read.
+  // Which library decodes it: "libsndfile", or "ffmpeg" for MP3 and what libsndfile cannot read.
   std::string decoder;
   // Container and codec, named as FFmpeg names them: "wav"/"pcm_s16", "flac"/"flac",
   // "ogg"/"vorbis", "mp3"/"mp3", "m4a"/"aac" (or "mp4", "3gp", "mov"), "webm"/"opus", ...
@@ -51,8 +51,8 @@ struct RecordingInfo {
 };
 
 // Streams a recording in blocks so an hour of audio never has to sit in memory. Any format
-// libsndfile reads (WAV PCM 16/24/32, float, FLAC, OGG Vorbis/Opus, MP3...), and what it cannot
-// through FFmpeg (M4A/AAC as phones record, WebM, CAF, AMR, ...); any rate from 8 kHz, any
+// libsndfile reads (WAV PCM 16/24/32, float, FLAC, OGG Vorbis/Opus...), and MP3 and what it
+// cannot through FFmpeg (M4A/AAC as phones record, WebM, CAF, AMR, ...); any rate from 8 kHz, any
 // channel count; nothing is resampled and the encoder delay a container states is removed, so
 // sample i sits at i / rate from the start of the recording. Every problem is an InputError with
 // a one-line message naming the file: missing, empty, not audio, rate below 8 kHz or above
