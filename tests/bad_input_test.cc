@@ -143,6 +143,16 @@ TEST_F(BadInput, MediaFilesThatAreNotRecordingsAreRefusedInOneLine) {
                 2, "not a readable audio file");
   ExpectRefused("analyze", Write("script.ffconcat", "ffconcat version 1.0\nfile 'drop.wav'\n"), 2,
                 "not a readable audio file");
+  // An ID3 tag or an MPEG frame header over garbage: libsndfile's mpg123 printed "Note: Trying
+  // to resync..." lines of its own; FFmpeg alone reads what starts like MP3.
+  std::string id3 = std::string("ID3\x04\0\0\0\0\0\x23", 10);
+  std::string sync = "\xff\xfb\x90\x64";
+  for (int i = 0; i < 3000; ++i) {
+    id3.push_back(static_cast<char>((i * 7919) % 251));
+    sync.push_back(static_cast<char>((i * 7919) % 251));
+  }
+  ExpectRefused("analyze", Write("garbage_id3.mp3", id3), 2, "garbage_id3.mp3");
+  ExpectRefused("analyze", Write("garbage_sync.mp3", sync), 2, "garbage_sync.mp3");
   // An Ogg page header with nothing decodable behind it.
   ExpectRefused("analyze", Write("empty.ogg", std::string("OggS\0\x02", 6) + std::string(40, '\0')),
                 2, "empty.ogg");

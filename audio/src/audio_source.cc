@@ -129,12 +129,16 @@ class FfmpegSource final : public AudioSource {
 std::unique_ptr<AudioSource> OpenAudioSource(const std::filesystem::path& path) {
   // libsndfile's MPEG decoder (mpg123) resyncs past a damaged frame without a word to the caller
   // (a dropped frame moves every later onset) and prints its notes to stderr, even while
-  // sf_open parses the header; FFmpeg's refuses the frame. So MPEG audio goes to FFmpeg before
-  // libsndfile sees it, and libsndfile keeps an MPEG file only if FFmpeg cannot open it.
+  // sf_open parses the header; FFmpeg's refuses the frame. So what starts like MPEG audio goes
+  // to FFmpeg only (libsndfile recognises MPEG by the same start), and libsndfile keeps an MPEG
+  // file FFmpeg cannot open only if it starts otherwise.
   if (LooksLikeMpegAudio(path)) {
-    if (auto decoder = FfmpegDecoder::Open(path, nullptr)) {
+    std::string ffmpeg_reason;
+    if (auto decoder = FfmpegDecoder::Open(path, &ffmpeg_reason)) {
       return std::make_unique<FfmpegSource>(path, std::move(decoder));
     }
+    throw InputError(path.string() + ": not a readable audio file (it starts like MP3, but " +
+                     "FFmpeg: " + ffmpeg_reason + "); " + kReadableFormats);
   }
   std::string sndfile_reason;
   auto file = SoundFile::TryOpenForReading(path, &sndfile_reason);
