@@ -29,6 +29,7 @@ struct EngineSettings {
   double vdw_min_gap_m = 4e-10;
   double vdw_cutoff_gap_m = 1e-6;
   double local_damping = 0.7;
+  LocalDampingScope local_damping_scope = LocalDampingScope::kUnbalancedForce;
   // Paper 004 (sections 2 and 3.1): a particle's velocity is set to zero at its first collision
   // (with a particle or a wall), once per particle. See first_contact_stop.cc.
   bool stop_at_first_contact = false;

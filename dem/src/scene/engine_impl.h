@@ -214,7 +214,12 @@ class Engine final : public EngineBase<Dim> {
   [[gnu::always_inline]] Load GatherForce(std::int32_t i) {
     const auto& pairs = this->pairs_;
     const double r_i = records_[static_cast<std::size_t>(i)].position_radius.s;
-    V force = records_[static_cast<std::size_t>(i)].velocity_mass.s * gravity_;
+    const V weight = records_[static_cast<std::size_t>(i)].velocity_mass.s * gravity_;
+    // Gravity joins the sum first (the order every result so far was computed in) unless the
+    // local damping must see the other forces alone; then it is added after the damping.
+    const bool weight_after_damping = Phys::kLocalDamping && this->settings_.local_damping_scope ==
+                                                                 LocalDampingScope::kContactForces;
+    V force = weight_after_damping ? V::Zero() : weight;
     // Every pair's torque on i is -r_i (n x F_t): the twists are summed and scaled once.
     S twist = ZeroSpin<Dim>();
     const auto* results = this->pair_result_.data();
@@ -233,6 +238,7 @@ class Engine final : public EngineBase<Dim> {
       const Record& record = records_[static_cast<std::size_t>(i)];
       ApplyLocalDamping<Dim, Phys::kRotation>(this->settings_.local_damping, record.velocity_mass.v,
                                               record.spin_inertia.w, force, torque);
+      if (weight_after_damping) force += weight;
     }
     return {force, torque};
   }

@@ -57,7 +57,12 @@ std::string DescribePhysics(const Scene& scene) {
   if (scene.physics.tangential) text += "+tangential";
   if (scene.physics.rotation) text += "+rotation";
   if (scene.physics.van_der_waals) text += "+vdw";
-  if (scene.physics.local_damping) text += "+local-damping";
+  if (scene.physics.local_damping) {
+    // The default scope keeps its old name, so existing summaries stay byte-identical.
+    text += scene.material.local_damping_scope == LocalDampingScope::kContactForces
+                ? "+local-damping-contact-forces"
+                : "+local-damping";
+  }
   if (scene.physics.stop_at_first_contact) text += "+first-contact-stop";
   return text;
 }
@@ -241,6 +246,7 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
   settings.vdw_min_gap_m = m.vdw_min_gap_m;
   settings.vdw_cutoff_gap_m = m.vdw_cutoff_gap_m;
   settings.local_damping = m.local_damping;
+  settings.local_damping_scope = m.local_damping_scope;
   settings.stop_at_first_contact = scene.physics.stop_at_first_contact;
   settings.skin_m = options.skin_diameters * scene.particles.diameter.MaxDiameterM();
   settings.min_skin_m = options.min_skin_diameters * scene.particles.diameter.MaxDiameterM();

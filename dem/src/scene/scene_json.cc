@@ -313,6 +313,16 @@ void ReadMaterial(JsonReader r, Scene& scene) {
   m.vdw_min_gap_m = r.Number("vdw_min_gap_m", 1e-12, 1e-3, m.vdw_min_gap_m);
   m.vdw_cutoff_gap_m = r.Number("vdw_cutoff_gap_m", m.vdw_min_gap_m, 1, m.vdw_cutoff_gap_m);
   m.local_damping = r.Number("local_damping", 0, 0.999, m.local_damping);
+  const std::string scope = r.String("local_damping_scope", "unbalanced-force");
+  if (scope == "unbalanced-force") {
+    m.local_damping_scope = LocalDampingScope::kUnbalancedForce;
+  } else if (scope == "contact-forces") {
+    m.local_damping_scope = LocalDampingScope::kContactForces;
+  } else {
+    r.Fail("local_damping_scope",
+           "'" + scope + "' is not one of: unbalanced-force (gravity damped too, Itasca PFC), " +
+               "contact-forces (gravity undamped)");
+  }
   r.Finish();
 }
 

@@ -54,6 +54,22 @@ TEST(SceneJson, MinimalSceneTakesDocumentedDefaults) {
   EXPECT_EQ(scene.material.law.kind, ContactLawKind::kWaltonBraun);
 }
 
+TEST(SceneJson, LocalDampingScopeDefaultsToTheWholeForceAndNamesBadValues) {
+  EXPECT_EQ(SceneFromJson(Minimal(), "scene.json").material.local_damping_scope,
+            LocalDampingScope::kUnbalancedForce);
+  auto json = Minimal();
+  json["material"]["local_damping_scope"] = "contact-forces";
+  EXPECT_EQ(SceneFromJson(json, "scene.json").material.local_damping_scope,
+            LocalDampingScope::kContactForces);
+  json["material"]["local_damping_scope"] = "unbalanced-force";
+  EXPECT_EQ(SceneFromJson(json, "scene.json").material.local_damping_scope,
+            LocalDampingScope::kUnbalancedForce);
+  json["material"]["local_damping_scope"] = "contacts";
+  const auto message = ErrorOf(json);
+  EXPECT_TRUE(Mentions(message, "material.local_damping_scope")) << message;
+  EXPECT_TRUE(Mentions(message, "contact-forces")) << message;  // lists the valid values
+}
+
 TEST(SceneJson, UnknownKeyIsRejectedWithItsName) {
   auto json = Minimal();
   json["material"]["frictoin"] = 0.3;

@@ -90,6 +90,16 @@ struct InsertionSpec {
   std::filesystem::path file;     // kFile: *.csv (x_m,y_m[,z_m],diameter_m[,species]) or LAMMPS
 };
 
+// Which forces Cundall's local damping reduces (docs/scenes.md, material.local_damping_scope).
+enum class LocalDampingScope {
+  // The whole unbalanced force, gravity included (Itasca PFC's form): a particle in free fall
+  // accelerates at (1 - alpha) g.
+  kUnbalancedForce,
+  // Only the forces from other bodies (contacts, walls, van der Waals); gravity acts undamped, so
+  // free flight is ballistic and only contacts lose energy to the damping.
+  kContactForces,
+};
+
 struct MaterialSpec {
   ContactLawConfig law;                 // normal law, particle-particle and particle-wall
   std::filesystem::path material_card;  // empty when the law was given inline
@@ -100,6 +110,7 @@ struct MaterialSpec {
   double vdw_min_gap_m = 4e-10;    // the gap the 1/h^2 force is evaluated at when closer
   double vdw_cutoff_gap_m = 1e-6;  // no force beyond this surface gap
   double local_damping = 0.7;      // Cundall's alpha in [0, 1)
+  LocalDampingScope local_damping_scope = LocalDampingScope::kUnbalancedForce;
 };
 
 // The physics the force loop is instantiated for ("model only what a scene requires").
