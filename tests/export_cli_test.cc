@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
@@ -76,13 +77,50 @@ TEST_F(ExportCli, SceneAddsThePackingDeckForMpirun) {
   EXPECT_NE(text.str().find("run             300000"), std::string::npos);
 }
 
-TEST_F(ExportCli, TwoDimensionalSceneIsABadOptionNamingTheKey) {
+TEST_F(ExportCli, TwoDimensionalSceneWithLocalDampingIsABadOptionNamingTheKey) {
+  // 2D boxes are exported (from their start positions), but the shipped paper 004 scenes use
+  // Cundall's local damping, which neither engine's hooke models have.
   const auto scene = SourceDir() / "samples/scenes/paper004_disks_frictionless.json";
   const auto result = RunBouncecal("export --material " + Card() + " --engine lammps --scene " +
                                    scene.string() + " -o " + (folder_ / "deck").string());
   EXPECT_EQ(result.exit_status, 3) << result.output;
-  EXPECT_NE(result.output.find("dimension"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("physics.local_damping"), std::string::npos) << result.output;
   EXPECT_FALSE(fs::exists(folder_ / "deck")) << "nothing written, not even the folder, on error";
+}
+
+TEST_F(ExportCli, TwoDimensionalDeckIsWrittenForLammpsOnly) {
+  auto json = nlohmann::json::parse(
+      std::ifstream(SourceDir() / "samples/scenes/paper004_disks_frictionless.json"));
+  json["physics"]["local_damping"] = false;
+  json["physics"]["stop_at_first_contact"] = false;
+  const fs::path scene = folder_ / "disks.json";
+  std::ofstream(scene) << json.dump();
+  // The scene's own soft spring: the 1 cm ball's k = 1e7 N/m is unstable for 100 um disks at 1 us.
+  const std::string card = (folder_ / "soft.json").string();
+  std::ofstream(card) << R"({"format": "bouncecal-material/1",
+    "contact_law": {"law": "linear-dashpot",
+                    "parameters": {"stiffness_n_per_m": 100, "damping_ratio": 0.1}},
+    "ball": {"diameter_m": 1e-4, "density_kg_per_m3": 7860}})";
+  const auto refused = RunBouncecal("export --material " + card + " --engine liggghts --scene " +
+                                    scene.string() + " -o " + (folder_ / "refused").string());
+  EXPECT_EQ(refused.exit_status, 3) << refused.output;
+  EXPECT_NE(refused.output.find("LAMMPS only"), std::string::npos) << refused.output;
+
+  const fs::path deck = folder_ / "deck";
+  const auto result = RunBouncecal("export --material " + card + " --engine lammps --scene " +
+                                   scene.string() + " -o " + deck.string());
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  std::stringstream text;
+  text << std::ifstream(deck / "in.pack").rdbuf();
+  for (const char* line :
+       {"dimension       2", "read_data       start.data", "fix             plane all enforce2d",
+        "yplane 0 0.002", "xplane 0 0.002", "vector 0 -1 0"}) {
+    EXPECT_NE(text.str().find(line), std::string::npos) << line << "\n" << text.str();
+  }
+  // The start is the scene's own: 240 disks at rest, in the scene's coordinates.
+  std::stringstream data;
+  data << std::ifstream(deck / "start.data").rdbuf();
+  EXPECT_NE(data.str().find("240 atoms"), std::string::npos) << data.str().substr(0, 300);
 }
 
 TEST_F(ExportCli, HelpShowsAnExample) {

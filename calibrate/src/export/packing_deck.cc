@@ -70,10 +70,32 @@ void Validate(const PackingDeckSpec& spec, const PackingDeckOptions& options) {
     RequirePositive(spec.box_half_y_m - largest, "scene box half-width y minus one diameter",
                     "metres");
   }
-  RequirePositive(spec.insert_z_min_m - 0.5 * largest,
-                  "scene insertion bottom above the floor (minus a radius)", "metres");
-  RequirePositive(spec.insert_z_max_m - spec.insert_z_min_m - largest,
-                  "scene insertion band height minus one diameter", "metres");
+  if (spec.dimension != 2 && spec.dimension != 3) {
+    throw ConfigError(fmt::format("scene dimension must be 2 or 3, got {}", spec.dimension));
+  }
+  if (spec.dimension == 2) {
+    if (options.engine != Engine::kLammps) {
+      throw ConfigError(
+          "2D packing decks are written for LAMMPS only (dimension 2, enforce2d); "
+          "choose --engine lammps");
+    }
+    if (spec.container != PackingContainer::kBox || !spec.start_data) {
+      throw ConfigError("a 2D packing deck needs a box container and start positions");
+    }
+    if (spec.max_diameter_m) {
+      throw ConfigError(
+          "2D packing decks take one particle size; leave the largest diameter unset");
+    }
+  }
+  if (spec.start_data && spec.start_data->empty()) {
+    throw ConfigError("scene start positions are empty; give a LAMMPS data file's text");
+  }
+  if (!spec.start_data) {
+    RequirePositive(spec.insert_z_min_m - 0.5 * largest,
+                    "scene insertion bottom above the floor (minus a radius)", "metres");
+    RequirePositive(spec.insert_z_max_m - spec.insert_z_min_m - largest,
+                    "scene insertion band height minus one diameter", "metres");
+  }
   // The insertion region must hold a particle and stay inside the container's walls.
   auto check_inside = [&](const std::optional<double>& value, double wall, std::string_view name) {
     if (!value) return;
@@ -83,6 +105,9 @@ void Validate(const PackingDeckSpec& spec, const PackingDeckOptions& options) {
   check_inside(spec.insert_radius_m, spec.container_radius_m, "scene insertion radius");
   check_inside(spec.insert_half_x_m, spec.box_half_x_m, "scene insertion half-width x");
   check_inside(spec.insert_half_y_m, spec.box_half_y_m, "scene insertion half-width y");
+  if (spec.dimension == 3 && spec.start_data) {
+    throw ConfigError("3D packing decks pour their particles; start positions are for 2D decks");
+  }
   if (spec.batch_interval_s) {
     RequirePositive(*spec.batch_interval_s, "scene batch interval", "seconds");
   }
@@ -272,6 +297,60 @@ write_data      final.data
       fmt::arg("dump", DumpCommand(deck)), fmt::arg("steps", deck.steps));
 }
 
+// Disks in a box from start.data: LAMMPS needs a periodic z in 2D, and enforce2d after the
+// force fixes so that no z force survives. read_data's atom_style sphere gives each particle a
+// sphere's mass from its diameter and density, and nve/sphere a sphere's inertia: the same as
+// bouncecal's 2D engine.
+std::string Lammps2dPackingScript(const PackingDeckSpec& spec, const LawMapping& mapping,
+                                  const Deck& deck) {
+  const double x = spec.box_half_x_m;
+  const double x0 = spec.origin_m[0], y0 = spec.origin_m[1];
+  const std::string wall_law =
+      fmt::format("hooke/history {} {} {} 0 {} 0", Number(mapping.wall.stiffness_n_per_m),
+                  Number(spec.tangential_stiffness_n_per_m),
+                  Number(mapping.wall.damping_rate_per_s), Number(spec.wall_friction));
+  return fmt::format(
+      R"(
+units           si
+atom_style      sphere
+dimension       2
+boundary        f f p
+newton          off
+comm_modify     vel yes
+read_data       start.data
+
+# Pair contacts (equal spheres, m_eff = m/2): Kn Kt gamma_n gamma_t xmu dampflag.
+pair_style      gran/hooke/history {kn} {kt} {gn} 0 {mu} 0
+pair_coeff      * *
+neighbor        {skin} bin
+neigh_modify    delay 0
+
+timestep        {dt}
+fix             integrate all nve/sphere
+fix             gravity all gravity {g} vector 0 -1 0
+# Wall contacts (sphere on wall, m_eff = m).
+fix             floor all wall/gran {wall} yplane {floor} {top}
+fix             sides all wall/gran {wall} xplane {left} {right}
+fix             plane all enforce2d
+
+compute         rotation all erotate/sphere
+thermo_style    custom step time atoms ke c_rotation
+thermo          {thermo}
+{dump}run             {steps}
+write_data      final.data
+)",
+      fmt::arg("kn", Number(mapping.pair.stiffness_n_per_m)),
+      fmt::arg("kt", Number(spec.tangential_stiffness_n_per_m)),
+      fmt::arg("gn", Number(mapping.pair.damping_rate_per_s)),
+      fmt::arg("mu", Number(spec.friction)), fmt::arg("skin", Number(0.2 * spec.diameter_m)),
+      fmt::arg("dt", Number(spec.time_step_s)), fmt::arg("g", Number(spec.gravity_mps2)),
+      fmt::arg("wall", wall_law), fmt::arg("floor", Number(y0)),
+      fmt::arg("top", spec.closed_top ? Number(y0 + spec.container_height_m) : "NULL"),
+      fmt::arg("left", Number(x0 - x)), fmt::arg("right", Number(x0 + x)),
+      fmt::arg("thermo", std::max<std::int64_t>(1, deck.steps / 20)),
+      fmt::arg("dump", DumpCommand(deck)), fmt::arg("steps", deck.steps));
+}
+
 }  // namespace
 
 Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec,
@@ -280,8 +359,10 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
   const double d = MeanDiameter(spec);
   const double mass = SphereMass(d, spec.density_kg_per_m3);
   // The pour's typical first impact: a fall from the middle of the insertion band.
-  const double impact_speed =
-      std::sqrt(2 * spec.gravity_mps2 * 0.5 * (spec.insert_z_min_m + spec.insert_z_max_m));
+  // From start positions: a fall through half the container.
+  const double fall_m = spec.start_data ? 0.5 * spec.container_height_m
+                                        : 0.5 * (spec.insert_z_min_m + spec.insert_z_max_m);
+  const double impact_speed = std::sqrt(2 * spec.gravity_mps2 * fall_m);
   const LawMapping mapping =
       MapContactLaw(material.law, mass, 0.5 * d, impact_speed, options.engine);
 
@@ -348,7 +429,14 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
       Number(spec.wall_friction)));
   const bool lammps = options.engine == Engine::kLammps;
   const LiggghtsBatches batches = PlanBatches(spec);
-  if (lammps) {
+  if (spec.start_data) {
+    deck.notes.push_back(fmt::format(
+        "Start: read_data start.data, the scene's own start positions, at rest{}.",
+        spec.dimension == 2
+            ? "; 2D: dimension 2 with enforce2d, each particle a sphere (mass and inertia) whose "
+              "centre moves in the x-y plane, gravity along -y"
+            : ""));
+  } else if (lammps) {
     deck.notes.push_back(
         "Insertion uses fix pour (LAMMPS 29Sep2021's create_atoms cannot avoid overlaps): "
         "particles appear without overlap in the insertion band and fall; later batches follow "
@@ -398,6 +486,12 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
   header.push_back(fmt::format("Run in this folder: {}", deck.run_command));
 
   std::string script = CommentBlock(header);
+  if (spec.dimension == 2) {
+    script += Lammps2dPackingScript(spec, mapping, deck);
+    deck.files.push_back({deck.input_file_name, script});
+    deck.files.push_back({"start.data", *spec.start_data});
+    return deck;
+  }
   if (!lammps) {
     script += LiggghtsPackingScript(spec, mapping, batches, deck);
     deck.files.push_back({deck.input_file_name, script});

@@ -3,7 +3,9 @@
 #include <fmt/core.h>
 
 #include <cmath>
+#include <sstream>
 
+#include "bouncecal/dem/packing.h"
 #include "bouncecal/error.h"
 
 namespace bouncecal::calibrate {
@@ -13,8 +15,12 @@ PackingDeckSpec PackingDeckSpecFromScene(const dem::Scene& scene) {
   auto refuse = [&](std::string_view key, std::string_view why) {
     throw ConfigError(fmt::format("{}: {}: {}", file, key, why));
   };
-  if (scene.dimension != 3) {
-    refuse("dimension", "only 3D scenes can be exported to a packing deck so far");
+  if (scene.dimension == 2 && scene.container.kind != dem::ContainerKind::kBox) {
+    refuse("container.type", "2D scenes are exported in a box only");
+  }
+  if (scene.dimension == 2 && scene.insertion.kind == dem::InsertionKind::kPour) {
+    refuse("insertion.type",
+           "2D decks start from the scene's start positions; use random or file insertion");
   }
   if (scene.particles.species.size() != 1) {
     refuse("particles.species", "exported decks take one species; split the scene or export each");
@@ -31,8 +37,8 @@ PackingDeckSpec PackingDeckSpecFromScene(const dem::Scene& scene) {
     refuse("physics.stop_at_first_contact",
            "zeroing velocities at the first collision has no counterpart in either engine");
   }
-  if (scene.insertion.kind == dem::InsertionKind::kFile) {
-    refuse("insertion.type", "file insertion is not exported; read the positions with read_data");
+  if (scene.dimension == 3 && scene.insertion.kind == dem::InsertionKind::kFile) {
+    refuse("insertion.type", "file insertion is exported for 2D scenes only so far");
   }
   const auto& velocity = scene.insertion.initial_velocity_mps;
   if (velocity[0] != 0 || velocity[1] != 0 || velocity[2] != 0) {
@@ -58,6 +64,16 @@ PackingDeckSpec PackingDeckSpecFromScene(const dem::Scene& scene) {
       spec.container_height_m = scene.container.height_m;
       break;
     case dem::ContainerKind::kBox:
+      if (scene.dimension == 2) {
+        spec.container = PackingContainer::kBox;
+        origin = {0.5 * (scene.container.min_m[0] + scene.container.max_m[0]),
+                  scene.container.min_m[1], 0};
+        spec.box_half_x_m = 0.5 * (scene.container.max_m[0] - scene.container.min_m[0]);
+        spec.box_half_y_m = spec.box_half_x_m;  // no y walls in 2D; kept valid for the checks
+        spec.container_height_m = scene.container.max_m[1] - scene.container.min_m[1];
+        spec.closed_top = scene.container.closed_top;
+        break;
+      }
       if (scene.container.closed_top) refuse("container.closed_top", "a lid is not exported");
       spec.container = PackingContainer::kBox;
       origin = {0.5 * (scene.container.min_m[0] + scene.container.max_m[0]),
@@ -72,7 +88,18 @@ PackingDeckSpec PackingDeckSpecFromScene(const dem::Scene& scene) {
   }
 
   const auto& region = scene.insertion.region;
-  if (region.kind == dem::RegionKind::kCylinder) {
+  if (scene.dimension == 2) {
+    // The start the scene itself would run from (random placement by its seed, or its start
+    // file), measured at t = 0 as `bouncecal pack --duration 0` does, in the scene's coordinates.
+    spec.dimension = 2;
+    for (int d = 0; d < 3; ++d) spec.origin_m[d] = origin[d];
+    dem::PackOptions start_only;
+    start_only.duration_s = 0;
+    const dem::PackSummary start = dem::RunPacking(scene, start_only);
+    std::ostringstream data;
+    dem::WriteLammpsData(data, start.final_state, scene);
+    spec.start_data = data.str();
+  } else if (region.kind == dem::RegionKind::kCylinder) {
     if (spec.container != PackingContainer::kCylinder ||
         std::hypot(region.center_m[0] - origin[0], region.center_m[1] - origin[1]) > 1e-12) {
       refuse("insertion.region", "a cylindrical region must share the cylinder's axis");

@@ -53,6 +53,18 @@ struct PackingDeckSpec {
   // dump.pack every this long; 0 (a scene that asks bouncecal pack for no dumps): 20 snapshots
   // over the run. The deck always dumps, from t = 0.
   double snapshot_interval_s = 0.1;
+  // 2: spheres whose centres move in the x-y plane (LAMMPS `dimension 2`, `enforce2d`, with a
+  // sphere's mass and inertia, as bouncecal's 2D scenes), gravity along -y, in a box whose floor
+  // is y = 0 and whose side walls are x = +-box_half_x_m; container_height_m is the box's height
+  // along y. LAMMPS only, and only from start_data.
+  int dimension = 3;
+  bool closed_top = false;  // 2D: a wall at y = container_height_m too
+  // When set, the deck starts from these particles (a LAMMPS data file, atom_style sphere, written
+  // beside the input as start.data and read with read_data) instead of pouring; the insertion
+  // fields are then unused. Its coordinates are the scene's: the container's floor centre sits at
+  // origin_m (x, y, z; in 2D x and y).
+  std::optional<std::string> start_data;
+  double origin_m[3] = {0, 0, 0};
 };
 
 struct PackingDeckOptions {
@@ -66,7 +78,8 @@ struct PackingDeckOptions {
 // fix pour. LIGGGHTS: model hooke/stiffness with per-type-pair coefficients (the walls are atom
 // type 2), insertion by insert/rate/region in batches. Both: Cundall-Strack tangential history
 // with Coulomb friction, nve/sphere with rotation, thermo (atoms, kinetic energies), dump
-// snapshots (dump.pack), write_data of the final packing (final.data). The header states the
+// snapshots (dump.pack), write_data of the final packing (final.data). A 2D spec (LAMMPS only)
+// reads its start.data and runs with enforce2d between wall/gran planes. The header states the
 // mapping and what the scene's time step costs in accuracy. Throws ConfigError for a spec outside
 // its ranges (naming the field) or a step that is unstable for the mapped pair contact.
 Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec,

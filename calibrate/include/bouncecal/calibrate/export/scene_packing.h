@@ -6,10 +6,13 @@
 
 namespace bouncecal::calibrate {
 
-// The engine-neutral packing spec of a bouncecal scene (docs/scenes.md), shifted so that the
-// container's floor centre is the origin. Throws ConfigError, naming the scene file and the key,
-// for what the exported decks cannot express: 2D scenes, more than one species, van der Waals
-// attraction, Cundall local damping, a plane container, insertion from a file.
+// The engine-neutral packing spec of a bouncecal scene (docs/scenes.md). 3D: shifted so that the
+// container's floor centre is the origin, particles poured. 2D (a box): the particles the scene
+// starts from (its random placement or its start file, as `bouncecal pack --duration 0` places
+// them) become the deck's start.data, in the scene's coordinates. Throws ConfigError, naming the
+// scene file and the key, for what the exported decks cannot express: more than one species, van
+// der Waals attraction, Cundall local damping, the first-contact stop, a plane container, a 2D
+// pour or a 3D start file.
 PackingDeckSpec PackingDeckSpecFromScene(const dem::Scene& scene);
 
 }  // namespace bouncecal::calibrate
