@@ -1,8 +1,10 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include "bouncecal/error.h"
+#include "bouncecal/version.h"
 #include "commands.h"
 #include "exit_codes.h"
 
@@ -21,6 +23,9 @@ int main(int argc, char** argv) {
       "bouncecal: calibrate DEM contact damping from the sound of a bouncing ball.\n"
       "All quantities are SI (m, s, kg, N/m) unless an option name says otherwise."};
   app.require_subcommand(1);
+  // `bouncecal --version` as other tools have it; `bouncecal version` prints the same line.
+  app.set_version_flag("--version", "bouncecal " + std::string(bouncecal::Version()),
+                       "Print the toolkit version and exit");
   apps::AddVersionCommand(app);
   apps::AddSimulateCommand(app);
   apps::AddCalibrateCommand(app);
