@@ -10,15 +10,19 @@
 #include <vector>
 
 #include "analyze_plot.h"
-#include "bouncecal/atomic_file.h"
 #include "bouncecal/audio/bounce_analysis.h"
 #include "bouncecal/calibrate/restitution.h"
 #include "bouncecal/error.h"
 #include "commands.h"
+#include "option_alias.h"
+#include "output_target.h"
 #include "plot/gnuplot_plot.h"
 
 namespace bouncecal::apps {
 namespace {
+
+// The format of --json (docs/json.md, docs/schema/analysis.schema.json).
+constexpr const char* kAnalysisFormat = "bouncecal-analysis/1";
 
 struct AnalyzeArgs {
   std::vector<std::string> recordings;
@@ -26,8 +30,8 @@ struct AnalyzeArgs {
   double gravity_mps2 = 9.81;
   int first_n = 3;
   std::optional<int> channel;
-  std::string json_path;
-  std::string csv_path;
+  std::filesystem::path json_path;
+  std::filesystem::path csv_path;
   std::string plot_path;
   audio::DetectorOptions detector;
   audio::SequenceOptions sequences;
@@ -196,7 +200,7 @@ nlohmann::json Summary(const std::vector<FileAnalysis>& analyses, int first_n) {
   return summary;
 }
 
-void PrintTable(const FileAnalysis& analysis, const AnalyzeArgs& args) {
+void PrintTable(std::FILE* out, const FileAnalysis& analysis, const AnalyzeArgs& args) {
   const auto& d = analysis.detection;
   std::string channel_note;
   if (d.channel_chosen_automatically) {
@@ -210,22 +214,23 @@ void PrintTable(const FileAnalysis& analysis, const AnalyzeArgs& args) {
     }
     channel_note += ")";
   }
-  fmt::print("{}\n  {} Hz, {:.3f} s, channel {} of {}{}\n", d.info.path.string(),
+  fmt::print(out, "{}\n  {} Hz, {:.3f} s, channel {} of {}{}\n", d.info.path.string(),
              d.info.sample_rate_hz, d.duration_s, d.channel, d.info.channel_count, channel_note);
-  fmt::print(
-      "  {} in {}, {}{}\n", d.info.codec, d.info.container, d.info.lossy ? "lossy" : "lossless",
-      d.codec_timing ? fmt::format(": onset uncertainties include +-{:.0f} us of codec timing",
-                                   d.codec_timing->onset_uncertainty_s * 1e6)
-                     : std::string());
-  fmt::print("  {} impacts, {} sequence(s), {} rejected events\n", d.detection.impacts.size(),
+  fmt::print(out, "  {} in {}, {}{}\n", d.info.codec, d.info.container,
+             d.info.lossy ? "lossy" : "lossless",
+             d.codec_timing
+                 ? fmt::format(": onset uncertainties include +-{:.0f} us of codec timing",
+                               d.codec_timing->onset_uncertainty_s * 1e6)
+                 : std::string());
+  fmt::print(out, "  {} impacts, {} sequence(s), {} rejected events\n", d.detection.impacts.size(),
              analysis.sequences.size(), analysis.rejected.size());
   for (size_t s = 0; s < analysis.sequences.size(); ++s) {
     const auto& entry = analysis.sequences[s];
     const auto& p = entry.physics;
-    fmt::print("  sequence {}: {} impacts from {:.4f} s to {:.4f} s; ends: {}\n", s,
+    fmt::print(out, "  sequence {}: {} impacts from {:.4f} s to {:.4f} s; ends: {}\n", s,
                entry.onsets.size(), entry.onsets.front().onset_s, entry.onsets.back().onset_s,
                entry.sequence.end_reason);
-    fmt::print("    {:>3} {:>10} {:>7} {:>9} {:>7} {:>7} {:>7} {:>7} {:>9}\n", "k", "onset_s",
+    fmt::print(out, "    {:>3} {:>10} {:>7} {:>9} {:>7} {:>7} {:>7} {:>7} {:>9}\n", "k", "onset_s",
                "+-us", "dt_s", "e", "+-", "eta", "+-", "h_m");
     for (size_t k = 0; k < entry.onsets.size(); ++k) {
       std::string dt = k < p.intervals_s.size() ? fmt::format("{:9.5f}", p.intervals_s[k]) : "";
@@ -240,20 +245,21 @@ void PrintTable(const FileAnalysis& analysis, const AnalyzeArgs& args) {
           deta = fmt::format("{:7.4f}", p.energy_loss_uncertainty[j]);
         }
       }
-      fmt::print("    {:>3} {:10.6f} {:7.1f} {:>9} {:>7} {:>7} {:>7} {:>7} {:>9}\n", k + 1,
+      fmt::print(out, "    {:>3} {:10.6f} {:7.1f} {:>9} {:>7} {:>7} {:>7} {:>7} {:>9}\n", k + 1,
                  entry.onsets[k].onset_s, entry.onsets[k].uncertainty_s * 1e6, dt, e, de, eta, deta,
                  h);
     }
     if (p.energy_loss_mean_first_n) {
-      fmt::print("    mean energy loss over the first {} impacts: {:.4f} +- {:.2g}\n", args.first_n,
-                 *p.energy_loss_mean_first_n, *p.energy_loss_mean_first_n_uncertainty);
+      fmt::print(out, "    mean energy loss over the first {} impacts: {:.4f} +- {:.2g}\n",
+                 args.first_n, *p.energy_loss_mean_first_n,
+                 *p.energy_loss_mean_first_n_uncertainty);
     } else {
-      fmt::print("    mean energy loss over the first {} impacts: n/a (fewer e values)\n",
+      fmt::print(out, "    mean energy loss over the first {} impacts: n/a (fewer e values)\n",
                  args.first_n);
     }
   }
   for (const auto& event : analysis.rejected) {
-    fmt::print("  rejected {:10.6f} s: {}\n", event.time_s, event.reason);
+    fmt::print(out, "  rejected {:10.6f} s: {}\n", event.time_s, event.reason);
   }
 }
 
@@ -351,19 +357,21 @@ void WarnAboutCodec(const std::string& path, const audio::FileDetection& detecti
 }
 
 void Run(const AnalyzeArgs& args) {
+  const TextOutputs text({{"--json", &args.json_path}, {"--csv", &args.csv_path}});
+  std::FILE* out = text.human();
   if (args.first_n < 1)
     throw ConfigError("--first must be at least 1, got " + std::to_string(args.first_n));
-  if (!(args.gravity_mps2 > 0)) throw ConfigError("--gravity must be positive m/s^2");
+  if (!(args.gravity_mps2 > 0)) throw ConfigError("--gravity-mps2 must be positive m/s^2");
   if (args.drop_height_m && !(*args.drop_height_m > 0)) {
-    throw ConfigError("--drop-height must be a positive number of metres");
+    throw ConfigError("--drop-height-m must be a positive number of metres");
   }
   if (!args.plot_path.empty()) CheckPlotTarget(args.plot_path);
   // Every file is analysed before any output is written, so a bad file leaves no output.
   std::vector<FileAnalysis> analyses;
   for (const auto& path : args.recordings) analyses.push_back(AnalyzeFile(path, args));
   for (size_t i = 0; i < analyses.size(); ++i) {
-    if (i) fmt::print("\n");
-    PrintTable(analyses[i], args);
+    if (i) fmt::print(out, "\n");
+    PrintTable(out, analyses[i], args);
     if (analyses[i].detection.detection.impacts.empty()) {
       std::fprintf(stderr, "bouncecal: note: %s: no impacts found (silence or noise only)\n",
                    args.recordings[i].c_str());
@@ -380,13 +388,13 @@ void Run(const AnalyzeArgs& args) {
                    "two or three sounds that time like bounces by chance); check them in the "
                    "table%s\n",
                    args.recordings[i].c_str(), s, entry.onsets.size(),
-                   args.drop_height_m ? "" : ", and give --drop-height to time the first");
+                   args.drop_height_m ? "" : ", and give --drop-height-m to time the first");
     }
   }
   if (analyses.size() > 1) {
     const auto summary = Summary(analyses, args.first_n);
     if (summary["energy_loss_mean"].is_number()) {
-      fmt::print("\nacross {} recordings: mean energy loss (first {}) = {:.4f} +- {}\n",
+      fmt::print(out, "\nacross {} recordings: mean energy loss (first {}) = {:.4f} +- {}\n",
                  summary["recordings_with_energy_loss"].get<size_t>(), args.first_n,
                  summary["energy_loss_mean"].get<double>(),
                  summary["energy_loss_std"].is_number()
@@ -395,20 +403,19 @@ void Run(const AnalyzeArgs& args) {
     }
   }
   if (!args.json_path.empty()) {
-    nlohmann::json json;
-    if (analyses.size() == 1) {
-      json = ToJson(analyses[0], args);
-    } else {
-      json = nlohmann::json::array();
-      for (const auto& analysis : analyses) json.push_back(ToJson(analysis, args));
-      json.push_back({{"summary", Summary(analyses, args.first_n)}});
-    }
-    WriteFileAtomically(args.json_path, json.dump(2) + "\n");
+    // One shape for any number of recordings (docs/json.md): the format, one entry per recording
+    // in the order given, and the summary across them.
+    nlohmann::json recordings = nlohmann::json::array();
+    for (const auto& analysis : analyses) recordings.push_back(ToJson(analysis, args));
+    const nlohmann::json json = {{"format", kAnalysisFormat},
+                                 {"recordings", recordings},
+                                 {"summary", Summary(analyses, args.first_n)}};
+    WriteTextOutput(args.json_path, json.dump(2) + "\n");
   }
-  if (!args.csv_path.empty()) WriteFileAtomically(args.csv_path, Csv(analyses));
+  if (!args.csv_path.empty()) WriteTextOutput(args.csv_path, Csv(analyses));
   if (!args.plot_path.empty()) {
     PlotAnalysis(args.plot_path, ForPlot(analyses), {.high_pass_hz = args.detector.band_low_hz});
-    fmt::print("plot written to {}\n", args.plot_path);
+    fmt::print(out, "plot written to {}\n", args.plot_path);
   }
 }
 
@@ -422,24 +429,36 @@ void AddAnalyzeCommand(CLI::App& app) {
       "compute intervals, restitution e_k, energy loss eta_k = 1 - e_k^2 and bounce heights.");
   command->footer(
       "Example:\n"
-      "  bouncecal analyze drop1.wav drop2.wav --drop-height 0.20 --json out.json --plot out.png\n"
-      "With several recordings, --json writes an array of per-file objects whose last element "
-      "is {\"summary\": {...}} (mean and sample std of the first sequence's eta-bar).");
+      "  bouncecal analyze drop1.wav drop2.wav --drop-height-m 0.20 --json out.json --plot "
+      "out.png\n"
+      "  bouncecal analyze drop.wav --json - | jq '.recordings[0].sequences[0].energy_loss'\n"
+      "--json writes {\"format\": \"bouncecal-analysis/1\", \"recordings\": [one object per "
+      "file], \"summary\": {...}} for any number of recordings (docs/json.md); the summary has "
+      "the mean and sample std of the first sequence's eta-bar.");
   command
       ->add_option("recordings", args->recordings,
                    "Recordings (WAV, FLAC, OGG, MP3, M4A/AAC, WebM, ...; lossy ones get wider "
                    "onset uncertainties)")
       ->required();
-  command->add_option("--drop-height", args->drop_height_m,
-                      "Release height h0 in m; gives e and eta of the first impact too");
-  command->add_option("--gravity", args->gravity_mps2, "Gravity in m/s^2")->capture_default_str();
+  auto* height = command->add_option("--drop-height-m", args->drop_height_m,
+                                     "Release height h0 in m; gives e and eta of the first "
+                                     "impact too");
+  AddDeprecatedAlias(*command, height, "--drop-height", args->drop_height_m);
+  auto* gravity =
+      command
+          ->add_option("--gravity-mps2", args->gravity_mps2, "Gravitational acceleration in m/s^2")
+          ->capture_default_str();
+  AddDeprecatedAlias(*command, gravity, "--gravity", args->gravity_mps2);
   command->add_option("--first", args->first_n, "Average eta over the first N impacts")
       ->capture_default_str();
   command->add_option("--channel", args->channel,
                       "0-based channel to analyse (default: the one with the best "
                       "impact-to-noise ratio)");
-  command->add_option("--json", args->json_path, "Write the results as JSON to this file");
-  command->add_option("--csv", args->csv_path, "Write one row per impact as CSV to this file");
+  command->add_option("--json", args->json_path,
+                      "Write the results as JSON (bouncecal-analysis/1) to this file, - for "
+                      "stdout");
+  command->add_option("--csv", args->csv_path,
+                      "Write one row per impact as CSV to this file, - for stdout");
   command->add_option("--plot", args->plot_path,
                       "Plot the waveform with impacts and rejected events marked, and eta_k vs k "
                       "(.png or .svg)");

@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include "bouncecal/error.h"
+#include "option_alias.h"
 
 namespace bouncecal::apps {
 
@@ -13,14 +14,16 @@ void CalibrateCliOptions::AddFitOptions(CLI::App& command) {
                   "(onset_s[,onset_uncertainty_s[,sequence]]) or bouncecal analyze --json "
                   "files; several are fitted jointly")
       ->required();
-  drop.Add(command, /*with_law=*/true, DropCliOptions::Geometry::kAsGiven);
+  drop.Add(command, DropCliOptions::Geometry::kAsGiven);
   command
       .add_flag("--unknown-drop-height", unknown_drop_height,
-                "The drop height is not known (the default without --drop-height)")
+                "The drop height is not known (the default without --drop-height-m)")
       ->group("");
-  command.add_option("--drop-height-uncertainty", drop_height_uncertainty_m,
-                     "One-sigma uncertainty of --drop-height in m, propagated into the "
-                     "confidence interval (default 0)");
+  auto* height_sigma = command.add_option(
+      "--drop-height-uncertainty-m", drop_height_uncertainty_m,
+      "One-sigma uncertainty of --drop-height-m in m, propagated into the confidence interval "
+      "(default 0)");
+  AddDeprecatedAlias(command, height_sigma, "--drop-height-uncertainty", drop_height_uncertainty_m);
   command.add_option("--objective", objective,
                      "What the drops must reproduce: mean-energy-loss (eta-bar of the first N "
                      "impacts, the paper's method), intervals (every flight time, weighted) or "
@@ -42,8 +45,10 @@ void CalibrateCliOptions::AddFitOptions(CLI::App& command) {
   command.add_option("--confidence", confidence,
                      "Confidence level of the intervals (fraction, default 0.95)");
   command.add_option("--threads", threads, "Threads for --compare-laws (count, default 2)");
-  command.add_option("--onset-uncertainty", onset_uncertainty_s,
-                     "One-sigma onset uncertainty in s where an input gives none (default 1e-5)");
+  auto* onset_sigma = command.add_option(
+      "--onset-uncertainty-s", onset_uncertainty_s,
+      "One-sigma onset uncertainty in s where an input gives none (default 1e-5)");
+  AddDeprecatedAlias(command, onset_sigma, "--onset-uncertainty", onset_uncertainty_s);
 }
 
 calibrate::FitOptions CalibrateCliOptions::FitOptions(bool validate_law) const {
@@ -55,20 +60,21 @@ calibrate::FitOptions CalibrateCliOptions::FitOptions(bool validate_law) const {
   }
   if (threads < 1) throw ConfigError(fmt::format("--threads must be >= 1, got {}", threads));
   if (!(drop_height_uncertainty_m >= 0)) {
-    throw ConfigError(
-        fmt::format("--drop-height-uncertainty must be >= 0 m, got {}", drop_height_uncertainty_m));
+    throw ConfigError(fmt::format("--drop-height-uncertainty-m must be >= 0 m, got {}",
+                                  drop_height_uncertainty_m));
   }
   if (unknown_drop_height && drop.drop_height_m) {
     throw ConfigError(
-        "--unknown-drop-height contradicts --drop-height; give the height or leave both out");
+        "--unknown-drop-height contradicts --drop-height-m; give the height or leave both out");
   }
   if (drop_height_uncertainty_m > 0 && !drop.drop_height_m) {
     throw ConfigError(
-        "--drop-height-uncertainty needs --drop-height (without a height nothing depends on it)");
+        "--drop-height-uncertainty-m needs --drop-height-m (without a height nothing depends on "
+        "it)");
   }
   if (drop.drop_height_m && !(*drop.drop_height_m > 0 && *drop.drop_height_m < 1e3)) {
     throw ConfigError(
-        fmt::format("--drop-height must be in (0, 1000) m, got {}", *drop.drop_height_m));
+        fmt::format("--drop-height-m must be in (0, 1000) m, got {}", *drop.drop_height_m));
   }
   if (max_evaluations < 1) {
     throw ConfigError(fmt::format("--max-evaluations must be >= 1, got {}", max_evaluations));
@@ -97,14 +103,19 @@ calibrate::FitOptions CalibrateCliOptions::FitOptions(bool validate_law) const {
   return options;
 }
 
-std::vector<calibrate::MeasuredSequence> CalibrateCliOptions::LoadSequences() const {
+calibrate::SequenceInputOptions CalibrateCliOptions::InputOptions() const {
   if (!(onset_uncertainty_s > 0)) {
-    throw ConfigError("--onset-uncertainty must be a positive number of seconds (e.g. 1e-5), got " +
-                      std::to_string(onset_uncertainty_s));
+    throw ConfigError(fmt::format(
+        "--onset-uncertainty-s must be a positive number of seconds (e.g. 1e-5), got {}",
+        onset_uncertainty_s));
   }
   calibrate::SequenceInputOptions input;
   input.impact_times.default_uncertainty_s = onset_uncertainty_s;
-  return calibrate::LoadSequences(inputs, input);
+  return input;
+}
+
+std::vector<calibrate::MeasuredSequence> CalibrateCliOptions::LoadSequences() const {
+  return calibrate::LoadSequences(inputs, InputOptions());
 }
 
 std::vector<std::string> CalibrateCliOptions::DeprecationWarnings() const {

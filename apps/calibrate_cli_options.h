@@ -18,7 +18,7 @@ namespace bouncecal::apps {
 struct CalibrateCliOptions {
   std::vector<std::filesystem::path> inputs;
   DropCliOptions drop;
-  // Hidden alias of the default (no --drop-height), kept so older scripts still run.
+  // Hidden alias of the default (no --drop-height-m), kept so older scripts still run.
   bool unknown_drop_height = false;
   double drop_height_uncertainty_m = 0;
   std::string objective = "mean-energy-loss";
@@ -40,8 +40,11 @@ struct CalibrateCliOptions {
   // Throws ConfigError naming the option and its valid range. --compare-laws passes
   // validate_law = false: its --param values may belong to another law than the default one.
   calibrate::FitOptions FitOptions(bool validate_law = true) const;
-  // Validates --onset-uncertainty and loads every input through calibrate::LoadSequences.
+  // Validates --onset-uncertainty-s and loads every input through calibrate::LoadSequences.
   std::vector<calibrate::MeasuredSequence> LoadSequences() const;
+  // The options LoadSequences reads the inputs with (ConfigError for a bad
+  // --onset-uncertainty-s).
+  calibrate::SequenceInputOptions InputOptions() const;
   // One line per option that is accepted for old scripts but no longer does anything, naming
   // what to do instead; empty when none was given.
   std::vector<std::string> DeprecationWarnings() const;

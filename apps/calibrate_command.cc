@@ -5,7 +5,6 @@
 #include <string>
 #include <vector>
 
-#include "bouncecal/atomic_file.h"
 #include "bouncecal/calibrate/fit.h"
 #include "bouncecal/calibrate/fit_json.h"
 #include "bouncecal/calibrate/material_card.h"
@@ -16,6 +15,7 @@
 #include "calibrate_report.h"
 #include "card_creation_time.h"
 #include "commands.h"
+#include "output_target.h"
 #include "plot/gnuplot_plot.h"
 
 namespace bouncecal::apps {
@@ -30,6 +30,8 @@ struct CalibrateCommandOptions : CalibrateCliOptions {
 };
 
 void Run(const CalibrateCommandOptions& cli) {
+  const TextOutputs text({{"--json", &cli.json}, {"--card", &cli.card}});
+  std::FILE* out = text.human();
   if (!cli.plot.empty()) CheckPlotTarget(cli.plot);
   // Read before the fit so a malformed SOURCE_DATE_EPOCH fails at once, not after minutes.
   const std::time_t card_created_at = CardCreationTimeFromEnvironment();
@@ -39,6 +41,10 @@ void Run(const CalibrateCommandOptions& cli) {
   for (const auto& warning : cli.DeprecationWarnings())
     fmt::print(stderr, "bouncecal: warning: {}\n", warning);
   const auto sequences = cli.LoadSequences();
+  const auto write_card = [&](const calibrate::FitSummary& fit) {
+    const auto card = calibrate::MakeMaterialCard(fit, options, cli.inputs, card_created_at);
+    WriteTextOutput(cli.card, calibrate::ToJson(card).dump(2) + "\n");
+  };
 
   if (cli.compare_laws) {
     std::vector<dem::ContactLawKind> kinds;
@@ -48,32 +54,29 @@ void Run(const CalibrateCommandOptions& cli) {
       for (const auto& name : cli.laws) kinds.push_back(dem::ContactLawKindFromString(name));
     }
     const auto comparison = calibrate::CompareLaws(sequences, kinds, options);
-    PrintComparison(comparison, sequences.size());
-    if (!cli.json.empty()) WriteFileAtomically(cli.json, ToJson(comparison).dump(2) + "\n");
+    PrintComparison(out, comparison, sequences.size());
+    if (!cli.json.empty()) WriteTextOutput(cli.json, ToJson(comparison).dump(2) + "\n");
     if (!cli.plot.empty()) PlotFit(cli.plot, comparison.fits.front(), options);
     if (!cli.card.empty()) {
-      calibrate::WriteMaterialCard(
-          cli.card, calibrate::MakeMaterialCard(comparison.fits.front(), options, cli.inputs,
-                                                card_created_at));
-      fmt::print("material card of the best law written to {}\n", cli.card.string());
+      write_card(comparison.fits.front());
+      fmt::print(out, "material card of the best law written to {}\n", cli.card.string());
     }
     return;
   }
 
   const auto summary = calibrate::Fit(sequences, options);
-  PrintFit(summary, options, sequences.size());
+  PrintFit(out, summary, options, sequences.size());
   if (!cli.json.empty()) {
-    WriteFileAtomically(cli.json, calibrate::ToJson(summary).dump(2) + "\n");
-    fmt::print("JSON written to {}\n", cli.json.string());
+    WriteTextOutput(cli.json, calibrate::ToJson(summary).dump(2) + "\n");
+    fmt::print(out, "JSON written to {}\n", cli.json.string());
   }
   if (!cli.card.empty()) {
-    calibrate::WriteMaterialCard(
-        cli.card, calibrate::MakeMaterialCard(summary, options, cli.inputs, card_created_at));
-    fmt::print("material card written to {}\n", cli.card.string());
+    write_card(summary);
+    fmt::print(out, "material card written to {}\n", cli.card.string());
   }
   if (!cli.plot.empty()) {
     PlotFit(cli.plot, summary, options);
-    fmt::print("plot written to {}\n", cli.plot.string());
+    fmt::print(out, "plot written to {}\n", cli.plot.string());
   }
 }
 
@@ -86,7 +89,7 @@ void AddCalibrateCommand(CLI::App& app) {
       "Fit the contact damping so single-ball DEM drops lose the energy the recordings show.");
   command->footer(
       "Example:\n"
-      "  bouncecal calibrate drop1.wav drop2.wav --ball steel-10mm --drop-height 0.2 --card "
+      "  bouncecal calibrate drop1.wav drop2.wav --ball steel-10mm --drop-height-m 0.2 --card "
       "steel.json\n"
       "  bouncecal calibrate drop.wav --ball tennis --objective intervals --compare-laws --plot "
       "fit.png");
@@ -97,9 +100,12 @@ void AddCalibrateCommand(CLI::App& app) {
       ->add_option("--laws", cli->laws,
                    "Laws for --compare-laws (default: every law with a damping parameter)")
       ->delimiter(',');
-  command->add_option("--json", cli->json, "Write the full result as JSON to this file");
+  command->add_option("--json", cli->json,
+                      "Write the full result as JSON (bouncecal-fit/1, or "
+                      "bouncecal-law-comparison/1 with --compare-laws) to this file, - for stdout");
   command->add_option("--card", cli->card,
-                      "Write the calibrated material card (JSON) to this file");
+                      "Write the calibrated material card (JSON, bouncecal-material/1) to this "
+                      "file, - for stdout");
   command->add_option("--plot", cli->plot,
                       "Plot measured vs fitted energy loss and flight times (.png or .svg)");
   command->callback([cli] { Run(*cli); });

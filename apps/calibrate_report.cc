@@ -24,7 +24,8 @@ std::string FixedParameters(const calibrate::FitSummary& summary) {
   return text.empty() ? "no fixed parameters" : text;
 }
 
-void PrintParameters(const calibrate::FitSummary& summary, double confidence_level) {
+void PrintParameters(std::FILE* out, const calibrate::FitSummary& summary,
+                     double confidence_level) {
   for (const auto& parameter : summary.parameters) {
     std::string interval = "no interval (" + summary.uncertainty.message + ")";
     if (parameter.confidence_interval) {
@@ -33,7 +34,7 @@ void PrintParameters(const calibrate::FitSummary& summary, double confidence_lev
                              FormatValue(parameter.confidence_interval->second),
                              parameter.interval_clipped ? " (cut at the search range)" : "");
     }
-    fmt::print("  {} = {} {}   {}{}\n", parameter.name, FormatValue(parameter.value),
+    fmt::print(out, "  {} = {} {}   {}{}\n", parameter.name, FormatValue(parameter.value),
                parameter.unit == "1" ? "" : parameter.unit, interval,
                parameter.at_bound ? "   (at the edge of its search range)" : "");
   }
@@ -65,7 +66,8 @@ std::string DropHeightLine(const calibrate::FitSummary& summary,
          apexes + " m)";
 }
 
-void PrintAcrossRecordings(const calibrate::FitSummary& summary, double confidence_level) {
+void PrintAcrossRecordings(std::FILE* out, const calibrate::FitSummary& summary,
+                           double confidence_level) {
   const auto& uncertainty = summary.uncertainty;
   if (uncertainty.recordings.size() < 2 || !uncertainty.energy_loss_sd_across) return;
   std::string per_recording;
@@ -75,6 +77,7 @@ void PrintAcrossRecordings(const calibrate::FitSummary& summary, double confiden
         (per_recording.empty() ? "" : ", ") + FormatValue(recording.parameter_values.front());
   }
   fmt::print(
+      out,
       "  across {} recordings: eta-bar = {:.4f} +- {:.2g} (sd), {:.0f} % interval of the mean "
       "[{:.4f}, {:.4f}]{}\n",
       uncertainty.recordings.size(), uncertainty.energy_loss_mean,
@@ -87,14 +90,14 @@ void PrintAcrossRecordings(const calibrate::FitSummary& summary, double confiden
 
 }  // namespace
 
-void PrintFit(const calibrate::FitSummary& summary, const calibrate::FitOptions& options,
-              size_t sequence_count) {
-  fmt::print("bouncecal calibrate: {} sequence(s), law {}, objective {}{}\n", sequence_count,
+void PrintFit(std::FILE* out, const calibrate::FitSummary& summary,
+              const calibrate::FitOptions& options, size_t sequence_count) {
+  fmt::print(out, "bouncecal calibrate: {} sequence(s), law {}, objective {}{}\n", sequence_count,
              dem::ToString(summary.law.kind), ToString(summary.objective),
              summary.objective == calibrate::FitObjective::kMeanEnergyLoss
                  ? fmt::format(" (first {} impacts)", options.first_n)
                  : "");
-  fmt::print("{}\n{}; integrator {}{}\n", BallLine(summary, options),
+  fmt::print(out, "{}\n{}; integrator {}{}\n", BallLine(summary, options),
              DropHeightLine(summary, options), dem::ToString(options.integrator),
              options.drag.enabled ? ", air drag on" : "");
   const double scatter = summary.uncertainty.per_impact_scatter;
@@ -115,46 +118,49 @@ void PrintFit(const calibrate::FitSummary& summary, const calibrate::FitOptions&
       spread = fmt::format("; eta_k about the law: sd {:.2g} over {} fitted impacts",
                            recording.energy_loss_scatter, recording.impacts_used);
     }
-    fmt::print("  {}: {} impacts, eta-bar(first {}) = {}{}\n", summary.sequences[r].source,
+    fmt::print(out, "  {}: {} impacts, eta-bar(first {}) = {}{}\n", summary.sequences[r].source,
                measured.intervals_s.size() + 1, options.first_n, eta_bar, spread);
   }
-  fmt::print("fitted parameters ({}):\n", FixedParameters(summary));
-  PrintParameters(summary, options.uncertainty.confidence_level);
-  fmt::print("  uncertainty: {}\n", summary.uncertainty.model);
-  PrintAcrossRecordings(summary, options.uncertainty.confidence_level);
-  fmt::print("  model adequacy: {}\n", summary.adequacy.message);
-  fmt::print("  implied first impact: e = {:.4f}, eta = {:.4f}\n", summary.implied_restitution,
+  fmt::print(out, "fitted parameters ({}):\n", FixedParameters(summary));
+  PrintParameters(out, summary, options.uncertainty.confidence_level);
+  fmt::print(out, "  uncertainty: {}\n", summary.uncertainty.model);
+  PrintAcrossRecordings(out, summary, options.uncertainty.confidence_level);
+  fmt::print(out, "  model adequacy: {}\n", summary.adequacy.message);
+  fmt::print(out, "  implied first impact: e = {:.4f}, eta = {:.4f}\n", summary.implied_restitution,
              summary.implied_energy_loss);
   const auto& check = summary.check;
   if (check.applicable) {
-    fmt::print("analytic check (eta = 2 gamma / (1 + gamma)):\n");
-    fmt::print("  measured eta-bar = {:.4f} +- {:.2g} -> gamma_n = eta/(2 - eta) = {:.4f}\n",
+    fmt::print(out, "analytic check (eta = 2 gamma / (1 + gamma)):\n");
+    fmt::print(out, "  measured eta-bar = {:.4f} +- {:.2g} -> gamma_n = eta/(2 - eta) = {:.4f}\n",
                check.energy_loss_mean, check.energy_loss_mean_uncertainty, check.gamma_n_formula);
     fmt::print(
+        out,
         "  fitted - formula = {:+.4f}; time-step error {:+.4f} (eta-bar {:.4f} with this "
         "step vs {:.4f} exact), gravity during contact {:+.4f}{}\n",
         check.difference, check.time_step_gamma_error, check.energy_loss_mean_chosen_step,
         check.energy_loss_mean_exact, check.model_gamma_error,
         options.drag.enabled ? fmt::format(", air drag {:+.4f}", check.drag_gamma_error) : "");
-    fmt::print("  {}\n", check.message);
+    fmt::print(out, "  {}\n", check.message);
   } else {
-    fmt::print("analytic check: not applicable ({})\n", check.message);
+    fmt::print(out, "analytic check: not applicable ({})\n", check.message);
   }
-  fmt::print(
-      "optimiser: stopped because {} ({}); {} evaluations; residual chi^2 = {:.4g} over "
-      "{} data ({} dof); fit {:.3f} s, total {:.3f} s\n",
-      summary.stop_message, ToString(summary.stop), summary.evaluations, summary.residual,
-      summary.data_points, summary.degrees_of_freedom, summary.fit_time_s, summary.total_time_s);
-  for (const auto& warning : summary.warnings) fmt::print("WARNING: {}\n", warning);
+  fmt::print(out,
+             "optimiser: stopped because {} ({}); {} evaluations; residual chi^2 = {:.4g} over "
+             "{} data ({} dof); fit {:.3f} s, total {:.3f} s\n",
+             summary.stop_message, ToString(summary.stop), summary.evaluations, summary.residual,
+             summary.data_points, summary.degrees_of_freedom, summary.fit_time_s,
+             summary.total_time_s);
+  for (const auto& warning : summary.warnings) fmt::print(out, "WARNING: {}\n", warning);
 }
 
-void PrintComparison(const calibrate::LawComparison& comparison, size_t sequence_count) {
-  fmt::print(
-      "bouncecal calibrate --compare-laws: {} sequence(s), objective {}; ranked by BIC "
-      "(chi^2 + k ln n)\n",
-      sequence_count, ToString(comparison.fits.front().objective));
-  fmt::print("  {:<22} {:>12} {:>5} {:>10} {:>10} {:>10} {:>9}  parameters\n", "law", "chi^2", "n",
-             "AIC", "BIC", "dBIC", "dof");
+void PrintComparison(std::FILE* out, const calibrate::LawComparison& comparison,
+                     size_t sequence_count) {
+  fmt::print(out,
+             "bouncecal calibrate --compare-laws: {} sequence(s), objective {}; ranked by BIC "
+             "(chi^2 + k ln n)\n",
+             sequence_count, ToString(comparison.fits.front().objective));
+  fmt::print(out, "  {:<22} {:>12} {:>5} {:>10} {:>10} {:>10} {:>9}  parameters\n", "law", "chi^2",
+             "n", "AIC", "BIC", "dBIC", "dof");
   const double best = comparison.fits.front().bic;
   for (const auto& fit : comparison.fits) {
     std::string parameters;
@@ -168,15 +174,15 @@ void PrintComparison(const calibrate::LawComparison& comparison, size_t sequence
         parameters += " (no interval)";
       }
     }
-    fmt::print("  {:<22} {:>12.5g} {:>5} {:>10.4g} {:>10.4g} {:>10.3g} {:>9}  {}\n",
+    fmt::print(out, "  {:<22} {:>12.5g} {:>5} {:>10.4g} {:>10.4g} {:>10.3g} {:>9}  {}\n",
                dem::ToString(fit.law.kind), fit.residual, fit.data_points, fit.aic, fit.bic,
                fit.bic - best, fit.degrees_of_freedom, parameters);
   }
-  fmt::print("  dBIC > 10 is very strong evidence against a law (Kass & Raftery 1995)\n");
+  fmt::print(out, "  dBIC > 10 is very strong evidence against a law (Kass & Raftery 1995)\n");
   const auto& winner = comparison.fits.front();
-  fmt::print("  model adequacy of {}: {}\n", dem::ToString(winner.law.kind),
+  fmt::print(out, "  model adequacy of {}: {}\n", dem::ToString(winner.law.kind),
              winner.adequacy.message);
-  for (const auto& warning : winner.warnings) fmt::print("WARNING: {}\n", warning);
+  for (const auto& warning : winner.warnings) fmt::print(out, "WARNING: {}\n", warning);
 }
 
 std::vector<PlotPanel> FitPlotPanels(const calibrate::FitSummary& summary,

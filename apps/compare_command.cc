@@ -4,7 +4,6 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "bouncecal/atomic_file.h"
 #include "bouncecal/calibrate/material_card.h"
 #include "bouncecal/calibrate/sequence_input.h"
 #include "bouncecal/calibrate/sweep.h"
@@ -13,6 +12,8 @@
 #include "bouncecal/error.h"
 #include "commands.h"
 #include "drop_cli_options.h"
+#include "option_alias.h"
+#include "output_target.h"
 #include "plot/gnuplot_plot.h"
 
 namespace bouncecal::apps {
@@ -22,11 +23,13 @@ struct CompareCliOptions {
   std::filesystem::path input;
   DropCliOptions drop;
   std::string gamma_values;
-  std::filesystem::path material;
   double sample_interval_s = 5e-4;
   std::filesystem::path json;
   std::filesystem::path plot;
 };
+
+// The format of --json (docs/json.md).
+constexpr const char* kCompareFormat = "bouncecal-trajectory-comparison/1";
 
 std::string Label(const dem::ContactLawConfig& law) {
   std::string text(dem::ToString(law.kind));
@@ -37,24 +40,26 @@ std::string Label(const dem::ContactLawConfig& law) {
   return text;
 }
 
-void Run(const CompareCliOptions& cli) {
+void Run(CompareCliOptions& cli) {
+  const TextOutputs text({{"--json", &cli.json}});
+  std::FILE* out = text.human();
   if (!cli.plot.empty()) CheckPlotTarget(cli.plot);
-  if (cli.gamma_values.empty() == cli.material.empty()) {
+  if (cli.gamma_values.empty() == cli.drop.material.empty()) {
     throw ConfigError("give exactly one of --gamma LIST or --material CARD");
   }
   // The simulated drops start at the release height, and the measured arcs are set against
-  // them: an assumed height would be a silent wrong answer.
+  // them: an assumed height (the paper's, or the one a card was fitted at) would be a silent
+  // wrong answer.
   if (!cli.drop.drop_height_m) {
     throw ConfigError(
-        "compare needs --drop-height (the height the ball was released from, m) to simulate the "
-        "drop the recording shows; without it, fit the recording with bouncecal calibrate");
+        "compare needs --drop-height-m (the height the ball was released from, m) to simulate "
+        "the drop the recording shows; without it, fit the recording with bouncecal calibrate");
   }
+  cli.drop.ReadMaterial();
   calibrate::TrajectoryCompareOptions options;
   options.drop = cli.drop.DropSetUp();
-  if (!cli.material.empty()) {
-    const auto card = calibrate::ReadMaterialCard(cli.material);
-    options.laws.push_back(card.law);
-    options.drop.ball = card.ball;
+  if (!cli.drop.material.empty()) {
+    options.laws.push_back(cli.drop.Law());
   } else {
     for (double gamma : calibrate::ParseValueList(cli.gamma_values)) {
       auto law = cli.drop.Law();
@@ -69,27 +74,29 @@ void Run(const CompareCliOptions& cli) {
   for (const auto& impact : sequences.front().impacts) onsets.push_back(impact.onset_s);
   const auto summary = calibrate::CompareTrajectories(onsets, options);
 
-  fmt::print("bouncecal compare: {} ({} impacts), h0 = {:g} m; measured arcs vs simulated drops\n",
+  fmt::print(out,
+             "bouncecal compare: {} ({} impacts), h0 = {:g} m; measured arcs vs simulated drops\n",
              sequences.front().source, onsets.size(), options.drop.drop_height_m);
-  fmt::print("  ball: d = {:g} m, m = {:.6g} kg{}\n", options.drop.ball.diameter_m,
+  fmt::print(out, "  ball: d = {:g} m, m = {:.6g} kg{}\n", options.drop.ball.diameter_m,
              options.drop.ball.MassKg(),
-             cli.material.empty() && !cli.drop.GivenBall()
+             cli.drop.material.empty() && !cli.drop.GivenBall()
                  ? " (no --ball given: the paper's 1 cm steel ball; walton-braun's heights do not "
                    "depend on it)"
                  : "");
-  fmt::print("  {:<40} {:>18}\n", "simulated law", "RMS height error m");
+  fmt::print(out, "  {:<40} {:>18}\n", "simulated law", "RMS height error m");
   nlohmann::json curves = nlohmann::json::array();
   for (const auto& curve : summary.simulated) {
-    fmt::print("  {:<40} {:>18.5f}\n", Label(curve.law), curve.rms_height_error_m);
+    fmt::print(out, "  {:<40} {:>18.5f}\n", Label(curve.law), curve.rms_height_error_m);
     curves.push_back({{"contact_law", dem::ToJson(curve.law)},
                       {"rms_height_error_m", curve.rms_height_error_m}});
   }
   if (!cli.json.empty()) {
-    WriteFileAtomically(cli.json, nlohmann::json{{"source", sequences.front().source},
-                                                 {"drop_height_m", options.drop.drop_height_m},
-                                                 {"curves", curves}}
-                                          .dump(2) +
-                                      "\n");
+    WriteTextOutput(cli.json, nlohmann::json{{"format", kCompareFormat},
+                                             {"source", sequences.front().source},
+                                             {"drop_height_m", options.drop.drop_height_m},
+                                             {"curves", curves}}
+                                      .dump(2) +
+                                  "\n");
   }
   if (!cli.plot.empty()) {
     PlotPanel panel{"Bounce trajectory: measured (arcs from the onsets) vs simulated",
@@ -116,7 +123,7 @@ void Run(const CompareCliOptions& cli) {
            true});
     }
     RenderPlot(cli.plot, {panel});
-    fmt::print("plot written to {}\n", cli.plot.string());
+    fmt::print(out, "plot written to {}\n", cli.plot.string());
   }
 }
 
@@ -135,14 +142,16 @@ void AddCompareCommand(CLI::App& app) {
       ->add_option("recording", cli->input,
                    "Recording, impact-time CSV or analyze JSON (its first bounce sequence)")
       ->required();
-  cli->drop.Add(*command);
+  cli->drop.Add(*command, {.law = true, .material = true, .gamma = false});
   command->add_option("--gamma", cli->gamma_values,
-                      "gamma_n values to simulate: a,b,c or lo:hi:step (walton-braun)");
-  command->add_option("--material", cli->material,
-                      "Simulate the law and ball of this material card instead");
-  command->add_option("--sample-interval", cli->sample_interval_s,
-                      "Spacing of the height samples in s (default 5e-4)");
-  command->add_option("--json", cli->json, "Write the RMS errors as JSON to this file");
+                      "gamma_n values to simulate: a,b,c or lo:hi:step (walton-braun), or give "
+                      "--material");
+  auto* sample = command->add_option("--sample-interval-s", cli->sample_interval_s,
+                                     "Spacing of the height samples in s (default 5e-4)");
+  AddDeprecatedAlias(*command, sample, "--sample-interval", cli->sample_interval_s);
+  command->add_option("--json", cli->json,
+                      "Write the RMS errors as JSON (bouncecal-trajectory-comparison/1) to this "
+                      "file, - for stdout");
   command->add_option("--plot", cli->plot, "Plot height vs time (.png or .svg)");
   command->callback([cli] { Run(*cli); });
 }

@@ -1,14 +1,34 @@
 #include "drop_cli_options.h"
 
+#include <fmt/core.h>
+
 #include <cmath>
+#include <map>
+#include <string_view>
 
 #include "bouncecal/calibrate/ball_preset.h"
 #include "bouncecal/dem/contact_law_kind.h"
 #include "bouncecal/error.h"
+#include "option_alias.h"
 
 namespace bouncecal::apps {
+namespace {
 
-void DropCliOptions::Add(CLI::App& command, bool with_law, Geometry geometry) {
+// The law parameter a shortcut option sets, per law; a law without it refuses the option.
+void SetLawParameter(dem::ContactLawConfig& config, std::string_view option,
+                     const std::map<dem::ContactLawKind, std::string_view>& names, double value) {
+  const auto found = names.find(config.kind);
+  if (found == names.end()) {
+    throw ConfigError(
+        fmt::format("{} does not apply to the {} law; set its parameters with --param NAME=VALUE",
+                    option, dem::ToString(config.kind)));
+  }
+  config.parameters[std::string(found->second)] = value;
+}
+
+}  // namespace
+
+void DropCliOptions::Add(CLI::App& command, Features features, Geometry geometry) {
   geometry_ = geometry;
   const bool paper = geometry == Geometry::kPaperDefaults;
   auto* preset = command.add_option(
@@ -17,63 +37,109 @@ void DropCliOptions::Add(CLI::App& command, bool with_law, Geometry geometry) {
           " (size and mass from the rules or densities in docs/calibration.md)" +
           (paper ? std::string(" (default: 1 cm steel)")
                  : std::string("; needed with --card, --drag and the Hertz laws")));
-  auto* diameter = command.add_option("--diameter", diameter_m,
-                                      paper ? "Ball diameter in m (default 0.01)"
-                                            : "Ball diameter in m (with --density or --mass)");
+  auto* diameter =
+      command.add_option("--diameter-m", diameter_m,
+                         paper ? "Ball diameter in m (default 0.01)"
+                               : "Ball diameter in m (with --density-kg-per-m3 or --mass-kg)");
   auto* density = command.add_option(
-      "--density", density_kg_per_m3,
+      "--density-kg-per-m3", density_kg_per_m3,
       paper ? "Ball density in kg/m^3 (default 7800, steel)" : "Ball density in kg/m^3");
-  auto* mass = command.add_option("--mass", mass_kg, "Ball mass in kg (instead of --density)");
+  auto* mass =
+      command.add_option("--mass-kg", mass_kg, "Ball mass in kg (instead of --density-kg-per-m3)");
   density->excludes(mass);
-  mass->excludes(density);
-  for (auto* explicit_option : {diameter, density, mass}) {
-    preset->excludes(explicit_option);
-    explicit_option->excludes(preset);
+  std::vector<CLI::Option*> ball_options = {preset, diameter, density, mass};
+  for (auto* explicit_option : {diameter, density, mass}) preset->excludes(explicit_option);
+  AddDeprecatedAlias(command, diameter, "--diameter", diameter_m);
+  AddDeprecatedAlias(command, density, "--density", density_kg_per_m3);
+  AddDeprecatedAlias(command, mass, "--mass", mass_kg);
+
+  CLI::Option* law_option = nullptr;
+  if (features.law) {
+    law_option = command.add_option(
+        "--law", law, "Contact law: " + dem::ContactLawNames() + " (default walton-braun)");
   }
-  if (with_law) {
-    command.add_option("--law", law,
-                       "Contact law: " + dem::ContactLawNames() + " (default walton-braun)");
+  if (features.material) {
+    auto* card = command.add_option(
+        "--material", material,
+        "Material card (JSON, bouncecal calibrate --card): its law and ball, and its fit's drop "
+        "height unless --drop-height-m is given; --param and the law shortcuts change single "
+        "parameters of it");
+    if (law_option) card->excludes(law_option);
+    for (auto* ball_option : ball_options) card->excludes(ball_option);
   }
-  command.add_option("--stiffness", stiffness_n_per_m,
-                     "Normal stiffness k_n in N/m of the linear laws (default 1e7)");
+  if (features.gamma) {
+    command.add_option(
+        "--gamma", gamma,
+        "Damping (dimensionless): gamma_n of walton-braun, damping_ratio of linear-dashpot");
+  }
+  auto* stiffness =
+      command.add_option("--stiffness-n-per-m", stiffness_n_per_m,
+                         "Normal (loading) stiffness k_n in N/m of the linear laws (default 1e7)");
+  AddDeprecatedAlias(command, stiffness, "--stiffness", stiffness_n_per_m);
+  auto* modulus = command.add_option(
+      "--modulus-pa", modulus_pa, "Effective modulus E* in Pa of the Hertz laws (default 1.1e11)");
+  AddDeprecatedAlias(command, modulus, "--modulus", modulus_pa);
   command.add_option("--param", parameters,
                      "Fixed law parameter NAME=VALUE in the SI unit of its name, repeatable "
-                     "(e.g. --param effective_modulus_pa=1e11)");
-  command.add_option(
-      "--drop-height", drop_height_m,
+                     "(e.g. --param unloading_stiffness_n_per_m=3e7)");
+  auto* height = command.add_option(
+      "--drop-height-m", drop_height_m,
       paper ? "Release height of the ball's lowest point above the plate in m (default 0.2)"
             : "Release height of the ball's lowest point above the plate in m. Without it e_1 "
               "and eta_1 are not computed and the simulated drops start from the apex of the "
               "first measured bounce");
-  command.add_option("--gravity", gravity_mps2,
-                     "Gravitational acceleration in m/s^2 (default 9.81)");
+  AddDeprecatedAlias(command, height, "--drop-height", drop_height_m);
+  auto* gravity = command.add_option("--gravity-mps2", gravity_mps2,
+                                     "Gravitational acceleration in m/s^2 (default 9.81)");
+  AddDeprecatedAlias(command, gravity, "--gravity", gravity_mps2);
   command.add_option("--integrator", integrator,
                      "Drop integrator: " + dem::IntegratorNames() +
                          " (exact: event-driven, piecewise-linear laws, no drag)");
-  command.add_option("--time-step", time_step_s,
-                     "Absolute DEM time step in s (default: from --steps-per-contact)");
+  auto* step = command.add_option(
+      "--time-step-s", time_step_s,
+      "Absolute DEM time step in s (default: the contact duration / --steps-per-contact)");
+  AddDeprecatedAlias(command, step, "--time-step", time_step_s);
+  AddDeprecatedAlias(command, step, "--dt", time_step_s);
   command.add_option("--steps-per-contact", steps_per_contact,
-                     "Time steps per contact duration (default: the drop engine's accuracy)");
+                     "Time steps per contact duration (count; default: the drop engine's 50)");
   command.add_flag("--fixed-step-grid", fixed_step_grid,
                    "One fixed step grid from the release, contact switched on at the first step "
                    "with overlap (a classic DEM code, as in the paper)");
   command.add_flag("--drag", drag, "Switch on quadratic air drag (ping-pong and tennis balls)");
-  command.add_option("--drag-coefficient", drag_coefficient, "Drag coefficient C_d (default 0.47)");
-  command.add_option("--air-density", air_density_kg_per_m3,
-                     "Air density in kg/m^3 (default 1.204)");
+  command.add_option("--drag-coefficient", drag_coefficient,
+                     "Drag coefficient C_d (dimensionless, default 0.47)");
+  auto* air = command.add_option("--air-density-kg-per-m3", air_density_kg_per_m3,
+                                 "Air density in kg/m^3 (default 1.204)");
+  AddDeprecatedAlias(command, air, "--air-density", air_density_kg_per_m3);
+}
+
+void DropCliOptions::ReadMaterial() {
+  if (material.empty()) return;
+  // CLI11 refuses the canonical spellings together with --material; the old ones land here.
+  if (!ball_preset.empty() || diameter_m || density_kg_per_m3 || mass_kg) {
+    throw ConfigError("--material takes the ball from the card; leave out the ball options");
+  }
+  card_ = calibrate::ReadMaterialCard(material);
 }
 
 std::optional<dem::Ball> DropCliOptions::GivenBall() const {
+  if (card_) return card_->ball;
   if (!ball_preset.empty()) return calibrate::FindBallPreset(ball_preset).ToBall();
   if (!diameter_m && !density_kg_per_m3 && !mass_kg) return std::nullopt;
+  // The old spellings are not tied by CLI11's "excludes" (it would show them in --help).
+  if (density_kg_per_m3 && mass_kg) {
+    throw ConfigError("--density-kg-per-m3 and --mass-kg both give the ball's mass; give one");
+  }
   if (geometry_ == Geometry::kAsGiven) {
     if (!diameter_m) {
       throw ConfigError(
-          "--density or --mass needs --diameter (the ball's size), or use --ball NAME");
+          "--density-kg-per-m3 or --mass-kg needs --diameter-m (the ball's size), or use --ball "
+          "NAME");
     }
     if (!density_kg_per_m3 && !mass_kg) {
       throw ConfigError(
-          "--diameter needs --density or --mass (the ball's mass), or use --ball NAME");
+          "--diameter-m needs --density-kg-per-m3 or --mass-kg (the ball's mass), or use --ball "
+          "NAME");
     }
   }
   dem::Ball ball;  // completed with the paper's 1 cm steel under kPaperDefaults
@@ -81,24 +147,58 @@ std::optional<dem::Ball> DropCliOptions::GivenBall() const {
   if (density_kg_per_m3) ball.density_kg_per_m3 = *density_kg_per_m3;
   ball.mass_kg = mass_kg;
   if (!(ball.diameter_m > 0 && ball.diameter_m < 10)) {
-    throw ConfigError("--diameter must be in (0, 10) m, got " + std::to_string(ball.diameter_m));
+    throw ConfigError(fmt::format("--diameter-m must be in (0, 10) m, got {}", ball.diameter_m));
   }
   if (!(ball.density_kg_per_m3 > 0 && ball.density_kg_per_m3 < 1e5)) {
-    throw ConfigError("--density must be in (0, 1e5) kg/m^3, got " +
-                      std::to_string(ball.density_kg_per_m3));
+    throw ConfigError(fmt::format("--density-kg-per-m3 must be in (0, 1e5) kg/m^3, got {}",
+                                  ball.density_kg_per_m3));
   }
   if (mass_kg && !(*mass_kg > 0 && std::isfinite(*mass_kg))) {
-    throw ConfigError("--mass must be a positive number of kg, got " + std::to_string(*mass_kg));
+    throw ConfigError(fmt::format("--mass-kg must be a positive number of kg, got {}", *mass_kg));
   }
   return ball;
 }
 
 dem::Ball DropCliOptions::Ball() const { return GivenBall().value_or(dem::Ball{}); }
 
+double DropCliOptions::DropHeightM() const {
+  if (drop_height_m) return *drop_height_m;
+  if (card_ && card_->fit.drop_height_m) return *card_->fit.drop_height_m;
+  return 0.2;
+}
+
+dem::ContactLawKind DropCliOptions::LawKind() const {
+  if (card_) return card_->law.kind;
+  return dem::ContactLawKindFromString(law.value_or("walton-braun"));
+}
+
 dem::ContactLawConfig DropCliOptions::Law(bool validate) const {
   dem::ContactLawConfig config;
-  config.kind = dem::ContactLawKindFromString(law);
-  if (stiffness_n_per_m) config.parameters["stiffness_n_per_m"] = *stiffness_n_per_m;
+  if (card_) {
+    config = card_->law;
+  } else {
+    config.kind = LawKind();
+  }
+  using dem::ContactLawKind;
+  if (gamma) {
+    SetLawParameter(config, "--gamma",
+                    {{ContactLawKind::kWaltonBraun, "gamma_n"},
+                     {ContactLawKind::kLinearDashpot, "damping_ratio"}},
+                    *gamma);
+  }
+  if (stiffness_n_per_m) {
+    SetLawParameter(config, "--stiffness-n-per-m",
+                    {{ContactLawKind::kWaltonBraun, "stiffness_n_per_m"},
+                     {ContactLawKind::kWaltonBraunPlastic, "stiffness_n_per_m"},
+                     {ContactLawKind::kLinearDashpot, "stiffness_n_per_m"}},
+                    *stiffness_n_per_m);
+  }
+  if (modulus_pa) {
+    SetLawParameter(config, "--modulus-pa",
+                    {{ContactLawKind::kHertz, "effective_modulus_pa"},
+                     {ContactLawKind::kHertzViscoelastic, "effective_modulus_pa"}},
+                    *modulus_pa);
+  }
   for (const auto& assignment : parameters) {
     const auto equals = assignment.find('=');
     double value = 0;

@@ -2,29 +2,41 @@
 #define BOUNCECAL_APPS_DROP_CLI_OPTIONS_H_
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "bouncecal/calibrate/material_card.h"
 #include "bouncecal/dem/contact_law.h"
 #include "bouncecal/dem/drop.h"
 
 namespace bouncecal::apps {
 
-// The ball, the law and the drop set-up shared by calibrate, sweep and compare. Sweep and compare
-// simulate the paper's set-up unless told otherwise (1 cm steel, 7800 kg/m^3, h0 = 0.2 m);
-// calibrate describes an experiment and assumes none of it (Geometry::kAsGiven).
+// The ball, the law and the drop set-up shared by simulate drop, calibrate, report, sweep and
+// compare, so each quantity has one spelling (its SI unit in the name) on every command. Simulate,
+// sweep and compare simulate the paper's set-up unless told otherwise (1 cm steel, 7800 kg/m^3,
+// h0 = 0.2 m); calibrate describes an experiment and assumes none of it (Geometry::kAsGiven).
 struct DropCliOptions {
   enum class Geometry {
     kPaperDefaults,  // absent ball and height are the paper's
     kAsGiven,        // absent means not given; a ball must be complete (size and mass)
   };
+  // What Add registers besides the ball, the law parameters and the drop set-up.
+  struct Features {
+    bool law = true;        // --law
+    bool material = false;  // --material CARD: the card's law and ball
+    bool gamma = false;     // --gamma VALUE: the law's damping parameter
+  };
   std::string ball_preset;  // --ball NAME
   std::optional<double> diameter_m;
   std::optional<double> density_kg_per_m3;
   std::optional<double> mass_kg;
-  std::string law = "walton-braun";
-  std::optional<double> stiffness_n_per_m;  // unset: the law's default (1e7 N/m)
+  std::optional<std::string> law;           // unset: walton-braun, or the card's
+  std::filesystem::path material;           // --material: a material card
+  std::optional<double> gamma;              // --gamma (simulate drop)
+  std::optional<double> stiffness_n_per_m;  // unset: the law's (or the card's) value
+  std::optional<double> modulus_pa;         // unset: the law's (or the card's) value
   std::vector<std::string> parameters;      // NAME=VALUE
   std::optional<double> drop_height_m;
   double gravity_mps2 = 9.81;
@@ -36,18 +48,31 @@ struct DropCliOptions {
   double drag_coefficient = 0.47;
   double air_density_kg_per_m3 = 1.204;
 
-  // Registers the options on `command`; `geometry` decides the help texts and what absence means.
-  void Add(CLI::App& command, bool with_law = true, Geometry geometry = Geometry::kPaperDefaults);
-  // The ball the command line describes (--ball, or --diameter with --density or --mass), or
-  // nothing when no ball option was given. ConfigError for a value out of range or an incomplete
-  // ball under kAsGiven (a size without a mass or the reverse).
+  // Registers the options on `command` (and the old spellings as hidden aliases); `geometry`
+  // decides the help texts and what absence means.
+  void Add(CLI::App& command, Features features, Geometry geometry = Geometry::kPaperDefaults);
+  void Add(CLI::App& command, Geometry geometry = Geometry::kPaperDefaults) {
+    Add(command, Features{}, geometry);
+  }
+  // Reads --material (InputError naming the card); call once before Law(), Ball(), DropHeightM().
+  void ReadMaterial();
+  const std::optional<calibrate::MaterialCard>& card() const { return card_; }
+  // The ball the command line describes (--ball, --diameter-m with --density-kg-per-m3 or
+  // --mass-kg, or the card of --material), or nothing when no ball option was given. ConfigError
+  // for a value out of range or an incomplete ball under kAsGiven (a size without a mass or the
+  // reverse).
   std::optional<dem::Ball> GivenBall() const;
-  // GivenBall() completed with the paper's ball (kPaperDefaults: sweep, compare).
+  // GivenBall() completed with the paper's ball (kPaperDefaults).
   dem::Ball Ball() const;
-  double DropHeightM() const { return drop_height_m.value_or(0.2); }  // kPaperDefaults
-  // The law with --stiffness and --param applied and validated (ConfigError otherwise). Unvalidated
-  // for --compare-laws, where each law takes the --param values it has.
+  // --drop-height-m, else the height the card was fitted at, else the paper's 0.2 m
+  // (kPaperDefaults).
+  double DropHeightM() const;
+  // The law (--law or the card's) with --gamma, --stiffness-n-per-m, --modulus-pa and --param
+  // applied and validated (ConfigError otherwise). Unvalidated for --compare-laws, where each
+  // law takes the --param values it has.
   dem::ContactLawConfig Law(bool validate = true) const;
+  // The law named by --law (or the card's), without parameters applied.
+  dem::ContactLawKind LawKind() const;
   dem::Integrator Integrator() const;
   dem::AirDrag Drag() const;
   // The drop set-up every option above describes, in one place so no subcommand can leave one
@@ -57,6 +82,7 @@ struct DropCliOptions {
 
  private:
   Geometry geometry_ = Geometry::kPaperDefaults;
+  std::optional<calibrate::MaterialCard> card_;
 };
 
 }  // namespace bouncecal::apps

@@ -43,6 +43,11 @@ std::string ShellQuoted(const std::string& text) {
 }
 
 void RunExport(const ExportArguments& arguments) {
+  if (arguments.output_dir == "-") {
+    throw ConfigError(
+        "-o -: export writes a deck of several files, which cannot go to standard output; give "
+        "a folder");
+  }
   calibrate::DropDeckOptions options = arguments.drop;
   options.engine = calibrate::EngineFromString(arguments.engine);
   options.time_step_s = arguments.time_step_s;

@@ -18,6 +18,8 @@
 #include "bouncecal/dem/scene.h"
 #include "bouncecal/error.h"
 #include "commands.h"
+#include "option_alias.h"
+#include "output_target.h"
 
 namespace bouncecal::apps {
 namespace {
@@ -25,7 +27,7 @@ namespace {
 struct PackArgs {
   std::string scene;
   int threads = 1;
-  std::string json;
+  std::filesystem::path json;
   std::string out;
   std::optional<double> duration_s;  // unset: the scene's duration_s
   double skin_diameters = bouncecal::dem::PackOptions{}.skin_diameters;
@@ -57,6 +59,7 @@ void PutFinite(nlohmann::json& j, const char* key, double value) {
 
 nlohmann::json SummaryJson(const dem::Scene& scene, const dem::PackSummary& s) {
   nlohmann::json j;
+  j["format"] = "bouncecal-pack/1";  // docs/json.md
   j["scene"] = scene.source.string();
   j["physics"] = s.physics;
   j["stop_reason"] = std::string(dem::ToString(s.stop_reason));
@@ -213,34 +216,34 @@ void ProbeWritable(const std::filesystem::path& target) { AtomicFile probe(targe
 
 // Everything that can stop the outputs from being written is checked before the simulation, so
 // a typo in --json does not cost minutes of computing for nothing.
-void CheckOutputsWritable(const std::filesystem::path& dir, const std::string& json) {
+void CheckOutputsWritable(const std::filesystem::path& dir, const std::filesystem::path& json) {
   try {
     ProbeWritable(dir / "summary.json");
   } catch (const OutputError&) {
-    throw OutputError(fmt::format(
-        "cannot create files in the output folder {}; make it writable or pass --out DIR",
-        dir.string()));
+    throw OutputError(
+        fmt::format("cannot create files in the output folder {}; make it writable or pass -o DIR",
+                    dir.string()));
   }
-  if (json.empty()) return;
-  const std::filesystem::path path(json);
+  if (json.empty() || IsStdout(json)) return;
+  const std::filesystem::path& path = json;
   const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : ".";
   std::error_code error;
   if (std::filesystem::is_directory(path, error)) {
     throw OutputError(
-        fmt::format("--json {}: is a folder; give the path of a file to write", json));
+        fmt::format("--json {}: is a folder; give the path of a file to write", json.string()));
   }
   if (!std::filesystem::is_directory(folder, error)) {
     throw OutputError(fmt::format(
         "--json {}: {} is not an existing folder; create it or choose a path in an existing "
         "folder",
-        json, folder.string()));
+        json.string(), folder.string()));
   }
   try {
     ProbeWritable(path);
   } catch (const OutputError&) {
     throw OutputError(fmt::format(
-        "--json {}: cannot create a file in {}; make it writable or choose another path", json,
-        folder.string()));
+        "--json {}: cannot create a file in {}; make it writable or choose another path",
+        json.string(), folder.string()));
   }
 }
 
@@ -277,13 +280,15 @@ void RemoveEarlierOutputs(const std::filesystem::path& dir) {
     std::filesystem::remove(path, error);
     if (error) {
       throw OutputError(fmt::format(
-          "cannot remove {} of an earlier run ({}); remove it by hand or pass another --out DIR",
+          "cannot remove {} of an earlier run ({}); remove it by hand or pass another -o DIR",
           path.string(), error.message()));
     }
   }
 }
 
 void RunPack(const PackArgs& args) {
+  const TextOutputs text({{"--json", &args.json}});
+  std::FILE* out = text.human();
   const dem::Scene scene = dem::LoadScene(args.scene);
   dem::PackOptions options;
   options.threads = args.threads;
@@ -295,7 +300,7 @@ void RunPack(const PackArgs& args) {
     // as if it were the result; 0 asks for exactly that, so it stays allowed.
     if (*args.duration_s > 0 && *args.duration_s < scene.time_step_s) {
       throw ConfigError(fmt::format(
-          "--duration {:g} s is below the scene's time_step_s ({:g} s in {}), so no step would "
+          "--duration-s {:g} s is below the scene's time_step_s ({:g} s in {}), so no step would "
           "run; give at least {:g} s, or 0 to measure the start state",
           *args.duration_s, scene.time_step_s, scene.source.string(), scene.time_step_s));
     }
@@ -309,7 +314,7 @@ void RunPack(const PackArgs& args) {
   std::error_code error;
   std::filesystem::create_directories(dir, error);
   if (error) {
-    throw OutputError(fmt::format("cannot create the output folder {} ({}); pass --out DIR",
+    throw OutputError(fmt::format("cannot create the output folder {} ({}); pass -o DIR",
                                   dir.string(), error.message()));
   }
   try {
@@ -342,19 +347,20 @@ void RunPack(const PackArgs& args) {
   WriteCsvs(dir, scene, summary);
   const std::string json = SummaryJson(scene, summary).dump(2) + "\n";
   WriteFileAtomically(dir / "summary.json", json);
-  if (!args.json.empty()) WriteFileAtomically(args.json, json);
+  if (!args.json.empty()) WriteTextOutput(args.json, json);
   // An unstable run has no profile to plot and may have no history row left; gnuplot failing on
   // that would turn the instability (status 3) into an output error (status 4).
   if (args.plot && !Unstable(summary)) Plot(dir, scene);
-  fmt::print("{}: {} ({})\n", scene.name, summary.message, summary.physics);
+  fmt::print(out, "{}: {} ({})\n", scene.name, summary.message, summary.physics);
   if (!Unstable(summary)) {
-    fmt::print("packing density {:.4f}, mean coordination {:.3f} ({} particles measured)\n",
+    fmt::print(out, "packing density {:.4f}, mean coordination {:.3f} ({} particles measured)\n",
                summary.packing_density, summary.coordination.mean, summary.coordination.particles);
   }
-  fmt::print("{} particles, {} steps, {:.1f} s wall on {} thread(s), {:.3g} particle-steps/s\n",
+  fmt::print(out,
+             "{} particles, {} steps, {:.1f} s wall on {} thread(s), {:.3g} particle-steps/s\n",
              summary.particles, summary.steps, summary.wall_s, summary.threads,
              summary.particle_steps_per_s);
-  fmt::print("outputs in {}\n", dir.string());
+  fmt::print(out, "outputs in {}\n", dir.string());
   if (Unstable(summary)) {
     throw ConfigError(fmt::format("{}: {}", scene.source.string(), summary.message));
   }
@@ -386,31 +392,42 @@ void AddPackCommand(CLI::App& app) {
       "packing density, density profile, coordination and kinetic energy.");
   command->footer(
       "Example: bouncecal pack samples/scenes/paper000_cylinder_pour.json --threads 2 "
-      "--json result.json --plot");
+      "--json result.json --plot\n"
+      "summary.json and --json carry \"format\": \"bouncecal-pack/1\" (docs/json.md).");
   // No ExistingFile check: a missing scene is an input-file error (status 2), not a usage one.
   command->add_option("scene", args->scene, "Scene file (JSON)")->required();
   command
       ->add_option("--threads", args->threads,
                    "Worker threads (count, >= 1); results are bit-identical for any count")
       ->check(CLI::Range(1, 1024));
-  command->add_option("--json", args->json, "Also write the summary JSON to this file");
-  command->add_option("--out", args->out,
-                      "Output folder for CSV, dumps and plots (default: the scene's "
-                      "outputs.directory)");
-  command
-      ->add_option("--duration", args->duration_s,
-                   "Simulated time in s, overriding the scene's duration_s; 0 measures the start "
-                   "state, anything else must be at least the scene's time_step_s")
+  command->add_option("--json", args->json,
+                      "Also write the summary JSON to this file, - for stdout");
+  auto* output = command->add_option("-o,--output", args->out,
+                                     "Output folder for CSV, dumps and plots (default: the "
+                                     "scene's outputs.directory)");
+  AddDeprecatedAlias(*command, output, "--out", args->out);
+  auto* duration = command
+                       ->add_option("--duration-s", args->duration_s,
+                                    "Simulated time in s, overriding the scene's duration_s; 0 "
+                                    "measures the start state, anything else must be at least "
+                                    "the scene's time_step_s")
+                       ->check(FiniteSeconds())
+                       ->check(CLI::Range(0.0, 1e6));
+  AddDeprecatedAlias(*command, duration, "--duration", args->duration_s)
       ->check(FiniteSeconds())
       ->check(CLI::Range(0.0, 1e6));
-  command
-      ->add_option("--skin", args->skin_diameters,
-                   "Widest Verlet skin in particle diameters (dimensionless, default 0.1)")
-      ->check(CLI::Range(0.0, 10.0));
-  command
-      ->add_option("--min-skin", args->min_skin_diameters,
-                   "Narrowest Verlet skin in particle diameters (default 0.01): the skin adapts "
-                   "to the fastest particle at each rebuild; a value >= --skin fixes it")
+  auto* skin = command
+                   ->add_option("--skin-diameters", args->skin_diameters,
+                                "Widest Verlet skin in particle diameters (default 0.1)")
+                   ->check(CLI::Range(0.0, 10.0));
+  AddDeprecatedAlias(*command, skin, "--skin", args->skin_diameters)->check(CLI::Range(0.0, 10.0));
+  auto* min_skin = command
+                       ->add_option("--min-skin-diameters", args->min_skin_diameters,
+                                    "Narrowest Verlet skin in particle diameters (default 0.01): "
+                                    "the skin adapts to the fastest particle at each rebuild; a "
+                                    "value >= --skin-diameters fixes it")
+                       ->check(CLI::Range(0.0, 10.0));
+  AddDeprecatedAlias(*command, min_skin, "--min-skin", args->min_skin_diameters)
       ->check(CLI::Range(0.0, 10.0));
   command->add_flag("--allow-unstable-step", args->allow_unstable_step,
                     "Run even when time_step_s exceeds the stability limit of the scene's "

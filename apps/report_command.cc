@@ -4,7 +4,6 @@
 #include <memory>
 #include <string>
 
-#include "bouncecal/atomic_file.h"
 #include "bouncecal/calibrate/fit.h"
 #include "bouncecal/calibrate/fit_json.h"
 #include "bouncecal/calibrate/material_card.h"
@@ -14,6 +13,7 @@
 #include "calibration_html.h"
 #include "card_creation_time.h"
 #include "commands.h"
+#include "output_target.h"
 
 namespace bouncecal::apps {
 namespace {
@@ -26,23 +26,28 @@ struct ReportCommandOptions : CalibrateCliOptions {
 std::string CommandLine(const CLI::App& command) {
   std::string line = "bouncecal report";
   for (const CLI::Option* option : command.get_options()) {
-    if (option->count() == 0 || option->get_name() == "--help") continue;
-    const bool positional = option->get_name().rfind("-", 0) != 0;
+    // A hidden option (an old spelling) has no name for CLI11's get_name(): its long name is the
+    // spelling typed.
+    const std::string name =
+        option->get_lnames().empty() ? option->get_name() : "--" + option->get_lnames().front();
+    if (option->count() == 0 || name == "--help") continue;
+    const bool positional = option->get_lnames().empty() && option->get_snames().empty();
     if (option->get_type_size() == 0) {
-      line += " " + option->get_name();
+      line += " " + name;
       continue;
     }
     for (const auto& value : option->results()) {
-      line += positional ? " " + value : " " + option->get_name() + " " + value;
+      line += positional ? " " + value : " " + name + " " + value;
     }
   }
   return line;
 }
 
 void Run(const ReportCommandOptions& cli, const std::string& command_line) {
-  if (cli.output.extension() != ".html" && cli.output.extension() != ".htm") {
-    throw ConfigError("-o/--output '" + cli.output.string() +
-                      "' must end in .html (the report is one HTML page)");
+  const TextOutputs text({{"--output", &cli.output}});
+  if (!IsStdout(cli.output)) {
+    CheckOutputExtension("-o/--output", cli.output, {".html", ".htm"},
+                         "the report is one HTML page");
   }
   const std::time_t card_created_at = CardCreationTimeFromEnvironment();
   const auto options = cli.FitOptions();
@@ -72,9 +77,9 @@ void Run(const ReportCommandOptions& cli, const std::string& command_line) {
         "the DEM fit.",
         RenderSvgElement({*gamma_eta}, square));
   }
-  WriteFileAtomically(cli.output, CalibrationReportHtml(content));
-  fmt::print("report written to {} (law {}, {} sequence(s), {} = {:.6g})\n", cli.output.string(),
-             dem::ToString(summary.law.kind), sequences.size(),
+  WriteTextOutput(cli.output, CalibrationReportHtml(content));
+  fmt::print(text.human(), "report written to {} (law {}, {} sequence(s), {} = {:.6g})\n",
+             cli.output.string(), dem::ToString(summary.law.kind), sequences.size(),
              summary.parameters.empty() ? std::string("no fitted parameter")
                                         : summary.parameters.front().name,
              summary.parameters.empty() ? 0.0 : summary.parameters.front().value);
@@ -91,11 +96,13 @@ void AddReportCommand(CLI::App& app) {
       "material card, for a lab notebook or a paper's supplement.");
   command->footer(
       "Example:\n"
-      "  bouncecal report drop1.wav drop2.wav --ball steel-10mm --drop-height 0.2 -o steel.html\n"
+      "  bouncecal report drop1.wav drop2.wav --ball steel-10mm --drop-height-m 0.2 -o "
+      "steel.html\n"
       "Takes every fit option of `bouncecal calibrate`; the page uses no script and no external "
       "resource, so it opens offline.");
   cli->AddFitOptions(*command);
-  command->add_option("-o,--output", cli->output, "The HTML page to write (.html)")->required();
+  command->add_option("-o,--output", cli->output, "The HTML page to write (.html), - for stdout")
+      ->required();
   command->callback([cli, command] { Run(*cli, CommandLine(*command)); });
 }
 

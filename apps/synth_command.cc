@@ -12,6 +12,7 @@
 #include "bouncecal/audio/write_recording.h"
 #include "bouncecal/error.h"
 #include "commands.h"
+#include "output_target.h"
 
 namespace bouncecal::apps {
 namespace {
@@ -109,6 +110,13 @@ audio::SynthesisOptions BuildOptions(const SynthArguments& args) {
 }
 
 void RunSynth(const SynthArguments& args) {
+  const std::filesystem::path truth_path = args.truth;
+  const TextOutputs text({{"--truth", &truth_path}});
+  std::FILE* out = text.human();
+  // libsndfile writes what the name asks for only for these; any other name (x.mp3, -) would get
+  // WAV bytes under a name that promises something else.
+  CheckOutputExtension("-o/--output", args.output, {".wav", ".flac"},
+                       "synth writes WAV or FLAC, chosen by the extension");
   const audio::SynthesisOptions options = BuildOptions(args);
   const audio::SynthesizedRecording recording = audio::SynthesizeBounces(options);
   const audio::WriteRecordingOptions write_options{
@@ -116,12 +124,14 @@ void RunSynth(const SynthArguments& args) {
       .encoding = audio::SampleEncodingFromString(args.format)};
   // Check the truth path before writing audio, so a bad --truth leaves no orphaned WAV either.
   std::optional<AtomicFile> truth;
-  if (!args.truth.empty()) truth.emplace(args.truth);
+  if (!args.truth.empty() && !IsStdout(truth_path)) truth.emplace(args.truth);
   const audio::WriteRecordingSummary summary =
       audio::WriteRecording(args.output, recording.channels, write_options);
   if (truth) {
     truth->stream() << audio::TruthCsv(recording);
     truth->Commit();
+  } else if (IsStdout(truth_path)) {
+    WriteTextOutput(truth_path, audio::TruthCsv(recording));
   }
 
   std::map<std::string, int> counts;
@@ -130,19 +140,20 @@ void RunSynth(const SynthArguments& args) {
   for (const auto& [kind, count] : counts) {
     events += fmt::format("{}{} {}", events.empty() ? "" : ", ", count, kind);
   }
-  fmt::print("wrote {}: {} Hz, {} channel(s), {:.3f} s, {} {}\n", args.output,
+  fmt::print(out, "wrote {}: {} Hz, {} channel(s), {:.3f} s, {} {}\n", args.output,
              summary.sample_rate_hz, summary.channels,
              static_cast<double>(summary.frames) / summary.sample_rate_hz,
              ToString(write_options.container), args.format);
-  fmt::print("events: {}\n", events.empty() ? "none" : events);
+  fmt::print(out, "events: {}\n", events.empty() ? "none" : events);
   const auto onsets = recording.BallImpactOnsetsS();
   if (!onsets.empty()) {
-    fmt::print("ball impacts from {:.6f} s to {:.6f} s\n", onsets.front(), onsets.back());
+    fmt::print(out, "ball impacts from {:.6f} s to {:.6f} s\n", onsets.front(), onsets.back());
   }
   if (recording.chain) {
     const audio::RecordingChainSummary& chain = *recording.chain;
     const double rate_hz = options.sample_rate_hz;
     fmt::print(
+        out,
         "recording chain: {} anti-aliasing FIR, {} taps at {:.0f} Hz ({} x {} Hz): passband to "
         "{:.0f} Hz (ripple {:.1e} dB), stop band from {:.0f} Hz ({:.1f} dB)\n",
         ToString(chain.chain.phase), chain.taps, chain.high_rate_hz, chain.chain.oversampling,
@@ -150,20 +161,20 @@ void RunSynth(const SynthArguments& args) {
         chain.passband_ripple_db, chain.chain.stopband_edge_fraction * rate_hz,
         chain.stopband_attenuation_db);
     if (chain.chain.phase == audio::AdcFilterPhase::kLinear) {
-      fmt::print(
-          "  zero-phase: truth onsets are contact times, and energy reaches up to {:.3f} ms "
-          "before them\n",
-          chain.pre_ring_span_s * 1e3);
+      fmt::print(out,
+                 "  zero-phase: truth onsets are contact times, and energy reaches up to {:.3f} ms "
+                 "before them\n",
+                 chain.pre_ring_span_s * 1e3);
     } else {
-      fmt::print("  causal: nothing before the truth onsets (contact times)\n");
+      fmt::print(out, "  causal: nothing before the truth onsets (contact times)\n");
     }
   }
   if (options.click_gain != 0.0) {
-    fmt::print("contact click: half-sine of each contact, peak {} x the impact's peak{}\n",
+    fmt::print(out, "contact click: half-sine of each contact, peak {} x the impact's peak{}\n",
                options.click_gain, options.chain ? "" : " (sampled without a chain: aliased)");
   }
   if (options.noise) {
-    fmt::print("noise rms {:.3g} full scale (SNR {} dB re the {} impact, {} noise)\n",
+    fmt::print(out, "noise rms {:.3g} full scale (SNR {} dB re the {} impact, {} noise)\n",
                recording.noise_rms.front(), options.noise->snr_db, args.snr_reference,
                args.noise_color);
   }
@@ -178,7 +189,7 @@ void RunSynth(const SynthArguments& args) {
                "--peak-amplitude to avoid it, or write --format float\n",
                summary.clipped_samples);
   }
-  if (truth) fmt::print("truth: {}\n", args.truth);
+  if (truth) fmt::print(out, "truth: {}\n", args.truth);
 }
 
 }  // namespace
@@ -194,11 +205,11 @@ void AddSynthCommand(CLI::App& app) {
       "Example:\n  bouncecal synth -o steel.wav --drop-height-m 0.2 --restitution 0.648 "
       "--contact-duration-s 70e-6 --reverb-rt60-s 0.25 --snr-db 35 --seed 1 --truth steel.csv");
 
-  command->add_option("-o,--output", args->output, "Audio file to write (.wav, or .flac)")
+  command->add_option("-o,--output", args->output, "Audio file to write: .wav or .flac")
       ->required();
-  command->add_option(
-      "--truth", args->truth,
-      "Write the ground truth CSV (onset_s,impact_speed_mps,kind,drop,peak_amplitude) here");
+  command->add_option("--truth", args->truth,
+                      "Write the ground truth CSV (onset_s,impact_speed_mps,kind,drop,"
+                      "peak_amplitude) to this file, - for stdout");
   auto* impacts = command->add_option(
       "--impact-times", args->impact_times,
       "CSV of explicit impacts 'onset_s,impact_speed_mps' (s, m/s) instead of a ballistic drop");

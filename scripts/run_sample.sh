@@ -8,4 +8,4 @@ build/apps/bouncecal version
 # The main job: the paper's experiment (1 cm steel ball, 0.20 m drop, eta-bar = 0.58), printing
 # the fitted gamma_n with its analytic check, confidence interval and optimiser summary. The ball
 # and the drop height are stated: calibrate assumes neither.
-build/apps/bouncecal calibrate samples/steel_ball_h0.2m.wav --ball steel-10mm --drop-height 0.2
+build/apps/bouncecal calibrate samples/steel_ball_h0.2m.wav --ball steel-10mm --drop-height-m 0.2

@@ -99,20 +99,24 @@ TEST(AnalyzeCli, SilenceGivesEmptyListsANoteAndExitStatus0) {
       RunBouncecal("analyze '" + silence.string() + "' --json '" + json.string() + "'");
   EXPECT_EQ(result.exit_status, 0) << result.output;
   EXPECT_NE(result.output.find("no impacts"), std::string::npos) << result.output;
-  const auto out = ReadJson(json);
+  const auto out = ReadJson(json)["recordings"][0];
   EXPECT_TRUE(out["impacts"].empty());
   EXPECT_TRUE(out["rejected_events"].empty());
   EXPECT_TRUE(out["sequences"].empty());
 }
 
-TEST(AnalyzeCli, JsonHasTheIssueShapeAndTheDropHeightGivesTheFirstImpact) {
+TEST(AnalyzeCli, JsonOfOneRecordingHasTheFormatAndTheDropHeightGivesTheFirstImpact) {
   const auto drop = SyntheticDrop("drop.wav", 5, 0.2);
   const auto json = Scratch("drop.json");
   const auto csv = Scratch("drop.csv");
-  const auto result = RunBouncecal("analyze '" + drop.string() + "' --drop-height 0.2 --json '" +
+  const auto result = RunBouncecal("analyze '" + drop.string() + "' --drop-height-m 0.2 --json '" +
                                    json.string() + "' --csv '" + csv.string() + "'");
   ASSERT_EQ(result.exit_status, 0) << result.output;
-  const auto out = ReadJson(json);
+  const auto document = ReadJson(json);
+  EXPECT_EQ(document["format"], "bouncecal-analysis/1");
+  ASSERT_EQ(document["recordings"].size(), 1u);
+  EXPECT_EQ(document["summary"]["recordings"], 1);
+  const auto& out = document["recordings"][0];
   EXPECT_TRUE(out["file"].is_string());
   EXPECT_EQ(out["sample_rate_hz"], 48000);
   EXPECT_EQ(out["channel"], 0);
@@ -144,7 +148,7 @@ TEST(AnalyzeCli, JsonHasTheIssueShapeAndTheDropHeightGivesTheFirstImpact) {
   EXPECT_EQ(header.rfind("file,channel,sequence,k,onset_s", 0), 0u) << header;
 }
 
-TEST(AnalyzeCli, SeveralRecordingsGiveAnArrayAndASummary) {
+TEST(AnalyzeCli, SeveralRecordingsGiveTheSameShapeWithOneEntryEachAndASummary) {
   const auto a = SyntheticDrop("a.wav", 11, 0.2);
   const auto b = SyntheticDrop("b.wav", 12, 0.25);
   const auto json = Scratch("two.json");
@@ -152,12 +156,13 @@ TEST(AnalyzeCli, SeveralRecordingsGiveAnArrayAndASummary) {
                                    json.string() + "'");
   ASSERT_EQ(result.exit_status, 0) << result.output;
   const auto out = ReadJson(json);
-  ASSERT_TRUE(out.is_array());
-  ASSERT_EQ(out.size(), 3u);
-  EXPECT_EQ(out[0]["file"], a.string());
-  EXPECT_EQ(out[1]["file"], b.string());
-  EXPECT_EQ(out[2]["summary"]["recordings"], 2);
-  EXPECT_TRUE(out[2]["summary"]["energy_loss_mean"].is_number());
+  ASSERT_TRUE(out.is_object());
+  EXPECT_EQ(out["format"], "bouncecal-analysis/1");
+  ASSERT_EQ(out["recordings"].size(), 2u);
+  EXPECT_EQ(out["recordings"][0]["file"], a.string());
+  EXPECT_EQ(out["recordings"][1]["file"], b.string());
+  EXPECT_EQ(out["summary"]["recordings"], 2);
+  EXPECT_TRUE(out["summary"]["energy_loss_mean"].is_number());
 }
 
 TEST(AnalyzeCli, ChannelOutsideTheFileIsABadOption) {

@@ -269,7 +269,7 @@ audio::SynthesisOptions Drop(int rate_hz) {
 
 nlohmann::json AnalyzeToJson(const fs::path& input, const fs::path& json) {
   const auto result = RunBouncecal("analyze '" + input.string() + "' --json '" + json.string() +
-                                   "' --drop-height 0.2");
+                                   "' --drop-height-m 0.2");
   EXPECT_EQ(result.exit_status, 0) << result.output;
   // fmt prints a NaN or infinity as "nan" or "inf"; the report must never show one.
   EXPECT_FALSE(std::regex_search(result.output, std::regex(R"(\b-?(nan|inf)\b)"))) << result.output;
@@ -283,7 +283,7 @@ TEST_F(BadInput, An8kHzRecordingIsAnalysed) {
   audio::WriteRecording(path, std::span<const audio::Recording>(synthesized.channels),
                         {audio::AudioContainer::kWav, audio::SampleEncoding::kPcm16});
   const auto json = AnalyzeToJson(path, folder_ / "drop_8k.json");
-  const auto& file = json.is_array() ? json[0] : json;
+  const auto& file = json["recordings"][0];
   ASSERT_TRUE(file.contains("sample_rate_hz")) << file.dump();
   EXPECT_EQ(file["sample_rate_hz"], 8000);
   // At 8 kHz an onset is timed to a sample (125 us) at worst; the bounces are still found.
@@ -301,7 +301,7 @@ TEST_F(BadInput, ASixChannelRecordingIsAnalysedOnItsLoudestChannel) {
   audio::WriteRecording(path, std::span<const audio::Recording>(channels),
                         {audio::AudioContainer::kWav, audio::SampleEncoding::kPcm16});
   const auto json = AnalyzeToJson(path, folder_ / "six.json");
-  const auto& file = json.is_array() ? json[0] : json;
+  const auto& file = json["recordings"][0];
   EXPECT_EQ(file["channel"], 4) << file.dump();
   EXPECT_EQ(file["channel_count"], 6);
   EXPECT_GE(file["impacts"].size(), 5u);
@@ -321,7 +321,7 @@ const std::string kBall = R"({"diameter_m": 0.01, "density_kg_per_m3": 7800})";
 void ExpectCardRefused(BadInput& test, const fs::path& card, int status,
                        const std::string& problem) {
   test.ExpectRefused("compare " + SourceDir().string() +
-                         "/samples/steel_ball_h0.2m.csv --drop-height 0.2 --material",
+                         "/samples/steel_ball_h0.2m.csv --drop-height-m 0.2 --material",
                      card, status, problem);
   test.ExpectRefused("export --engine lammps --material", card, status, problem, "-o");
 }
@@ -411,7 +411,7 @@ class BadScene : public BadInput {
                           const fs::path& named = {}) const {
     const fs::path out = folder_ / "pack_out";
     const fs::path json = folder_ / "pack.json";
-    const auto result = RunBouncecal("pack '" + scene.string() + "' --out '" + out.string() +
+    const auto result = RunBouncecal("pack '" + scene.string() + "' -o '" + out.string() +
                                      "' --json '" + json.string() + "'");
     SCOPED_TRACE(scene.filename().string() + ": " + result.output);
     EXPECT_EQ(result.exit_status, 2);

@@ -21,7 +21,7 @@ std::filesystem::path Temp(const std::string& name) {
 }
 
 // The README's sample command: the paper's experiment, whose ball and height are known.
-const std::string kPaperSetUp = " --ball steel-10mm --drop-height 0.2";
+const std::string kPaperSetUp = " --ball steel-10mm --drop-height-m 0.2";
 
 TEST(CalibrateCli, ShippedSampleGivesGammaNearTheFormulaWithJsonAndCard) {
   const auto json = Temp("fit.json"), card = Temp("card.json");
@@ -107,7 +107,7 @@ TEST(CalibrateCli, UnwritableCardExitsWithStatus4AndLeavesNothing) {
 
 TEST(CalibrateCli, FirstReboundAboveTheGivenHeightExitsWithStatus3AndBothHeights) {
   // The sample's first rebound rises to 0.2 * 0.42 = 0.084 m.
-  const auto result = RunBouncecal("calibrate " + Sample() + " --drop-height 0.05");
+  const auto result = RunBouncecal("calibrate " + Sample() + " --drop-height-m 0.05");
   EXPECT_EQ(result.exit_status, 3) << result.output;
   EXPECT_NE(result.output.find("first rebound rose to 0.08"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("drop height 0.05 m"), std::string::npos) << result.output;
@@ -125,7 +125,7 @@ TEST(CalibrateCli, WithoutAHeightTheFitStartsFromTheFirstBounceAndSaysSo) {
   EXPECT_EQ(alias.exit_status, 0) << alias.output;
   EXPECT_EQ(alias.output.substr(0, alias.output.find("optimiser")),
             result.output.substr(0, result.output.find("optimiser")));
-  EXPECT_EQ(RunBouncecal("calibrate " + Sample() + " --unknown-drop-height --drop-height 0.2")
+  EXPECT_EQ(RunBouncecal("calibrate " + Sample() + " --unknown-drop-height --drop-height-m 0.2")
                 .exit_status,
             3);
 }
@@ -143,7 +143,7 @@ TEST(CalibrateCli, CardWithoutABallExitsWithStatus3BeforeFitting) {
   EXPECT_EQ(unknown.exit_status, 3) << unknown.output;
   EXPECT_NE(unknown.output.find("pingpong-40mm"), std::string::npos) << unknown.output;
   // Half a ball is refused: a size needs a mass.
-  EXPECT_EQ(RunBouncecal("calibrate " + Sample() + " --diameter 0.04").exit_status, 3);
+  EXPECT_EQ(RunBouncecal("calibrate " + Sample() + " --diameter-m 0.04").exit_status, 3);
 }
 
 TEST(CalibrateCli, SameRecordingTwiceGivesTheSameIntervalWithAWarning) {
@@ -172,14 +172,14 @@ TEST(CalibrateCli, RetiredBootstrapOptionsAreAcceptedWithAWarning) {
 }
 
 TEST(SweepCli, PrintsTheAnalyticColumnForWaltonBraun) {
-  const auto result = RunBouncecal("sweep --law walton-braun --gamma 0.1:0.9:0.2");
+  const auto result = RunBouncecal("sweep --law walton-braun --values 0.1:0.9:0.2");
   ASSERT_EQ(result.exit_status, 0) << result.output;
   EXPECT_NE(result.output.find("0.6667"), std::string::npos) << result.output;  // 2*0.5/1.5
 }
 
 TEST(CompareCli, NeedsExactlyOneOfGammaOrMaterial) {
-  EXPECT_EQ(RunBouncecal("compare " + Sample() + " --drop-height 0.2").exit_status, 3);
-  const auto result = RunBouncecal("compare " + Sample() + " --gamma 0.3,0.5 --drop-height 0.2");
+  EXPECT_EQ(RunBouncecal("compare " + Sample() + " --drop-height-m 0.2").exit_status, 3);
+  const auto result = RunBouncecal("compare " + Sample() + " --gamma 0.3,0.5 --drop-height-m 0.2");
   EXPECT_EQ(result.exit_status, 0) << result.output;
   EXPECT_NE(result.output.find("RMS"), std::string::npos) << result.output;
 }
@@ -194,12 +194,12 @@ TEST(DropOptionsCli, EveryDropOptionChangesWhatSweepAndCompareSimulate) {
   fs::create_directories(folder);
   // Each variation replaces or adds one option of the base set-up.
   const std::map<std::string, std::string> base = {{"--ball", "pingpong-40mm"},
-                                                   {"--drop-height", "0.2"}};
+                                                   {"--drop-height-m", "0.2"}};
   const std::vector<std::pair<std::string, std::string>> variations = {{"--drag", ""},
-                                                                       {"--gravity", "9.5"},
-                                                                       {"--drop-height", "0.3"},
+                                                                       {"--gravity-mps2", "9.5"},
+                                                                       {"--drop-height-m", "0.3"},
                                                                        {"--integrator", "euler"},
-                                                                       {"--time-step", "2e-6"},
+                                                                       {"--time-step-s", "2e-6"},
                                                                        {"--steps-per-contact", "5"},
                                                                        {"--fixed-step-grid", ""},
                                                                        {"--ball", "tennis"}};
@@ -211,7 +211,7 @@ TEST(DropOptionsCli, EveryDropOptionChangesWhatSweepAndCompareSimulate) {
     return text + " --json " + json.string();
   };
   for (const std::string& head :
-       std::vector<std::string>{"sweep --gamma 0.3,0.5", "compare " + Sample() + " --gamma 0.3"}) {
+       std::vector<std::string>{"sweep --values 0.3,0.5", "compare " + Sample() + " --gamma 0.3"}) {
     const std::string name = head.substr(0, head.find(' '));
     const auto reference = folder / (name + "_reference.json");
     ASSERT_EQ(RunBouncecal(command(head, base, reference)).exit_status, 0) << name;
@@ -232,7 +232,7 @@ TEST(DropOptionsCli, EveryDropOptionChangesWhatSweepAndCompareSimulate) {
 TEST(CompareCli, RefusesToAssumeADropHeight) {
   const auto result = RunBouncecal("compare " + Sample() + " --gamma 0.3,0.5");
   EXPECT_EQ(result.exit_status, 3) << result.output;
-  EXPECT_NE(result.output.find("--drop-height"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("--drop-height-m"), std::string::npos) << result.output;
 }
 
 }  // namespace

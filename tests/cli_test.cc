@@ -1,5 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 
 #include "bouncecal/version.h"
@@ -7,6 +13,50 @@
 
 namespace bouncecal::testing {
 namespace {
+
+namespace fs = std::filesystem;
+
+// Standard output alone (stderr discarded), to check what a pipe such as `| jq` would read.
+std::string StdoutOf(const std::string& arguments) {
+  const std::string command = std::string(BOUNCECAL_EXECUTABLE) + " " + arguments + " 2>/dev/null";
+  std::string text;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return text;
+  std::array<char, 4096> buffer{};
+  size_t got = 0;
+  while ((got = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) text.append(buffer.data(), got);
+  pclose(pipe);
+  return text;
+}
+
+fs::path Scratch(const std::string& name) {
+  const fs::path folder = fs::temp_directory_path() / "bouncecal_cli_test";
+  fs::create_directories(folder);
+  fs::remove_all(folder / name);
+  return folder / name;
+}
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+const std::string kSteelCsv = (SourceDir() / "samples/steel_ball_h0.2m.csv").string();
+
+// A material card calibrated on the shipped sample (written once per test run).
+fs::path Card() {
+  static const fs::path card = [] {
+    const auto path = Scratch("card.json");
+    const auto result =
+        RunBouncecal("calibrate " + kSteelCsv + " --ball steel-10mm --drop-height-m 0.2 --card " +
+                     path.string());
+    EXPECT_EQ(result.exit_status, 0) << result.output;
+    return path;
+  }();
+  return card;
+}
 
 TEST(Cli, VersionPrintsTheProjectVersion) {
   const auto result = RunBouncecal("version");
@@ -24,6 +74,88 @@ TEST(Cli, VersionFlagPrintsTheSameLineAsTheVersionCommand) {
 TEST(Cli, UnknownSubcommandIsAUsageError) {
   const auto result = RunBouncecal("frobnicate");
   EXPECT_EQ(result.exit_status, 3) << result.output;
+}
+
+// `--json -` puts the document, and only it, on standard output: the table goes to stderr, so
+// the output parses as one JSON document.
+TEST(Cli, JsonDashWritesOnlyTheDocumentToStandardOutput) {
+  const std::string text = StdoutOf("simulate drop --gamma 0.5 --json -");
+  const auto document = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  ASSERT_FALSE(document.is_discarded()) << text;
+  EXPECT_EQ(document["format"], "bouncecal-drop/1");
+  EXPECT_GT(document["impacts"].size(), 3u);
+  // The same bytes as the file the same command writes.
+  const auto file = Scratch("drop.json");
+  ASSERT_EQ(RunBouncecal("simulate drop --gamma 0.5 --quiet --json " + file.string()).exit_status,
+            0);
+  EXPECT_EQ(text, ReadText(file));
+  EXPECT_FALSE(fs::exists("-")) << "a file named '-' was written";
+}
+
+TEST(Cli, TwoOutputsOnStandardOutputAreRefusedNamingBoth) {
+  const auto result = RunBouncecal(
+      "simulate drop --gamma 0.5 --json - --trajectory - --trajectory-interval-s 1e-3");
+  EXPECT_EQ(result.exit_status, 3) << result.output;
+  EXPECT_NE(result.output.find("--json"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("--trajectory"), std::string::npos) << result.output;
+}
+
+// An old spelling is a hidden alias for one release: the same drop, and one note on stderr.
+TEST(Cli, OldSpellingGivesTheSameResultWithADeprecationNote) {
+  const std::string common = "simulate drop --quiet --gamma 0.4 --json - ";
+  const auto old_spelling = RunBouncecal(common + "--drop-height 0.3 --diameter 0.02");
+  ASSERT_EQ(old_spelling.exit_status, 0) << old_spelling.output;
+  EXPECT_NE(old_spelling.output.find("--drop-height is deprecated"), std::string::npos)
+      << old_spelling.output;
+  EXPECT_NE(old_spelling.output.find("use --drop-height-m"), std::string::npos)
+      << old_spelling.output;
+  const std::string new_text = StdoutOf(common + "--drop-height-m 0.3 --diameter-m 0.02");
+  EXPECT_EQ(StdoutOf(common + "--drop-height 0.3 --diameter 0.02"), new_text);
+  const auto parsed = nlohmann::json::parse(new_text);
+  EXPECT_EQ(parsed["drop_height_m"], 0.3);
+  EXPECT_EQ(parsed["ball"]["diameter_m"], 0.02);
+  // The old spelling is not offered in --help.
+  const auto help = RunBouncecal("simulate drop --help");
+  EXPECT_NE(help.output.find("--drop-height-m"), std::string::npos);
+  EXPECT_EQ(help.output.find("--drop-height "), std::string::npos) << help.output;
+}
+
+TEST(Cli, OldAndNewSpellingOfOneQuantityTogetherAreRefused) {
+  const auto result = RunBouncecal("simulate drop --drop-height-m 0.2 --drop-height 0.3");
+  EXPECT_EQ(result.exit_status, 3) << result.output;
+  EXPECT_NE(result.output.find("one option"), std::string::npos) << result.output;
+}
+
+TEST(Cli, SynthRefusesAnOutputNameThatChoosesNoFormatAndWritesNothing) {
+  const auto mp3 = Scratch("drop.mp3");
+  const auto result = RunBouncecal("synth -o " + mp3.string());
+  EXPECT_EQ(result.exit_status, 3) << result.output;
+  EXPECT_NE(result.output.find(".wav or .flac"), std::string::npos) << result.output;
+  EXPECT_FALSE(fs::exists(mp3));
+}
+
+TEST(Cli, ExportRefusesStandardOutputForADeckOfSeveralFiles) {
+  const auto result =
+      RunBouncecal("export --engine lammps --material " + Card().string() + " -o -");
+  EXPECT_EQ(result.exit_status, 3) << result.output;
+  EXPECT_NE(result.output.find("standard output"), std::string::npos) << result.output;
+  EXPECT_FALSE(fs::exists("-"));
+}
+
+// simulate drop --material simulates the card's law and ball (issue 18: it was refused), from
+// the card's drop height unless one is given.
+TEST(Cli, SimulateDropTakesTheLawBallAndHeightOfAMaterialCard) {
+  const auto card = Card();
+  const auto card_json = nlohmann::json::parse(ReadText(card));
+  const auto drop = nlohmann::json::parse(
+      StdoutOf("simulate drop --quiet --material " + card.string() + " --json -"));
+  EXPECT_EQ(drop["contact_law"], card_json["contact_law"]);
+  EXPECT_EQ(drop["ball"]["diameter_m"], card_json["ball"]["diameter_m"]);
+  EXPECT_EQ(drop["drop_height_m"], 0.2);
+  // A ball option beside the card would contradict it.
+  const auto both =
+      RunBouncecal("simulate drop --material " + card.string() + " --ball pingpong-40mm");
+  EXPECT_EQ(both.exit_status, 3) << both.output;
 }
 
 }  // namespace

@@ -103,9 +103,13 @@ int LagSamples(const std::vector<float>& original, const std::vector<float>& dec
   return best_lag;
 }
 
+// The one recording of an analyze --json document (bouncecal-analysis/1, docs/json.md).
 nlohmann::json ReadJson(const fs::path& path) {
   std::ifstream in(path);
-  return nlohmann::json::parse(in);
+  const auto document = nlohmann::json::parse(in);
+  EXPECT_EQ(document["format"], "bouncecal-analysis/1");
+  EXPECT_EQ(document["recordings"].size(), 1u);
+  return document["recordings"][0];
 }
 
 TEST_F(CodecInput, LossyFilesDecodeAtTheirRateAlignedWithTheirWav) {

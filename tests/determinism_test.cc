@@ -84,15 +84,17 @@ const std::string kSamples = SourceDir().string() + "/samples/";
 
 TEST_F(Determinism, AnalyzeWritesTheSameJsonAndCsvEveryRun) {
   const std::string command = "analyze " + kSamples +
-                              "steel_ball_h0.2m.wav --drop-height 0.2 --json {out}/a.json "
+                              "steel_ball_h0.2m.wav --drop-height-m 0.2 --json {out}/a.json "
                               "--csv {out}/a.csv";
   ExpectSameFiles(Run(command, "first"), Run(command, "second"));
 }
 
 TEST_F(Determinism, SimulateDropWritesTheSameJsonAndTrajectoryEveryRun) {
   const std::string command =
-      "simulate drop --quiet --law walton-braun --gamma 0.5 --stiffness 1e7 --diameter 0.01 "
-      "--density 7800 --drop-height 0.2 --json {out}/drop.json --trajectory {out}/drop.csv";
+      "simulate drop --quiet --law walton-braun --gamma 0.5 --stiffness-n-per-m 1e7 --diameter-m "
+      "0.01 "
+      "--density-kg-per-m3 7800 --drop-height-m 0.2 --json {out}/drop.json --trajectory "
+      "{out}/drop.csv";
   ExpectSameFiles(Run(command, "first"), Run(command, "second"));
 }
 
@@ -117,7 +119,7 @@ TEST_F(Determinism, CalibrateGivesTheSameFitOnOneTwoAndThreeThreads) {
   // --compare-laws is what runs on several threads (one law each); the interval draws nothing
   // at random.
   const std::string command = "calibrate " + (analysis / "drop.json").string() +
-                              " --drop-height 0.2 --ball steel-10mm --compare-laws --laws "
+                              " --drop-height-m 0.2 --ball steel-10mm --compare-laws --laws "
                               "walton-braun,linear-dashpot,hertz-viscoelastic --json "
                               "{out}/fit.json --threads ";
   const auto one = Bytes(Run(command + "1", "one") / "fit.json");
@@ -141,7 +143,7 @@ TEST_F(Determinism, PackWritesTheSameFilesOnOneAndTwoThreads) {
     "measurement": {"band_m": [0.005, 0.02]},
     "outputs": {"snapshot_interval_s": 0.01}
   })";
-  const std::string command = "pack " + scene.string() + " --out {out} --threads ";
+  const std::string command = "pack " + scene.string() + " -o {out} --threads ";
   const auto one = Run(command + "1", "one");
   const auto two = Run(command + "2", "two");
   EXPECT_TRUE(fs::exists(one / "summary.json"));

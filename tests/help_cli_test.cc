@@ -67,11 +67,11 @@ TEST(HelpCli, BadOptionValuesNameTheOptionAndItsRangeWithExitStatus3) {
   // The input file need not exist: option values are checked before any file is read.
   const Case cases[] = {
       {"calibrate missing.json --confidence 2", "--confidence", "(0, 1)"},
-      {"calibrate missing.json --drop-height 0.2 --drop-height-uncertainty -1",
-       "--drop-height-uncertainty", ">= 0"},
+      {"calibrate missing.json --drop-height-m 0.2 --drop-height-uncertainty-m -1",
+       "--drop-height-uncertainty-m", ">= 0"},
       {"calibrate missing.json --first 0", "--first", "at least 1"},
       {"report missing.json --threads 0 -o r.html", "--threads", ">= 1"},
-      {"sweep --gamma 0.1:0.9:0", "--gamma", "0 < step"},
+      {"sweep --values 0.1:0.9:0", "--values", "0 < step"},
       {"analyze missing.wav --first 0", "--first", "at least 1"},
       {"simulate drop --plot drop.pdf", "--plot", ".png or .svg"},
   };

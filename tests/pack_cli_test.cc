@@ -84,7 +84,7 @@ TEST(PackCli, WritesSummaryJsonCsvAndDumps) {
   const auto scene = WriteTinyScene(dir);
   const auto out = dir / "out";
   const auto json_path = dir / "result.json";
-  const auto result = RunBouncecal("pack " + scene.string() + " --threads 1 --out " + out.string() +
+  const auto result = RunBouncecal("pack " + scene.string() + " --threads 1 -o " + out.string() +
                                    " --json " + json_path.string());
   ASSERT_EQ(result.exit_status, 0) << result.output;
   std::ifstream in(json_path);
@@ -133,7 +133,7 @@ TEST(PackCli, ShippedPaper004ScenesRunBriefly) {
     const auto dir = EmptyTempDir("bouncecal_pack_cli_" + name);
     const auto json_path = dir / "result.json";
     const auto scene = SourceDir() / "samples/scenes" / (name + ".json");
-    const auto result = RunBouncecal("pack " + scene.string() + " --duration 0.005 --out " +
+    const auto result = RunBouncecal("pack " + scene.string() + " --duration-s 0.005 -o " +
                                      (dir / "out").string() + " --json " + json_path.string());
     ASSERT_EQ(result.exit_status, 0) << name << ": " << result.output;
     std::ifstream in(json_path);
@@ -174,7 +174,7 @@ TEST(PackCli, StepBeyondTheTangentialLimitWarnsBeyondTheNormalLimitIsRefused) {
     return path;
   };
   const auto json_path = dir / "result.json";
-  const auto warned = RunBouncecal("pack " + write("warn.json", "1e-5").string() + " --out " +
+  const auto warned = RunBouncecal("pack " + write("warn.json", "1e-5").string() + " -o " +
                                    (dir / "out").string() + " --json " + json_path.string());
   ASSERT_EQ(warned.exit_status, 0) << warned.output;
   EXPECT_NE(warned.output.find("warning"), std::string::npos) << warned.output;
@@ -188,7 +188,7 @@ TEST(PackCli, StepBeyondTheTangentialLimitWarnsBeyondTheNormalLimitIsRefused) {
         tangential || warning.get<std::string>().find("tangential spring") != std::string::npos;
   }
   EXPECT_TRUE(tangential) << json["warnings"].dump();
-  const auto refused = RunBouncecal("pack " + write("refuse.json", "1e-4").string() + " --out " +
+  const auto refused = RunBouncecal("pack " + write("refuse.json", "1e-4").string() + " -o " +
                                     (dir / "out2").string());
   EXPECT_EQ(refused.exit_status, 3) << refused.output;
   EXPECT_NE(refused.output.find("normal contact"), std::string::npos) << refused.output;
@@ -201,9 +201,9 @@ TEST(PackCli, NanDurationIsAnOptionErrorNamingTheOption) {
   const auto scene = WriteTinyScene(dir);
   const auto out = dir / "out";
   const auto result =
-      RunBouncecal("pack " + scene.string() + " --duration nan --out " + out.string());
+      RunBouncecal("pack " + scene.string() + " --duration-s nan -o " + out.string());
   EXPECT_EQ(result.exit_status, 3) << result.output;
-  EXPECT_NE(result.output.find("--duration"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("--duration-s"), std::string::npos) << result.output;
   EXPECT_FALSE(std::filesystem::exists(out / "summary.json"));
   std::filesystem::remove_all(dir);
 }
@@ -215,14 +215,14 @@ TEST(PackCli, DurationBelowOneTimeStepIsAnOptionErrorButZeroMeasuresTheStart) {
   const auto scene = WriteTinyScene(dir);
   const auto out = dir / "out";
   const auto refused =
-      RunBouncecal("pack " + scene.string() + " --duration 1e-7 --out " + out.string());
+      RunBouncecal("pack " + scene.string() + " --duration-s 1e-7 -o " + out.string());
   EXPECT_EQ(refused.exit_status, 3) << refused.output;
-  EXPECT_NE(refused.output.find("--duration"), std::string::npos) << refused.output;
+  EXPECT_NE(refused.output.find("--duration-s"), std::string::npos) << refused.output;
   EXPECT_NE(refused.output.find("time_step_s"), std::string::npos) << refused.output;
   EXPECT_FALSE(std::filesystem::exists(out)) << "refused before any output";
 
   const auto json_path = dir / "start.json";
-  const auto start = RunBouncecal("pack " + scene.string() + " --duration 0 --out " + out.string() +
+  const auto start = RunBouncecal("pack " + scene.string() + " --duration-s 0 -o " + out.string() +
                                   " --json " + json_path.string());
   ASSERT_EQ(start.exit_status, 0) << start.output;
   std::ifstream in(json_path);
@@ -239,7 +239,7 @@ TEST(PackCli, JsonInMissingFolderIsRefusedBeforeSimulating) {
   const auto scene = WriteTinyScene(dir);
   const auto out = dir / "out";
   const auto result =
-      RunBouncecal("pack " + scene.string() + " --duration 0.001 --out " + out.string() +
+      RunBouncecal("pack " + scene.string() + " --duration-s 0.001 -o " + out.string() +
                    " --json " + (dir / "missing" / "result.json").string());
   EXPECT_EQ(result.exit_status, 4) << result.output;
   EXPECT_NE(result.output.find("--json"), std::string::npos) << result.output;
@@ -256,7 +256,7 @@ TEST(PackCli, OutputFolderWithoutWriteAccessIsRefusedBeforeSimulating) {
   if (!std::filesystem::is_directory("/proc")) GTEST_SKIP() << "no /proc on this system";
   const auto dir = EmptyTempDir("bouncecal_pack_cli_out_folder");
   const auto scene = WriteTinyScene(dir);
-  const auto result = RunBouncecal("pack " + scene.string() + " --duration 0.001 --out /proc");
+  const auto result = RunBouncecal("pack " + scene.string() + " --duration-s 0.001 -o /proc");
   EXPECT_EQ(result.exit_status, 4) << result.output;
   // The up-front check names the folder; the late failure named the first CSV it could not write.
   EXPECT_NE(result.output.find("output folder /proc"), std::string::npos) << result.output;
@@ -276,8 +276,8 @@ TEST(PackCli, UnstableRunWritesNoNonFiniteNumberAndNoFinalState) {
     std::ofstream(out / stale) << "from an earlier run\n";
   }
   const auto json_path = dir / "result.json";
-  const auto result = RunBouncecal("pack " + scene.string() + " --out " + out.string() +
-                                   " --json " + json_path.string());
+  const auto result = RunBouncecal("pack " + scene.string() + " -o " + out.string() + " --json " +
+                                   json_path.string());
   ASSERT_EQ(result.exit_status, 3) << result.output;
   EXPECT_NE(result.output.find("unstable"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("runaway.json"), std::string::npos) << result.output;
@@ -314,7 +314,7 @@ TEST(PackCli, RerunRemovesOnlyTheEarlierRunsOwnOutputs) {
     std::ofstream(out / other) << "the user's own\n";
   }
   const auto result =
-      RunBouncecal("pack " + scene.string() + " --duration 0.001 --out " + out.string());
+      RunBouncecal("pack " + scene.string() + " --duration-s 0.001 -o " + out.string());
   ASSERT_EQ(result.exit_status, 0) << result.output;
   for (const char* stale : {"dump.000099999.lammpstrj", "profile.png", "history.png", "plots.gp"}) {
     EXPECT_FALSE(std::filesystem::exists(out / stale)) << stale;

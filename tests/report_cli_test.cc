@@ -42,13 +42,13 @@ class ReportCli : public ::testing::Test {
     // one of its inputs and keeps this test independent of recording support in that loader.
     const auto analysis =
         RunBouncecal("analyze " + (SourceDir() / "samples/steel_ball_h0.2m.wav").string() +
-                     " --drop-height 0.2 --json " + Input().string());
+                     " --drop-height-m 0.2 --json " + Input().string());
     if (analysis.exit_status != 0) {
       run_ = new CliResult(analysis);
       return;
     }
     run_ = new CliResult(RunBouncecal("report " + Input().string() +
-                                      " --drop-height 0.2 --ball steel-10mm -o " +
+                                      " --drop-height-m 0.2 --ball steel-10mm -o " +
                                       (*folder_ / "report.html").string()));
   }
   static void TearDownTestSuite() {

@@ -28,8 +28,9 @@ TEST(SimulateDropCli, WritesJsonAndTrajectoryOfThePaperDrop) {
   const auto json_path = TempPath("paper.json");
   const auto csv_path = TempPath("paper.csv");
   const auto result = RunBouncecal(
-      "simulate drop --law walton-braun --gamma 0.5 --stiffness 1e7 --diameter 0.01 --density "
-      "7800 --drop-height 0.2 --json " +
+      "simulate drop --law walton-braun --gamma 0.5 --stiffness-n-per-m 1e7 --diameter-m 0.01 "
+      "--density-kg-per-m3 "
+      "7800 --drop-height-m 0.2 --json " +
       json_path.string() + " --trajectory " + csv_path.string());
   ASSERT_EQ(result.exit_status, 0) << result.output;
   EXPECT_NE(result.output.find("restitution"), std::string::npos);
@@ -57,8 +58,8 @@ TEST(SimulateDropCli, WritesJsonAndTrajectoryOfThePaperDrop) {
 
 TEST(SimulateDropCli, NonsenseParametersExitWithStatusThreeAndOneLine) {
   for (const char* arguments :
-       {"--gamma 1.5", "--stiffness -1e7", "--diameter 0", "--drop-height nan",
-        "--law hertz --gamma 0.3", "--integrator leapfrog", "--dt 1e-4"}) {
+       {"--gamma 1.5", "--stiffness-n-per-m -1e7", "--diameter-m 0", "--drop-height-m nan",
+        "--law hertz --gamma 0.3", "--integrator leapfrog", "--time-step-s 1e-4"}) {
     const auto result = RunBouncecal(std::string("simulate drop ") + arguments);
     EXPECT_EQ(result.exit_status, 3) << arguments << ": " << result.output;
     EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1)

@@ -373,7 +373,7 @@ void SequenceOptions::Validate() const {
   require(max_chance_alignment >= 0 && max_chance_alignment <= 1,
           "--max-chance-alignment must be in [0, 1], got " + std::to_string(max_chance_alignment));
   require(!release_flight_s || (*release_flight_s > 0 && *release_flight_s <= max_interval_s),
-          "the release flight (from --drop-height) must be in (0, --max-interval-s], got " +
+          "the release flight (from --drop-height-m) must be in (0, --max-interval-s], got " +
               std::to_string(release_flight_s.value_or(0)) + " s");
 }
 

@@ -53,7 +53,7 @@ const BallPreset& FindBallPreset(std::string_view name) {
     if (preset.name == name) return preset;
   }
   throw ConfigError("unknown ball '" + std::string(name) + "'; use one of " + BallPresetNames() +
-                    ", or give --diameter with --density or --mass");
+                    ", or give --diameter-m with --density-kg-per-m3 or --mass-kg");
 }
 
 }  // namespace bouncecal::calibrate

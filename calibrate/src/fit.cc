@@ -58,15 +58,16 @@ void ValidateOptions(const FitOptions& options) {
   }
   if (u.drop_height_uncertainty_m > 0 && !options.drop_height_m) {
     throw ConfigError(
-        "a drop-height uncertainty needs a drop height; give --drop-height or drop "
-        "--drop-height-uncertainty");
+        "a drop-height uncertainty needs a drop height; give --drop-height-m or drop "
+        "--drop-height-uncertainty-m");
   }
   if (options.ball) {
     options.ball->Validate();
   } else if (const auto why = WhyResultDependsOnBall(options); !why.empty()) {
     throw ConfigError("the ball is needed: with " + why +
                       " the fitted damping depends on its size and mass; give --ball NAME (e.g. "
-                      "steel-10mm, pingpong-40mm, tennis) or --diameter with --density or --mass");
+                      "steel-10mm, pingpong-40mm, tennis) or --diameter-m with --density-kg-per-m3 "
+                      "or --mass-kg");
   }
 }
 

@@ -136,7 +136,8 @@ nlohmann::json ToJson(const FitSummary& summary) {
                          {"simulated_onsets_s", sequence.simulated_onsets_s},
                          {"simulated", ToJson(sequence.simulated)}});
   }
-  return {{"law", dem::ToString(summary.law.kind)},
+  return {{"format", kFitFormat},
+          {"law", dem::ToString(summary.law.kind)},
           {"contact_law", dem::ToJson(summary.law)},
           {"parameters", parameters},
           {"fitted_parameters", fitted},
@@ -166,10 +167,11 @@ nlohmann::json ToJson(const LawComparison& comparison) {
   nlohmann::json ranking = nlohmann::json::array();
   for (const auto& fit : comparison.fits) {
     auto entry = ToJson(fit);
+    entry.erase("format");  // one format field, on the document
     entry["delta_bic"] = fit.bic - comparison.fits.front().bic;
     ranking.push_back(std::move(entry));
   }
-  return {{"ranking", ranking}, {"criterion", "bic"}};
+  return {{"format", kLawComparisonFormat}, {"ranking", ranking}, {"criterion", "bic"}};
 }
 
 }  // namespace bouncecal::calibrate

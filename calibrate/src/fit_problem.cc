@@ -38,7 +38,7 @@ SequencePlan MakePlan(const MeasuredSequence& sequence, const FitOptions& option
       std::snprintf(text, sizeof text,
                     "recording %s: the first rebound rose to %.4g m (a %.4g s flight), higher than "
                     "the drop height %.4g m; give the height the ball was released from, or omit "
-                    "--drop-height to fit from the measured bounces",
+                    "--drop-height-m to fit from the measured bounces",
                     sequence.source.c_str(), first_rebound_m, plan.measured.intervals_s.front(),
                     *drop_height_m);
       throw ConfigError(text);

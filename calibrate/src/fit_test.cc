@@ -273,7 +273,7 @@ TEST(Fit, FirstReboundAboveTheDropHeightIsRefusedWithBothHeights) {
   const std::string message = MessageOf({recording}, options);
   EXPECT_NE(message.find("first rebound rose to 0.269"), std::string::npos) << message;
   EXPECT_NE(message.find("drop height 0.2 m"), std::string::npos) << message;
-  EXPECT_NE(message.find("omit --drop-height"), std::string::npos) << message;
+  EXPECT_NE(message.find("omit --drop-height-m"), std::string::npos) << message;
   options.drop_height_m = 0.5;
   EXPECT_NO_THROW(Fit({recording}, options));
 }
@@ -376,7 +376,7 @@ TEST(Fit, DropHeightUncertaintyWidensTheInterval) {
   // a third of it; d gamma / d eta = 0.98, so sigma(gamma) from the height alone is 0.0034.
   EXPECT_NEAR(uncertain.parameters[0].standard_error, 0.0034, 0.0006);
   options.drop_height_m.reset();
-  EXPECT_NE(MessageOf({recording}, options).find("--drop-height"), std::string::npos);
+  EXPECT_NE(MessageOf({recording}, options).find("--drop-height-m"), std::string::npos);
 }
 
 TEST(Fit, AnalyticCheckNamesAirDragAsDragNotGravity) {

@@ -9,6 +9,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <string_view>
 
 #include "bouncecal/error.h"
 
@@ -135,8 +136,10 @@ std::vector<MeasuredSequence> ReadCsv(const std::filesystem::path& path, std::is
   return sequences;
 }
 
-// Collects the analyze result objects: one object, an array of them, or an object that wraps
-// them in an array (a multi-file summary).
+constexpr std::string_view kAnalysisFormat = "bouncecal-analysis/1";
+
+// Collects the per-recording objects of analyze output written before it had a format field: one
+// object, or an array of them followed by {"summary": ...}.
 void CollectAnalyzeObjects(const nlohmann::json& node, std::vector<const nlohmann::json*>& found) {
   if (node.is_array()) {
     for (const auto& item : node) CollectAnalyzeObjects(item, found);
@@ -161,7 +164,29 @@ std::vector<MeasuredSequence> ReadJson(const std::filesystem::path& path, std::i
                      "); expected the output of bouncecal analyze --json");
   }
   std::vector<const nlohmann::json*> objects;
-  CollectAnalyzeObjects(document, objects);
+  if (document.is_object() && document.contains("format")) {
+    const std::string format =
+        document["format"].is_string() ? document["format"].get<std::string>() : "";
+    if (format != kAnalysisFormat) {
+      const bool newer = format.rfind("bouncecal-analysis/", 0) == 0;
+      throw InputError(
+          "'" + path.string() + "' has \"format\": \"" + format + "\", " +
+          (newer ? "which this bouncecal does not read (it reads " + std::string(kAnalysisFormat) +
+                       "); analyze the recording again with this version"
+                 : "not analyze output; expected the output of bouncecal analyze --json (" +
+                       std::string(kAnalysisFormat) + ")"));
+    }
+    if (!document.contains("recordings") || !document["recordings"].is_array()) {
+      throw InputError("'" + path.string() + "' is " + std::string(kAnalysisFormat) +
+                       " without a \"recordings\" array; write it again with bouncecal analyze "
+                       "--json");
+    }
+    for (const auto& recording : document["recordings"]) {
+      if (recording.is_object() && recording.contains("sequences")) objects.push_back(&recording);
+    }
+  } else {
+    CollectAnalyzeObjects(document, objects);
+  }
   if (objects.empty()) {
     throw InputError("'" + path.string() +
                      "' has no \"sequences\" key; expected the output of bouncecal analyze --json");

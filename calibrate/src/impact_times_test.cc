@@ -54,6 +54,77 @@ TEST(ReadImpactTimes, AnalyzeJsonTakesUncertaintiesFromTheImpactList) {
   std::filesystem::remove(path);
 }
 
+// One recording entry as bouncecal analyze --json writes it, with three impacts starting at t0.
+std::string RecordingEntry(const std::string& file, double t0) {
+  const auto t = [t0](double dt) { return std::to_string(t0 + dt); };
+  return R"({"file": ")" + file + R"(", "impacts": [
+      {"onset_s": )" +
+         t(0) + R"(, "onset_uncertainty_s": 3e-6, "sequence": 0},
+      {"onset_s": )" +
+         t(0.3) + R"(, "onset_uncertainty_s": 4e-6, "sequence": 0},
+      {"onset_s": )" +
+         t(0.5) + R"(, "onset_uncertainty_s": 7e-6, "sequence": 0}],
+    "sequences": [{"onsets_s": [)" +
+         t(0) + ", " + t(0.3) + ", " + t(0.5) + "]}]}";
+}
+
+TEST(ReadImpactTimes, AnalysisFormatOfSeveralRecordingsGivesEverySequenceInOrder) {
+  const auto path =
+      WriteTemp("analysis.json",
+                std::string(R"({"format": "bouncecal-analysis/1", "recordings": [)") +
+                    RecordingEntry("/x/a.wav", 0.1) + ", " + RecordingEntry("/x/b.wav", 1.1) +
+                    R"(], "summary": {"recordings": 2, "energy_loss_mean": null}})");
+  const auto sequences = ReadImpactTimes(path);
+  ASSERT_EQ(sequences.size(), 2u);
+  EXPECT_EQ(sequences[0].source, "a.wav#1");
+  EXPECT_EQ(sequences[1].source, "b.wav#1");
+  EXPECT_DOUBLE_EQ(sequences[1].impacts[0].onset_s, 1.1);
+  EXPECT_DOUBLE_EQ(sequences[1].impacts[2].uncertainty_s, 7e-6);
+  std::filesystem::remove(path);
+}
+
+TEST(ReadImpactTimes, TheArrayWrittenBeforeTheFormatFieldIsStillRead) {
+  // Appended, not "[" + ...: GCC 12 warns falsely (-Wrestrict) on that insert.
+  std::string legacy = "[";
+  legacy.append(RecordingEntry("/x/a.wav", 0.1))
+      .append(", ")
+      .append(RecordingEntry("/x/b.wav", 2.1))
+      .append(R"(, {"summary": {}}])");
+  const auto path = WriteTemp("legacy.json", legacy);
+  const auto sequences = ReadImpactTimes(path);
+  ASSERT_EQ(sequences.size(), 2u);
+  EXPECT_EQ(sequences[1].source, "b.wav#1");
+  std::filesystem::remove(path);
+}
+
+TEST(ReadImpactTimes, ALaterAnalysisVersionIsRefusedNamingIt) {
+  const auto path = WriteTemp("future.json",
+                              std::string(R"({"format": "bouncecal-analysis/2", "recordings": [)") +
+                                  RecordingEntry("/x/a.wav", 0.1) + "]}");
+  try {
+    ReadImpactTimes(path);
+    FAIL() << "expected InputError";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("bouncecal-analysis/2"), std::string::npos)
+        << error.what();
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(ReadImpactTimes, AFitResultIsNotTakenForAnalyzeOutput) {
+  // A calibrate --json document has a "sequences" key too, with fitted, not measured, entries.
+  const auto path = WriteTemp("fit.json", R"({"format": "bouncecal-fit/1", "sequences": [
+      {"source": "a.wav#1", "measured": {}, "simulated_onsets_s": [0.1, 0.4, 0.6]}]})");
+  try {
+    ReadImpactTimes(path);
+    FAIL() << "expected InputError";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("not analyze output"), std::string::npos)
+        << error.what();
+  }
+  std::filesystem::remove(path);
+}
+
 TEST(ReadImpactTimes, SynthesizerTruthCsvKeepsOnlyBallImpactsPerDrop) {
   // The columns bouncecal synth --truth writes: other events (kind knock, drop -1) are skipped.
   const auto path = WriteTemp("truth.csv",

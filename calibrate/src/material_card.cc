@@ -104,7 +104,8 @@ void CheckCardOptions(const FitOptions& options) {
   if (!options.ball) {
     throw ConfigError(
         "a material card records the ball its damping was calibrated with (exported damping "
-        "scales with its mass); give --ball NAME or --diameter with --density or --mass");
+        "scales with its mass); give --ball NAME or --diameter-m with --density-kg-per-m3 or "
+        "--mass-kg");
   }
 }
 

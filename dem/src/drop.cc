@@ -273,7 +273,7 @@ class DropRunner {
     result_.stop_reason = DropStopReason::kTimeLimit;
     result_.end_time_s = options_.max_time_s;
     result_.stop_detail =
-        fmt::format("stopped at max_time_s = {:g} s after {} impacts; raise --max-time",
+        fmt::format("stopped at max_time_s = {:g} s after {} impacts; raise --max-time-s",
                     options_.max_time_s, result_.impacts.size());
   }
 

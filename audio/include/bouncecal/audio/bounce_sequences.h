@@ -38,7 +38,7 @@ struct SequenceOptions {
   // events line up as well (see FindBounceSequences).
   double max_chance_alignment = 1e-2;
   // The flight that would have preceded the first impact, 2 sqrt(2 h0 / g), when the drop
-  // height h0 is known (--drop-height). It gives the first impact's restitution dt_1 / dt_0, so
+  // height h0 is known (--drop-height-m). It gives the first impact's restitution dt_1 / dt_0, so
   // a lossy ball (e ~ 0.3: lead, clay, wood on sand) that makes only 2 or 3 audible impacts still
   // forms a sequence (see BounceSequence::short_sequence); without it, 3 impacts give one ratio.
   std::optional<double> release_flight_s;

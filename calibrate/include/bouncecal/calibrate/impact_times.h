@@ -32,9 +32,11 @@ struct ImpactTimesOptions {
 //  - a CSV file: one impact per line, columns onset_s[,onset_uncertainty_s[,sequence]]; an
 //    optional header line, '#' comments and blank lines are skipped; rows with the same sequence
 //    number (any integer) form one sequence, otherwise the whole file is one sequence;
-//  - the JSON `bouncecal analyze --json` writes: one object, or an array of them, with
-//    "sequences": [{"onsets_s": [...]}, ...] and "impacts": [{"onset_s", "onset_uncertainty_s"}]
-//    giving each onset's uncertainty.
+//  - the JSON `bouncecal analyze --json` writes ("format": "bouncecal-analysis/1",
+//    docs/json.md): per entry of "recordings", "sequences": [{"onsets_s": [...]}, ...] and
+//    "impacts": [{"onset_s", "onset_uncertainty_s"}] giving each onset's uncertainty. The shapes
+//    written before the format field (one such entry, or an array of them) are still read; a
+//    document of another format, or of a later version, is an InputError saying so.
 // The format is chosen by the extension (.csv / .json). Throws InputError naming the file and the
 // line or key for unreadable or malformed content, or when no sequence has min_impacts impacts.
 std::vector<MeasuredSequence> ReadImpactTimes(const std::filesystem::path& path,
