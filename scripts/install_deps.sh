@@ -11,6 +11,8 @@ packages=(
   gnuplot-nox chromium
   # The ffmpeg command encodes the lossy recordings of the codec tests and bench/codec_timing_bench.
   ffmpeg
+  # tests/json_schema_test.py validates every command's JSON against docs/schema/.
+  python3 python3-jsonschema
   lammps liggghts mpi-default-bin
   "$@"
 )
