@@ -4,41 +4,16 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
-#include "bouncecal/audio/load_recording.h"
+#include "display_waveform.h"
 #include "plot/gnuplot_plot.h"
-#include "plot/min_max_decimator.h"
 
 namespace bouncecal::apps {
 namespace {
 
-WaveformColumns DecimatedFilteredWaveform(const AnalyzedRecording& recording,
-                                          const AnalyzePlotOptions& options) {
-  audio::RecordingReader reader(recording.path);
-  const int rate_hz = reader.info().sample_rate_hz;
-  MinMaxDecimator decimator(reader.info().header_frames, options.columns, rate_hz);
-  // First-order RC high-pass, y[n] = a (y[n-1] + x[n] - x[n-1]) with a = RC / (RC + dt).
-  const double rc_s = 1.0 / (2 * std::numbers::pi * options.high_pass_hz);
-  const double a = rc_s / (rc_s + 1.0 / rate_hz);
-  double previous_in = 0, previous_out = 0;
-  std::vector<std::vector<float>> channels;
-  std::vector<float> filtered;
-  while (reader.ReadBlock(channels, 1 << 15)) {
-    const auto& samples = channels[static_cast<std::size_t>(recording.channel)];
-    filtered.resize(samples.size());
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-      previous_out = a * (previous_out + samples[i] - previous_in);
-      previous_in = samples[i];
-      filtered[i] = static_cast<float>(previous_out);
-    }
-    decimator.Add(filtered);
-  }
-  return decimator.Finish();
-}
-
 PlotPanel WaveformPanel(const AnalyzedRecording& recording, const AnalyzePlotOptions& options) {
-  const auto columns = DecimatedFilteredWaveform(recording, options);
+  const auto columns =
+      DisplayWaveform(recording.path, recording.channel, options.high_pass_hz, options.columns);
   double peak = 1e-6;
   for (std::size_t c = 0; c < columns.min.size(); ++c) {
     peak = std::max({peak, std::abs(columns.min[c]), std::abs(columns.max[c])});

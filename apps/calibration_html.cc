@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "waveform_svg.h"
+
 namespace bouncecal::apps {
 namespace {
 
@@ -58,6 +60,44 @@ std::string InputsSection(const CalibrationReportContent& content) {
       Number(options.gravity_mps2), dem::ToString(options.integrator),
       options.drag.enabled ? ", air drag on" : "");
   html += "<p>Command: <code>" + EscapeHtml(content.command_line) + "</code></p>\n";
+  return html;
+}
+
+std::string RecordingsSection(const CalibrationReportContent& content) {
+  std::string html =
+      "<h2 id=\"waveforms\">Recordings: what was counted</h2>\n<p>Each recording's waveform "
+      "(the analysed channel, high-passed at 300 Hz for display, lowest and highest sample per "
+      "pixel column). <span style=\"color:#1f5fa8\">&#9660;</span> marks an impact of a bounce "
+      "sequence, coloured by sequence, whose name and extent the bracket above shows; <span "
+      "style=\"color:#c0392b\">&#10005;</span> marks a sound the detector rejected. Hover over a "
+      "marker for its time and, for a rejected event, the reason; the reasons are also listed "
+      "below each figure.</p>\n";
+  for (const auto& view : content.recordings) {
+    html += "<h3>" + EscapeHtml(view.input.filename().string()) + "</h3>\n";
+    if (!view.audio.empty() && view.audio != view.input) {
+      html += "<p>Recording: <code>" + EscapeHtml(view.audio.string()) + "</code></p>\n";
+    }
+    if (!view.note.empty()) html += "<p>" + EscapeHtml(view.note) + "</p>\n";
+    if (!view.waveform && !view.HasEvents()) continue;
+    std::size_t impacts = 0;
+    for (const auto& sequence : view.sequences) impacts += sequence.onsets_s.size();
+    html += "<figure>\n" + WaveformSvg(view) + "\n<figcaption>" +
+            EscapeHtml(fmt::format("{}{}: {} impacts in {} sequence(s), {} rejected events.",
+                                   view.audio.empty() ? view.input.filename().string()
+                                                      : view.audio.filename().string(),
+                                   view.waveform ? fmt::format(", channel {}", view.channel) : "",
+                                   impacts, view.sequences.size(), view.rejected.size())) +
+            "</figcaption>\n</figure>\n";
+    if (view.rejected.empty()) continue;
+    html += "<details class=\"rejected-events\"><summary>Rejected events and why (" +
+            std::to_string(view.rejected.size()) + ")</summary>\n<table>\n";
+    html += Row({"time (s)", "reason"}, true);
+    for (const auto& event : view.rejected) {
+      html += "<tr><td>" + fmt::format("{:.6f}", event.time_s) + "</td><td class=\"text\">" +
+              EscapeHtml(event.reason) + "</td></tr>\n";
+    }
+    html += "</table></details>\n";
+  }
   return html;
 }
 
@@ -215,6 +255,7 @@ std::string CalibrationReportHtml(const CalibrationReportContent& content) {
                       EscapeHtml(card.tool_version), EscapeHtml(card.created_utc),
                       content.summary.sequences.size());
   html += InputsSection(content);
+  html += RecordingsSection(content);
   html += FitSection(content);
   html += CheckSection(content);
   html += "<h2 id=\"plots\">Plots</h2>\n";

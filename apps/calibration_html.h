@@ -6,6 +6,7 @@
 
 #include "bouncecal/calibrate/fit.h"
 #include "bouncecal/calibrate/material_card.h"
+#include "report_recordings.h"
 
 namespace bouncecal::apps {
 
@@ -18,6 +19,8 @@ struct CalibrationReportContent {
   std::string card_json;  // the card exactly as `calibrate --card` writes it
   std::string fit_json;   // calibrate::ToJson(summary), as `calibrate --json` writes it
   std::vector<std::pair<std::string, std::string>> figures;  // caption, <svg> element
+  // Each input's waveform with the impacts, sequences and rejected events (its own section).
+  std::vector<RecordingView> recordings;
 };
 
 // One self-contained HTML5 page: inline CSS and SVG, no script, no external resource, so it

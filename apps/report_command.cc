@@ -14,6 +14,7 @@
 #include "card_creation_time.h"
 #include "commands.h"
 #include "output_target.h"
+#include "report_recordings.h"
 
 namespace bouncecal::apps {
 namespace {
@@ -55,12 +56,17 @@ void Run(const ReportCommandOptions& cli, const std::string& command_line) {
   for (const auto& warning : cli.DeprecationWarnings())
     fmt::print(stderr, "bouncecal: warning: {}\n", warning);
   const auto sequences = cli.LoadSequences();
+  // Before the fit: a recording that cannot be drawn should not cost a fit first.
+  RecordingViewOptions view_options;
+  view_options.input = cli.InputOptions();
+  auto recordings = ViewRecordings(cli.inputs, view_options);
   const auto summary = calibrate::Fit(sequences, options);
 
   CalibrationReportContent content;
   content.command_line = command_line;
   content.summary = summary;
   content.options = options;
+  content.recordings = std::move(recordings);
   content.card = calibrate::MakeMaterialCard(summary, options, cli.inputs, card_created_at);
   content.card_json = calibrate::ToJson(content.card).dump(2);
   content.fit_json = calibrate::ToJson(summary).dump(2);
@@ -92,8 +98,9 @@ void AddReportCommand(CLI::App& app) {
   auto* command = app.add_subcommand(
       "report",
       "Calibrate like `bouncecal calibrate` and write one self-contained HTML page: inputs with "
-      "content hashes, impacts table, fit summary, analytic check, plots (inline SVG) and the "
-      "material card, for a lab notebook or a paper's supplement.");
+      "content hashes, each recording's waveform with every impact, sequence and rejected event "
+      "marked, fit summary, analytic check, plots (inline SVG), impacts table and the material "
+      "card, for a lab notebook or a paper's supplement.");
   command->footer(
       "Example:\n"
       "  bouncecal report drop1.wav drop2.wav --ball steel-10mm --drop-height-m 0.2 -o "

@@ -1,14 +1,20 @@
 // bouncecal report: one self-contained HTML page for a calibration, checked as text and, when
 // Debian's chromium is installed, as rendered by a real browser.
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 #include <stdlib.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "bouncecal/calibrate/content_hash.h"
 #include "cli_runner.h"
@@ -70,8 +76,9 @@ TEST_F(ReportCli, PageHasEverySectionTheFiguresAndTheInputHash) {
        {"inputs", "fit-summary", "analytic-check", "plots", "impacts", "material-card"}) {
     EXPECT_NE(html.find(std::string("id=\"") + id + "\""), std::string::npos) << id;
   }
-  // The fit figure and the gamma-eta figure (walton-braun under mean-energy-loss has the check).
-  EXPECT_EQ(Count(html, "<svg"), 2u);
+  // The recording's waveform, the fit figure and the gamma-eta figure (walton-braun under
+  // mean-energy-loss has the check).
+  EXPECT_EQ(Count(html, "<svg"), 3u);
   EXPECT_NE(html.find(calibrate::FileContentHash(Input())), std::string::npos);
   EXPECT_NE(html.find("bouncecal-material/1"), std::string::npos);
   // The mean-energy-loss fit needs 3 impacts after the release: rows k = 1..3 at least.
@@ -130,10 +137,12 @@ TEST_F(ReportCli, RendersInHeadlessChromium) {
       chromium + flags + "--dump-dom file://" + page.string() + " > " + dom + " 2>/dev/null";
   ASSERT_EQ(std::system(dump.c_str()), 0);
   const std::string rendered = ReadText(dom);
+  const std::string html = ReadText(page);
   // The DOM is what the browser parsed: sections, both figures and the fit values survive.
   EXPECT_NE(rendered.find("id=\"fit-summary\""), std::string::npos);
   EXPECT_NE(rendered.find("gamma_n fitted"), std::string::npos);
-  EXPECT_EQ(Count(rendered, "<svg"), 2u);
+  EXPECT_EQ(Count(rendered, "<svg"), 3u);
+  EXPECT_EQ(Count(rendered, "class=\"impact\""), Count(html, "class=\"impact\""));
   const std::string shot = chromium + flags +
                            "--window-size=1200,2400 --screenshot=" + screenshot.string() +
                            " file://" + page.string() + " >/dev/null 2>&1";
@@ -143,6 +152,51 @@ TEST_F(ReportCli, RendersInHeadlessChromium) {
   if (const char* keep = std::getenv("BOUNCECAL_KEEP_REPORT_SCREENSHOT")) {
     std::filesystem::copy_file(screenshot, keep, std::filesystem::copy_options::overwrite_existing);
   }
+}
+
+// The waveform section draws every impact the analysis put in a sequence and every event it
+// rejected, at its time, over the recording's decimated waveform.
+TEST_F(ReportCli, WaveformMarksEveryImpactAndRejectedEventOfTheAnalysis) {
+  ASSERT_EQ(run_->exit_status, 0) << run_->output;
+  const std::string html = ReadText(*folder_ / "report.html");
+  const auto analysis = nlohmann::json::parse(ReadText(Input()));
+  const auto& recording = analysis["recordings"][0];
+  std::vector<double> onsets;
+  for (const auto& sequence : recording["sequences"]) {
+    for (double onset : sequence["onsets_s"]) onsets.push_back(onset);
+  }
+  ASSERT_GE(onsets.size(), 4u);
+  ASSERT_EQ(Count(html, "class=\"waveform-figure\""), 1u);
+  EXPECT_EQ(Count(html, "class=\"impact\""), onsets.size());
+  EXPECT_EQ(Count(html, "class=\"rejected\""), recording["rejected_events"].size());
+  for (double onset : onsets) {
+    char marker[64];
+    std::snprintf(marker, sizeof marker, "class=\"impact\" data-time-s=\"%.9g\"", onset);
+    EXPECT_NE(html.find(marker), std::string::npos) << marker;
+  }
+  // One stroke per pixel column of the 910 px plot area, and the loudest column lies at an
+  // impact: x = 70 + 910 t / duration. Tolerance 3 columns (~5 ms here): the high-passed peak
+  // follows the onset by the impact's rise and ring, about a millisecond.
+  const auto path_at = html.find("class=\"waveform\" d=\"");
+  ASSERT_NE(path_at, std::string::npos);
+  const std::string path = html.substr(path_at, html.find('"', path_at + 22) - path_at);
+  EXPECT_EQ(Count(path, "M"), 910u);
+  double loudest_x = 0, loudest_span = -1;
+  for (auto at = path.find('M'); at != std::string::npos; at = path.find('M', at + 1)) {
+    char* end = nullptr;
+    const double x = std::strtod(path.c_str() + at + 1, &end);
+    const double top = std::strtod(end, &end);
+    const double bottom = std::strtod(end + 1, nullptr);  // after the 'V'
+    if (bottom - top > loudest_span) loudest_span = bottom - top, loudest_x = x;
+  }
+  const auto t1_at = html.find("data-t1-s=\"");
+  ASSERT_NE(t1_at, std::string::npos);
+  const double duration_s = std::strtod(html.c_str() + t1_at + 11, nullptr);
+  double nearest_px = 1e9;
+  for (double onset : onsets) {
+    nearest_px = std::min(nearest_px, std::abs(70 + 910 * onset / duration_s - loudest_x));
+  }
+  EXPECT_LE(nearest_px, 3.0) << "loudest column at x = " << loudest_x;
 }
 
 TEST(ReportCliErrors, AnOutputThatIsNotHtmlNamesTheOption) {
