@@ -19,6 +19,8 @@
 
 #include "bouncecal/audio/synthesize.h"
 #include "bouncecal/audio/write_recording.h"
+#include "bouncecal/dem/packing.h"
+#include "bouncecal/dem/scene.h"
 #include "cli_runner.h"
 #include "lossy_encode.h"
 
@@ -536,6 +538,25 @@ TEST_F(BadScene, MissingOrGarbledStartPositionsFilesNameThatFile) {
   Write("start.data", "LAMMPS data\n\n3000000000 atoms\n\nAtoms # sphere\n\n");
   ExpectSceneRefused(lammps_scene, "3000000000 particles would need about 4200.0 GB",
                      folder_ / "start.data");
+}
+
+// A start-positions file is read once, when the scene is loaded and checked; the run places the
+// particles that were checked. (The run read it a second time: a file replaced in between ran
+// unchecked particles, a pipe could not be read twice.) Here the file is garbled after loading:
+// the run must not notice.
+TEST_F(BadScene, StartPositionsFileIsReadOnceWhenTheSceneLoads) {
+  auto json = TinyScene();
+  json["particles"]["count"] = 2;
+  json["insertion"] = {{"type", "file"}, {"path", "start.csv"}};
+  Write("start.csv", "x_m,y_m,z_m,diameter_m\n0.0,0.0,0.01,0.01\n0.015,0.0,0.01,0.01\n");
+  const dem::Scene scene = dem::LoadScene(WriteScene("from_file.json", json));
+  Write("start.csv", "garbled after loading\n");
+  dem::PackOptions options;
+  options.duration_s = 0.0;
+  const auto summary = dem::RunPacking(scene, options);
+  ASSERT_EQ(summary.final_state.size(), 2u);
+  EXPECT_EQ(summary.final_state.position_m[1][0], 0.015);
+  EXPECT_EQ(summary.final_state.radius_m[0], 0.005);
 }
 
 TEST_F(BadScene, ANameThatIsNotAFolderNameIsRefused) {

@@ -30,6 +30,9 @@ class EnergyBudget {
   // there is no budget to hold the run to.
   bool bounded() const { return bounded_; }
   double joules() const { return joules_; }
+  // A resumed pack takes the budget its checkpoint saved: the particles' start energies are
+  // not recoverable from a later state.
+  void RestoreJoules(double joules) { joules_ = joules; }
 
  private:
   const Scene& scene_;

@@ -14,6 +14,9 @@
 
 namespace bouncecal::dem::scene {
 
+class ByteReader;  // checkpoint_bytes.h
+class ByteWriter;
+
 // The instruction sets the contact arithmetic is compiled for, narrowest first. kAvx512 needs
 // AVX-512 F, DQ and VL and runs 8 contacts per instruction.
 enum class ContactSimd { kBaseline, kAvx2, kAvx512 };
@@ -132,6 +135,13 @@ class EngineBase {
   // Particles that have not collided yet; only tracked with settings().stop_at_first_contact
   // (otherwise every particle counts as untouched).
   std::int64_t untouched() const { return untouched_; }
+
+  // Every member the next Advance reads, as it is (engine_checkpoint.cc): restored into an
+  // engine made with the same settings, walls, law and physics, the run goes on bit for bit as
+  // if it had never stopped. Call between Advance calls. Restore throws InputError (through
+  // `in`) when the arrays do not fit together, and leaves the engine unusable then.
+  void SaveCheckpoint(ByteWriter& out) const;
+  void RestoreCheckpoint(ByteReader& in);
 
  protected:
   // New pair list (grid or all pairs), carrying over the history of pairs that stay listed.

@@ -27,6 +27,9 @@ class SceneRandom {
   std::uint64_t Next();
   double Uniform() { return static_cast<double>(Next() >> 11) * 0x1.0p-53; }  // [0, 1)
   double Uniform(double lo, double hi) { return lo + (hi - lo) * Uniform(); }
+  // SplitMix64's whole state is one word, so SceneRandom(state()) continues the same stream
+  // (a pack checkpoint saves it).
+  std::uint64_t state() const { return state_; }
 
  private:
   std::uint64_t state_;

@@ -11,10 +11,12 @@
 #include <vector>
 
 #include "bouncecal/error.h"
+#include "scene/checkpoint_bytes.h"
 #include "scene/contact_limits.h"
 #include "scene/energy_budget.h"
 #include "scene/engine.h"
 #include "scene/insertion.h"
+#include "scene/pack_checkpoint_file.h"
 #include "scene/particle_file.h"
 
 namespace bouncecal::dem {
@@ -40,6 +42,10 @@ void PackOptions::Validate() const {
   if (progress_every_steps < 1) {
     throw ConfigError("progress_every_steps must be >= 1");
   }
+  if (!(checkpoint_every_s >= 0 && std::isfinite(checkpoint_every_s))) {
+    throw ConfigError(
+        fmt::format("checkpoint_every_s = {} s must be finite and >= 0", checkpoint_every_s));
+  }
 }
 
 std::string_view ToString(PackStopReason reason) {
@@ -48,6 +54,8 @@ std::string_view ToString(PackStopReason reason) {
       return "duration";
     case PackStopReason::kUnstable:
       return "unstable";
+    case PackStopReason::kInterrupted:
+      return "interrupted";
   }
   return "unknown";
 }
@@ -218,9 +226,121 @@ std::optional<std::string> NotAtRest(const std::vector<HistoryPoint>& history) {
       last, 100 * last / peak->kinetic_energy_j, peak->kinetic_energy_j, peak->time_s);
 }
 
+// A run that is not at rest (NotAtRest) is boiling rather than cut short when its kinetic energy
+// has stopped falling: over the second half of the time since its peak, with no particle poured
+// meanwhile, it fell by less than half. A pack settling under its damping loses orders of
+// magnitude over that time, and one still falling gains energy towards its end (its peak is
+// the last sample); one that keeps half of it is being heated by its integrator as fast as the
+// damping cools it (a time step too coarse for the contacts it has, though under the limit of
+// one contact). At least kBoilingSamples samples after the peak, so the halves are not one
+// sample each.
+constexpr std::size_t kBoilingSamples = 4;
+constexpr double kBoilingKeptFraction = 0.5;
+
+bool Boiling(const std::vector<HistoryPoint>& history) {
+  if (history.size() < 2) return false;
+  const auto peak = std::max_element(history.begin(), history.end(),
+                                     [](const HistoryPoint& a, const HistoryPoint& b) {
+                                       return a.kinetic_energy_j < b.kinetic_energy_j;
+                                     });
+  const auto& last = history.back();
+  const auto after = static_cast<std::size_t>(history.end() - peak) - 1;
+  if (after < kBoilingSamples || peak->particles != last.particles) return false;
+  if (!(last.kinetic_energy_j > kAtRestFraction * peak->kinetic_energy_j)) return false;
+  const auto& middle = *(peak + static_cast<std::ptrdiff_t>(after / 2));
+  return last.kinetic_energy_j >= kBoilingKeptFraction * middle.kinetic_energy_j;
+}
+
 std::int64_t StepsFor(double interval_s, double dt) {
   if (!(interval_s > 0)) return std::numeric_limits<std::int64_t>::max();
   return std::max<std::int64_t>(1, std::llround(interval_s / dt));
+}
+
+// Pending particles field by field: NewParticle has padding, whose bytes are not defined, and a
+// checkpoint of one state must be one file.
+void PutParticles(scene::ByteWriter& out, const std::vector<scene::NewParticle>& particles) {
+  std::vector<Vec3> position;
+  std::vector<double> radius;
+  std::vector<std::int32_t> species;
+  for (const auto& p : particles) {
+    position.push_back(p.position_m);
+    radius.push_back(p.radius_m);
+    species.push_back(p.species);
+  }
+  out.PutVector(position);
+  out.PutVector(radius);
+  out.PutVector(species);
+}
+
+std::vector<scene::NewParticle> GetParticles(scene::ByteReader& in) {
+  const auto position = in.GetVector<Vec3>();
+  const auto radius = in.GetVector<double>();
+  const auto species = in.GetVector<std::int32_t>();
+  if (radius.size() != position.size() || species.size() != position.size()) {
+    in.Fail("its particles still to pour do not fit together");
+  }
+  std::vector<scene::NewParticle> particles(position.size());
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    particles[i] = {position[i], radius[i], species[i]};
+  }
+  return particles;
+}
+
+// What decides the trajectory from here on: the engine's settings (not the thread count, which
+// does not change it), law, physics and walls, the start state and the particles still to come,
+// the random stream and the block lengths (see PackOptions::checkpoint_every_s). A checkpoint
+// resumes only into a set-up with the same fingerprint.
+template <int Dim>
+std::uint64_t SetupFingerprint(const Scene& scene, const scene::EngineSettings& settings,
+                               const scene::EngineBase<Dim>& engine,
+                               const std::vector<scene::NewParticle>& pending,
+                               const scene::SceneRandom& random,
+                               const std::vector<std::int64_t>& block_lengths) {
+  scene::ByteWriter out;
+  out.Put(Dim);
+  for (const double value :
+       {settings.time_step_s, settings.gravity_mps2, settings.tangential_stiffness_n_per_m,
+        settings.friction, settings.wall_friction, settings.hamaker_j, settings.vdw_min_gap_m,
+        settings.vdw_cutoff_gap_m, settings.local_damping, settings.skin_m, settings.min_skin_m,
+        settings.skin_rebuild_steps}) {
+    out.Put(value);
+  }
+  for (const bool flag :
+       {settings.stop_at_first_contact, settings.brute_force_pairs, settings.sort_by_cell}) {
+    out.Put(static_cast<std::uint8_t>(flag));
+  }
+  out.PutString(DescribePhysics(scene));
+  for (const auto& [name, value] : scene.material.law.parameters) {
+    out.PutString(name);
+    out.Put(value);
+  }
+  const auto& c = scene.container;
+  out.Put(static_cast<std::int32_t>(c.kind));
+  for (const Vec3& v : {c.center_m, c.min_m, c.max_m, c.point_m, c.normal}) out.Put(v);
+  out.Put(c.radius_m);
+  out.Put(c.height_m);
+  out.Put(static_cast<std::uint8_t>(c.closed_top));
+  const auto& st = engine.state();
+  out.PutVector(st.position_m);
+  out.PutVector(st.velocity_mps);
+  out.PutVector(st.radius_m);
+  out.PutVector(st.mass_kg);
+  out.PutVector(st.species);
+  PutParticles(out, pending);
+  out.Put(random.state());
+  out.PutVector(block_lengths);
+  return scene::Fnv1a(out.bytes());
+}
+
+// FNV-1a over the bytes of every particle's position, velocity and spin, in insertion order:
+// equal digests mean bit-identical final states.
+template <int Dim>
+std::uint64_t StateDigest(const scene::ParticleState<Dim>& state) {
+  scene::ByteWriter out;
+  out.PutVector(state.position_m);
+  out.PutVector(state.velocity_mps);
+  out.PutVector(state.angular_velocity_radps);
+  return scene::Fnv1a(out.bytes());
 }
 
 template <int Dim>
@@ -259,7 +379,15 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
   scene::SceneRandom random(scene.insertion.seed);
   std::vector<scene::NewParticle> pending;
   if (scene.insertion.kind == InsertionKind::kFile) {
-    Insert(*engine, scene, scene::ReadParticleFile(scene.insertion.file, Dim));
+    std::vector<scene::NewParticle> start;
+    if (scene.insertion.start_particles.empty()) {
+      start = scene::ReadParticleFile(scene.insertion.file, Dim);
+    } else {
+      for (const auto& p : scene.insertion.start_particles) {
+        start.push_back({p.position_m, p.radius_m, p.species});
+      }
+    }
+    Insert(*engine, scene, start);
   } else {
     pending = scene::DrawParticles(scene, random);
     const auto placed = scene::PlaceInRegion(scene, pending, {}, random);
@@ -303,7 +431,54 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
   summary.tangential_time_step_limit_s = limits.tangential.limit_s;
   summary.threads = options.threads;
   summary.history.push_back(Sample(Snapshot(*engine), scene, engine->KineticEnergyJ()));
-  if (options.snapshot && snapshot_every != std::numeric_limits<std::int64_t>::max()) {
+  const std::uint64_t fingerprint =
+      SetupFingerprint(scene, settings, *engine, pending, random,
+                       {history_every, snapshot_every, batch_every, progress_every});
+  auto save_checkpoint = [&] {
+    if (!options.checkpoint) return;
+    scene::ByteWriter payload;
+    engine->SaveCheckpoint(payload);
+    payload.Put(random.state());
+    payload.Put(budget.joules());
+    PutParticles(payload, pending);
+    payload.PutVector(summary.history);
+    scene::PackCheckpointFrame frame;
+    frame.dimension = Dim;
+    frame.fingerprint = fingerprint;
+    frame.step = engine->steps();
+    frame.time_s = engine->time_s();
+    frame.payload = payload.bytes();
+    options.checkpoint(scene::WritePackCheckpointFrame(frame), engine->time_s());
+  };
+  if (options.resume_checkpoint) {
+    const std::string& name = options.resume_name;
+    const auto frame = scene::ReadPackCheckpointFrame(*options.resume_checkpoint, name);
+    if (frame.dimension != Dim || frame.fingerprint != fingerprint) {
+      throw InputError(fmt::format(
+          "{}: was written for another scene or other options (its set-up fingerprint {:016x} "
+          "is not this run's {:016x}: scene file, material, seed, start file, --skin, "
+          "--min-skin); resume with the scene and options it was written with",
+          name, frame.fingerprint, fingerprint));
+    }
+    if (frame.step > total_steps) {
+      throw ConfigError(fmt::format(
+          "{}: holds t = {:.6g} s, beyond the run's duration of {:.6g} s; give a --duration of "
+          "at least {:.6g} s",
+          name, frame.time_s, duration, frame.time_s));
+    }
+    scene::ByteReader in(frame.payload, name);
+    engine->RestoreCheckpoint(in);
+    random = scene::SceneRandom(in.Get<std::uint64_t>());
+    budget.RestoreJoules(in.Get<double>());
+    pending = GetParticles(in);
+    summary.history = in.GetVector<HistoryPoint>();
+    if (in.left() != 0 || engine->steps() != frame.step) {
+      in.Fail("its payload does not match its header");
+    }
+  }
+  if (options.started) options.started();
+  if (!options.resume_checkpoint && options.snapshot &&
+      snapshot_every != std::numeric_limits<std::int64_t>::max()) {
     options.snapshot(Snapshot(*engine));
   }
   std::int64_t particle_steps = 0;
@@ -311,7 +486,11 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
     if (every == std::numeric_limits<std::int64_t>::max()) return every;
     return (step / every + 1) * every;
   };
-  std::int64_t step = 0;
+  std::int64_t step = engine->steps();
+  const std::int64_t checkpoint_every = options.checkpoint
+                                            ? StepsFor(options.checkpoint_every_s, dt)
+                                            : std::numeric_limits<std::int64_t>::max();
+  std::int64_t next_checkpoint = next_multiple(step, checkpoint_every);
   while (step < total_steps) {
     const std::int64_t target = std::min(
         {total_steps, next_multiple(step, history_every), next_multiple(step, snapshot_every),
@@ -370,6 +549,16 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
       options.progress(
           PackProgress{engine->time_s(), duration, step, engine->state().size(), wall});
     }
+    // Between blocks only, and one comparison per block: nothing inside the stepping loop.
+    if (step < total_steps && options.stop_requested && options.stop_requested()) {
+      save_checkpoint();
+      summary.stop_reason = PackStopReason::kInterrupted;
+      break;
+    }
+    if (step < total_steps && step >= next_checkpoint) {
+      save_checkpoint();
+      next_checkpoint = next_multiple(step, checkpoint_every);
+    }
   }
 
   summary.final_state = Snapshot(*engine);
@@ -379,7 +568,8 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
   summary.neighbor_rebuilds = engine->rebuilds();
   summary.simulated_s = engine->time_s();
   summary.kinetic_energy_j = engine->KineticEnergyJ();
-  if (summary.stop_reason == PackStopReason::kDuration) {
+  summary.state_digest = StateDigest(engine->state());
+  if (summary.stop_reason != PackStopReason::kUnstable) {
     summary.packing_density = PackingDensity(summary.final_state, scene);
     summary.packing_density_by_count = CentreCountDensity(summary.final_state, scene);
     summary.coordination = Coordination(summary.final_state, scene);
@@ -393,7 +583,15 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
       summary.message += fmt::format("; {} particles never fit in the pour region",
                                      summary.particles_not_inserted);
     }
-    if (auto unsettled = NotAtRest(summary.history)) summary.warnings.push_back(*unsettled);
+    if (summary.stop_reason == PackStopReason::kInterrupted) {
+      summary.message = fmt::format(
+          "interrupted after {} steps at t = {:.6g} s of {:.6g} s; the measures describe that "
+          "moment",
+          summary.steps, summary.simulated_s, duration);
+    } else if (auto unsettled = NotAtRest(summary.history)) {
+      summary.warnings.push_back(*unsettled);
+      summary.boiling = Boiling(summary.history);
+    }
   }
   summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   summary.particle_steps_per_s =

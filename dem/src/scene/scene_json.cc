@@ -469,7 +469,13 @@ Scene SceneFromJson(const nlohmann::json& root, const std::filesystem::path& sou
   r.Finish();
   // The start-positions file is part of the scene: checked now (against the container, the
   // species and particles.count), so a bad one is refused before any output is written.
-  if (scene.insertion.kind == InsertionKind::kFile) scene::ReadParticleFile(scene);
+  if (scene.insertion.kind == InsertionKind::kFile) {
+    const auto particles = scene::ReadParticleFile(scene);
+    scene.insertion.start_particles.reserve(particles.size());
+    for (const auto& p : particles) {
+      scene.insertion.start_particles.push_back({p.position_m, p.radius_m, p.species});
+    }
+  }
   return scene;
 }
 

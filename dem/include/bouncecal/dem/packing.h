@@ -38,14 +38,33 @@ struct PackOptions {
   std::optional<double> duration_s;  // overrides the scene's duration
   std::int64_t progress_every_steps = 2000;
   std::function<void(const PackProgress&)> progress;
+  // Called once every set-up check has passed (and a resume checkpoint was accepted), before
+  // the first snapshot or step: the point from which the run will write its outputs, so the
+  // caller may clear an earlier run's only then.
+  std::function<void()> started;
   // Called at t = 0, every outputs.snapshot_interval_s and at the end when that is > 0.
   std::function<void(const ParticleSnapshot&)> snapshot;
+  // Simulated seconds between checkpoints; 0: none. A checkpoint is taken at the first boundary
+  // between blocks of steps (history, snapshot, pour batch or progress_every_steps) at or after
+  // each multiple, never inside a block: splitting a block would change the integrator's
+  // arithmetic, and a run with checkpoints must give the bits of one without.
+  double checkpoint_every_s = 0;
+  // Receives each checkpoint: the bytes to store (atomically) and the simulated time they hold.
+  std::function<void(const std::string& checkpoint, double time_s)> checkpoint;
+  // Polled between blocks (at most progress_every_steps steps apart): true ends the run there
+  // with a checkpoint (to `checkpoint`) and PackStopReason::kInterrupted.
+  std::function<bool()> stop_requested;
+  // A checkpoint written by `checkpoint` to continue from, and its file name for messages. It
+  // must come from the same scene and the same trajectory-steering options (skin,
+  // progress_every_steps, ...; not threads); otherwise RunPacking throws InputError.
+  std::optional<std::string> resume_checkpoint;
+  std::string resume_name = "checkpoint";
 
   // Throws ConfigError naming the option and its valid range.
   void Validate() const;
 };
 
-enum class PackStopReason { kDuration, kUnstable };
+enum class PackStopReason { kDuration, kUnstable, kInterrupted };
 std::string_view ToString(PackStopReason reason);
 
 struct HistoryPoint {
@@ -83,6 +102,13 @@ struct PackSummary {
   DensityProfile profile;
   std::vector<HistoryPoint> history;
   ParticleSnapshot final_state;
+  // FNV-1a over the bits of every final position, velocity and spin: equal digests mean
+  // bit-identical final states (thread counts, a resumed run against an uninterrupted one).
+  std::uint64_t state_digest = 0;
+  // Ran to its duration but never came to rest: its kinetic energy stopped falling while still
+  // above 1 % of its peak (see the not-at-rest warning). The measures describe a boiling state,
+  // not a packing; the CLI exits with status 3 (time_step_s too coarse).
+  bool boiling = false;
 };
 
 // Runs a packing scene to its duration. Throws ConfigError/InputError for a bad scene (region

@@ -80,6 +80,13 @@ enum class InsertionKind {
   kFile,    // positions (and diameters) read from a CSV or LAMMPS data file
 };
 
+// One particle of a start-positions file (insertion type "file"), as SceneFromJson read it.
+struct StartParticle {
+  Vec3 position_m{0, 0, 0};
+  double radius_m = 0;
+  std::int32_t species = 0;
+};
+
 struct InsertionSpec {
   InsertionKind kind = InsertionKind::kRandom;
   RegionSpec region;
@@ -88,6 +95,10 @@ struct InsertionSpec {
   Vec3 initial_velocity_mps{0, 0, 0};
   double batch_interval_s = 0.1;  // kPour
   std::filesystem::path file;     // kFile: *.csv (x_m,y_m[,z_m],diameter_m[,species]) or LAMMPS
+  // kFile: the particles of `file`, read and checked once by SceneFromJson, so that the run
+  // uses what was checked and the file is read only once (it may be large, or a pipe). A Scene
+  // built in code may leave this empty; RunPacking then reads `file`.
+  std::vector<StartParticle> start_particles;
 };
 
 // Which forces Cundall's local damping reduces (docs/scenes.md, material.local_damping_scope).
