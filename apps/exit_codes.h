@@ -10,6 +10,8 @@ inline constexpr int kExitInputFile = 2;    // an input file is missing, unreada
 inline constexpr int kExitBadOption = 3;    // an option or parameter is outside its valid range
 inline constexpr int kExitOutputFile = 4;   // an output file could not be written
 inline constexpr int kExitCheckFailed = 5;  // a verification ran and did not pass
+inline constexpr int kExitInterrupted =
+    6;  // stopped by SIGINT/SIGTERM; resumable from a checkpoint
 
 }  // namespace bouncecal::apps
 

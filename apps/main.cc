@@ -7,6 +7,7 @@
 #include "bouncecal/version.h"
 #include "commands.h"
 #include "exit_codes.h"
+#include "stop_signals.h"
 
 namespace {
 
@@ -54,6 +55,8 @@ int main(int argc, char** argv) {
     return ReportError(error.what(), apps::kExitOutputFile);
   } catch (const bouncecal::CheckFailedError& error) {
     return ReportError(error.what(), apps::kExitCheckFailed);
+  } catch (const apps::InterruptedError& error) {
+    return ReportError(error.what(), apps::kExitInterrupted);
   } catch (const bouncecal::Error& error) {
     return ReportError(error.what(), apps::kExitBadOption);
   } catch (const std::bad_alloc&) {

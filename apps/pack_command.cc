@@ -1,11 +1,16 @@
 #include <fmt/core.h>
 #include <fmt/format.h>
+#include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
@@ -20,6 +25,7 @@
 #include "commands.h"
 #include "option_alias.h"
 #include "output_target.h"
+#include "stop_signals.h"
 
 namespace bouncecal::apps {
 namespace {
@@ -34,7 +40,12 @@ struct PackArgs {
   double min_skin_diameters = bouncecal::dem::PackOptions{}.min_skin_diameters;
   bool allow_unstable_step = false;
   bool plot = false;
+  double checkpoint_every_s = 0;  // simulated seconds; 0: no periodic checkpoint
+  std::string resume;             // a checkpoint file to continue from
 };
+
+// Where periodic and interruption checkpoints go, overwritten (atomically) by each.
+constexpr const char* kCheckpointName = "checkpoint.bcpack";
 
 // A one-line progress bar with simulated time and ETA, redrawn in place; only on a terminal.
 void DrawProgress(const dem::PackProgress& p) {
@@ -64,6 +75,8 @@ nlohmann::json SummaryJson(const dem::Scene& scene, const dem::PackSummary& s) {
   j["physics"] = s.physics;
   j["stop_reason"] = std::string(dem::ToString(s.stop_reason));
   j["message"] = s.message;
+  j["state_digest"] = fmt::format("{:016x}", s.state_digest);
+  j["boiling"] = s.boiling;
   // An unstable run is never measured (RunPacking leaves these at 0): a 0 here would read as an
   // empty container, so the fields are absent.
   if (!Unstable(s)) {
@@ -250,8 +263,9 @@ void CheckOutputsWritable(const std::filesystem::path& dir, const std::filesyste
 // The files this command writes into its output folder (WriteCsvs, summary.json, Plot and the
 // dumps named dump.<step>.lammpstrj).
 bool IsPackOutputName(const std::string& name) {
-  for (const char* own : {"history.csv", "profile.csv", "coordination.csv", "particles.csv",
-                          "summary.json", "profile.png", "history.png", "plots.gp"}) {
+  for (const char* own :
+       {"history.csv", "profile.csv", "coordination.csv", "particles.csv", "summary.json",
+        "profile.png", "history.png", "plots.gp", kCheckpointName}) {
     if (name == own) return true;
   }
   const std::string_view prefix = "dump.";
@@ -286,9 +300,67 @@ void RemoveEarlierOutputs(const std::filesystem::path& dir) {
   }
 }
 
+// The whole checkpoint, read before anything in the output folder changes (it may live there).
+std::string ReadCheckpoint(const std::string& path) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    throw InputError(
+        fmt::format("--resume {}: is a folder; give the checkpoint file ({} in the "
+                    "output folder of the run to continue)",
+                    path, kCheckpointName));
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw InputError(fmt::format(
+        "--resume {}: cannot be read; give the checkpoint file ({} in the output folder of the "
+        "run to continue)",
+        path, kCheckpointName));
+  }
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw InputError(fmt::format("--resume {}: reading it failed", path));
+  return bytes;
+}
+
+// A temporary "<own output>.tmp.<pid>" (AtomicFile's name) whose process no longer runs: left by
+// a run killed while writing (SIGKILL, a second SIGINT, a crash). Those of a live process,
+// another run writing into the same folder right now, are left alone.
+bool IsStaleTemporary(const std::string& name) {
+  const auto mark = name.rfind(".tmp.");
+  if (mark == std::string::npos || !IsPackOutputName(name.substr(0, mark))) return false;
+  const std::string pid_text = name.substr(mark + 5);
+  if (pid_text.empty() || pid_text.size() > 9 ||
+      pid_text.find_first_not_of("0123456789") != std::string::npos) {
+    return false;
+  }
+  const auto pid = static_cast<pid_t>(std::stol(pid_text));
+  return pid > 0 && ::kill(pid, 0) != 0 && errno == ESRCH;
+}
+
+void RemoveStaleTemporaries(const std::filesystem::path& dir) {
+  std::error_code error;
+  std::vector<std::filesystem::path> stale;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, error)) {
+    std::error_code kind_error;
+    if (entry.is_regular_file(kind_error) && IsStaleTemporary(entry.path().filename().string())) {
+      stale.push_back(entry.path());
+    }
+  }
+  for (const auto& path : stale) {
+    std::filesystem::remove(path, error);
+    if (error) {
+      throw OutputError(fmt::format(
+          "cannot remove {}, left by a run that was killed ({}); remove it by hand or pass "
+          "another --out DIR",
+          path.string(), error.message()));
+    }
+  }
+}
+
 void RunPack(const PackArgs& args) {
   const TextOutputs text({{"--json", &args.json}});
   std::FILE* out = text.human();
+  // From the start: a signal while the scene loads stops the run at its first block boundary.
+  const StopSignals signals;
   const dem::Scene scene = dem::LoadScene(args.scene);
   dem::PackOptions options;
   options.threads = args.threads;
@@ -306,6 +378,9 @@ void RunPack(const PackArgs& args) {
     }
     options.duration_s = *args.duration_s;
   }
+  if (!args.resume.empty()) options.resume_checkpoint = ReadCheckpoint(args.resume);
+  options.resume_name = args.resume;
+  options.checkpoint_every_s = args.checkpoint_every_s;
   const bool terminal = isatty(fileno(stderr)) != 0;
   if (terminal) options.progress = DrawProgress;
   const std::filesystem::path dir =
@@ -323,7 +398,18 @@ void RunPack(const PackArgs& args) {
     if (!created.empty()) std::filesystem::remove_all(created, error);
     throw;
   }
-  RemoveEarlierOutputs(dir);
+  // Only once the scene has passed every check of the set-up: a refused run leaves an earlier
+  // run's outputs as they were. A resumed run continues the outputs of the run it resumes (its
+  // dumps up to the checkpoint); a killed run's temporaries go either way.
+  options.started = [&] {
+    RemoveStaleTemporaries(dir);
+    if (args.resume.empty()) RemoveEarlierOutputs(dir);
+  };
+  const std::filesystem::path checkpoint_path = dir / kCheckpointName;
+  options.checkpoint = [&](const std::string& bytes, double) {
+    WriteFileAtomically(checkpoint_path, bytes);
+  };
+  options.stop_requested = [&signals] { return signals.requested(); };
   if (scene.outputs.snapshot_interval_s > 0) {
     options.snapshot = [&](const dem::ParticleSnapshot& snap) {
       std::ostringstream text;
@@ -348,9 +434,10 @@ void RunPack(const PackArgs& args) {
   const std::string json = SummaryJson(scene, summary).dump(2) + "\n";
   WriteFileAtomically(dir / "summary.json", json);
   if (!args.json.empty()) WriteTextOutput(args.json, json);
+  const bool interrupted = summary.stop_reason == dem::PackStopReason::kInterrupted;
   // An unstable run has no profile to plot and may have no history row left; gnuplot failing on
   // that would turn the instability (status 3) into an output error (status 4).
-  if (args.plot && !Unstable(summary)) Plot(dir, scene);
+  if (args.plot && !Unstable(summary) && !interrupted) Plot(dir, scene);
   fmt::print(out, "{}: {} ({})\n", scene.name, summary.message, summary.physics);
   if (!Unstable(summary)) {
     fmt::print(out, "packing density {:.4f}, mean coordination {:.3f} ({} particles measured)\n",
@@ -363,6 +450,29 @@ void RunPack(const PackArgs& args) {
   fmt::print(out, "outputs in {}\n", dir.string());
   if (Unstable(summary)) {
     throw ConfigError(fmt::format("{}: {}", scene.source.string(), summary.message));
+  }
+  if (summary.boiling) {
+    throw ConfigError(fmt::format(
+        "{}: the particles never came to rest: their kinetic energy stopped falling at {:.3g} J "
+        "({:.0f} % of its peak), so the step of {:.3g} s heats the pack as fast as its damping "
+        "cools it; the outputs describe a boiling state. Use a smaller time_step_s",
+        scene.source.string(), summary.kinetic_energy_j,
+        100 * summary.history.back().kinetic_energy_j /
+            std::max_element(summary.history.begin(), summary.history.end(),
+                             [](const dem::HistoryPoint& a, const dem::HistoryPoint& b) {
+                               return a.kinetic_energy_j < b.kinetic_energy_j;
+                             })
+                ->kinetic_energy_j,
+        summary.time_step_s));
+  }
+  if (interrupted) {
+    throw InterruptedError(fmt::format(
+        "{} at t = {:.6g} s; the state is saved in {}; continue with: bouncecal pack {} --resume "
+        "{} (and the same --duration-s, --skin-diameters, --min-skin-diameters and --output as "
+        "this run)",
+        signals.signal() == SIGINT ? "interrupted (SIGINT)" : "stopped (SIGTERM)",
+        summary.simulated_s, checkpoint_path.string(), ShellQuoted(args.scene),
+        ShellQuoted(checkpoint_path.string())));
   }
 }
 
@@ -433,6 +543,17 @@ void AddPackCommand(CLI::App& app) {
                     "Run even when time_step_s exceeds the stability limit of the scene's "
                     "stiffest contact (refused otherwise)");
   command->add_flag("--plot", args->plot, "Write profile.png and history.png with gnuplot");
+  command
+      ->add_option("--checkpoint-every-s", args->checkpoint_every_s,
+                   "Write a checkpoint (" + std::string(kCheckpointName) +
+                       " in the output folder) every this many SIMULATED seconds, at the next "
+                       "block boundary (every 2000 steps at most), so results do not depend on "
+                       "it; 0 (default): only when interrupted")
+      ->check(FiniteSeconds())
+      ->check(CLI::Range(0.0, 1e6));
+  command->add_option("--resume", args->resume,
+                      "Continue the run saved in this checkpoint file (same scene and options); "
+                      "the result is bit-identical to an uninterrupted run");
   command->callback([args] { RunPack(*args); });
 }
 

@@ -120,6 +120,7 @@ int main(int argc, char** argv) {
   double skin_diameters = dem::PackOptions{}.skin_diameters;
   double min_skin_diameters = dem::PackOptions{}.min_skin_diameters;
   double skin_rebuild_steps = dem::PackOptions{}.skin_rebuild_steps;
+  double checkpoint_every_s = 0;
   bool run_lammps = true;
   int lammps_ranks = 2;
   std::filesystem::path work = std::filesystem::temp_directory_path() / "bouncecal_pack_bench";
@@ -137,6 +138,8 @@ int main(int argc, char** argv) {
       min_skin_diameters = std::atof(argv[++a]);
     } else if (arg == "--skin-steps" && a + 1 < argc) {
       skin_rebuild_steps = std::atof(argv[++a]);
+    } else if (arg == "--checkpoint-every" && a + 1 < argc) {
+      checkpoint_every_s = std::atof(argv[++a]);
     } else if (arg == "--no-lammps") {
       run_lammps = false;
     } else if (arg == "--lammps-ranks" && a + 1 < argc) {
@@ -197,6 +200,22 @@ int main(int argc, char** argv) {
     options.skin_diameters = skin_diameters;
     options.min_skin_diameters = min_skin_diameters;
     options.skin_rebuild_steps = skin_rebuild_steps;
+    // Checkpoints as `pack --checkpoint-every-s` takes them, each written to the work folder
+    // the same way (atomically): their count, size and time show what they cost a run.
+    int checkpoints = 0;
+    std::size_t checkpoint_bytes = 0;
+    double checkpoint_write_s = 0;
+    if (checkpoint_every_s > 0) {
+      options.checkpoint_every_s = checkpoint_every_s;
+      options.checkpoint = [&](const std::string& bytes, double) {
+        const auto begin = std::chrono::steady_clock::now();
+        bouncecal::WriteFileAtomically(work / "checkpoint.bcpack", bytes);
+        checkpoint_write_s +=
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+        ++checkpoints;
+        checkpoint_bytes = bytes.size();
+      };
+    }
     const double cpu0 = CpuSeconds();
     const auto summary = dem::RunPacking(scene, options);
     const double cpu = CpuSeconds() - cpu0;
@@ -211,6 +230,12 @@ int main(int argc, char** argv) {
                 static_cast<long long>(summary.neighbor_rebuilds));
     std::printf("  final state digest %016llx\n",
                 static_cast<unsigned long long>(StateDigest(summary.final_state)));
+    if (checkpoints > 0) {
+      std::printf("  %d checkpoints of %zu bytes (%.0f per particle), %.3f s writing them\n",
+                  checkpoints, checkpoint_bytes,
+                  static_cast<double>(checkpoint_bytes) / static_cast<double>(summary.particles),
+                  checkpoint_write_s);
+    }
 
     const std::string lammps = run_lammps ? FindLammps() : "";
     if (!run_lammps) return 0;

@@ -1,4 +1,6 @@
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
@@ -7,6 +9,7 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "cli_runner.h"
 
@@ -327,6 +330,67 @@ TEST(PackCli, RerunRemovesOnlyTheEarlierRunsOwnOutputs) {
   EXPECT_TRUE(std::filesystem::exists(out / "dump.000000000.lammpstrj"));
   EXPECT_TRUE(std::filesystem::exists(out / "dump.000000100.lammpstrj"));
   EXPECT_TRUE(std::filesystem::exists(out / "summary.json"));
+  std::filesystem::remove_all(dir);
+}
+
+// A run refused at set-up (here: a time step beyond the normal contacts' limit, found only once
+// the particles are placed) removed the earlier run's outputs before it was refused, leaving
+// the folder empty. Nothing goes until every check has passed.
+TEST(PackCli, RunRefusedAtSetUpLeavesTheEarlierRunsOutputs) {
+  const auto dir = EmptyTempDir("bouncecal_pack_cli_refused_keeps");
+  const auto scene = WriteTinyScene(dir);
+  const auto out = dir / "out";
+  ASSERT_EQ(RunBouncecal("pack " + scene.string() + " --duration-s 0.001 --output " + out.string())
+                .exit_status,
+            0);
+  const std::string summary = ReadFile(out / "summary.json");
+  std::string text = ReadFile(scene);
+  const std::string fine = "\"time_step_s\": 1e-5";
+  text.replace(text.find(fine), fine.size(), "\"time_step_s\": 1e-3");
+  std::ofstream(dir / "coarse.json") << text;
+  const auto refused = RunBouncecal("pack " + (dir / "coarse.json").string() +
+                                    " --duration-s 0.01 --output " + out.string());
+  ASSERT_EQ(refused.exit_status, 3) << refused.output;
+  EXPECT_NE(refused.output.find("normal contact"), std::string::npos) << refused.output;
+  EXPECT_EQ(ReadFile(out / "summary.json"), summary);
+  for (const char* file :
+       {"history.csv", "particles.csv", "dump.000000000.lammpstrj", "dump.000000100.lammpstrj"}) {
+    EXPECT_TRUE(std::filesystem::exists(out / file)) << file;
+  }
+  std::filesystem::remove_all(dir);
+}
+
+// A pid that no process has any more: a child that has exited and been reaped.
+pid_t DeadPid() {
+  const pid_t pid = fork();
+  if (pid == 0) _exit(0);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return pid;
+}
+
+// A run killed while writing (SIGKILL, a second SIGINT) leaves AtomicFile's temporary
+// "<name>.tmp.<pid>". The next run in the folder removes those of processes that are gone, and
+// only of this command's own file names: a live process may be writing the others right now.
+TEST(PackCli, NextRunRemovesTheTemporariesOfAKilledRunOnly) {
+  const auto dir = EmptyTempDir("bouncecal_pack_cli_stale_tmp");
+  const auto scene = WriteTinyScene(dir);
+  const auto out = dir / "out";
+  std::filesystem::create_directories(out);
+  const std::string dead = std::to_string(DeadPid());
+  const std::string alive = std::to_string(getpid());
+  const std::vector<std::string> stale = {"summary.json.tmp." + dead,
+                                          "checkpoint.bcpack.tmp." + dead,
+                                          "dump.000000300.lammpstrj.tmp." + dead};
+  const std::vector<std::string> kept = {"history.csv.tmp." + alive, "notes.txt.tmp." + dead,
+                                         "summary.json.tmp.x" + dead};
+  for (const auto& name : stale) std::ofstream(out / name) << "half";
+  for (const auto& name : kept) std::ofstream(out / name) << "half";
+  const auto result =
+      RunBouncecal("pack " + scene.string() + " --duration-s 0.001 --output " + out.string());
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  for (const auto& name : stale) EXPECT_FALSE(std::filesystem::exists(out / name)) << name;
+  for (const auto& name : kept) EXPECT_TRUE(std::filesystem::exists(out / name)) << name;
   std::filesystem::remove_all(dir);
 }
 
