@@ -14,7 +14,7 @@ namespace {
 // A small 3D pour that exercises every piece of state a checkpoint carries: 150 spheres in
 // pour batches every 10 ms (pending particles and the random stream between batches), a mix of
 // two sizes, friction and rotation (tangential springs, spins), a cylinder side and floor (wall
-// springs). 0.06 s is long enough for the first batches to reach the floor and pile up.
+// springs). 0.12 s: the first batches reach the floor by about 0.05 s and pile up.
 nlohmann::json SmallBatchPour() {
   return nlohmann::json::parse(R"({
     "format": "bouncecal-scene/1",
@@ -31,7 +31,7 @@ nlohmann::json SmallBatchPour() {
                  "tangential_stiffness_n_per_m": 1e6, "friction": 0.3},
     "physics": {"tangential": true, "rotation": true},
     "time_step_s": 1e-5,
-    "duration_s": 0.06,
+    "duration_s": 0.12,
     "measurement": {"band_m": [0.005, 0.025], "history_interval_s": 0.005}
   })");
 }
@@ -72,7 +72,7 @@ TEST(PackCheckpoint, ResumedRunEndsInTheBitsOfTheUninterruptedRunOnOneAndTwoThre
   ASSERT_EQ(whole.stop_reason, PackStopReason::kDuration) << whole.message;
   ASSERT_EQ(whole.particles, 150);
   // Stops between pour batches (pending particles left) and after the pile has formed.
-  for (const std::int64_t stop_step : {2100, 4900}) {
+  for (const std::int64_t stop_step : {2100, 9100}) {
     for (const int write_threads : {1, 2}) {
       for (const int resume_threads : {1, 2}) {
         SCOPED_TRACE(testing::Message() << "stop " << stop_step << ", written on " << write_threads
@@ -106,8 +106,8 @@ TEST(PackCheckpoint, PeriodicCheckpointsLeaveTheTrajectoryUnchanged) {
   };
   const PackSummary with = RunPacking(scene, options);
   EXPECT_EQ(with.state_digest, plain.state_digest);
-  // 0.06 s at one per 0.013 s: at 0.013, 0.026, 0.039, 0.052 s (none at the end).
-  EXPECT_EQ(written, 4);
+  // 0.12 s at one per 0.013 s: 9 of them, at the first block boundary after each multiple.
+  EXPECT_EQ(written, 9);
   // The last periodic checkpoint resumes to the same end too.
   EXPECT_EQ(ResumedFrom(scene, 2, last).state_digest, plain.state_digest);
 }
