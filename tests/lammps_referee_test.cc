@@ -2,7 +2,7 @@
 // friction and a viscous dashpot, run from the same start positions in both engines, must settle
 // to the same area fraction. The LAMMPS input is the one `bouncecal export --scene` writes (the
 // 2D deck: dimension 2, gran/hooke/history, wall/gran, nve/sphere, enforce2d), and both final
-// states are measured by the same code (`bouncecal pack --duration 0` on each final state).
+// states are measured by the same code (`bouncecal pack --duration-s 0` on each final state).
 // Skips, with a message, when lmp is not installed; scripts/install_deps.sh installs it.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -131,7 +131,7 @@ TEST(LammpsReferee, FrictionalDiskPackingAgreesWithinTwoStandardErrors) {
          FrictionScene(
              R"({"type": "random", "max_attempts": 900000, "seed": )" + std::to_string(seed) + "}",
              kDurationS, "start_out"),
-         "--duration 0");
+         "--duration-s 0");
     const std::string from_start =
         FrictionScene(FileInsertion(folder / "start_out/particles.csv"), kDurationS, "run_out");
     const Measured run = Pack(folder, "run", from_start);
@@ -148,7 +148,7 @@ TEST(LammpsReferee, FrictionalDiskPackingAgreesWithinTwoStandardErrors) {
         << Tail(deck / "run.out");
     const Measured lammps =
         Pack(folder, "lammps", FrictionScene(FileInsertion(deck / "final.data"), 0, "lammps_out"),
-             "--duration 0");
+             "--duration-s 0");
     ours.push_back(run.area_fraction);
     theirs.push_back(lammps.area_fraction);
     ours_z.push_back(run.coordination);
