@@ -18,6 +18,7 @@
 #include "scene/insertion.h"
 #include "scene/pack_checkpoint_file.h"
 #include "scene/particle_file.h"
+#include "scene/rest_checks.h"
 
 namespace bouncecal::dem {
 
@@ -201,55 +202,6 @@ double MaxSpeedMps(const scene::ParticleState<Dim>& state) {
 // unstable. Not 1: velocity Verlet's own error at a coarse (paper) step adds some, and the
 // budget's van der Waals term is an estimate.
 constexpr double kEnergyBudgetFactor = 2;
-
-// A packing is read at rest: kinetic energy at the end above this fraction of its peak means it
-// was not (a pour at rest keeps ~1e-6 of it, paper 000 1.3e-5 J of ~10 J).
-constexpr double kAtRestFraction = 1e-2;
-
-// A warning when the run ended while its particles still moved: cut short, or boiling (a pack
-// gaining energy from a coarse step as fast as its damping removes it stays under the energy
-// budget but never settles).
-std::optional<std::string> NotAtRest(const std::vector<HistoryPoint>& history) {
-  if (history.size() < 2) return std::nullopt;
-  const auto peak = std::max_element(history.begin(), history.end(),
-                                     [](const HistoryPoint& a, const HistoryPoint& b) {
-                                       return a.kinetic_energy_j < b.kinetic_energy_j;
-                                     });
-  const double last = history.back().kinetic_energy_j;
-  if (!(peak->kinetic_energy_j > 0) || !(last > kAtRestFraction * peak->kinetic_energy_j)) {
-    return std::nullopt;
-  }
-  return fmt::format(
-      "the particles have not come to rest: the kinetic energy at the end, {:.3g} J, is {:.0f} % "
-      "of its peak ({:.3g} J at t = {:.3g} s); the packing measures describe a moving state. Run "
-      "longer, or, if it does not fall, use a smaller time_step_s",
-      last, 100 * last / peak->kinetic_energy_j, peak->kinetic_energy_j, peak->time_s);
-}
-
-// A run that is not at rest (NotAtRest) is boiling rather than cut short when its kinetic energy
-// has stopped falling: over the second half of the time since its peak, with no particle poured
-// meanwhile, it fell by less than half. A pack settling under its damping loses orders of
-// magnitude over that time, and one still falling gains energy towards its end (its peak is
-// the last sample); one that keeps half of it is being heated by its integrator as fast as the
-// damping cools it (a time step too coarse for the contacts it has, though under the limit of
-// one contact). At least kBoilingSamples samples after the peak, so the halves are not one
-// sample each.
-constexpr std::size_t kBoilingSamples = 4;
-constexpr double kBoilingKeptFraction = 0.5;
-
-bool Boiling(const std::vector<HistoryPoint>& history) {
-  if (history.size() < 2) return false;
-  const auto peak = std::max_element(history.begin(), history.end(),
-                                     [](const HistoryPoint& a, const HistoryPoint& b) {
-                                       return a.kinetic_energy_j < b.kinetic_energy_j;
-                                     });
-  const auto& last = history.back();
-  const auto after = static_cast<std::size_t>(history.end() - peak) - 1;
-  if (after < kBoilingSamples || peak->particles != last.particles) return false;
-  if (!(last.kinetic_energy_j > kAtRestFraction * peak->kinetic_energy_j)) return false;
-  const auto& middle = *(peak + static_cast<std::ptrdiff_t>(after / 2));
-  return last.kinetic_energy_j >= kBoilingKeptFraction * middle.kinetic_energy_j;
-}
 
 std::int64_t StepsFor(double interval_s, double dt) {
   if (!(interval_s > 0)) return std::numeric_limits<std::int64_t>::max();
@@ -588,9 +540,9 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
           "interrupted after {} steps at t = {:.6g} s of {:.6g} s; the measures describe that "
           "moment",
           summary.steps, summary.simulated_s, duration);
-    } else if (auto unsettled = NotAtRest(summary.history)) {
+    } else if (auto unsettled = scene::NotAtRest(summary.history)) {
       summary.warnings.push_back(*unsettled);
-      summary.boiling = Boiling(summary.history);
+      summary.boiling = scene::Boiling(summary.history);
     }
   }
   summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
