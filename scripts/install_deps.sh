@@ -8,6 +8,7 @@ packages=(
   libsndfile1-dev libfftw3-dev libnlopt-cxx-dev libeigen3-dev
   libavformat-dev libavcodec-dev libswresample-dev libavutil-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libfmt-dev
+  python3-dev python3-numpy python3-pybind11 python3-pytest
   gnuplot-nox chromium
   # The ffmpeg command encodes the lossy recordings of the codec tests and bench/codec_timing_bench.
   ffmpeg

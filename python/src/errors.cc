@@ -1,0 +1,42 @@
+#include "errors.h"
+
+#include <Python.h>
+
+#include <exception>
+
+#include "bouncecal/error.h"
+
+namespace bouncecal::python {
+namespace {
+
+void Raise(const char* class_name, const char* message) {
+  PyObject* errors = PyImport_ImportModule("bouncecal._errors");
+  if (errors == nullptr) return;  // the ImportError stays set: the package itself is broken
+  PyObject* type = PyObject_GetAttrString(errors, class_name);
+  Py_DECREF(errors);
+  if (type == nullptr) return;
+  PyErr_SetString(type, message);
+  Py_DECREF(type);
+}
+
+}  // namespace
+
+void RegisterErrorTranslation() {
+  pybind11::register_exception_translator([](std::exception_ptr pending) {
+    try {
+      if (pending) std::rethrow_exception(pending);
+    } catch (const InputError& error) {
+      Raise("InputError", error.what());
+    } catch (const ConfigError& error) {
+      Raise("ConfigError", error.what());
+    } catch (const OutputError& error) {
+      Raise("OutputError", error.what());
+    } catch (const CheckFailedError& error) {
+      Raise("CheckFailedError", error.what());
+    } catch (const Error& error) {
+      Raise("Error", error.what());
+    }
+  });
+}
+
+}  // namespace bouncecal::python
