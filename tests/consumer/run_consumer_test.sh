@@ -1,13 +1,16 @@
 #!/usr/bin/env bash
-# Installs a built bouncecal tree into a fresh prefix and builds a separate program against it,
-# the two ways docs/install.md describes:
+# Installs a built bouncecal tree into a fresh prefix and uses it from outside, the ways
+# docs/install.md and docs/python.md describe:
 #
 #   run_consumer_test.sh cmake      BUILD_DIR SOURCE_DIR   find_package(bouncecal CONFIG REQUIRED)
 #   run_consumer_test.sh pkg-config BUILD_DIR SOURCE_DIR   c++ main.cc $(pkg-config ... bouncecal)
+#   run_consumer_test.sh python     BUILD_DIR SOURCE_DIR PYTHON
+#                                   PYTHONPATH=<prefix's site-packages> PYTHON -c "import bouncecal"
 #
-# Both run tests/consumer/main.cc on the shipped sample and check what it prints. The work folder
-# is removed on success and kept (its path printed) on failure. Needs the whole tree built (the
-# install copies every library and the bouncecal command).
+# The first two run tests/consumer/main.cc on the shipped sample, the third the module's analyze,
+# and each checks what they print. The work folder is removed on success and kept (its path
+# printed) on failure. Needs the whole tree built (the install copies every library, the
+# bouncecal command and, when built, the Python module).
 set -euo pipefail
 mode="$1"
 build="$(cd "$2" && pwd)"
@@ -23,10 +26,11 @@ prefix="${work}/prefix"
 cmake --install "${build}" --prefix "${prefix}" >"${work}/install.log" ||
   fail "cmake --install (log: ${work}/install.log)"
 
-# What a package holds: the command, five static libraries, public headers, the CMake package
-# and the pkg-config file; no tests, benchmarks or internal headers.
+# What a package holds: the command, five static libraries, public headers, the CMake package,
+# the pkg-config file and, when built, the Python package (three .py files and the extension);
+# no tests, benchmarks or internal headers.
 (cd "${prefix}" && find . -type f | sort) >"${work}/installed.txt"
-unexpected="$(grep -v -E '^\./(bin/bouncecal|lib[^/]*(/[^/]+)?/(libbouncecal_(core|audio|dem_model|dem|calibrate)\.a|cmake/bouncecal/bouncecal[A-Za-z-]*\.cmake|pkgconfig/bouncecal\.pc)|include/bouncecal/.*\.h)$' \
+unexpected="$(grep -v -E '^\./(bin/bouncecal|lib[^/]*(/[^/]+)?/(libbouncecal_(core|audio|dem_model|dem|calibrate)\.a|cmake/bouncecal/bouncecal[A-Za-z-]*\.cmake|pkgconfig/bouncecal\.pc)|include/bouncecal/.*\.h|lib/python3[.0-9]*/site-packages/bouncecal/(__init__|_errors|_result)\.py|lib/python3[.0-9]*/site-packages/bouncecal/_bouncecal\.cpython-[^/]*\.so)$' \
   "${work}/installed.txt" || true)"
 [ -z "${unexpected}" ] || fail "unexpected installed files:
 ${unexpected}"
@@ -34,6 +38,37 @@ ${unexpected}"
 grep -q -E '^\./include/bouncecal/calibrate/fit\.h$' "${work}/installed.txt" ||
   fail "public headers missing"
 "${prefix}/bin/bouncecal" --help >/dev/null || fail "the installed bouncecal command does not run"
+
+if [ "${mode}" = python ]; then
+  python="$4"
+  package="$(grep -E '/site-packages/bouncecal/__init__\.py$' "${work}/installed.txt" || true)"
+  [ -n "${package}" ] || fail "the Python package is not installed (BOUNCECAL_BUILD_PYTHON off?)"
+  [ "$(grep -c '/site-packages/bouncecal/' "${work}/installed.txt")" -eq 4 ] ||
+    fail "not the four files of the Python package installed"
+  site="${prefix}/$(dirname "$(dirname "${package#./}")")"
+  # The command of docs/python.md, from the source folder (its samples/), with nothing but the
+  # prefix on the module path: -s leaves out the user's site-packages, and the source folder
+  # holds no importable bouncecal (the package's sources are in python/).
+  (cd "${source}" && PYTHONPATH="${site}" "${python}" -s -c \
+    "import bouncecal; print(bouncecal.analyze('samples/steel_ball_h0.2m.wav'))") \
+    >"${work}/print.txt" 2>&1 || fail "import bouncecal from ${site}: $(tail -3 "${work}/print.txt")"
+  grep -q "'impacts'" "${work}/print.txt" || fail "print(analyze(...)) shows no impacts"
+  (cd "${source}" && PYTHONPATH="${site}" "${python}" -s -c "
+import bouncecal
+sequence = bouncecal.analyze('samples/steel_ball_h0.2m.wav', drop_height_m=0.2).sequences[0]
+print('module', bouncecal.__file__)
+print('energy_loss_mean_first_3', sequence.energy_loss_mean_first_n)") >"${work}/out.txt" 2>&1 ||
+    fail "the module failed: $(tail -3 "${work}/out.txt")"
+  cat "${work}/out.txt"
+  grep -q "^module ${site}/bouncecal/__init__.py$" "${work}/out.txt" ||
+    fail "bouncecal was not imported from the prefix ${site}"
+  # The sample's eta-bar as the other consumers check it (below).
+  awk '$1 == "energy_loss_mean_first_3" { eta = $2; seen = 1 }
+    END { exit !(seen && eta > 0.575 && eta < 0.585) }' "${work}/out.txt" ||
+    fail "the module printed a wrong energy loss"
+  echo "PASSED (${mode})"
+  exit 0
+fi
 
 consumer="${work}/consumer"
 case "${mode}" in
@@ -57,7 +92,7 @@ case "${mode}" in
     c++ -std=c++20 "${source}/tests/consumer/main.cc" ${flags} -o "${consumer}" \
       >"${work}/build.log" 2>&1 || fail "compile and link (log: ${work}/build.log)"
     ;;
-  *) fail "mode must be cmake or pkg-config, got ${mode}" ;;
+  *) fail "mode must be cmake, pkg-config or python, got ${mode}" ;;
 esac
 
 "${consumer}" "${source}/samples/steel_ball_h0.2m.wav" 0.2 >"${work}/out.txt" ||
