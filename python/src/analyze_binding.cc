@@ -221,6 +221,20 @@ py::object ToPython(const Analysis& analysis, const AnalyzeOptions& options, boo
   result["channel_chosen_automatically"] = detection.channel_chosen_automatically;
   result["channel_impact_to_noise_db"] = FloatArray(detection.channel_impact_to_noise_db);
   result["duration_s"] = detection.duration_s;
+  // How the file was decoded; samples handed over as an array were not.
+  const auto& info = detection.info;
+  const auto name_or_none = [from_file](const std::string& name) {
+    return from_file ? py::object(py::str(name)) : py::object(py::none());
+  };
+  result["decoder"] = name_or_none(info.decoder);
+  result["container"] = name_or_none(info.container);
+  result["codec"] = name_or_none(info.codec);
+  result["lossy"] = info.lossy;
+  result["bit_rate_bps"] = OptionalFloat(info.bit_rate_bps);
+  result["encoder_delay"] = std::string(audio::ToString(info.encoder_delay));
+  // Already inside every onset uncertainty (added in quadrature); 0 for lossless input.
+  result["codec_timing_uncertainty_s"] =
+      detection.codec_timing ? detection.codec_timing->onset_uncertainty_s : 0.0;
   result["impacts"] = ImpactsTable(analysis);
   std::vector<double> rejected_times;
   std::vector<std::string> rejected_reasons;
@@ -321,7 +335,8 @@ void BindAnalyze(py::module_& module) {
 sequence's intervals, restitution e_k, energy loss eta_k = 1 - e_k^2 and bounce heights, with
 their uncertainties: what `bouncecal analyze --json` writes for one recording.
 
-recording: a path (WAV, FLAC, OGG, MP3, ...) or a 1-D numpy array of samples (full scale +-1)
+recording: a path (WAV, FLAC, OGG, MP3, M4A/AAC, ...; a lossy one gets wider onset
+    uncertainties, codec_timing_uncertainty_s) or a 1-D numpy array of samples (full scale +-1)
     with sample_rate_hz.
 drop_height_m: release height h0; gives e and eta of the first impact too.
 channel: 0-based channel of a file (default: the best impact-to-noise ratio).
