@@ -127,11 +127,14 @@ TEST(LammpsReferee, FrictionalDiskPackingAgreesWithinTwoStandardErrors) {
     const fs::path folder = root / ("seed" + std::to_string(seed));
     fs::create_directories(folder);
     // The start file, as a user gets it: the random placement measured at t = 0.
-    Pack(folder, "start",
-         FrictionScene(
-             R"({"type": "random", "max_attempts": 900000, "seed": )" + std::to_string(seed) + "}",
-             kDurationS, "start_out"),
-         "--duration-s 0");
+    Pack(
+        folder, "start",
+        FrictionScene(
+            R"({"type": "random", "region": {"type": "box", "min_m": [0, 0], "max_m": [0.002, 0.002]},
+                 "max_attempts": 900000, "seed": )" +
+                std::to_string(seed) + "}",
+            kDurationS, "start_out"),
+        "--duration-s 0");
     const std::string from_start =
         FrictionScene(FileInsertion(folder / "start_out/particles.csv"), kDurationS, "run_out");
     const Measured run = Pack(folder, "run", from_start);

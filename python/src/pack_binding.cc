@@ -1,5 +1,6 @@
 // bouncecal.pack: dem::RunPacking on a scene file or dict, returning the fields of the summary
 // `bouncecal pack` writes, plus the history, profile and final state it writes as CSV.
+#include <fmt/format.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -73,10 +74,13 @@ py::object FinalState(const dem::ParticleSnapshot& state) {
 // that did not become unstable (those are errors here, as there).
 py::object ToPython(const dem::Scene& scene, const dem::PackSummary& s) {
   py::object j = NewResult();
+  j["format"] = "bouncecal-pack/1";  // docs/json.md
   j["scene"] = scene.source.string();
   j["physics"] = s.physics;
   j["stop_reason"] = std::string(dem::ToString(s.stop_reason));
   j["message"] = s.message;
+  j["state_digest"] = fmt::format("{:016x}", s.state_digest);
+  j["boiling"] = s.boiling;
   PutFinite(j, "packing_density", s.packing_density);
   PutFinite(j, "packing_density_by_count", s.packing_density_by_count);
   PutFinite(j, "mean_coordination", s.coordination.mean);

@@ -66,6 +66,7 @@ py::object TrajectoryTable(const dem::DropResult& result) {
 // The fields of `bouncecal simulate drop --json` (apps/simulate_command.cc), then the trajectory.
 py::object ToPython(const dem::DropResult& result, const dem::DropOptions& options) {
   py::object out = NewResult();
+  out["format"] = "bouncecal-drop/1";  // docs/json.md
   out["impacts"] = ImpactsTable(result);
   out["stop_reason"] = std::string(dem::ToString(result.stop_reason));
   out["stop_detail"] = result.stop_detail;

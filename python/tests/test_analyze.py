@@ -40,7 +40,7 @@ def test_analyze_gives_exactly_what_the_command_writes_for_the_sample(
         cli, steel_sample, tmp_path, drop_height_m):
     # The same library calls on the same file: every field and every number must be equal, not
     # merely close (the JSON writes doubles with enough digits to read them back exactly).
-    extra = [] if drop_height_m is None else ["--drop-height", drop_height_m]
+    extra = [] if drop_height_m is None else ["--drop-height-m", drop_height_m]
     expected = cli_recording(
         cli.json("analyze", steel_sample, *extra, output=tmp_path / "a.json"), steel_sample)
     assert expected is not None

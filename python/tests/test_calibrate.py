@@ -24,7 +24,7 @@ def test_calibrate_gives_what_the_command_writes_and_the_same_card(cli, steel_sa
     # the command's JSON and card must equal the module's exactly, the card byte for byte when
     # both are stamped with the same time.
     card = tmp_path / "cli_card.json"
-    expected = cli.json("calibrate", steel_sample, "--ball", "steel-10mm", "--drop-height", "0.2",
+    expected = cli.json("calibrate", steel_sample, "--ball", "steel-10mm", "--drop-height-m", "0.2",
                         "--card", card, output=tmp_path / "fit.json",
                         env={"SOURCE_DATE_EPOCH": str(CREATED_AT)})
     assert fit.to_dict() == expected

@@ -57,7 +57,7 @@ def test_pack_gives_the_summary_the_command_writes(cli, tmp_path):
     # command's CSV files).
     scene = tmp_path / "pour.json"
     scene.write_text(json.dumps(SMALL_POUR))
-    expected = cli.json("pack", scene, "--out", tmp_path / "out", output=tmp_path / "s.json")
+    expected = cli.json("pack", scene, "--output", tmp_path / "out", output=tmp_path / "s.json")
     result = bouncecal.pack(str(scene), threads=2).to_dict()
     for extra in ("history", "profile", "final_state"):
         del result[extra]
@@ -86,7 +86,7 @@ def test_a_bad_scene_file_raises_the_commands_message(cli, tmp_path):
     bad["particles"]["cuont"] = 3
     scene = tmp_path / "bad.json"
     scene.write_text(json.dumps(bad))
-    message, status = cli.error("pack", scene, "--out", tmp_path / "out")
+    message, status = cli.error("pack", scene, "--output", tmp_path / "out")
     with pytest.raises(bouncecal.InputError) as raised:
         bouncecal.pack(scene)
     assert str(raised.value) == message and status == 2

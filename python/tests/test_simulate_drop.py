@@ -14,7 +14,7 @@ def test_simulate_drop_gives_exactly_what_the_command_writes(cli, tmp_path):
     # Same options, same library call: equal to the last bit. Recording the trajectory (the
     # module's default, not the command's without --trajectory) must not change the drop.
     expected = cli.json("simulate", "drop", "--law", "walton-braun", "--gamma", "0.4",
-                        "--drop-height", "0.15", "--quiet", output=tmp_path / "drop.json")
+                        "--drop-height-m", "0.15", "--quiet", output=tmp_path / "drop.json")
     result = bouncecal.simulate_drop("walton-braun", {"gamma_n": 0.4}, drop_height_m=0.15)
     plain = result.to_dict()
     del plain["trajectory"]
