@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "bouncecal/calibrate/fit.h"
@@ -12,6 +13,10 @@
 #include "drop_cli_options.h"
 
 namespace bouncecal::apps {
+
+// What a user of the command line does about a SOURCE_DATE_EPOCH the card's time cannot use.
+inline constexpr std::string_view kSourceDateEpochRemedy =
+    "unset it or set it to e.g. $(git log -1 --format=%ct)";
 
 // The recordings and every fit setting shared by `calibrate` and `report` (outputs are each
 // command's own), so both run exactly the same calibration from the same command line.

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "bouncecal/calibrate/card_creation_time.h"
 #include "bouncecal/calibrate/fit.h"
 #include "bouncecal/calibrate/fit_json.h"
 #include "bouncecal/calibrate/material_card.h"
@@ -13,7 +14,6 @@
 #include "bouncecal/error.h"
 #include "calibrate_cli_options.h"
 #include "calibrate_report.h"
-#include "card_creation_time.h"
 #include "commands.h"
 #include "output_target.h"
 #include "plot/gnuplot_plot.h"
@@ -34,7 +34,8 @@ void Run(const CalibrateCommandOptions& cli) {
   std::FILE* out = text.human();
   if (!cli.plot.empty()) CheckPlotTarget(cli.plot);
   // Read before the fit so a malformed SOURCE_DATE_EPOCH fails at once, not after minutes.
-  const std::time_t card_created_at = CardCreationTimeFromEnvironment();
+  const std::time_t card_created_at =
+      calibrate::CardCreationTimeFromEnvironment(kSourceDateEpochRemedy);
   const auto options = cli.FitOptions(/*validate_law=*/!cli.compare_laws);
   // A card needs the ball: refuse before the (possibly long) fit rather than after it.
   if (!cli.card.empty()) calibrate::CheckCardOptions(options);

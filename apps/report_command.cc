@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 
+#include "bouncecal/calibrate/card_creation_time.h"
 #include "bouncecal/calibrate/fit.h"
 #include "bouncecal/calibrate/fit_json.h"
 #include "bouncecal/calibrate/material_card.h"
@@ -11,7 +12,6 @@
 #include "calibrate_cli_options.h"
 #include "calibrate_report.h"
 #include "calibration_html.h"
-#include "card_creation_time.h"
 #include "commands.h"
 #include "output_target.h"
 #include "report_recordings.h"
@@ -50,7 +50,8 @@ void Run(const ReportCommandOptions& cli, const std::string& command_line) {
     CheckOutputExtension("-o/--output", cli.output, {".html", ".htm"},
                          "the report is one HTML page");
   }
-  const std::time_t card_created_at = CardCreationTimeFromEnvironment();
+  const std::time_t card_created_at =
+      calibrate::CardCreationTimeFromEnvironment(kSourceDateEpochRemedy);
   const auto options = cli.FitOptions();
   calibrate::CheckCardOptions(options);  // the page holds the material card
   for (const auto& warning : cli.DeprecationWarnings())

@@ -2,12 +2,10 @@
 
 #include <Python.h>
 
-#include <charconv>
-#include <cstdlib>
 #include <ctime>
-#include <string_view>
 
 #include "bouncecal/calibrate/ball_preset.h"
+#include "bouncecal/calibrate/card_creation_time.h"
 #include "bouncecal/dem/contact_law_json.h"
 #include "bouncecal/dem/contact_law_kind.h"
 #include "bouncecal/error.h"
@@ -99,22 +97,9 @@ std::optional<dem::Ball> BallFromArguments(const BallArguments& arguments, bool 
 }
 
 std::time_t CardCreationTime() {
-  // The command line's rule (apps/card_creation_time.cc), so a card made from Python under
-  // SOURCE_DATE_EPOCH is as reproducible as one made by `bouncecal calibrate --card`.
-  constexpr long long kLastFourDigitYearSecond = 253402300799LL;  // 9999-12-31T23:59:59Z
-  const char* value = std::getenv("SOURCE_DATE_EPOCH");
-  if (value == nullptr) return std::time(nullptr);
-  const std::string_view text = value;
-  long long seconds = -1;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), seconds);
-  if (text.empty() || error != std::errc() || end != text.data() + text.size() || seconds < 0 ||
-      seconds > kLastFourDigitYearSecond) {
-    throw ConfigError("SOURCE_DATE_EPOCH='" + std::string(text) +
-                      "' is not a whole number of seconds since 1970-01-01 UTC in 0.." +
-                      std::to_string(kLastFourDigitYearSecond) +
-                      "; unset it or pass created_at=SECONDS");
-  }
-  return static_cast<std::time_t>(seconds);
+  // The command line's rule, so a card made from Python under SOURCE_DATE_EPOCH is as
+  // reproducible as one made by `bouncecal calibrate --card`.
+  return calibrate::CardCreationTimeFromEnvironment("unset it or pass created_at=SECONDS");
 }
 
 }  // namespace bouncecal::python

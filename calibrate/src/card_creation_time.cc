@@ -1,4 +1,4 @@
-#include "card_creation_time.h"
+#include "bouncecal/calibrate/card_creation_time.h"
 
 #include <charconv>
 #include <cstdlib>
@@ -7,14 +7,14 @@
 
 #include "bouncecal/error.h"
 
-namespace bouncecal::apps {
+namespace bouncecal::calibrate {
 
 namespace {
 // 9999-12-31T23:59:59Z: the last second a four-digit ISO 8601 year can show.
 constexpr long long kLastFourDigitYearSecond = 253402300799LL;
 }  // namespace
 
-std::time_t CardCreationTimeFromEnvironment() {
+std::time_t CardCreationTimeFromEnvironment(std::string_view remedy) {
   const char* value = std::getenv("SOURCE_DATE_EPOCH");
   if (value == nullptr) return std::time(nullptr);
   const std::string_view text = value;
@@ -24,10 +24,9 @@ std::time_t CardCreationTimeFromEnvironment() {
       seconds > kLastFourDigitYearSecond) {
     throw ConfigError("SOURCE_DATE_EPOCH='" + std::string(text) +
                       "' is not a whole number of seconds since 1970-01-01 UTC in 0.." +
-                      std::to_string(kLastFourDigitYearSecond) +
-                      "; unset it or set it to e.g. $(git log -1 --format=%ct)");
+                      std::to_string(kLastFourDigitYearSecond) + "; " + std::string(remedy));
   }
   return static_cast<std::time_t>(seconds);
 }
 
-}  // namespace bouncecal::apps
+}  // namespace bouncecal::calibrate
