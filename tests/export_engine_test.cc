@@ -17,6 +17,7 @@
 #include "bouncecal/calibrate/export/trajectory_bounces.h"
 #include "bouncecal/dem/laws/walton_braun.h"
 #include "cli_runner.h"
+#include "external_engine.h"
 
 namespace bouncecal::testing {
 namespace {
@@ -28,18 +29,6 @@ constexpr double kStiffnessNPerM = 1e7;
 constexpr double kDiameterM = 0.01;
 constexpr double kDensity = 7800;
 constexpr double kGravity = 9.81;
-
-bool OnPath(const std::string& executable) {
-  return std::system(("command -v " + executable + " >/dev/null 2>&1").c_str()) == 0;
-}
-
-std::string Tail(const fs::path& path, size_t characters = 1500) {
-  std::ifstream file(path);
-  std::stringstream text;
-  text << file.rdbuf();
-  const std::string all = text.str();
-  return all.size() > characters ? all.substr(all.size() - characters) : all;
-}
 
 // A fresh folder per test and process, removed afterwards unless the test failed.
 class ExportedDeck : public ::testing::Test {

@@ -18,23 +18,12 @@
 #include <vector>
 
 #include "cli_runner.h"
+#include "external_engine.h"
 
 namespace bouncecal::testing {
 namespace {
 
 namespace fs = std::filesystem;
-
-bool OnPath(const std::string& executable) {
-  return std::system(("command -v " + executable + " >/dev/null 2>&1").c_str()) == 0;
-}
-
-std::string Tail(const fs::path& path, size_t characters = 1500) {
-  std::ifstream file(path);
-  std::stringstream text;
-  text << file.rdbuf();
-  const std::string all = text.str();
-  return all.size() > characters ? all.substr(all.size() - characters) : all;
-}
 
 // Paper 004's box and window (docs/packing.md) with the friction case of the cross-check in
 // docs/packing.md: k_n = k_t = 100 N/m, viscous damping ratio 0.1, friction 0.364, no van der
