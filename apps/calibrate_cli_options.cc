@@ -2,6 +2,9 @@
 
 #include <fmt/core.h>
 
+#include <filesystem>
+#include <set>
+
 #include "bouncecal/error.h"
 #include "option_alias.h"
 
@@ -115,7 +118,19 @@ calibrate::SequenceInputOptions CalibrateCliOptions::InputOptions() const {
 }
 
 std::vector<calibrate::MeasuredSequence> CalibrateCliOptions::LoadSequences() const {
-  return calibrate::LoadSequences(inputs, InputOptions());
+  auto sequences = calibrate::LoadSequences(inputs, InputOptions());
+  // Widened, not silent: a lossy file's wider interval is said once per file, as analyze says it.
+  std::set<std::filesystem::path> warned;
+  for (const auto& sequence : sequences) {
+    if (sequence.lossy_codec.empty() || !warned.insert(sequence.path).second) continue;
+    fmt::print(stderr,
+               "bouncecal: warning: {}: lossy {}: every onset uncertainty widened by {:.0f} us "
+               "in quadrature (docs/codecs.md), which widens the fitted interval; record WAV or "
+               "FLAC for the full precision\n",
+               sequence.path.string(), sequence.lossy_codec,
+               sequence.codec_timing_uncertainty_s * 1e6);
+  }
+  return sequences;
 }
 
 std::vector<std::string> CalibrateCliOptions::DeprecationWarnings() const {

@@ -352,6 +352,8 @@ TEST_F(CodecInput, TheCalibrationInputCarriesTheCodecErrorExactlyOnce) {
   audio::GroupBounces(raw);
   const auto sequences = calibrate::LoadSequences({m4a});
   ASSERT_FALSE(sequences.empty());
+  EXPECT_EQ(sequences.front().lossy_codec, "aac");
+  EXPECT_EQ(sequences.front().codec_timing_uncertainty_s, sigma);
   for (const auto& impact : sequences.front().impacts) {
     const auto same = std::find_if(raw.impacts.begin(), raw.impacts.end(), [&](const auto& r) {
       return std::fabs(r.onset_s - impact.onset_s) < 1e-9;
@@ -360,6 +362,25 @@ TEST_F(CodecInput, TheCalibrationInputCarriesTheCodecErrorExactlyOnce) {
     EXPECT_NEAR(impact.uncertainty_s, std::hypot(same->onset_uncertainty_s, sigma), 1e-12)
         << impact.onset_s;
   }
+}
+
+// calibrate (and report, through the same loader) says once per lossy file why its interval is
+// wide, as analyze does: widened, not silently.
+TEST_F(CodecInput, CalibratingALossyFileSaysOnceThatItsOnsetsWereWidened) {
+  const fs::path sample = SourceDir() / "samples" / "steel_ball_h0.2m.wav";
+  const auto m4a = folder_ / "steel.m4a";
+  ASSERT_TRUE(EncodeWithFfmpeg(sample, m4a, {"-c:a", "aac", "-b:a", "128k"}));
+  const auto lossy =
+      RunBouncecal("calibrate '" + m4a.string() + "' --ball steel-10mm --drop-height-m 0.2");
+  ASSERT_EQ(lossy.exit_status, 0) << lossy.output;
+  const std::string warning = "warning: " + m4a.string() + ": lossy aac";
+  const auto first = lossy.output.find(warning);
+  ASSERT_NE(first, std::string::npos) << lossy.output;
+  EXPECT_EQ(lossy.output.find(warning, first + 1), std::string::npos) << lossy.output;
+  const auto lossless =
+      RunBouncecal("calibrate '" + sample.string() + "' --ball steel-10mm --drop-height-m 0.2");
+  ASSERT_EQ(lossless.exit_status, 0) << lossless.output;
+  EXPECT_EQ(lossless.output.find("lossy"), std::string::npos) << lossless.output;
 }
 
 // Issue 16's example: a Vorbis copy of eeps-pingpong moved eta-bar by 20 times its stated

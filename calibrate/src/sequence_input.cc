@@ -17,6 +17,10 @@ std::vector<MeasuredSequence> FromRecording(const std::filesystem::path& path,
     MeasuredSequence sequence;
     sequence.source = path.filename().string() + "#" + std::to_string(s + 1);
     sequence.path = path;
+    if (const auto& timing = analysis.detection.codec_timing) {
+      sequence.lossy_codec = analysis.detection.info.codec;
+      sequence.codec_timing_uncertainty_s = timing->onset_uncertainty_s;
+    }
     for (int index : grouping.sequences[s].impact_indices) {
       const auto& impact = impacts[static_cast<size_t>(index)];
       sequence.impacts.push_back({impact.onset_s, impact.onset_uncertainty_s});

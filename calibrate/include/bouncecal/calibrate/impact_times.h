@@ -18,6 +18,10 @@ struct MeasuredSequence {
   // FileContentHash of `path` when read through LoadSequences, else empty; named in the warning
   // when the same content is given twice.
   std::string content_hash;
+  // For a sequence from a lossy recording: its codec and the timing error (one sigma, s) already
+  // added in quadrature to every onset uncertainty, so a caller can say why they are wide.
+  std::string lossy_codec;
+  double codec_timing_uncertainty_s = 0;
 };
 
 struct ImpactTimesOptions {
