@@ -149,7 +149,13 @@ TEST(PackInterrupt, SecondSignalExitsAtOnceLeavingOnlyWholeFiles) {
   const auto out = dir / "out";
   const pid_t pid = Spawn({"pack", scene.string(), "--output", out.string(), "--duration-s", "100"},
                           dir / "log.txt");
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  // The handler is installed before the output folder is made; a signal before that would meet
+  // the default action (killed, status -2), which is not what is tested here. A slow start (the
+  // sanitizers) must not decide the outcome, so the test waits for the folder, up to 10 s.
+  for (int wait = 0; wait < 2000 && !std::filesystem::exists(out); ++wait) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
   kill(pid, SIGINT);
   kill(pid, SIGINT);
   const auto start = std::chrono::steady_clock::now();
