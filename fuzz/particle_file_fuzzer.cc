@@ -12,7 +12,7 @@
 #include <string>
 
 #include "bouncecal/error.h"
-#include "scene/insertion.h"
+#include "scene/particle_file.h"
 
 namespace {
 
