@@ -407,9 +407,18 @@ void Run(const AnalyzeArgs& args) {
     // in the order given, and the summary across them.
     nlohmann::json recordings = nlohmann::json::array();
     for (const auto& analysis : analyses) recordings.push_back(ToJson(analysis, args));
-    const nlohmann::json json = {{"format", kAnalysisFormat},
-                                 {"recordings", recordings},
-                                 {"summary", Summary(analyses, args.first_n)}};
+    nlohmann::json json = {{"format", kAnalysisFormat},
+                           {"recordings", recordings},
+                           {"summary", Summary(analyses, args.first_n)}};
+    // Deprecated, for one release like the old option spellings: a document of one recording
+    // also carries that recording's fields at its top level, the shape written before the
+    // format field, so the scripts and scorers that read `.impacts` / `.sequences` keep working
+    // instead of silently finding nothing (docs/json.md).
+    if (recordings.size() == 1) {
+      for (const auto& [key, value] : recordings.front().items()) {
+        if (!json.contains(key)) json[key] = value;
+      }
+    }
     WriteTextOutput(args.json_path, json.dump(2) + "\n");
   }
   if (!args.csv_path.empty()) WriteTextOutput(args.csv_path, Csv(analyses));

@@ -13,6 +13,9 @@ from conftest import STEEL_SAMPLE, STEREO_SAMPLE
 def cli_recording(json_value, path):
     """The per-recording object of `bouncecal analyze --json` for `path`, wherever the JSON's
     envelope puts it (one object, or an array of them with a summary)."""
+    if isinstance(json_value, dict) and "recordings" in json_value:
+        # The documented place; the top-level copy of a single recording is the deprecated shape.
+        json_value = json_value["recordings"]
     if isinstance(json_value, dict):
         if json_value.get("file") == path:
             return json_value
