@@ -117,6 +117,9 @@ TEST(AnalyzeCli, JsonOfOneRecordingHasTheFormatAndTheDropHeightGivesTheFirstImpa
   ASSERT_EQ(document["recordings"].size(), 1u);
   EXPECT_EQ(document["summary"]["recordings"], 1);
   const auto& out = document["recordings"][0];
+  // The deprecated pre-format shape, kept for one release: the one recording's fields also at
+  // the top level, identical, so an old script reads the same onsets.
+  for (const auto& [key, value] : out.items()) EXPECT_EQ(document[key], value) << key;
   EXPECT_TRUE(out["file"].is_string());
   EXPECT_EQ(out["sample_rate_hz"], 48000);
   EXPECT_EQ(out["channel"], 0);
@@ -163,6 +166,7 @@ TEST(AnalyzeCli, SeveralRecordingsGiveTheSameShapeWithOneEntryEachAndASummary) {
   EXPECT_EQ(out["recordings"][1]["file"], b.string());
   EXPECT_EQ(out["summary"]["recordings"], 2);
   EXPECT_TRUE(out["summary"]["energy_loss_mean"].is_number());
+  EXPECT_FALSE(out.contains("impacts"));  // the top-level copy is for one recording only
 }
 
 TEST(AnalyzeCli, ChannelOutsideTheFileIsABadOption) {
