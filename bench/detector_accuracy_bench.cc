@@ -120,6 +120,15 @@ std::vector<Condition> Conditions() {
          o.click_gain = 0.2;
          o.level_jitter_db = 3;
        }},
+      // A soft ball (rubber, 0.8 ms contact) through a real chain: its plate response keeps
+      // growing for milliseconds after a weak first lobe.
+      {"soft ball 0.8 ms chain",
+       [](SynthesisOptions& o) {
+         o.chain = RecordingChain{};
+         o.click_gain = 0.15;
+         o.contact_duration_s = 800e-6;
+         o.level_jitter_db = 3;
+       }},
       {"low e 0.3",
        [](SynthesisOptions& o) {
          o.drop.restitution.constant = 0.3;

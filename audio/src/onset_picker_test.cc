@@ -143,5 +143,40 @@ TEST(OnsetPicker, NoLobeAboveTheNoiseGivesNoEdgeFit) {
   EXPECT_FALSE(FitLeadingEdge(x, 32, 1e-3).has_value());
 }
 
+// A soft impact: a weak, short first lobe (its contact click) and, a lobe's width later, the
+// plate's response, which keeps growing long after it. Taking the reference at a fraction of the
+// window's largest sample put it on the click when the click was above that fraction of the body
+// and on the body's edge, 8 samples later, when it was below: from impact to impact the ratio
+// changes and the intervals jumped by 150-190 us at 48 kHz. The reference belongs on the click
+// whatever the ratio (here 6 % to 20 %, across the old 12 %): within 0.5 sample of the same
+// point on the click's edge, half its one-sample rise for the noise and the interpolation.
+TEST(OnsetPicker, SoftImpactIsTimedOnItsFirstLobeWhateverTheLaterLobesReach) {
+  constexpr double kOnset = 40.3;
+  constexpr double kClick = 0.05;
+  std::vector<double> references;
+  for (double click_to_body : {0.06, 0.09, 0.11, 0.13, 0.16, 0.20}) {
+    std::vector<float> x(200, 0.0f);
+    std::mt19937 generator(11);
+    std::normal_distribution<double> noise(0.0, 2e-4);
+    const double body = kClick / click_to_body;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const double u = static_cast<double>(i) - kOnset;
+      double value = 0;
+      // The click: up in one sample, down over five.
+      if (u > 0) value += kClick * std::min(u, 1.0) * std::exp(-std::max(0.0, u - 1.0) / 3.0);
+      // The body: starts 6 samples in, a slow oscillation growing over 100 samples.
+      if (u > 6) value += body * std::min(1.0, (u - 6) / 100.0) * std::sin((u - 6) / 8.0);
+      x[i] = static_cast<float>(value + noise(generator));
+    }
+    const OnsetPick pick = PickOnset(x, 30, x.size() - 1);
+    ASSERT_TRUE(std::isfinite(pick.reference_index)) << click_to_body;
+    EXPECT_GT(pick.reference_index, kOnset - 1.0) << click_to_body;
+    EXPECT_LT(pick.reference_index, kOnset + 1.0) << click_to_body;
+    references.push_back(pick.reference_index);
+  }
+  const auto [low, high] = std::minmax_element(references.begin(), references.end());
+  EXPECT_LT(*high - *low, 0.5);
+}
+
 }  // namespace
 }  // namespace bouncecal::audio
