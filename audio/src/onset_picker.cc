@@ -273,24 +273,43 @@ double ReferenceLevelAt(std::span<const float> x, std::size_t i, std::size_t pea
   return kReferenceFraction * local_peak;
 }
 
+// Whether the impact's own level (a fraction of the window's largest sample) is reached within
+// kReferenceHorizonSamples of sample f: a soft impact's body follows its first lobe at once, while
+// a lobe further ahead of it is another sound (a precursor click 2-10 ms before the impact).
+bool ImpactLevelFollows(std::span<const float> x, std::size_t f, std::size_t peak_end,
+                        double impact_level) {
+  const std::size_t end = std::min(peak_end, f + kReferenceHorizonSamples);
+  for (std::size_t i = f; i < end; ++i) {
+    if (std::fabs(x[i]) >= impact_level) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 std::optional<OnsetPick> ReferenceCrossing(std::span<const float> x, std::size_t from,
                                            std::size_t peak_end, double noise_rms) {
   peak_end = std::min(peak_end, x.size());
   if (from >= peak_end) return std::nullopt;
-  const double floor = kLobeNoiseSigmas * noise_rms;
   double peak = 0;
   for (std::size_t i = from; i < peak_end; ++i) peak = std::max(peak, double{std::fabs(x[i])});
   const double impact_level = kReferenceFraction * peak;
+  const double floor = kLobeNoiseSigmas * noise_rms;
   if (!(impact_level > 0) || impact_level < floor) return std::nullopt;
   std::size_t f = from;
   double level = 0;
   for (; f < peak_end; ++f) {
+    const double magnitude = std::fabs(x[f]);
     level = ReferenceLevelAt(x, f, peak_end);
-    if (level < floor) level = impact_level;
-    if (std::fabs(x[f]) >= level) break;
+    if (level >= floor && magnitude >= level && ImpactLevelFollows(x, f, peak_end, impact_level)) {
+      break;
+    }
+    if (magnitude >= impact_level) {
+      level = impact_level;
+      break;
+    }
   }
+  if (f == peak_end) return std::nullopt;  // only with NaN samples
   OnsetPick pick;
   pick.reference_level = level;
   if (f == 0) {

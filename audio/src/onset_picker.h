@@ -44,17 +44,18 @@ OnsetPick PickOnset(std::span<const float> window, std::size_t search_begin,
 
 // Constant-fraction timing, the discriminator that pulse-timing electronics use against the
 // amplitude walk of a fixed threshold: the time the impact's edge first reaches
-// kReferenceFraction of the largest sample within a short horizon after it (its own first lobe;
-// the window's largest sample in [from, peak_end) where that lobe's level lies within the
-// noise), interpolated linearly between the two samples around the crossing. The start of contact
-// cannot be timed that way on a real recording chain: its anti-aliasing filter or resampler is
-// linear-phase, so a click's energy already rises a few samples before contact (the filter's
-// pre-ringing, up to ~5 % of the peak at 16-48 kHz), above the noise for loud impacts only, and any
-// picker that looks for the first sample out of the noise fires earlier the louder the impact. 12 %
-// lies above that pre-ringing and below the first lobe of a struck plate. The uncertainty is the
-// noise over the edge's slope there, combined with kReferenceShapeSamples for the shape differences
-// between impacts. Nothing when the level is within kLobeNoiseSigmas of the noise (a buried impact:
-// the caller extrapolates the fitted edge to the level instead).
+// kReferenceFraction of the largest sample within a short horizon after it (its own first lobe,
+// when that fraction of the window's largest sample in [from, peak_end) is reached within the
+// same horizon; else, or where the lobe's level lies within the noise, the window's largest
+// sample sets the level), interpolated linearly between the two samples around the crossing. The
+// start of contact cannot be timed that way on a real recording chain: its anti-aliasing filter or
+// resampler is linear-phase, so a click's energy already rises a few samples before contact (the
+// filter's pre-ringing, up to ~5 % of the peak at 16-48 kHz), above the noise for loud impacts
+// only, and any picker that looks for the first sample out of the noise fires earlier the louder
+// the impact. 12 % lies above that pre-ringing and below the first lobe of a struck plate. The
+// uncertainty is the noise over the edge's slope there, combined with kReferenceShapeSamples for
+// the shape differences between impacts. Nothing when the level is within kLobeNoiseSigmas of the
+// noise (a buried impact: the caller extrapolates the fitted edge to the level instead).
 std::optional<OnsetPick> ReferenceCrossing(std::span<const float> x, std::size_t from,
                                            std::size_t peak_end, double noise_rms);
 

@@ -178,5 +178,49 @@ TEST(OnsetPicker, SoftImpactIsTimedOnItsFirstLobeWhateverTheLaterLobesReach) {
   EXPECT_LT(*high - *low, 0.5);
 }
 
+// What must not be taken for a first lobe. (1) A precursor: a weak click (8 % of the impact's
+// peak, above the reference fraction of the precursor's own size but below the impact's) 3 ms
+// before the impact, as a ball's release or a rattle makes: a separate sound, which the impact's
+// level does not follow within the horizon. (2) A zero-phase filter's pre-ringing in digital
+// silence: an oscillation near the band edge growing as 1/distance towards the impact for 80
+// samples, each lobe standing out of float rounding but not of the lobe before it. Either way the
+// reference belongs on the impact's own edge, within one sample of where its first lobe crosses
+// 12 % of its peak (the crossing interpolates between two samples).
+TEST(OnsetPicker, PrecursorsAndPreRingingAreNotTakenForTheFirstLobe) {
+  constexpr double kOnset = 200.4;
+  const auto impact = [&](double u) {
+    return u > 0 ? std::sin(std::numbers::pi * std::min(u, 3.0) / 6.0) *
+                       std::exp(-std::max(0.0, u - 3.0) / 40.0) *
+                       std::cos(std::numbers::pi * std::max(0.0, u - 3.0) / 8.0)
+                 : 0.0;
+  };
+  // The impact alone: where its edge crosses 12 % of its peak (1.0).
+  const double crossing = kOnset + 6.0 / std::numbers::pi * std::asin(kReferenceFraction);
+
+  std::vector<float> with_precursor(300, 0.0f);
+  std::vector<float> with_pre_ringing(300, 0.0f);
+  std::mt19937 generator(5);
+  std::normal_distribution<double> noise(0.0, 1e-3);
+  for (std::size_t i = 0; i < with_precursor.size(); ++i) {
+    const double u = static_cast<double>(i) - kOnset;
+    const double precursor_u = u + 144.0;  // 3 ms before at 48 kHz
+    const double precursor =
+        precursor_u > 0 ? 0.08 * std::exp(-precursor_u / 4.0) * std::min(precursor_u, 1.0) : 0.0;
+    with_precursor[i] = static_cast<float>(impact(u) + precursor + noise(generator));
+    const double ringing = u < 0 && u > -80
+                               ? 0.02 / (1.0 - u / 2.0) * std::cos(2.2 * std::numbers::pi * u / 5.0)
+                               : 0.0;
+    with_pre_ringing[i] = static_cast<float>(impact(u) + ringing);
+  }
+  // ReferenceCrossing is given the noise before the precursor (PickOnset's change point may fall
+  // on the impact, and its noise estimate then holds the precursor, which hides it).
+  const auto precursor_pick = ReferenceCrossing(with_precursor, 20, 215, 1e-3);
+  ASSERT_TRUE(precursor_pick.has_value());
+  EXPECT_NEAR(precursor_pick->reference_index, crossing, 1.0);
+  const auto ringing_pick = ReferenceCrossing(with_pre_ringing, 20, 215, 0.0);
+  ASSERT_TRUE(ringing_pick.has_value());
+  EXPECT_NEAR(ringing_pick->reference_index, crossing, 1.0);
+}
+
 }  // namespace
 }  // namespace bouncecal::audio
