@@ -1,0 +1,144 @@
+#!/usr/bin/python3
+"""Hunts for silent wrong answers: random recordings, each with exact ground truth.
+
+    bench/silent_wrong_sweep.py build/apps/bouncecal [--seed 11] [--count 60] [--workdir DIR]
+
+Each file is a `bouncecal synth` drop with a random mix of what real recordings bring: sample
+rate 8-96 kHz, contact 35 us - 1 ms, plate or counter, restitution 0.3-0.92, noise (white or
+pink, SNR to the first or the weakest impact), a linear-phase recording chain, the ball's contact
+click, reverb, level jitter, clipping, hum, a codec's band limit, precursor clicks, echoes, and
+for a third of them a lossy encoding by ffmpeg (MP3, Vorbis, Opus, AAC). `bouncecal analyze`
+with default options then times it, and its eta-bar over the first impacts is compared with the
+eta-bar that the exact onsets of the same impacts give.
+
+A file is SILENT-WRONG when eta-bar is off by more than 0.002 (the paper's gamma_n precision
+is ~0.003 in eta) and by more than 3 of its stated sigmas: the tool answered, exit 0, with an
+uncertainty that does not cover its error. Refusals (no sequence) are honest and only counted.
+Deterministic for a given seed. Needs only Python's standard library (and ffmpeg for codecs).
+"""
+import argparse
+import csv
+import json
+import os
+import random
+import subprocess
+import sys
+import tempfile
+
+CODECS = [("mp3", "libmp3lame", "64k"), ("ogg", "libvorbis", "64k"),
+          ("opus", "libopus", "32k"), ("m4a", "aac", "96k")]
+
+
+def random_recording(rng, index):
+    """The synth options of one random file and a short description."""
+    sample_rate = rng.choice([8000, 11025, 16000, 22050, 32000, 44100, 48000, 96000])
+    contact = rng.choice([35e-6, 70e-6, 150e-6, 400e-6, 800e-6, 1e-3])
+    surface = rng.choice(["plate", "counter"])
+    args = ["--sample-rate-hz", str(sample_rate), "--contact-duration-s", str(contact),
+            "--surface", surface, "--restitution", f"{rng.uniform(0.3, 0.92):.3f}",
+            "--drop-height-m", f"{rng.uniform(0.05, 0.6):.3f}", "--seed", str(index + 1)]
+    snr = rng.choice([None, 12, 20, 30, 45])
+    if snr:
+        args += ["--snr-db", str(snr), "--snr-reference",
+                 "weakest" if rng.random() < 0.5 else "first"]
+    if rng.random() < 0.5:
+        args += ["--adc", "linear-phase"]
+    if rng.random() < 0.4:
+        args += ["--click-gain", f"{rng.uniform(0.05, 0.3):.2f}"]
+    if rng.random() < 0.3:
+        args += ["--reverb-rt60-s", f"{rng.uniform(0.2, 0.8):.2f}"]
+    if rng.random() < 0.3:
+        args += ["--level-jitter-db", "3"]
+    if rng.random() < 0.25:
+        args += ["--clip-level", f"{rng.uniform(0.15, 0.5):.2f}"]
+    if rng.random() < 0.2:
+        args += ["--hum-hz", rng.choice(["50", "60"]),
+                 "--hum-dbfs", f"{rng.uniform(-40, -20):.0f}"]
+    if rng.random() < 0.2:
+        args += ["--band-limit-hz", f"{rng.uniform(0.2, 0.4) * sample_rate:.0f}"]
+    if rng.random() < 0.2:
+        args += ["--precursor-lead-s", f"{rng.uniform(0.002, 0.008):.4f}",
+                 "--precursor-gain-db", f"{rng.uniform(-25, -10):.0f}"]
+    if rng.random() < 0.2:
+        args += ["--echo-delay-s", f"{rng.uniform(0.002, 0.012):.4f}",
+                 "--echo-gain-db", f"{rng.uniform(-10, -3):.0f}"]
+    if snr and rng.random() < 0.4:
+        args += ["--noise-color", "pink"]
+    codec = rng.choice(CODECS) if rng.random() < 0.3 else None
+    return args, codec
+
+
+def eta_bar(onsets, count):
+    intervals = [b - a for a, b in zip(onsets, onsets[1:])]
+    ratios = [b / a for a, b in zip(intervals, intervals[1:])]
+    used = ratios[:count]
+    return sum(1 - e * e for e in used) / len(used) if used else float("nan")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("bouncecal")
+    parser.add_argument("--seed", type=int, default=11)
+    parser.add_argument("--count", type=int, default=60)
+    parser.add_argument("--workdir", default=None)
+    options = parser.parse_args()
+    workdir = options.workdir or tempfile.mkdtemp(prefix="silent_wrong_")
+    os.makedirs(workdir, exist_ok=True)
+    rng = random.Random(options.seed)
+    tally = {"files": 0, "sequences": 0, "refused": 0, "silent_wrong": 0}
+    for index in range(options.count):
+        args, codec = random_recording(rng, index)
+        wav = os.path.join(workdir, f"{index}.wav")
+        truth_csv = os.path.join(workdir, f"{index}.csv")
+        synth = subprocess.run([options.bouncecal, "synth", "-o", wav, "--truth", truth_csv] + args,
+                               capture_output=True, text=True)
+        if synth.returncode:
+            print(f"#{index} synth refused: {synth.stderr.strip()}")
+            continue
+        audio = wav
+        if codec:
+            encoded = os.path.join(workdir, f"{index}.{codec[0]}")
+            encode = subprocess.run(["ffmpeg", "-y", "-loglevel", "error", "-i", wav,
+                                     "-c:a", codec[1], "-b:a", codec[2], encoded],
+                                    capture_output=True)
+            audio = encoded if encode.returncode == 0 else wav
+        description = " ".join(args) + (f" | {codec[0]} {codec[2]}" if audio != wav else "")
+        tally["files"] += 1
+        with open(truth_csv) as f:
+            truth = [float(row["onset_s"]) for row in csv.DictReader(
+                line for line in f if not line.startswith("#")) if row["kind"] == "ball_impact"]
+        result_json = os.path.join(workdir, f"{index}.json")
+        analyze = subprocess.run([options.bouncecal, "analyze", audio, "--json", result_json],
+                                 capture_output=True, text=True)
+        if analyze.returncode:
+            print(f"#{index} analyze exit {analyze.returncode}: {analyze.stderr.strip()[:160]}"
+                  f" | {description}")
+            tally["refused"] += 1
+            continue
+        with open(result_json) as f:
+            recording = json.load(f)["recordings"][0]
+        sequence = recording["sequences"][0] if recording["sequences"] else None
+        measured = sequence and sequence.get("energy_loss_mean_first_n")
+        if measured is None:
+            print(f"#{index} no eta-bar ({len(recording['impacts'])} impacts, {len(truth)} true)"
+                  f" | {description}")
+            tally["refused"] += 1
+            continue
+        tally["sequences"] += 1
+        onsets = [i["onset_s"] for i in recording["impacts"] if i.get("sequence") == 0]
+        matched = [min(range(len(truth)), key=lambda j: abs(truth[j] - t)) for t in onsets]
+        count = sequence["first_n"]
+        exact = eta_bar([truth[j] for j in matched[:count + 2]], count)
+        sigma = sequence["energy_loss_mean_first_n_uncertainty"]
+        z = (measured - exact) / sigma if sigma > 0 else float("inf")
+        wrong = abs(measured - exact) > 0.002 and abs(z) > 3
+        tally["silent_wrong"] += wrong
+        worst_us = max(abs(t - truth[j]) for t, j in zip(onsets, matched)) * 1e6
+        print(f"#{index} eta-bar {measured:.4f} +- {sigma:.4f}, exact {exact:.4f} (z {z:+.1f}),"
+              f" worst onset {worst_us:.0f} us{'  SILENT-WRONG' if wrong else ''} | {description}")
+    print("SUMMARY: " + ", ".join(f"{k} {v}" for k, v in tally.items()))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
