@@ -335,11 +335,13 @@ void WarnAboutCodec(const std::string& path, const audio::FileDetection& detecti
                                  ? fmt::format("{:.0f} kbit/s", *info.bit_rate_bps / 1e3)
                                  : std::string("unknown bit rate");
     const std::string basis =
-        timing->measured
+        !timing->measured
+            ? std::string("not measured for this codec: the largest measured codec error")
+        : timing->high_bit_rate_bps_per_channel > 0
             ? fmt::format("measured for {} {} {:.0f} kbit/s per channel", timing->family,
                           timing->high_bit_rate ? "at or above" : "below",
                           timing->high_bit_rate_bps_per_channel / 1e3)
-            : std::string("not measured for this codec: the largest measured codec error");
+            : fmt::format("measured for {}", timing->family);
     std::fprintf(stderr,
                  "bouncecal: warning: %s: lossy %s (%s): every onset uncertainty widened by %.0f "
                  "us in quadrature (%s; docs/codecs.md); record WAV or FLAC for the full "

@@ -246,7 +246,7 @@ int main(int argc, char** argv) {
         Score(wav, wav, truth, wav_tallies[rate]);
         for (const auto& encoding : encodings) {
           if (!only.empty() && encoding.label.find(only) == std::string::npos) continue;
-          const fs::path encoded = folder / ("drop." + encoding.extension);
+          const fs::path encoded = folder / ("encoded." + encoding.extension);
           fs::remove(encoded);
           if (!bouncecal::testing::EncodeWithFfmpeg(wav_path, encoded, encoding.ffmpeg_options)) {
             continue;  // a bit rate the rate does not allow (MP3 192k at 16 kHz)

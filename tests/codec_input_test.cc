@@ -239,6 +239,8 @@ TEST_F(CodecInput, OnsetShiftsOfHighBitRateCopiesStayWithinTheTabulatedCodecErro
       {"mp3.mp3", {"-c:a", "libmp3lame", "-b:a", "128k"}},
       {"vorbis.ogg", {"-c:a", "libvorbis", "-q:a", "5"}},
       {"opus.opus", {"-c:a", "libopus", "-b:a", "64k"}},
+      {"mulaw.wav", {"-c:a", "pcm_mulaw"}},
+      {"adpcm.wav", {"-c:a", "adpcm_ima_wav"}},
   };
   for (const auto& [name, options] : settings) {
     SCOPED_TRACE(name);

@@ -11,7 +11,8 @@
 
 namespace bouncecal::testing {
 
-// One encoder setting: a codec family ("aac", "mp3", "vorbis", "opus"), a label for tables, the
+// One encoder setting: a codec family ("aac", "mp3", "vorbis", "opus", "g711", "adpcm"), a label
+// for tables, the
 // file extension that picks the container, and ffmpeg's output options.
 struct LossyEncoding {
   std::string family;
@@ -21,7 +22,7 @@ struct LossyEncoding {
 };
 
 // The settings bench/codec_timing_bench measures (docs/codecs.md): phone and export bit rates of
-// Debian's encoders (FFmpeg's native AAC, LAME, libvorbis, libopus).
+// Debian's encoders (FFmpeg's native AAC, LAME, libvorbis, libopus, and its G.711 and ADPCM).
 inline std::vector<LossyEncoding> CommonLossyEncodings() {
   return {
       {"aac", "AAC 64k", "m4a", {"-c:a", "aac", "-b:a", "64k"}},
@@ -33,6 +34,12 @@ inline std::vector<LossyEncoding> CommonLossyEncodings() {
       {"vorbis", "Vorbis q5", "ogg", {"-c:a", "libvorbis", "-q:a", "5"}},
       {"opus", "Opus 24k", "opus", {"-c:a", "libopus", "-b:a", "24k"}},
       {"opus", "Opus 64k", "opus", {"-c:a", "libopus", "-b:a", "64k"}},
+      // Telephony's sample-by-sample codecs, in WAV as voice recorders and phone systems write
+      // them: no transform block, so no pre-echo, only coarser quantisation.
+      {"g711", "G.711 mu-law", "wav", {"-c:a", "pcm_mulaw"}},
+      {"g711", "G.711 A-law", "wav", {"-c:a", "pcm_alaw"}},
+      {"adpcm", "IMA ADPCM", "wav", {"-c:a", "adpcm_ima_wav"}},
+      {"adpcm", "MS ADPCM", "wav", {"-c:a", "adpcm_ms"}},
   };
 }
 

@@ -58,6 +58,22 @@ TEST(CodecTiming, ACodecTheBenchDidNotMeasureGetsTheLargestMeasuredError) {
   }
 }
 
+// Telephony's sample-by-sample codecs were measured (docs/codecs.md): a phone system's mu-law
+// WAV is no longer given the largest transform codec's error, 36 times its own.
+TEST(CodecTiming, SampleBySampleCodecsHaveTheirOwnMeasuredError) {
+  for (const std::string codec :
+       {"pcm_mulaw", "pcm_alaw", "adpcm_ima", "adpcm_ima_wav", "adpcm_ms"}) {
+    const auto timing = CodecTimingOf(Lossy(codec, std::nullopt));
+    ASSERT_TRUE(timing) << codec;
+    EXPECT_TRUE(timing->measured) << codec;
+    EXPECT_EQ(timing->family, codec.starts_with("pcm_") ? "g711" : "adpcm");
+    // One class: the bit rate, known or not, does not change it.
+    EXPECT_EQ(timing->onset_uncertainty_s, CodecTimingOf(Lossy(codec, 64000))->onset_uncertainty_s);
+    EXPECT_LT(timing->onset_uncertainty_s,
+              CodecTimingOf(Lossy("amr_nb", 12200))->onset_uncertainty_s / 5);
+  }
+}
+
 TEST(CodecTiming, WideningAddsInQuadratureToImpactsAndTentativeOnes) {
   DetectionResult detection;
   detection.impacts.resize(2);

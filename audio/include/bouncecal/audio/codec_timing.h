@@ -17,7 +17,8 @@ namespace bouncecal::audio {
 // encoders (docs/codecs.md): the sigma below covers 95 % of the onset shifts against the WAV's
 // at 1.96 sigma, per codec family and bit rate class, the largest over 16, 44.1 and 48 kHz.
 struct CodecTiming {
-  std::string family;  // "aac", "mp3", "vorbis", "opus", or "other" for a codec not measured
+  // "aac", "mp3", "vorbis", "opus", "g711", "adpcm", or "other" for a codec not measured
+  std::string family;
   // The stream's average bit rate per channel is at or above the family's
   // high_bit_rate_bps_per_channel. An unknown bit rate counts as low: the larger error is the
   // safe side.
@@ -25,7 +26,7 @@ struct CodecTiming {
   double high_bit_rate_bps_per_channel = 0;
   // One sigma to add in quadrature to every onset's uncertainty.
   double onset_uncertainty_s = 0;
-  // False for a lossy codec the bench did not measure (AMR, WMA, AC-3, MP2, mu-law, ADPCM, ...):
+  // False for a lossy codec the bench did not measure (AMR, WMA, AC-3, MP2, G.726, ...):
   // the largest measured sigma stands in for it.
   bool measured = true;
 };
