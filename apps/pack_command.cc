@@ -452,18 +452,7 @@ void RunPack(const PackArgs& args) {
     throw ConfigError(fmt::format("{}: {}", scene.source.string(), summary.message));
   }
   if (summary.boiling) {
-    throw ConfigError(fmt::format(
-        "{}: the particles never came to rest: their kinetic energy stopped falling at {:.3g} J "
-        "({:.0f} % of its peak), so the step of {:.3g} s heats the pack as fast as its damping "
-        "cools it; the outputs describe a boiling state. Use a smaller time_step_s",
-        scene.source.string(), summary.kinetic_energy_j,
-        100 * summary.history.back().kinetic_energy_j /
-            std::max_element(summary.history.begin(), summary.history.end(),
-                             [](const dem::HistoryPoint& a, const dem::HistoryPoint& b) {
-                               return a.kinetic_energy_j < b.kinetic_energy_j;
-                             })
-                ->kinetic_energy_j,
-        summary.time_step_s));
+    throw ConfigError(fmt::format("{}: {}", scene.source.string(), summary.message));
   }
   if (interrupted) {
     throw InterruptedError(fmt::format(

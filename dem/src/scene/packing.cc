@@ -543,6 +543,8 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
     } else if (auto unsettled = scene::NotAtRest(summary.history)) {
       summary.warnings.push_back(*unsettled);
       summary.boiling = scene::Boiling(summary.history);
+      // The summary's one sentence says why the run failed, not only how far it ran.
+      if (summary.boiling) summary.message = scene::BoilingMessage(summary.history, dt);
     }
   }
   summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
