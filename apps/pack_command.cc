@@ -99,6 +99,7 @@ nlohmann::json SummaryJson(const dem::Scene& scene, const dem::PackSummary& s) {
   j["neighbor_rebuilds"] = s.neighbor_rebuilds;
   j["threads"] = s.threads;
   PutFinite(j, "wall_s", s.wall_s);
+  PutFinite(j, "total_wall_s", s.total_wall_s);
   PutFinite(j, "particle_steps_per_s", s.particle_steps_per_s);
   if (scene.dimension == 3) {
     j["band_m"] = {scene.measurement.band_min_m, scene.measurement.band_max_m};
@@ -359,7 +360,7 @@ void RemoveStaleTemporaries(const std::filesystem::path& dir) {
 void RunPack(const PackArgs& args) {
   const TextOutputs text({{"--json", &args.json}});
   std::FILE* out = text.human();
-  // From the start: a signal while the scene loads stops the run at its first block boundary.
+  // From the start: a signal while the scene loads stops the run after its first step.
   const StopSignals signals;
   const dem::Scene scene = dem::LoadScene(args.scene);
   dem::PackOptions options;
