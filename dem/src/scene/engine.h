@@ -8,10 +8,10 @@
 
 #include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/dem/scene.h"
+#include "bouncecal/worker_pool.h"
 #include "scene/pair_list.h"
 #include "scene/vec.h"
 #include "scene/walls.h"
-#include "scene/worker_pool.h"
 
 namespace bouncecal::dem::scene {
 
