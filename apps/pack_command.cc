@@ -99,6 +99,7 @@ nlohmann::json SummaryJson(const dem::Scene& scene, const dem::PackSummary& s) {
   j["neighbor_rebuilds"] = s.neighbor_rebuilds;
   j["threads"] = s.threads;
   PutFinite(j, "wall_s", s.wall_s);
+  PutFinite(j, "total_wall_s", s.total_wall_s);
   PutFinite(j, "particle_steps_per_s", s.particle_steps_per_s);
   if (scene.dimension == 3) {
     j["band_m"] = {scene.measurement.band_min_m, scene.measurement.band_max_m};
@@ -359,7 +360,7 @@ void RemoveStaleTemporaries(const std::filesystem::path& dir) {
 void RunPack(const PackArgs& args) {
   const TextOutputs text({{"--json", &args.json}});
   std::FILE* out = text.human();
-  // From the start: a signal while the scene loads stops the run at its first block boundary.
+  // From the start: a signal while the scene loads stops the run after its first step.
   const StopSignals signals;
   const dem::Scene scene = dem::LoadScene(args.scene);
   dem::PackOptions options;
@@ -452,18 +453,7 @@ void RunPack(const PackArgs& args) {
     throw ConfigError(fmt::format("{}: {}", scene.source.string(), summary.message));
   }
   if (summary.boiling) {
-    throw ConfigError(fmt::format(
-        "{}: the particles never came to rest: their kinetic energy stopped falling at {:.3g} J "
-        "({:.0f} % of its peak), so the step of {:.3g} s heats the pack as fast as its damping "
-        "cools it; the outputs describe a boiling state. Use a smaller time_step_s",
-        scene.source.string(), summary.kinetic_energy_j,
-        100 * summary.history.back().kinetic_energy_j /
-            std::max_element(summary.history.begin(), summary.history.end(),
-                             [](const dem::HistoryPoint& a, const dem::HistoryPoint& b) {
-                               return a.kinetic_energy_j < b.kinetic_energy_j;
-                             })
-                ->kinetic_energy_j,
-        summary.time_step_s));
+    throw ConfigError(fmt::format("{}: {}", scene.source.string(), summary.message));
   }
   if (interrupted) {
     throw InterruptedError(fmt::format(

@@ -9,7 +9,7 @@ namespace {
 
 // The one piece of global mutable state in the program, and unavoidable: a signal handler
 // receives no argument through which to reach an object, and the only thing it may portably
-// write is a volatile sig_atomic_t. The run polls it between blocks of steps through
+// write is a volatile sig_atomic_t. The run polls it once per step through
 // StopSignals::requested().
 volatile std::sig_atomic_t stop_signal = 0;
 

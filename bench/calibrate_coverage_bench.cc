@@ -11,18 +11,18 @@
 // quantity an average over ever more impacts converges to, with the fit's own time-step and
 // contact-duration bias included (a few 1e-4, see the formula column).
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "bouncecal/calibrate/fit.h"
 #include "bouncecal/calibrate/jittered_drop.h"
+#include "bouncecal/worker_pool.h"
 
 namespace {
 
@@ -133,19 +133,14 @@ int main(int argc, char** argv) {
       "| jitter of e | between recordings | drop height | impacts used | recordings | material "
       "gamma_n | coverage (95 %% binomial range) | mean width | RMS error | CPU s per case |\n");
   std::printf("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+  bouncecal::WorkerPool pool(std::max(1, threads));  // one case per item
   for (const auto& row : rows) {
     const double truth = MaterialGamma(row);
     std::vector<Outcome> outcomes(static_cast<size_t>(cases));
-    std::atomic<int> next{0};
     const std::clock_t cpu_start = std::clock();
-    auto worker = [&] {
-      for (int i = next++; i < cases; i = next++)
-        outcomes[static_cast<size_t>(i)] = RunCase(row, i, truth);
-    };
-    std::vector<std::thread> pool;
-    for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-    worker();
-    for (auto& thread : pool) thread.join();
+    pool.ParallelForEach(cases, [&](std::int64_t i) {
+      outcomes[static_cast<size_t>(i)] = RunCase(row, static_cast<int>(i), truth);
+    });
     const double cpu_s = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
     int covered = 0;
     double width = 0, squares = 0;

@@ -9,16 +9,19 @@
 // Figures only: nothing here asserts a time.
 //
 //   pack_bench [SCENE.json] [--duration S] [--threads N] [--settle S] [--skin D] [--min-skin D]
-//   [--no-lammps]
+//   [--poll-stop] [--no-lammps]
 //   [--lammps-ranks N] [--work DIR]
 //
 // --settle S first runs the start for S seconds (untimed) and times both engines from that
 // state instead: a settled pack has ~5 contacts per sphere, the costly regime of a pour.
+// --poll-stop asks for a stop every step as `bouncecal pack` does (a flag that stays unset), to
+// time what the poll costs.
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -122,6 +125,7 @@ int main(int argc, char** argv) {
   double skin_rebuild_steps = dem::PackOptions{}.skin_rebuild_steps;
   double checkpoint_every_s = 0;
   bool run_lammps = true;
+  bool poll_stop = false;
   int lammps_ranks = 2;
   std::filesystem::path work = std::filesystem::temp_directory_path() / "bouncecal_pack_bench";
   for (int a = 1; a < argc; ++a) {
@@ -140,6 +144,8 @@ int main(int argc, char** argv) {
       skin_rebuild_steps = std::atof(argv[++a]);
     } else if (arg == "--checkpoint-every" && a + 1 < argc) {
       checkpoint_every_s = std::atof(argv[++a]);
+    } else if (arg == "--poll-stop") {
+      poll_stop = true;
     } else if (arg == "--no-lammps") {
       run_lammps = false;
     } else if (arg == "--lammps-ranks" && a + 1 < argc) {
@@ -200,6 +206,9 @@ int main(int argc, char** argv) {
     options.skin_diameters = skin_diameters;
     options.min_skin_diameters = min_skin_diameters;
     options.skin_rebuild_steps = skin_rebuild_steps;
+    // What bouncecal pack's StopSignals::requested() reads: a flag a signal handler would set.
+    static volatile std::sig_atomic_t stop_flag = 0;
+    if (poll_stop) options.stop_requested = [] { return stop_flag != 0; };
     // Checkpoints as `pack --checkpoint-every-s` takes them, each written to the work folder
     // the same way (atomically): their count, size and time show what they cost a run.
     int checkpoints = 0;

@@ -303,6 +303,79 @@ TEST(PackCli, UnstableRunWritesNoNonFiniteNumberAndNoFinalState) {
   std::filesystem::remove_all(dir);
 }
 
+// 40 frictionless spheres dropped into the tiny scene's cylinder for 0.5 s at `step`. At 2e-5 s
+// (0.86 of the 2.33e-5 s limit of one contact) the pack boils: once the spheres have landed
+// (0.07 s) their kinetic energy never falls again, 0.02-0.05 J to the end, under the energy
+// budget's 2x of what the fall brought in; at 1e-5 s the same spheres come to rest (4e-6 J at
+// the end, 2e-4 of the peak). Each run takes ~0.15 s of wall time.
+std::filesystem::path WriteBoilingScene(const std::filesystem::path& dir, const char* name,
+                                        const char* step) {
+  std::filesystem::create_directories(dir);
+  const auto path = dir / name;
+  std::ofstream(path) << R"({
+    "format": "bouncecal-scene/1",
+    "particles": {"count": 40, "diameter_m": 0.01, "species": [{"density_kg_per_m3": 7800}]},
+    "container": {"type": "cylinder", "radius_m": 0.03, "height_m": 0.1},
+    "insertion": {"type": "random",
+                  "region": {"type": "cylinder", "radius_m": 0.03, "z_min_m": 0.0, "z_max_m": 0.05}},
+    "physics": {"tangential": false, "rotation": false},
+    "material": {"contact_law": {"law": "walton-braun"}},
+    "time_step_s": )" << step
+                      << R"(, "duration_s": 0.5,
+    "measurement": {"band_m": [0.005, 0.02]}
+  })";
+  return path;
+}
+
+// A pack whose step heats it as fast as its damping cools it ran to its duration and exited 0,
+// its "packing" a boiling state. README's table: status 3 (a well-formed scene that asks for
+// the impossible), every output written, and summary.json says why. The same scene at half the
+// step settles and exits 0, so the status is the step's doing, not the check's.
+TEST(PackCli, BoilingPackExitsWithStatus3AndItsSummarySaysWhy) {
+  const auto dir = EmptyTempDir("bouncecal_pack_cli_boiling");
+  const auto out = dir / "out";
+  const auto json_path = dir / "result.json";
+  const auto boiled =
+      RunBouncecal("pack " + WriteBoilingScene(dir, "boiling.json", "2e-5").string() + " -o " +
+                   out.string() + " --json " + json_path.string());
+  ASSERT_EQ(boiled.exit_status, 3) << boiled.output;
+  // One error line naming the scene file, what happened and what to do.
+  EXPECT_NE(boiled.output.find("error: " + (dir / "boiling.json").string() +
+                               ": the particles never came to rest"),
+            std::string::npos)
+      << boiled.output;
+  EXPECT_NE(boiled.output.find("Use a smaller time_step_s"), std::string::npos) << boiled.output;
+  for (const char* file : {"history.csv", "profile.csv", "coordination.csv", "particles.csv"}) {
+    EXPECT_TRUE(std::filesystem::exists(out / file)) << file;
+  }
+  for (const auto& path : {out / "summary.json", json_path}) {
+    std::ifstream in(path);
+    const auto json = nlohmann::json::parse(in);
+    EXPECT_TRUE(json["boiling"].get<bool>()) << path;
+    EXPECT_EQ(json["stop_reason"], "duration") << path;  // it did run to its end
+    EXPECT_EQ(json["steps"], 25000) << path;
+    const std::string message = json["message"];
+    EXPECT_NE(message.find("never came to rest"), std::string::npos) << path << ": " << message;
+    EXPECT_NE(message.find("step of 2e-05 s"), std::string::npos) << path << ": " << message;
+    bool not_at_rest = false;
+    for (const auto& warning : json["warnings"]) {
+      not_at_rest = not_at_rest ||
+                    warning.get<std::string>().find("have not come to rest") != std::string::npos;
+    }
+    EXPECT_TRUE(not_at_rest) << path << ": " << json["warnings"].dump();
+  }
+
+  const auto settled =
+      RunBouncecal("pack " + WriteBoilingScene(dir, "settling.json", "1e-5").string() + " -o " +
+                   (dir / "settled").string());
+  ASSERT_EQ(settled.exit_status, 0) << settled.output;
+  std::ifstream in(dir / "settled" / "summary.json");
+  const auto json = nlohmann::json::parse(in);
+  EXPECT_FALSE(json["boiling"].get<bool>());
+  EXPECT_EQ(json["message"], "ran 50000 steps to t = 0.5 s");
+  std::filesystem::remove_all(dir);
+}
+
 // Dumps and plots of an earlier, longer run stayed beside the new run's and were mixed with
 // them. A rerun removes this command's own file names and nothing else.
 TEST(PackCli, RerunRemovesOnlyTheEarlierRunsOwnOutputs) {

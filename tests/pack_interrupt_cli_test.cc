@@ -135,6 +135,12 @@ TEST(PackInterrupt, SigtermAtARandomMomentThenResumeGivesTheUninterruptedDigest)
     EXPECT_EQ(end["stop_reason"], "duration");
     EXPECT_EQ(end["state_digest"], digest);
     EXPECT_EQ(end["steps"], 30000);
+    // wall_s times the resumed run alone; total_wall_s adds the stopped run's time up to its
+    // checkpoint, which its own wall_s (taken after the checkpoint) bounds.
+    const double own = end["wall_s"];
+    const double earlier = end["total_wall_s"].get<double>() - own;
+    EXPECT_GT(earlier, 0);
+    EXPECT_LE(earlier, stopped["wall_s"].get<double>());
     // The resumed run's history and dumps are the whole run's.
     EXPECT_EQ(ReadText(out / "history.csv"), ReadText(dir / "whole" / "history.csv"));
     EXPECT_EQ(ReadText(out / "dump.000030000.lammpstrj"),

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "bouncecal/error.h"
-#include "fftw_double.h"
+#include "real_fft.h"
 
 namespace bouncecal::audio {
 namespace {
@@ -51,16 +51,15 @@ double MagnitudeAt(std::span<const double> taps, double f) {
 }
 
 std::vector<double> MagnitudeGrid(std::span<const double> taps, int size) {
-  fftw_double::RealBuffer real(fftw_alloc_real(static_cast<size_t>(size)));
-  fftw_double::ComplexBuffer spectrum(fftw_alloc_complex(static_cast<size_t>(size / 2 + 1)));
-  const fftw_double::Plan forward =
-      fftw_double::PlanRealToComplex(size, real.get(), spectrum.get());
-  std::fill(real.get(), real.get() + size, 0.0);
-  std::copy(taps.begin(), taps.end(), real.get());
-  fftw_execute(forward.get());
-  std::vector<double> magnitude(static_cast<size_t>(size / 2 + 1));
+  RealFftDouble fft(size);
+  const auto real = fft.real();
+  std::fill(real.begin(), real.end(), 0.0);
+  std::copy(taps.begin(), taps.end(), real.begin());
+  fft.Forward();
+  const auto spectrum = fft.spectrum();
+  std::vector<double> magnitude(spectrum.size());
   for (size_t k = 0; k < magnitude.size(); ++k) {
-    magnitude[k] = std::hypot(spectrum[k][0], spectrum[k][1]);
+    magnitude[k] = std::hypot(spectrum[k].real(), spectrum[k].imag());
   }
   return magnitude;
 }
@@ -96,36 +95,27 @@ std::vector<double> MinimumPhase(std::span<const double> linear_phase, double fl
   const int taps = static_cast<int>(linear_phase.size());
   const int size = NextPowerOfTwo(kCepstrumGridFactor * taps);
   const auto bins = static_cast<size_t>(size / 2 + 1);
-  fftw_double::RealBuffer real(fftw_alloc_real(static_cast<size_t>(size)));
-  fftw_double::ComplexBuffer spectrum(fftw_alloc_complex(bins));
-  const fftw_double::Plan forward =
-      fftw_double::PlanRealToComplex(size, real.get(), spectrum.get());
-  const fftw_double::Plan inverse =
-      fftw_double::PlanComplexToReal(size, spectrum.get(), real.get());
+  RealFftDouble fft(size);
+  const auto real = fft.real();
+  const auto spectrum = fft.spectrum();
 
   // log|H| (real and even) -> real cepstrum c[n] (real and even).
   const std::vector<double> magnitude = MagnitudeGrid(linear_phase, size);
   for (size_t k = 0; k < bins; ++k) {
-    spectrum[k][0] = std::log(std::max(magnitude[k], floor_magnitude));
-    spectrum[k][1] = 0.0;
+    spectrum[k] = std::log(std::max(magnitude[k], floor_magnitude));
   }
-  fftw_execute(inverse.get());
+  fft.Inverse();
   const double scale = 1.0 / size;
   // Folding c onto n >= 0 (c[0], 2 c[n], c[N/2]) makes the log-spectrum analytic: its
   // exponential has the same magnitude and all its zeros inside the unit circle.
   real[0] *= scale;
   for (int n = 1; n < size / 2; ++n) real[n] *= 2.0 * scale;
   real[size / 2] *= scale;
-  std::fill(real.get() + size / 2 + 1, real.get() + size, 0.0);
-  fftw_execute(forward.get());
-  for (size_t k = 0; k < bins; ++k) {
-    const std::complex<double> value =
-        std::exp(std::complex<double>(spectrum[k][0], spectrum[k][1]));
-    spectrum[k][0] = value.real();
-    spectrum[k][1] = value.imag();
-  }
-  fftw_execute(inverse.get());
-  std::vector<double> h(real.get(), real.get() + taps);
+  std::fill(real.begin() + size / 2 + 1, real.end(), 0.0);
+  fft.Forward();
+  for (size_t k = 0; k < bins; ++k) spectrum[k] = std::exp(spectrum[k]);
+  fft.Inverse();
+  std::vector<double> h(real.begin(), real.begin() + taps);
   double sum = 0.0;
   for (double& value : h) {
     value *= scale;

@@ -9,7 +9,9 @@
 
 namespace bouncecal::audio {
 
-class RealFft;
+template <typename Real>
+class BasicRealFft;
+using RealFft = BasicRealFft<float>;  // real_fft.h
 
 // Causal band-pass pre-filter applied by FFT overlap-save, one block at a time.
 //

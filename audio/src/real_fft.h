@@ -8,24 +8,48 @@
 
 namespace bouncecal::audio {
 
-// RAII owner of a pair of single-precision FFTW plans (real -> half-complex spectrum and back)
-// of one size, with their own aligned buffers. FFTW's planner is not thread-safe (FFTW manual,
-// "Thread safety"): constructing and destroying plans is serialised by a mutex this class owns,
-// so detectors may be built on several threads; executing a plan needs no lock.
-class RealFft {
+// FFTW's types of one precision: libfftw3f (float) and libfftw3 (double) are separate libraries
+// with the same interface under other prefixes.
+template <typename Real>
+struct FftwTypes;
+template <>
+struct FftwTypes<float> {
+  using Complex = fftwf_complex;
+  using Plan = fftwf_plan;
+};
+template <>
+struct FftwTypes<double> {
+  using Complex = fftw_complex;
+  using Plan = fftw_plan;
+};
+
+// RAII owner of a pair of FFTW plans (real -> half-complex spectrum and back) of one size and
+// precision, with their own aligned buffers: the one FFT wrapper of the module. The detector's
+// filters run in single precision (RealFft); the synthesiser's filter design and convolutions
+// in double (RealFftDouble). Plans are FFTW_ESTIMATE: deterministic and instant, where measured
+// plans would make results depend on timing noise on a shared machine. FFTW's planner is not
+// thread-safe (FFTW manual, "Thread safety"): constructing and destroying plans, of either
+// precision, is serialised by one mutex, so detectors may be built on several threads;
+// executing a plan needs no lock.
+template <typename Real>
+class BasicRealFft {
  public:
-  // size must be even and >= 2; throws ConfigError otherwise.
-  explicit RealFft(int size);
-  RealFft(const RealFft&) = delete;
-  RealFft& operator=(const RealFft&) = delete;
-  ~RealFft();
+  using Complex = typename FftwTypes<Real>::Complex;
+  using Plan = typename FftwTypes<Real>::Plan;
+
+  // size must be even and >= 2; throws ConfigError otherwise, std::bad_alloc when FFTW cannot
+  // allocate or plan.
+  explicit BasicRealFft(int size);
+  BasicRealFft(const BasicRealFft&) = delete;
+  BasicRealFft& operator=(const BasicRealFft&) = delete;
+  ~BasicRealFft();
 
   int size() const { return size_; }
   // The real buffer the forward transform reads and the inverse writes (size() values).
-  std::span<float> real() { return {real_, static_cast<size_t>(size_)}; }
+  std::span<Real> real() { return {real_, static_cast<size_t>(size_)}; }
   // The spectrum buffer (size() / 2 + 1 bins) the forward writes and the inverse reads.
-  std::span<std::complex<float>> spectrum() {
-    return {reinterpret_cast<std::complex<float>*>(spectrum_), static_cast<size_t>(size_ / 2 + 1)};
+  std::span<std::complex<Real>> spectrum() {
+    return {reinterpret_cast<std::complex<Real>*>(spectrum_), static_cast<size_t>(size_ / 2 + 1)};
   }
   void Forward();  // real() -> spectrum(); real() is preserved
   // spectrum() -> real(), unnormalised: the result is size() times the original signal.
@@ -33,16 +57,22 @@ class RealFft {
   void Inverse();
   // The same into output() instead, so real() keeps the forward transform's input.
   void InverseToOutput();
-  std::span<float> output() { return {output_, static_cast<size_t>(size_)}; }
+  std::span<Real> output() { return {output_, static_cast<size_t>(size_)}; }
 
  private:
   int size_ = 0;
-  float* real_ = nullptr;
-  float* output_ = nullptr;  // allocated like real_, so the inverse plan runs on it unchanged
-  fftwf_complex* spectrum_ = nullptr;
-  fftwf_plan forward_ = nullptr;
-  fftwf_plan inverse_ = nullptr;
+  Real* real_ = nullptr;
+  Real* output_ = nullptr;  // allocated like real_, so the inverse plan runs on it unchanged
+  Complex* spectrum_ = nullptr;
+  Plan forward_ = nullptr;
+  Plan inverse_ = nullptr;
 };
+
+using RealFft = BasicRealFft<float>;
+using RealFftDouble = BasicRealFft<double>;
+
+extern template class BasicRealFft<float>;
+extern template class BasicRealFft<double>;
 
 }  // namespace bouncecal::audio
 

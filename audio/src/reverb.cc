@@ -5,7 +5,7 @@
 #include <complex>
 #include <memory>
 
-#include "fftw_double.h"
+#include "real_fft.h"
 
 namespace bouncecal::audio {
 namespace {
@@ -52,16 +52,13 @@ void AddConvolution(std::span<const double> tail, std::span<float> signal) {
   const size_t block = std::max<size_t>(4096, NextPowerOfTwo(tail.size()));
   const size_t fft_size = NextPowerOfTwo(block + tail.size() - 1);
   const size_t bins = fft_size / 2 + 1;
-  fftw_double::RealBuffer real(fftw_alloc_real(fft_size));
-  fftw_double::ComplexBuffer spectrum(fftw_alloc_complex(bins));
-  fftw_double::ComplexBuffer tail_spectrum(fftw_alloc_complex(bins));
-  const fftw_double::Plan forward =
-      fftw_double::PlanRealToComplex(static_cast<int>(fft_size), real.get(), spectrum.get());
-  const fftw_double::Plan backward =
-      fftw_double::PlanComplexToReal(static_cast<int>(fft_size), spectrum.get(), real.get());
-  std::fill(real.get(), real.get() + fft_size, 0.0);
-  std::copy(tail.begin(), tail.end(), real.get());
-  fftw_execute_dft_r2c(forward.get(), real.get(), tail_spectrum.get());
+  RealFftDouble fft(static_cast<int>(fft_size));
+  const auto real = fft.real();
+  const auto spectrum = fft.spectrum();
+  std::fill(real.begin(), real.end(), 0.0);
+  std::copy(tail.begin(), tail.end(), real.begin());
+  fft.Forward();
+  const std::vector<std::complex<double>> tail_spectrum(spectrum.begin(), spectrum.end());
 
   // carry[j] holds the wet output for signal[block_start + j]; a block's output is final once
   // the block has been read, so it can be added in place without touching unread input.
@@ -73,17 +70,12 @@ void AddConvolution(std::span<const double> tail, std::span<float> signal) {
         std::all_of(signal.begin() + block_start, signal.begin() + block_start + count,
                     [](float x) { return x == 0.0f; });
     if (!silent) {
-      std::fill(real.get(), real.get() + fft_size, 0.0);
-      std::copy(signal.begin() + block_start, signal.begin() + block_start + count, real.get());
-      fftw_execute_dft_r2c(forward.get(), real.get(), spectrum.get());
-      for (size_t k = 0; k < bins; ++k) {
-        const std::complex<double> a(spectrum[k][0], spectrum[k][1]);
-        const std::complex<double> b(tail_spectrum[k][0], tail_spectrum[k][1]);
-        const std::complex<double> product = a * b * normalisation;
-        spectrum[k][0] = product.real();
-        spectrum[k][1] = product.imag();
-      }
-      fftw_execute_dft_c2r(backward.get(), spectrum.get(), real.get());
+      std::fill(real.begin(), real.end(), 0.0);
+      std::copy(signal.begin() + block_start, signal.begin() + block_start + count, real.begin());
+      fft.Forward();
+      for (size_t k = 0; k < bins; ++k)
+        spectrum[k] = spectrum[k] * tail_spectrum[k] * normalisation;
+      fft.Inverse();
       const size_t produced = std::min(fft_size, count + tail.size() - 1);
       for (size_t j = 0; j < produced; ++j) carry[j] += real[j];
     }

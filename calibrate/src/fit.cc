@@ -1,15 +1,15 @@
 #include "bouncecal/calibrate/fit.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <string>
-#include <thread>
 
 #include "bouncecal/error.h"
+#include "bouncecal/worker_pool.h"
 #include "fit_problem.h"
 #include "fit_uncertainty.h"
 #include "model_adequacy.h"
@@ -509,9 +509,11 @@ LawComparison CompareLaws(const std::vector<MeasuredSequence>& sequences,
   if (fittable.empty()) throw ConfigError("none of the laws to compare has a damping parameter");
   std::vector<FitSummary> fits(fittable.size());
   std::vector<std::exception_ptr> errors(fittable.size());
-  std::atomic<size_t> next{0};
-  auto worker = [&] {
-    for (size_t i = next++; i < fittable.size(); i = next++) {
+  // One law per item of the project's worker pool; each fit writes only its own slot, so the
+  // ranking does not depend on which thread ran which law.
+  auto fit_law = [&](std::int64_t item) {
+    const auto i = static_cast<size_t>(item);
+    {
       try {
         FitOptions law_options = options;
         law_options.law = {fittable[i], {}};
@@ -530,10 +532,8 @@ LawComparison CompareLaws(const std::vector<MeasuredSequence>& sequences,
     }
   };
   const int threads = std::min<int>(options.uncertainty.threads, static_cast<int>(fittable.size()));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& thread : pool) thread.join();
+  WorkerPool pool(threads);
+  pool.ParallelForEach(static_cast<std::int64_t>(fittable.size()), fit_law);
   for (const auto& error : errors) {
     if (error) std::rethrow_exception(error);
   }

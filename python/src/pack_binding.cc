@@ -98,6 +98,7 @@ py::object ToPython(const dem::Scene& scene, const dem::PackSummary& s) {
   j["neighbor_rebuilds"] = s.neighbor_rebuilds;
   j["threads"] = s.threads;
   PutFinite(j, "wall_s", s.wall_s);
+  PutFinite(j, "total_wall_s", s.total_wall_s);
   PutFinite(j, "particle_steps_per_s", s.particle_steps_per_s);
   if (scene.dimension == 3) {
     j["band_m"] = FloatArray({scene.measurement.band_min_m, scene.measurement.band_max_m});

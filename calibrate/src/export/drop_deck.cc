@@ -9,12 +9,15 @@
 #include "bouncecal/calibrate/export/drop_deck_check.h"
 #include "bouncecal/error.h"
 #include "bouncecal/version.h"
+#include "deck_preamble.h"
 #include "deck_text.h"
 
 namespace bouncecal::calibrate {
 namespace {
 
 using deck_text::CommentBlock;
+using deck_text::LammpsPreamble;
+using deck_text::LiggghtsPreamble;
 using deck_text::Number;
 using deck_text::RequirePositive;
 
@@ -99,14 +102,7 @@ std::string LammpsScript(const ScriptValues& v, const std::vector<std::string>& 
   std::string s = CommentBlock(header);
   s += fmt::format(
       R"(
-units           si
-atom_style      sphere
-atom_modify     map array
-dimension       3
-boundary        f f f
-newton          off
-comm_modify     vel yes
-
+{preamble}
 # A box just large enough for the vertical flight; the wall is the plane z = 0.
 region          box block {lo} {hi} {lo} {hi} {zlo} {zhi} units box
 create_box      1 box
@@ -134,7 +130,8 @@ fix             trajectory all print {every} "${{t}} ${{z}} ${{vz}}" file {traj}
 thermo          {thermo}
 run             {steps}
 )",
-      fmt::arg("lo", Number(-d)), fmt::arg("hi", Number(d)), fmt::arg("zlo", Number(-0.5 * d)),
+      fmt::arg("preamble", LammpsPreamble(3, /*atom_map=*/true)), fmt::arg("lo", Number(-d)),
+      fmt::arg("hi", Number(d)), fmt::arg("zlo", Number(-0.5 * d)),
       fmt::arg("zhi", Number(v.release_z_m + d)), fmt::arg("z0", Number(v.release_z_m)),
       fmt::arg("mass", Number(v.mass_kg)), fmt::arg("d", Number(d)),
       fmt::arg("rho", Number(v.density_kg_per_m3)),
@@ -163,13 +160,7 @@ std::string LiggghtsScript(const ScriptValues& v, const std::vector<std::string>
   std::string s = CommentBlock(header);
   s += fmt::format(
       R"(
-atom_style      granular
-atom_modify     map array
-boundary        f f f
-newton          off
-communicate     single vel yes
-units           si
-
+{preamble}
 # A box just large enough for the vertical flight; the wall is the plane z = 0.
 region          box block {lo} {hi} {lo} {hi} {zlo} {zhi} units box
 create_box      2 box
@@ -204,7 +195,8 @@ fix             trajectory all print {every} "${{t}} ${{z}} ${{vz}}" file {traj}
 thermo          {thermo}
 run             {steps}
 )",
-      fmt::arg("lo", Number(-d)), fmt::arg("hi", Number(d)), fmt::arg("zlo", Number(-0.5 * d)),
+      fmt::arg("preamble", LiggghtsPreamble()), fmt::arg("lo", Number(-d)),
+      fmt::arg("hi", Number(d)), fmt::arg("zlo", Number(-0.5 * d)),
       fmt::arg("zhi", Number(v.release_z_m + d)), fmt::arg("skin", Number(0.1 * d)),
       fmt::arg("kn", per_type_pair(pair.stiffness_n_per_m, wall.stiffness_n_per_m)),
       fmt::arg("gn", per_type_pair(pair.damping_rate_per_s, wall.damping_rate_per_s)),

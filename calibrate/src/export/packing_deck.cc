@@ -9,12 +9,15 @@
 
 #include "bouncecal/error.h"
 #include "bouncecal/version.h"
+#include "deck_preamble.h"
 #include "deck_text.h"
 
 namespace bouncecal::calibrate {
 namespace {
 
 using deck_text::CommentBlock;
+using deck_text::LammpsPreamble;
+using deck_text::LiggghtsPreamble;
 using deck_text::Number;
 using deck_text::RequirePositive;
 
@@ -242,13 +245,7 @@ std::string LiggghtsPackingScript(const PackingDeckSpec& spec, const LawMapping&
   }
   return fmt::format(
       R"(
-atom_style      granular
-atom_modify     map array
-boundary        f f f
-newton          off
-communicate     single vel yes
-units           si
-
+{preamble}
 region          box {box} units box
 create_box      2 box
 neighbor        {skin} bin
@@ -280,7 +277,8 @@ thermo          {thermo}
 {dump}run             {steps}
 write_data      final.data
 )",
-      fmt::arg("box", regions.box), fmt::arg("skin", Number(0.2 * d)),
+      fmt::arg("preamble", LiggghtsPreamble()), fmt::arg("box", regions.box),
+      fmt::arg("skin", Number(0.2 * d)),
       fmt::arg("kn", per_type_pair(mapping.pair.stiffness_n_per_m, mapping.wall.stiffness_n_per_m)),
       fmt::arg("kt",
                per_type_pair(spec.tangential_stiffness_n_per_m, spec.tangential_stiffness_n_per_m)),
@@ -311,13 +309,7 @@ std::string Lammps2dPackingScript(const PackingDeckSpec& spec, const LawMapping&
                   Number(mapping.wall.damping_rate_per_s), Number(spec.wall_friction));
   return fmt::format(
       R"(
-units           si
-atom_style      sphere
-dimension       2
-boundary        f f p
-newton          off
-comm_modify     vel yes
-read_data       start.data
+{preamble}read_data       start.data
 
 # Pair contacts (equal spheres, m_eff = m/2): Kn Kt gamma_n gamma_t xmu dampflag.
 pair_style      gran/hooke/history {kn} {kt} {gn} 0 {mu} 0
@@ -339,6 +331,7 @@ thermo          {thermo}
 {dump}run             {steps}
 write_data      final.data
 )",
+      fmt::arg("preamble", LammpsPreamble(2, /*atom_map=*/false)),
       fmt::arg("kn", Number(mapping.pair.stiffness_n_per_m)),
       fmt::arg("kt", Number(spec.tangential_stiffness_n_per_m)),
       fmt::arg("gn", Number(mapping.pair.damping_rate_per_s)),
@@ -516,13 +509,7 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
 
   script += fmt::format(
       R"(
-units           si
-atom_style      sphere
-dimension       3
-boundary        f f f
-newton          off
-comm_modify     vel yes
-
+{preamble}
 region          box {box} units box
 create_box      1 box
 
@@ -547,7 +534,8 @@ thermo          {thermo}
 {dump}run             {steps}
 write_data      final.data
 )",
-      fmt::arg("box", regions.box), fmt::arg("kn", Number(pair.stiffness_n_per_m)),
+      fmt::arg("preamble", LammpsPreamble(3, /*atom_map=*/false)), fmt::arg("box", regions.box),
+      fmt::arg("kn", Number(pair.stiffness_n_per_m)),
       fmt::arg("kt", Number(spec.tangential_stiffness_n_per_m)),
       fmt::arg("gn", Number(pair.damping_rate_per_s)), fmt::arg("mu", Number(spec.friction)),
       fmt::arg("skin", Number(0.2 * LargestDiameter(spec))),

@@ -2,15 +2,16 @@
 #define BOUNCECAL_DEM_SCENE_ENGINE_H_
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
 #include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/dem/scene.h"
+#include "bouncecal/worker_pool.h"
 #include "scene/pair_list.h"
 #include "scene/vec.h"
 #include "scene/walls.h"
-#include "scene/worker_pool.h"
 
 namespace bouncecal::dem::scene {
 
@@ -114,10 +115,24 @@ class EngineBase {
   // these two calls state() is in the order the particles were added.
   virtual void ComputeForces() = 0;
   // `steps` velocity-Verlet steps; positions, velocities and forces are synchronised after it.
-  virtual void Advance(std::int64_t steps) = 0;
+  void Advance(std::int64_t steps) { AdvanceUntil(steps, nullptr); }
+  // The same, but `stop` (when set) is asked once per step, on the calling thread, after the
+  // step's forces: true makes that step the last one, so a stop request is met within one step
+  // (packing.cc: SIGINT/SIGTERM on a large scene) instead of at the end of the block. Returns
+  // the steps taken. Ending a block early splits the fused kick of velocity Verlet into two
+  // halves, which rounds differently: the velocities before the closing half kick are kept
+  // (pending_velocity_), and the next Advance takes the whole kick from them, so that a run
+  // stopped and continued (also through SaveCheckpoint / RestoreCheckpoint) ends in the bits of
+  // one that was not.
+  virtual std::int64_t AdvanceUntil(std::int64_t steps, const std::function<bool()>& stop) = 0;
 
   const ParticleState<Dim>& state() const { return state_; }
-  ParticleState<Dim>& mutable_state() { return state_; }
+  // Changing the state after a stopped Advance gives up the pending whole kick: the next step
+  // starts from the velocities set here (two half kicks, correct but not the same bits).
+  ParticleState<Dim>& mutable_state() {
+    DropPendingKick();
+    return state_;
+  }
   const EngineSettings& settings() const { return settings_; }
   const std::vector<Wall<Dim>>& walls() const { return walls_; }
   // The pair list and spring of pair p, in the engine's internal particle order (tests).
@@ -157,6 +172,11 @@ class EngineBase {
   // The skin for the next list (see EngineSettings::min_skin_m), from the current velocities.
   double ChooseSkinM() const;
   Vec<Dim> Gravity() const;
+  void DropPendingKick() {
+    pending_velocity_.clear();
+    pending_spin_.clear();
+  }
+  bool kick_pending() const { return !pending_velocity_.empty(); }
   // With stop_at_first_contact: zeroes the velocity and spin of every particle that overlaps a
   // particle or wall for the first time. Call in the working order with a valid pair list,
   // after the drift and before the forces (first_contact_stop.cc).
@@ -188,6 +208,11 @@ class EngineBase {
   std::vector<Vec<Dim>> position_at_rebuild_;
   std::vector<std::int32_t> order_;  // internal index -> index in the order of AddParticle
   bool working_order_ = false;
+  // Set by an Advance that a stop request ended inside its block: every particle's velocity and
+  // spin before that step's closing half kick, in the internal order (see AdvanceUntil). Empty
+  // otherwise.
+  std::vector<Vec<Dim>> pending_velocity_;
+  std::vector<Spin<Dim>> pending_spin_;
   std::unique_ptr<WorkerPool> pool_;
   double skin_m_ = 0;  // of the current pair list
   bool pairs_valid_ = false;

@@ -46,6 +46,7 @@ void EngineBase<Dim>::AddParticle(const Vec<Dim>& position_m, const Vec<Dim>& ve
   wall_normal_history_.resize(wall_shear_.size());
   pairs_valid_ = false;
   forces_valid_ = false;
+  DropPendingKick();  // the new particle has no velocity before a kick to continue from
 }
 
 template <int Dim>

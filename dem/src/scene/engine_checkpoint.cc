@@ -8,9 +8,10 @@
 namespace bouncecal::dem::scene {
 
 // What is not saved is rebuilt from what is: the stepping loop's particle records (loaded from
-// state_ at the start of Advance), the per-chunk dense/compacted choice (speed only, same bits)
-// and the wall results (written every step before they are read). The pair list is saved as it
-// is, not rebuilt: its order is the order of the force sums, hence the last bits.
+// state_ at the start of Advance, with the pending velocities of a stopped Advance), the per-chunk
+// dense/compacted choice (speed only, same bits) and the wall results (written every step before
+// they are read). The pair list is saved as it is, not rebuilt: its order is the order of the force
+// sums, hence the last bits.
 template <int Dim>
 void EngineBase<Dim>::SaveCheckpoint(ByteWriter& out) const {
   const auto& s = state_;
@@ -39,6 +40,8 @@ void EngineBase<Dim>::SaveCheckpoint(ByteWriter& out) const {
   out.PutVector(position_at_rebuild_);
   out.PutVector(order_);
   out.PutVector(touched_);
+  out.PutVector(pending_velocity_);
+  out.PutVector(pending_spin_);
   out.Put(skin_m_);
   out.Put(static_cast<std::uint8_t>(pairs_valid_));
   out.Put(static_cast<std::uint8_t>(forces_valid_));
@@ -75,6 +78,8 @@ void EngineBase<Dim>::RestoreCheckpoint(ByteReader& in) {
   position_at_rebuild_ = in.GetVector<Vec<Dim>>();
   order_ = in.GetVector<std::int32_t>();
   touched_ = in.GetVector<std::uint8_t>();
+  pending_velocity_ = in.GetVector<Vec<Dim>>();
+  pending_spin_ = in.GetVector<Spin<Dim>>();
   skin_m_ = in.Get<double>();
   pairs_valid_ = in.Get<std::uint8_t>() != 0;
   forces_valid_ = in.Get<std::uint8_t>() != 0;
@@ -93,7 +98,9 @@ void EngineBase<Dim>::RestoreCheckpoint(ByteReader& in) {
       s.torque_nm.size() == n && s.radius_m.size() == n && s.mass_kg.size() == n &&
       s.inverse_mass.size() == n && s.inverse_inertia.size() == n && s.species.size() == n &&
       order_.size() == n && touched_.size() == n && wall_shear_.size() == n * walls &&
-      wall_normal_history_.size() == n * walls;
+      wall_normal_history_.size() == n * walls &&
+      (pending_velocity_.empty() || (forces_valid_ && pending_velocity_.size() == n)) &&
+      pending_spin_.size() == pending_velocity_.size();
   const bool list_fits =
       !pairs_valid_ ||
       (pairs_.second.size() == pairs && pair_shear_.size() == pairs &&

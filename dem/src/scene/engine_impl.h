@@ -46,15 +46,17 @@ class Engine final : public EngineBase<Dim> {
         scratch_(static_cast<std::size_t>(this->pool_->chunks())) {}
 
   void ComputeForces() override {
+    this->DropPendingKick();  // the pending kick belongs to the forces of the stopped step
     this->EnterWorkingOrder();
     ForcesInWorkingOrder();
     this->LeaveWorkingOrder();
   }
 
-  void Advance(std::int64_t steps) override {
-    if (steps <= 0) return;
+  std::int64_t AdvanceUntil(std::int64_t steps, const std::function<bool()>& stop) override {
+    if (steps <= 0) return 0;
     this->EnterWorkingOrder();
     if (!this->forces_valid_) {
+      this->DropPendingKick();
       ForcesInWorkingOrder();
     } else {
       LoadRecords();
@@ -62,6 +64,17 @@ class Engine final : public EngineBase<Dim> {
     const std::int32_t n = this->state_.size();
     const double dt = this->settings_.time_step_s;
     const double half_dt = 0.5 * dt;
+    // After a stopped Advance: the whole kick the uninterrupted run takes, from the velocities
+    // it takes it from.
+    double opening_kick = half_dt;
+    if (this->kick_pending()) {
+      for (std::int32_t i = 0; i < n; ++i) {
+        records_[i].velocity_mass.v = this->pending_velocity_[i];
+        if constexpr (Phys::kRotation) records_[i].spin_inertia.w = this->pending_spin_[i];
+      }
+      this->DropPendingKick();
+      opening_kick = dt;
+    }
     auto& pool = *this->pool_;
     std::vector<double> chunk_move2(static_cast<std::size_t>(pool.chunks()), 0.0);
     // Velocity Verlet with the closing half kick of one step fused into the opening half kick
@@ -71,12 +84,13 @@ class Engine final : public EngineBase<Dim> {
       for (auto i = static_cast<std::int32_t>(begin); i < end; ++i) {
         Load load{this->state_.force_n[i], ZeroSpin<Dim>()};
         if constexpr (Phys::kRotation) load.torque = this->state_.torque_nm[i];
-        move2 =
-            std::max(move2, VerletKickDrift<Dim, Phys::kRotation>(records_[i], half_dt, dt, load));
+        move2 = std::max(
+            move2, VerletKickDrift<Dim, Phys::kRotation>(records_[i], opening_kick, dt, load));
       }
       chunk_move2[static_cast<std::size_t>(chunk)] = move2;
     };
     pool.ParallelFor(n, kick_drift);
+    std::int64_t taken = steps;
     for (std::int64_t step = 0; step < steps; ++step) {
       double max_move2 = 0;  // max is exact, so the order of the chunks does not matter
       for (double m : chunk_move2) max_move2 = std::max(max_move2, m);
@@ -91,7 +105,17 @@ class Engine final : public EngineBase<Dim> {
         LoadRecords();
       }
       PairForces();
-      const bool last = step + 1 == steps;
+      // One call per step, outside the particle loops.
+      const bool stopping = step + 1 < steps && stop && stop();
+      const bool last = step + 1 == steps || stopping;
+      if (stopping) {
+        this->pending_velocity_.resize(static_cast<std::size_t>(n));
+        this->pending_spin_.resize(static_cast<std::size_t>(n));
+        for (std::int32_t i = 0; i < n; ++i) {
+          this->pending_velocity_[i] = records_[i].velocity_mass.v;
+          this->pending_spin_[i] = records_[i].spin_inertia.w;
+        }
+      }
       std::fill(chunk_move2.begin(), chunk_move2.end(), 0.0);
       pool.ParallelFor(n, [&](int chunk, std::int64_t begin, std::int64_t end) {
         double move2 = 0;
@@ -111,10 +135,15 @@ class Engine final : public EngineBase<Dim> {
         chunk_move2[static_cast<std::size_t>(chunk)] = move2;
       });
       ++this->steps_;
+      if (stopping) {
+        taken = step + 1;
+        break;
+      }
     }
     StoreRecords();
     this->forces_valid_ = true;
     this->LeaveWorkingOrder();
+    return taken;
   }
 
  private:

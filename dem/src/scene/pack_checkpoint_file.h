@@ -14,7 +14,8 @@
 namespace bouncecal::dem::scene {
 
 // Raised whenever the payload's layout changes; an older or newer file is refused by number.
-inline constexpr std::uint32_t kPackCheckpointVersion = 1;
+// 2: the pending kick of a run stopped inside a block, and the wall time so far.
+inline constexpr std::uint32_t kPackCheckpointVersion = 2;
 
 struct PackCheckpointFrame {
   std::uint32_t dimension = 3;

@@ -93,6 +93,61 @@ TEST(PackCheckpoint, ResumedRunEndsInTheBitsOfTheUninterruptedRunOnOneAndTwoThre
   }
 }
 
+// A stop request is met at the step it arrives in, not at the end of the block (700 steps, or
+// 500 between history samples): the step count at the stop is none of the block ends. Continued
+// from that checkpoint, the run ends in the bits of the uninterrupted one: the whole kick the
+// stopped block still owed is taken from the velocities it was owed on.
+TEST(PackCheckpoint, StopInsideABlockIsMetWithinAStepAndResumesToTheUninterruptedBits) {
+  const Scene scene = SceneFromJson(SmallBatchPour(), "checkpoint_pour.json");
+  const PackSummary whole = RunPacking(scene, Options(1));
+  ASSERT_EQ(whole.stop_reason, PackStopReason::kDuration) << whole.message;
+  // The poll at which the request arrives: while the pour goes on and in the pile; neither is
+  // at a block end (multiples of 500 and 700).
+  for (const std::int64_t request : {2333, 9111}) {
+    for (const int threads : {1, 2}) {
+      SCOPED_TRACE(testing::Message()
+                   << "stop at poll " << request << ", " << threads << " thread(s)");
+      PackOptions options = Options(threads);
+      std::string saved;
+      std::int64_t polls = 0;
+      options.checkpoint = [&](const std::string& bytes, double) { saved = bytes; };
+      options.stop_requested = [&] { return ++polls >= request; };
+      const PackSummary stopped = RunPacking(scene, options);
+      ASSERT_EQ(stopped.stop_reason, PackStopReason::kInterrupted) << stopped.message;
+      // The engine asks once per step but a block's last, the run once after each block: one
+      // poll per step, so the run ends with the step the request arrived in.
+      EXPECT_EQ(stopped.steps, request);
+      ASSERT_FALSE(saved.empty());
+      const PackSummary resumed = ResumedFrom(scene, 3 - threads, saved);
+      ASSERT_EQ(resumed.stop_reason, PackStopReason::kDuration) << resumed.message;
+      EXPECT_EQ(resumed.state_digest, whole.state_digest);
+      EXPECT_EQ(resumed.steps, whole.steps);
+      EXPECT_EQ(resumed.neighbor_rebuilds, whole.neighbor_rebuilds);
+      ASSERT_EQ(resumed.history.size(), whole.history.size());
+      EXPECT_EQ(resumed.history.back().kinetic_energy_j, whole.history.back().kinetic_energy_j);
+    }
+  }
+}
+
+// A resumed run reports its own wall time and, in total_wall_s, that plus the wall time the
+// checkpoint recorded of the run before it.
+TEST(PackCheckpoint, ResumedRunCountsTheWallTimeOfTheRunBeforeItInItsTotal) {
+  const Scene scene = SceneFromJson(SmallBatchPour(), "checkpoint_pour.json");
+  PackOptions options = Options(1);
+  std::string saved;
+  std::int64_t polls = 0;
+  options.checkpoint = [&](const std::string& bytes, double) { saved = bytes; };
+  options.stop_requested = [&] { return ++polls >= 6000; };
+  const PackSummary first = RunPacking(scene, options);
+  ASSERT_EQ(first.stop_reason, PackStopReason::kInterrupted) << first.message;
+  EXPECT_EQ(first.total_wall_s, first.wall_s);
+  const PackSummary resumed = ResumedFrom(scene, 1, saved);
+  // The checkpoint was written after first's steps and before its measures, on the clock that
+  // timed it: more than nothing and no more than all of first.wall_s.
+  EXPECT_GT(resumed.total_wall_s - resumed.wall_s, 0);
+  EXPECT_LE(resumed.total_wall_s - resumed.wall_s, first.wall_s);
+}
+
 TEST(PackCheckpoint, PeriodicCheckpointsLeaveTheTrajectoryUnchanged) {
   const Scene scene = SceneFromJson(SmallBatchPour(), "checkpoint_pour.json");
   const PackSummary plain = RunPacking(scene, Options(1));
@@ -147,9 +202,10 @@ TEST(PackCheckpoint, DamagedTruncatedForeignOrOtherVersionCheckpointsAreRefusedN
   std::string other_version = good;
   const std::uint32_t next = scene::kPackCheckpointVersion + 1;
   std::memcpy(other_version.data() + 12, &next, sizeof(next));
-  EXPECT_NE(
-      RefusalOf(scene, other_version).find("format version 2, this bouncecal reads version 1"),
-      std::string::npos)
+  EXPECT_NE(RefusalOf(scene, other_version)
+                .find("format version " + std::to_string(next) + ", this bouncecal reads version " +
+                      std::to_string(scene::kPackCheckpointVersion)),
+            std::string::npos)
       << RefusalOf(scene, other_version);
 
   // Another seed is another scene: the fingerprint of its set-up differs.

@@ -203,6 +203,10 @@ double MaxSpeedMps(const scene::ParticleState<Dim>& state) {
 // budget's van der Waals term is an estimate.
 constexpr double kEnergyBudgetFactor = 2;
 
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 std::int64_t StepsFor(double interval_s, double dt) {
   if (!(interval_s > 0)) return std::numeric_limits<std::int64_t>::max();
   return std::max<std::int64_t>(1, std::llround(interval_s / dt));
@@ -386,6 +390,7 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
   const std::uint64_t fingerprint =
       SetupFingerprint(scene, settings, *engine, pending, random,
                        {history_every, snapshot_every, batch_every, progress_every});
+  double earlier_wall_s = 0;  // of the runs before the checkpoint this one resumes
   auto save_checkpoint = [&] {
     if (!options.checkpoint) return;
     scene::ByteWriter payload;
@@ -394,6 +399,8 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
     payload.Put(budget.joules());
     PutParticles(payload, pending);
     payload.PutVector(summary.history);
+    // The wall time of the runs that led to this state, so that a resumed run reports the total.
+    payload.Put(earlier_wall_s + SecondsSince(start));
     scene::PackCheckpointFrame frame;
     frame.dimension = Dim;
     frame.fingerprint = fingerprint;
@@ -424,6 +431,7 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
     budget.RestoreJoules(in.Get<double>());
     pending = GetParticles(in);
     summary.history = in.GetVector<HistoryPoint>();
+    earlier_wall_s = in.Get<double>();
     if (in.left() != 0 || engine->steps() != frame.step) {
       in.Fail("its payload does not match its header");
     }
@@ -447,9 +455,11 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
     const std::int64_t target = std::min(
         {total_steps, next_multiple(step, history_every), next_multiple(step, snapshot_every),
          next_multiple(step, batch_every), next_multiple(step, progress_every)});
-    engine->Advance(target - step);
-    particle_steps += (target - step) * engine->state().size();
-    step = target;
+    // A stop request ends the block at the step it arrives in (AdvanceUntil); the checkpoint
+    // below then holds the pending kick that keeps a resumed run bit-identical.
+    const std::int64_t taken = engine->AdvanceUntil(target - step, options.stop_requested);
+    particle_steps += taken * engine->state().size();
+    step += taken;
     if (engine->HasNonFiniteState()) {
       summary.stop_reason = PackStopReason::kUnstable;
       summary.message = fmt::format(
@@ -496,12 +506,10 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
       options.snapshot(Snapshot(*engine));
     }
     if (options.progress) {
-      const double wall =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double wall = SecondsSince(start);
       options.progress(
           PackProgress{engine->time_s(), duration, step, engine->state().size(), wall});
     }
-    // Between blocks only, and one comparison per block: nothing inside the stepping loop.
     if (step < total_steps && options.stop_requested && options.stop_requested()) {
       save_checkpoint();
       summary.stop_reason = PackStopReason::kInterrupted;
@@ -543,9 +551,12 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
     } else if (auto unsettled = scene::NotAtRest(summary.history)) {
       summary.warnings.push_back(*unsettled);
       summary.boiling = scene::Boiling(summary.history);
+      // The summary's one sentence says why the run failed, not only how far it ran.
+      if (summary.boiling) summary.message = scene::BoilingMessage(summary.history, dt);
     }
   }
-  summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.wall_s = SecondsSince(start);
+  summary.total_wall_s = earlier_wall_s + summary.wall_s;
   summary.particle_steps_per_s =
       summary.wall_s > 0 ? static_cast<double>(particle_steps) / summary.wall_s : 0.0;
   return summary;

@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "bouncecal/worker_pool.h"
 #include "scene/vec.h"
-#include "scene/worker_pool.h"
 
 namespace bouncecal::dem::scene {
 

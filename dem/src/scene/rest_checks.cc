@@ -45,4 +45,20 @@ bool Boiling(const std::vector<HistoryPoint>& history) {
   return last.kinetic_energy_j >= kBoilingKeptFraction * middle.kinetic_energy_j;
 }
 
+std::string BoilingMessage(const std::vector<HistoryPoint>& history, double time_step_s) {
+  const auto peak = std::max_element(history.begin(), history.end(),
+                                     [](const HistoryPoint& a, const HistoryPoint& b) {
+                                       return a.kinetic_energy_j < b.kinetic_energy_j;
+                                     });
+  const double last = history.empty() ? 0.0 : history.back().kinetic_energy_j;
+  const double share = peak != history.end() && peak->kinetic_energy_j > 0
+                           ? 100 * last / peak->kinetic_energy_j
+                           : 0.0;
+  return fmt::format(
+      "the particles never came to rest: their kinetic energy stopped falling at {:.3g} J ({:.0f} "
+      "% of its peak), so the step of {:.3g} s heats the pack as fast as its damping cools it; "
+      "the outputs describe a boiling state. Use a smaller time_step_s",
+      last, share, time_step_s);
+}
+
 }  // namespace bouncecal::dem::scene

@@ -27,6 +27,10 @@ std::optional<std::string> NotAtRest(const std::vector<HistoryPoint>& history);
 // one contact).
 bool Boiling(const std::vector<HistoryPoint>& history);
 
+// Why a Boiling run's measures are not a packing, and what to do, in one sentence: where its
+// kinetic energy stopped falling (the last sample, and its share of the peak) and the step.
+std::string BoilingMessage(const std::vector<HistoryPoint>& history, double time_step_s);
+
 }  // namespace bouncecal::dem::scene
 
 #endif  // BOUNCECAL_DEM_SRC_SCENE_REST_CHECKS_H_

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace bouncecal::dem::scene {
@@ -43,6 +44,16 @@ TEST(RestChecks, PackWhoseEnergyStopsFallingAboveTheRestLevelIsBoiling) {
   const auto boiling = History([](double t) { return 0.3 + 0.7 * std::exp(-t / 0.02); }, 41);
   EXPECT_TRUE(NotAtRest(boiling).has_value());
   EXPECT_TRUE(Boiling(boiling));
+}
+
+TEST(RestChecks, BoilingMessageGivesWhereTheEnergyStoppedFallingAndTheStep) {
+  // The plateau above ends at 0.3 + 0.7 e^-20 J against a peak of 1 J: 30 % of it.
+  const auto boiling = History([](double t) { return 0.3 + 0.7 * std::exp(-t / 0.02); }, 41);
+  const std::string message = BoilingMessage(boiling, 2e-5);
+  EXPECT_NE(message.find("never came to rest"), std::string::npos) << message;
+  EXPECT_NE(message.find("0.3 J (30 % of its peak)"), std::string::npos) << message;
+  EXPECT_NE(message.find("step of 2e-05 s"), std::string::npos) << message;
+  EXPECT_NE(message.find("smaller time_step_s"), std::string::npos) << message;
 }
 
 TEST(RestChecks, PackStillFallingOrStillBeingPouredIsNotBoiling) {

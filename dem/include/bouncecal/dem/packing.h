@@ -51,8 +51,11 @@ struct PackOptions {
   double checkpoint_every_s = 0;
   // Receives each checkpoint: the bytes to store (atomically) and the simulated time they hold.
   std::function<void(const std::string& checkpoint, double time_s)> checkpoint;
-  // Polled between blocks (at most progress_every_steps steps apart): true ends the run there
-  // with a checkpoint (to `checkpoint`) and PackStopReason::kInterrupted.
+  // Polled once per step (between its forces and its closing kick, on the calling thread, so it
+  // must be cheap: the command line reads a flag its signal handler sets): true ends the run at
+  // the end of that step, with a checkpoint (to `checkpoint`) and PackStopReason::kInterrupted.
+  // A checkpoint taken inside a block keeps what the rest of the block needs to continue
+  // bit-identically.
   std::function<bool()> stop_requested;
   // A checkpoint written by `checkpoint` to continue from, and its file name for messages. It
   // must come from the same scene and the same trajectory-steering options (skin,
@@ -92,7 +95,10 @@ struct PackSummary {
   double tangential_time_step_limit_s = 0;
   std::vector<std::string> warnings;  // one sentence each: the run went on, but read these
   double simulated_s = 0;
-  double wall_s = 0;
+  double wall_s = 0;  // of this call
+  // wall_s plus the wall time recorded in the resumed checkpoint: the runs that led to this
+  // state (up to the checkpoint each one was resumed from). Equals wall_s when not resumed.
+  double total_wall_s = 0;
   double particle_steps_per_s = 0;
   int threads = 1;
   double packing_density = 0;

@@ -1,8 +1,8 @@
-#include "scene/worker_pool.h"
+#include "bouncecal/worker_pool.h"
 
 #include <chrono>
 
-namespace bouncecal::dem::scene {
+namespace bouncecal {
 namespace {
 
 // Polling budget before sleeping on the futex. A step of a few thousand particles is
@@ -97,6 +97,23 @@ void WorkerPool::ParallelFor(std::int64_t n,
     if (n > 0) body(0, 0, n);
     return;
   }
+  RunOnAllThreads(n, body);
+}
+
+void WorkerPool::ParallelForEach(std::int64_t n, const std::function<void(std::int64_t)>& body) {
+  const std::function<void(int, std::int64_t, std::int64_t)> items =
+      [&body](int, std::int64_t begin, std::int64_t end) {
+        for (std::int64_t i = begin; i < end; ++i) body(i);
+      };
+  if (workers_.empty() || n < 2) {
+    if (n > 0) items(0, 0, n);
+    return;
+  }
+  RunOnAllThreads(n, items);
+}
+
+void WorkerPool::RunOnAllThreads(std::int64_t n,
+                                 const std::function<void(int, std::int64_t, std::int64_t)>& body) {
   body_ = &body;
   n_ = n;
   done_.store(0, std::memory_order_relaxed);
@@ -124,4 +141,4 @@ void WorkerPool::WorkerLoop(int thread) {
   }
 }
 
-}  // namespace bouncecal::dem::scene
+}  // namespace bouncecal

@@ -1,12 +1,16 @@
-#include "scene/worker_pool.h"
+#include "bouncecal/worker_pool.h"
 
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <cstdint>
+#include <mutex>
+#include <thread>
 #include <vector>
 
-namespace bouncecal::dem::scene {
+namespace bouncecal {
 namespace {
 
 // Every index of every loop is visited exactly once, by the chunk that owns it, for thread counts
@@ -51,5 +55,43 @@ TEST(WorkerPool, SmallLoopsRunOnTheCallerAsOneChunk) {
   EXPECT_EQ(calls, 1);
 }
 
+// Calibration's use: a handful of long items (one fit per law), each run once, whatever their
+// number against the threads and chunks.
+TEST(WorkerPool, ForEachRunsEveryItemExactlyOnce) {
+  for (int threads : {1, 2, 3}) {
+    WorkerPool pool(threads);
+    for (std::int64_t n : {0, 1, 2, 3, 5, 17, 100}) {
+      std::vector<std::atomic<int>> runs(static_cast<std::size_t>(n));
+      pool.ParallelForEach(n, [&](std::int64_t i) {
+        runs[static_cast<std::size_t>(i)].fetch_add(1, std::memory_order_relaxed);
+      });
+      for (std::int64_t i = 0; i < n; ++i) {
+        EXPECT_EQ(runs[static_cast<std::size_t>(i)].load(), 1)
+            << "threads " << threads << " items " << n << " item " << i;
+      }
+    }
+  }
+}
+
+// Two items on two threads run at the same time, where ParallelFor would run a loop this small
+// on the caller alone: each waits (up to 30 s, far beyond any scheduling delay) until the other
+// has started. Run one after the other, the first would wait out the 30 s and find itself alone.
+TEST(WorkerPool, ForEachRunsFewItemsConcurrently) {
+  WorkerPool pool(2);
+  std::mutex mutex;
+  std::condition_variable started;
+  int running = 0;
+  std::vector<bool> met(2, false);
+  pool.ParallelForEach(2, [&](std::int64_t i) {
+    std::unique_lock lock(mutex);
+    ++running;
+    started.notify_all();
+    met[static_cast<std::size_t>(i)] =
+        started.wait_for(lock, std::chrono::seconds(30), [&] { return running == 2; });
+  });
+  EXPECT_TRUE(met[0]);
+  EXPECT_TRUE(met[1]);
+}
+
 }  // namespace
-}  // namespace bouncecal::dem::scene
+}  // namespace bouncecal
