@@ -15,6 +15,7 @@ constexpr double kSecondaryRiseFraction = 0.5;
 CandidateTracker::CandidateTracker(const DetectorFrames& frames, const DetectorOptions& options,
                                    const BandEnvelopes& bands)
     : frames_(frames),
+      threshold_db_(options.rise_threshold_db),
       secondary_threshold_db_(kSecondaryRiseFraction * options.rise_threshold_db),
       rising_ratio_(std::pow(10.0, 0.1 * secondary_threshold_db_) * (1.0 - 1e-6)),
       bands_(bands) {}
@@ -47,6 +48,7 @@ std::optional<Candidate> CandidateTracker::Step(std::int64_t n, std::ptrdiff_t k
                                                 const NoveltyRise& residual) {
   if (residual.rise_db < secondary_threshold_db_) residual_armed_ = true;
   if (open_) {
+    NoteLaterSound(band, n, k);
     if (band.rise_db > candidate_.rise_db) {
       candidate_.rise_db = band.rise_db;
       if (band.band != candidate_.band) {
@@ -73,15 +75,8 @@ std::optional<Candidate> CandidateTracker::Step(std::int64_t n, std::ptrdiff_t k
   // the hit) opens a new candidate every peak window, and the merger keeps the loudest of them.
   if (band.rise_db >= secondary_threshold_db_ ||
       (residual_armed_ && residual.rise_db >= secondary_threshold_db_)) {
-    std::int64_t m = n - frames_.attack;
-    if (band.rise_db >= secondary_threshold_db_) {
-      // The rise is that of the loudest frame of the attack window [m, n]: the sound began where
-      // the band first rose by the threshold, up to `attack` frames after m (a sharp hit enters
-      // the window at its end).
-      const EnvelopeBand& rising = bands_.band(band.band);
-      const double bar = rising_ratio_ * std::max(rising.ReferenceMax(k), kTinyPower);
-      while (m < n && std::max(rising.Power(m), kTinyPower) < bar) ++m;
-    }
+    const std::int64_t m =
+        band.rise_db >= secondary_threshold_db_ ? FirstRisingFrame(band, n, k) : n - frames_.attack;
     open_ = true;
     candidate_ = Candidate{};
     candidate_.continues = n <= still_rising_until_;
@@ -102,6 +97,39 @@ std::optional<Candidate> CandidateTracker::Step(std::int64_t n, std::ptrdiff_t k
     }
   }
   return std::nullopt;
+}
+
+std::int64_t CandidateTracker::FirstRisingFrame(const NoveltyRise& band, std::int64_t n,
+                                                std::ptrdiff_t k) const {
+  // The rise is that of the loudest frame of the attack window [n - attack, n]: the sound began
+  // where the band first rose by the threshold, up to `attack` frames after the window's start
+  // (a sharp hit enters the window at its end).
+  const EnvelopeBand& rising = bands_.band(band.band);
+  const double bar = rising_ratio_ * std::max(rising.ReferenceMax(k), kTinyPower);
+  std::int64_t m = n - frames_.attack;
+  while (m < n && std::max(rising.Power(m), kTinyPower) < bar) ++m;
+  return m;
+}
+
+void CandidateTracker::NoteLaterSound(const NoveltyRise& band, std::int64_t n, std::ptrdiff_t k) {
+  // Only the first, and only after a sound of the candidate's own: one that rose by the full
+  // threshold (an impact inside ringing, which the residual caught before its band rose, is still
+  // growing when the band's full rise comes, and is one sound).
+  if (candidate_.later_sound_frame >= 0 || band.rise_db < threshold_db_ ||
+      candidate_.rise_db < threshold_db_) {
+    return;
+  }
+  const std::int64_t start = FirstRisingFrame(band, n, k);
+  // An impact builds up its rise within `attack`; a rise that began later is another sound if the
+  // candidate's had peaked before it and it is louder than all of it by the full threshold (an
+  // echo, a clipped burst or the late part of one impact is not).
+  if (start <= candidate_.frame + frames_.attack) return;
+  const std::int64_t earlier_peak = LoudestFrame(0, candidate_.frame, start - 1);
+  if (earlier_peak >= start - frames_.skip) return;
+  const EnvelopeBand& level = bands_.band(0);
+  if (level.Db(LoudestFrame(0, start, n)) >= level.Db(earlier_peak) + threshold_db_) {
+    candidate_.later_sound_frame = start;
+  }
 }
 
 std::optional<Candidate> CandidateTracker::Finish(std::int64_t last) {

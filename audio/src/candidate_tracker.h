@@ -23,6 +23,11 @@ struct Candidate {
   double residual_rise_db = 0;       // the largest ringing-residual novelty, on the band scale
   // Opened right after a candidate that was closed while still rising: the rest of its sound.
   bool continues = false;
+  // The first frame of a second, louder sound inside it: a full band rise that began more than
+  // `attack` after the candidate's own sound had peaked, at least the full threshold above all of
+  // it (a precursor and its impact, or a filter's pre-ringing and the click, kept as one); -1
+  // where none. The onset locator widens the onset's uncertainty over the two.
+  std::int64_t later_sound_frame = -1;
   std::int64_t closed_at = 0;           // the frame n that closed it
   std::ptrdiff_t closed_in_block = -1;  // its index in its block (-1: at the end of the stream)
 };
@@ -52,7 +57,15 @@ class CandidateTracker {
   std::optional<Candidate> Finish(std::int64_t last);
 
  private:
+  // Where the sound whose rise frame n reports began: the first frame of the attack window that
+  // rose by the secondary threshold over the reference.
+  std::int64_t FirstRisingFrame(const NoveltyRise& band, std::int64_t n, std::ptrdiff_t k) const;
+  // Records in the open candidate a second, louder sound that began at `start` (see
+  // Candidate::later_sound_frame).
+  void NoteLaterSound(const NoveltyRise& band, std::int64_t n, std::ptrdiff_t k);
+
   const DetectorFrames frames_;
+  double threshold_db_;
   double secondary_threshold_db_;
   double rising_ratio_;  // its power ratio, less PowerToDb's margin
   // The loudest frame of `band` in [from, to].

@@ -72,5 +72,34 @@ TEST(CandidateTracker, NoiseAloneOpensNoCandidate) {
   EXPECT_TRUE(Track(x, 48000).empty());
 }
 
+// A precursor click 2.5 ms before an impact 20 dB louder (within the peak search, so the two are one
+// candidate; more than the 2 ms an impact takes to build up its rise): the candidate records
+// the impact's rise as a later, louder sound, within a frame or two of its onset, so the onset
+// locator can widen the onset's uncertainty over both. One impact alone, or the same two sounds
+// at equal level (a second hit, not a louder one), records none.
+TEST(CandidateTracker, ALouderSoundInsideACandidateIsRecorded) {
+  constexpr int kRate = 48000;
+  const DetectorFrames frames(kRate, DetectorOptions{});
+  for (const double precursor : {0.0, 0.05, 0.5}) {
+    std::vector<float> x(static_cast<std::size_t>(kRate), 0.0f);
+    testing::AddNoise(x, 1e-4, 9);
+    if (precursor > 0) testing::AddImpact(x, kRate, 0.2975, precursor, 0.004);
+    testing::AddImpact(x, kRate, 0.3000, 0.5, 0.02);
+    const auto candidates = Track(x, kRate);
+    ASSERT_FALSE(candidates.empty());
+    const Candidate& first = candidates.front();
+    if (precursor == 0.05) {
+      ASSERT_GE(first.later_sound_frame, 0);
+      const double later_s = static_cast<double>(first.later_sound_frame) * frames.frame_s;
+      EXPECT_NEAR(later_s, 0.3000, 2 * frames.frame_s);
+      EXPECT_LT(static_cast<double>(first.frame) * frames.frame_s, 0.2985);
+    } else {
+      for (const auto& candidate : candidates) {
+        EXPECT_EQ(candidate.later_sound_frame, -1) << precursor;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace bouncecal::audio
