@@ -16,6 +16,7 @@
 #include "bouncecal/dem/laws/hertz_viscoelastic.h"
 #include "bouncecal/dem/laws/law_common.h"
 #include "bouncecal/dem/laws/linear_dashpot.h"
+#include "bouncecal/dem/laws/thornton.h"
 #include "bouncecal/dem/laws/walton_braun.h"
 #include "bouncecal/dem/laws/walton_braun_plastic.h"
 
@@ -26,8 +27,8 @@ namespace bouncecal::dem {
 // parameters and its place in every command, card and fit follow from the law. Drivers dispatch
 // once per run with std::visit and then run a loop specialised for that law. Appending keeps the
 // kinds of the laws before it (they order help texts and break ties between laws).
-using ContactLaw =
-    std::variant<WaltonBraun, WaltonBraunPlastic, LinearDashpot, Hertz, HertzViscoelastic>;
+using ContactLaw = std::variant<WaltonBraun, WaltonBraunPlastic, LinearDashpot, Hertz,
+                                HertzViscoelastic, Thornton>;
 
 // The members a law must have, one concept each so that CheckContactLaw can name the missing one.
 // They are what the drivers use (the drop, the packing engine, the fitter, the exporter, cards).
