@@ -10,7 +10,7 @@
 #include "bouncecal/calibrate/fit_json.h"
 #include "bouncecal/calibrate/material_card.h"
 #include "bouncecal/calibrate/sequence_input.h"
-#include "bouncecal/dem/contact_law_kind.h"
+#include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
 #include "calibrate_cli_options.h"
 #include "calibrate_report.h"

@@ -1,5 +1,6 @@
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -31,11 +32,15 @@ struct CompareCliOptions {
 // The format of --json (docs/json.md).
 constexpr const char* kCompareFormat = "bouncecal-trajectory-comparison/1";
 
+// The law and its set parameters other than the elastic ones (which set only the contact time).
 std::string Label(const dem::ContactLawConfig& law) {
   std::string text(dem::ToString(law.kind));
   for (const auto& [name, value] : law.parameters) {
-    if (name != "stiffness_n_per_m" && name != "effective_modulus_pa")
-      text += fmt::format(" {}={:.4g}", name, value);
+    const auto specs = dem::ParameterSpecs(law.kind);
+    const bool elastic = std::any_of(specs.begin(), specs.end(), [&](const auto& spec) {
+      return spec.name == name && spec.role == dem::ParameterRole::kElastic;
+    });
+    if (!elastic) text += fmt::format(" {}={:.4g}", name, value);
   }
   return text;
 }

@@ -3,27 +3,42 @@
 #include <fmt/core.h>
 
 #include <cmath>
-#include <map>
+#include <string>
 #include <string_view>
 
 #include "bouncecal/calibrate/ball_preset.h"
-#include "bouncecal/dem/contact_law_kind.h"
+#include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
 #include "option_alias.h"
 
 namespace bouncecal::apps {
 namespace {
 
-// The law parameter a shortcut option sets, per law; a law without it refuses the option.
-void SetLawParameter(dem::ContactLawConfig& config, std::string_view option,
-                     const std::map<dem::ContactLawKind, std::string_view>& names, double value) {
-  const auto found = names.find(config.kind);
-  if (found == names.end()) {
-    throw ConfigError(
-        fmt::format("{} does not apply to the {} law; set its parameters with --param NAME=VALUE",
-                    option, dem::ToString(config.kind)));
+// The law parameter a shortcut option (--gamma, --stiffness-n-per-m, --modulus-pa) sets: the one
+// whose ParameterSpec::alias the option names; a law without one refuses the option.
+void SetLawParameter(dem::ContactLawConfig& config, std::string_view option, double value) {
+  for (const dem::ParameterSpec& spec : dem::ParameterSpecs(config.kind)) {
+    if (!spec.alias.empty() && option.substr(2) == spec.alias) {
+      config.parameters[std::string(spec.name)] = value;
+      return;
+    }
   }
-  config.parameters[std::string(found->second)] = value;
+  throw ConfigError(
+      fmt::format("{} does not apply to the {} law; set its parameters with --param NAME=VALUE",
+                  option, dem::ToString(config.kind)));
+}
+
+// "gamma_n of walton-braun, damping_ratio of linear-dashpot": what an alias sets, for its help.
+std::string AliasTargets(std::string_view alias) {
+  std::string targets;
+  for (dem::ContactLawKind kind : dem::kAllContactLawKinds) {
+    for (const dem::ParameterSpec& spec : dem::ParameterSpecs(kind)) {
+      if (spec.alias != alias) continue;
+      targets +=
+          fmt::format("{}{} of {}", targets.empty() ? "" : ", ", spec.name, dem::ToString(kind));
+    }
+  }
+  return targets;
 }
 
 }  // namespace
@@ -68,9 +83,7 @@ void DropCliOptions::Add(CLI::App& command, Features features, Geometry geometry
     for (auto* ball_option : ball_options) card->excludes(ball_option);
   }
   if (features.gamma) {
-    command.add_option(
-        "--gamma", gamma,
-        "Damping (dimensionless): gamma_n of walton-braun, damping_ratio of linear-dashpot");
+    command.add_option("--gamma", gamma, "Damping (dimensionless): " + AliasTargets("gamma"));
   }
   auto* stiffness =
       command.add_option("--stiffness-n-per-m", stiffness_n_per_m,
@@ -179,26 +192,9 @@ dem::ContactLawConfig DropCliOptions::Law(bool validate) const {
   } else {
     config.kind = LawKind();
   }
-  using dem::ContactLawKind;
-  if (gamma) {
-    SetLawParameter(config, "--gamma",
-                    {{ContactLawKind::kWaltonBraun, "gamma_n"},
-                     {ContactLawKind::kLinearDashpot, "damping_ratio"}},
-                    *gamma);
-  }
-  if (stiffness_n_per_m) {
-    SetLawParameter(config, "--stiffness-n-per-m",
-                    {{ContactLawKind::kWaltonBraun, "stiffness_n_per_m"},
-                     {ContactLawKind::kWaltonBraunPlastic, "stiffness_n_per_m"},
-                     {ContactLawKind::kLinearDashpot, "stiffness_n_per_m"}},
-                    *stiffness_n_per_m);
-  }
-  if (modulus_pa) {
-    SetLawParameter(config, "--modulus-pa",
-                    {{ContactLawKind::kHertz, "effective_modulus_pa"},
-                     {ContactLawKind::kHertzViscoelastic, "effective_modulus_pa"}},
-                    *modulus_pa);
-  }
+  if (gamma) SetLawParameter(config, "--gamma", *gamma);
+  if (stiffness_n_per_m) SetLawParameter(config, "--stiffness-n-per-m", *stiffness_n_per_m);
+  if (modulus_pa) SetLawParameter(config, "--modulus-pa", *modulus_pa);
   for (const auto& assignment : parameters) {
     const auto equals = assignment.find('=');
     double value = 0;

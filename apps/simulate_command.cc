@@ -9,6 +9,7 @@
 
 #include "bouncecal/dem/contact_law.h"
 #include "bouncecal/dem/contact_law_json.h"
+#include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/dem/drop.h"
 #include "bouncecal/error.h"
 #include "commands.h"

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/dem/drop.h"
 
 namespace {
@@ -91,20 +92,22 @@ DropOptions LawOptions(ContactLawKind kind) {
   return options;
 }
 
+bool HasExactPath(ContactLawKind kind) {
+  return bouncecal::dem::SupportsExactImpacts(bouncecal::dem::MakeContactLaw(LawOptions(kind).law));
+}
+
+// The exact event-driven path where the law has one, e = 1 for hertz, else RK4 at 1e4 steps.
 EnergyLoss Reference(ContactLawKind kind) {
   DropOptions options = LawOptions(kind);
-  switch (kind) {
-    case ContactLawKind::kHertz:
-      return {0, 0};  // elastic: e = 1
-    case ContactLawKind::kHertzViscoelastic:
-      options.integrator = Integrator::kRungeKutta4;
-      options.steps_per_contact = 1e4;
-      options.max_impacts = 3;
-      return FromSpeeds(bouncecal::dem::SimulateDrop(options));
-    default:
-      options.integrator = Integrator::kExact;
-      return FromSpeeds(bouncecal::dem::SimulateDrop(options));
+  if (HasExactPath(kind)) {
+    options.integrator = Integrator::kExact;
+    return FromSpeeds(bouncecal::dem::SimulateDrop(options));
   }
+  if (kind == ContactLawKind::kHertz) return {0, 0};  // elastic: e = 1
+  options.integrator = Integrator::kRungeKutta4;
+  options.steps_per_contact = 1e4;
+  options.max_impacts = 3;
+  return FromSpeeds(bouncecal::dem::SimulateDrop(options));
 }
 
 void AccuracyTable(const char* csv_path) {
@@ -141,8 +144,7 @@ void AccuracyTable(const char* csv_path) {
         }
       }
     }
-    if (kind == ContactLawKind::kWaltonBraun || kind == ContactLawKind::kWaltonBraunPlastic ||
-        kind == ContactLawKind::kLinearDashpot) {
+    if (HasExactPath(kind)) {
       DropOptions options = LawOptions(kind);
       options.integrator = Integrator::kExact;
       const DropResult result = bouncecal::dem::SimulateDrop(options);

@@ -295,11 +295,7 @@ FitObjective FitObjectiveFromString(std::string_view name) {
 std::vector<std::string> DefaultFittedParameters(dem::ContactLawKind kind) {
   std::vector<std::string> names;
   for (const auto& spec : dem::ParameterSpecs(kind)) {
-    if (spec.name == "stiffness_n_per_m" || spec.name == "effective_modulus_pa") continue;
-    // Luding's speed-dependent plastic variant is opt-in (--fit plastic_flow_overlap_m): its
-    // default 0 is the 1986 form, and a second parameter needs a sequence with many impacts.
-    if (spec.name == "plastic_flow_overlap_m") continue;
-    names.emplace_back(spec.name);
+    if (spec.role == dem::ParameterRole::kDissipative) names.emplace_back(spec.name);
   }
   return names;
 }
@@ -313,25 +309,9 @@ ParameterRange DefaultParameterRange(const dem::ContactLawConfig& config, std::s
     throw ConfigError("law " + std::string(dem::ToString(config.kind)) + " has no parameter '" +
                       std::string(name) + "' to fit");
   }
-  // gamma_n = 1 never releases the ball (zero unloading stiffness), and near it the drop engine
-  // spends its whole time budget; 0.98 already means eta = 0.99.
-  if (name == "gamma_n") return {0.0, 0.98, false};
-  // zeta -> 1 is critical damping, which never releases the ball either.
-  if (name == "damping_ratio") return {0.0, 0.95, false};
-  // e = sqrt(k1/k2): [k1, 1e4 k1] covers e from 1 down to 0.01.
-  if (name == "unloading_stiffness_n_per_m") {
-    const double k1 = config.Get("stiffness_n_per_m");
-    return {k1 * (1 + 1e-9), k1 * 1e4, true};
-  }
-  // Luding's flow overlap: impact overlaps of mm-to-cm balls are 1e-6 to 1e-4 m; 0 is the
-  // 1986 form, so the range is linear and includes it.
-  if (name == "plastic_flow_overlap_m") return {0.0, 1e-3, false};
-  // Brilliantov's dissipative time: 1 ns (nearly elastic) to 0.1 ms (e ~ 0 for mm-sized balls).
-  if (name == "dissipative_time_s") return {1e-9, 1e-4, true};
-  ParameterRange range{spec->min_value, spec->max_value, false};
-  if (!std::isfinite(range.upper)) range.upper = std::max(1.0, spec->default_value) * 1e3;
-  if (range.lower > 0 && range.upper / range.lower >= 100) range.log_scale = true;
-  return range;
+  const dem::FitRange& fit = spec->fit;
+  const double scale = fit.relative_to.empty() ? 1.0 : config.Get(fit.relative_to);
+  return {fit.lower * scale, fit.upper * scale, fit.log_scale};
 }
 
 dem::Ball ReferenceBall() {
@@ -344,14 +324,14 @@ dem::Ball ReferenceBall() {
 std::string WhyResultDependsOnBall(const FitOptions& options) {
   if (options.drag.enabled) return "air drag";
   const auto kind = options.law.kind;
-  if (kind == dem::ContactLawKind::kHertz || kind == dem::ContactLawKind::kHertzViscoelastic)
-    return "the " + std::string(dem::ToString(kind)) + " law";
-  if (kind == dem::ContactLawKind::kWaltonBraunPlastic) {
-    const auto& fitted = options.fitted_parameters;
-    const bool flow_fitted =
-        std::find(fitted.begin(), fitted.end(), "plastic_flow_overlap_m") != fitted.end();
-    if (flow_fitted || options.law.Get("plastic_flow_overlap_m") > 0)
-      return "the plastic law's flow overlap";
+  const std::string law(dem::ToString(kind));
+  const auto& fitted = options.fitted_parameters;
+  for (const auto& spec : dem::ParameterSpecs(kind)) {
+    if (spec.ball_dependence == dem::BallDependence::kAlways) return "the " + law + " law";
+    const bool used = std::find(fitted.begin(), fitted.end(), spec.name) != fitted.end() ||
+                      options.law.Get(spec.name) != 0;
+    if (spec.ball_dependence == dem::BallDependence::kWhenUsed && used)
+      return "the " + law + " law's " + std::string(spec.name);
   }
   return "";
 }

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <random>
+#include <tuple>
 
 #include "bouncecal/calibrate/jittered_drop.h"
 #include "bouncecal/error.h"
@@ -54,6 +55,55 @@ TEST(FitOptions, DefaultsAreValidAndAssumeNoExperimentGeometry) {
   EXPECT_FALSE(options.drop_height_m.has_value());
   EXPECT_FALSE(options.ball.has_value());
   EXPECT_EQ(DefaultFittedParameters(options.law.kind), std::vector<std::string>{"gamma_n"});
+}
+
+// What the fitter varies, where it searches and when it needs the ball come from the laws'
+// ParameterSpecs (role, fit range, ball dependence); these are the values the fitter used when it
+// listed them itself.
+TEST(Fit, DefaultsComeFromTheLawsParameterSpecs) {
+  using dem::ContactLawKind;
+  EXPECT_EQ(DefaultFittedParameters(ContactLawKind::kWaltonBraunPlastic),
+            std::vector<std::string>{"unloading_stiffness_n_per_m"});
+  EXPECT_EQ(DefaultFittedParameters(ContactLawKind::kLinearDashpot),
+            std::vector<std::string>{"damping_ratio"});
+  EXPECT_EQ(DefaultFittedParameters(ContactLawKind::kHertzViscoelastic),
+            std::vector<std::string>{"dissipative_time_s"});
+  EXPECT_TRUE(DefaultFittedParameters(ContactLawKind::kHertz).empty());
+
+  const auto range = [](const dem::ContactLawConfig& law, std::string_view name) {
+    const ParameterRange r = DefaultParameterRange(law, name);
+    return std::tuple{r.lower, r.upper, r.log_scale};
+  };
+  const dem::ContactLawConfig wb{ContactLawKind::kWaltonBraun, {}};
+  EXPECT_EQ(range(wb, "gamma_n"), std::tuple(0.0, 0.98, false));
+  EXPECT_EQ(range(wb, "stiffness_n_per_m"), std::tuple(1e-3, 1e15, true));
+  EXPECT_EQ(range({ContactLawKind::kLinearDashpot, {}}, "damping_ratio"),
+            std::tuple(0.0, 0.95, false));
+  const dem::ContactLawConfig plastic{ContactLawKind::kWaltonBraunPlastic,
+                                      {{"stiffness_n_per_m", 2e7}}};
+  EXPECT_EQ(range(plastic, "unloading_stiffness_n_per_m"),
+            std::tuple(2e7 * (1 + 1e-9), 2e7 * 1e4, true));
+  EXPECT_EQ(range(plastic, "plastic_flow_overlap_m"), std::tuple(0.0, 1e-3, false));
+  EXPECT_EQ(range({ContactLawKind::kHertzViscoelastic, {}}, "dissipative_time_s"),
+            std::tuple(1e-9, 1e-4, true));
+  EXPECT_EQ(range({ContactLawKind::kHertz, {}}, "effective_modulus_pa"),
+            std::tuple(1.0, 1e14, true));
+  EXPECT_THROW(DefaultParameterRange(wb, "damping_ratio"), ConfigError);
+
+  FitOptions options;
+  options.law = plastic;
+  EXPECT_EQ(WhyResultDependsOnBall(options), "");
+  options.fitted_parameters = {"unloading_stiffness_n_per_m", "plastic_flow_overlap_m"};
+  EXPECT_EQ(WhyResultDependsOnBall(options),
+            "the walton-braun-plastic law's plastic_flow_overlap_m");
+  options.fitted_parameters.clear();
+  options.law.parameters["plastic_flow_overlap_m"] = 1e-5;
+  EXPECT_EQ(WhyResultDependsOnBall(options),
+            "the walton-braun-plastic law's plastic_flow_overlap_m");
+  options.law = {ContactLawKind::kHertz, {}};
+  EXPECT_EQ(WhyResultDependsOnBall(options), "the hertz law");
+  options.law = {ContactLawKind::kLinearDashpot, {}};
+  EXPECT_EQ(WhyResultDependsOnBall(options), "");
 }
 
 TEST(Fit, RecoversGammaFromANoiselessDropSimulatedWithTheSameIntegrator) {

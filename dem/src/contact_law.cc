@@ -18,7 +18,7 @@ std::span<const ParameterSpec> SpecsOf(ContactLawKind kind) {
                                   ToString(kind), ContactLawNames()));
   } else {
     using Law = std::variant_alternative_t<I, ContactLaw>;
-    if (Law::kKind == kind) return Law::Specs();
+    if (kKindOf<Law> == kind) return Law::Specs();
     return SpecsOf<I + 1>(kind);
   }
 }
@@ -30,7 +30,7 @@ ContactLaw Make(const ContactLawConfig& config) {
                                   ToString(config.kind), ContactLawNames()));
   } else {
     using Law = std::variant_alternative_t<I, ContactLaw>;
-    if (Law::kKind == config.kind)
+    if (kKindOf<Law> == config.kind)
       return ContactLaw(std::in_place_type<Law>, Law::FromConfig(config));
     return Make<I + 1>(config);
   }
@@ -91,13 +91,33 @@ ContactLaw MakeContactLaw(const ContactLawConfig& config) {
   return Make(config);
 }
 
-ContactLawKind KindOf(const ContactLaw& law) {
-  return std::visit([](const auto& typed) { return std::decay_t<decltype(typed)>::kKind; }, law);
-}
+ContactLawKind KindOf(const ContactLaw& law) { return static_cast<ContactLawKind>(law.index()); }
 
 bool SupportsExactImpacts(const ContactLaw& law) {
   return std::visit([](const auto& typed) { return HasExactImpact<std::decay_t<decltype(typed)>>; },
                     law);
+}
+
+std::string ExactImpactLawNames() {
+  std::string names;
+  for (ContactLawKind kind : kAllContactLawKinds) {
+    if (!SupportsExactImpacts(Make(ContactLawConfig{.kind = kind, .parameters = {}}))) continue;
+    if (!names.empty()) names += ", ";
+    names += ToString(kind);
+  }
+  return names;
+}
+
+EngineForm ExportFormOf(const ContactLaw& law) {
+  return std::visit(
+      [](const auto& typed) -> EngineForm {
+        if constexpr (HasEngineForm<std::decay_t<decltype(typed)>>) {
+          return typed.ExportForm();
+        } else {
+          return EngineMatchAtSpeed{};
+        }
+      },
+      law);
 }
 
 }  // namespace bouncecal::dem

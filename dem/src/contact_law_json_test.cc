@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
 
 namespace bouncecal::dem {

@@ -1,23 +1,15 @@
 #include "bouncecal/dem/contact_law_kind.h"
 
+#include <cstddef>
+
+#include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
 
 namespace bouncecal::dem {
 
 std::string_view ToString(ContactLawKind kind) {
-  switch (kind) {
-    case ContactLawKind::kWaltonBraun:
-      return "walton-braun";
-    case ContactLawKind::kWaltonBraunPlastic:
-      return "walton-braun-plastic";
-    case ContactLawKind::kLinearDashpot:
-      return "linear-dashpot";
-    case ContactLawKind::kHertz:
-      return "hertz";
-    case ContactLawKind::kHertzViscoelastic:
-      return "hertz-viscoelastic";
-  }
-  return "unknown";
+  const auto index = static_cast<std::size_t>(kind);
+  return index < kContactLawNames.size() ? kContactLawNames[index] : "unknown";
 }
 
 std::string ContactLawNames() {

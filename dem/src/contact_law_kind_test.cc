@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
 
 namespace bouncecal::dem {

@@ -86,6 +86,37 @@ TEST(ContactLaws, DefaultConfigurationOfEveryLawIsValid) {
   }
 }
 
+// The range a fit searches must be one the law accepts (scaled by the default of the parameter
+// it is relative to; for the parameters fitted by default or on request, both ends build a law
+// with the others at their defaults: elastic ones may meet cross-parameter rules, as a user
+// fitting them would), and a command-line alias (--gamma, ...) names at most one parameter of a
+// law.
+TEST(ContactLaws, EveryFitRangeIsValidAndEveryAliasIsUnambiguous) {
+  for (ContactLawKind kind : kAllContactLawKinds) {
+    const ContactLawConfig defaults{.kind = kind, .parameters = {}};
+    for (const ParameterSpec& spec : ParameterSpecs(kind)) {
+      const double scale = spec.fit.relative_to.empty() ? 1 : defaults.Get(spec.fit.relative_to);
+      const double lower = spec.fit.lower * scale, upper = spec.fit.upper * scale;
+      EXPECT_LT(lower, upper) << ToString(kind) << " " << spec.name;
+      if (spec.fit.log_scale) {
+        EXPECT_GT(lower, 0) << ToString(kind) << " " << spec.name;
+      }
+      EXPECT_GE(lower, spec.min_value) << ToString(kind) << " " << spec.name;
+      EXPECT_LE(upper, spec.max_value) << ToString(kind) << " " << spec.name;
+      for (double end : {lower, upper}) {
+        if (spec.role == ParameterRole::kElastic) break;
+        ContactLawConfig config = defaults;
+        config.parameters[std::string(spec.name)] = end;
+        EXPECT_NO_THROW(MakeContactLaw(config)) << ToString(kind) << " " << spec.name << " " << end;
+      }
+      if (spec.alias.empty()) continue;
+      int sharing = 0;
+      for (const ParameterSpec& other : ParameterSpecs(kind)) sharing += other.alias == spec.alias;
+      EXPECT_EQ(sharing, 1) << ToString(kind) << " alias " << spec.alias;
+    }
+  }
+}
+
 TEST(ContactLaws, FactoryPassesParametersThrough) {
   const ContactLaw law =
       MakeContactLaw({.kind = ContactLawKind::kWaltonBraun,

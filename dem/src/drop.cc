@@ -380,10 +380,9 @@ DropResult SimulateDrop(const DropOptions& options) {
   if (options.integrator == Integrator::kExact) {
     if (!SupportsExactImpacts(law)) {
       throw ConfigError(fmt::format(
-          "the exact integrator needs a piecewise-linear law (walton-braun, "
-          "walton-braun-plastic, linear-dashpot), not {}; use --integrator rk4 (small-step "
-          "reference) or verlet",
-          ToString(options.law.kind)));
+          "the exact integrator needs a piecewise-linear law ({}), not {}; use --integrator rk4 "
+          "(small-step reference) or verlet",
+          ExactImpactLawNames(), ToString(options.law.kind)));
     }
     if (options.drag.enabled) {
       throw ConfigError(

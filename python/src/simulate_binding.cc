@@ -148,9 +148,8 @@ void BindSimulate(py::module_& module) {
       R"doc(Drop a sphere on a rigid plane until it rests (dem::SimulateDrop): what
 `bouncecal simulate drop --json` writes, plus the trajectory its --trajectory CSV holds.
 
-law: a law name (walton-braun, walton-braun-plastic, linear-dashpot, hertz,
-    hertz-viscoelastic) or a {'law': ..., 'parameters': {...}} dict, e.g. a material card's
-    contact_law.
+law: a law name (e.g. walton-braun or hertz; an unknown name's ConfigError lists
+    them all) or a {'law': ..., 'parameters': {...}} dict, e.g. a material card's contact_law.
 parameters: {name: value} of the law's parameters in SI (e.g. {'gamma_n': 0.4}); the others
     keep their defaults.
 ball: a preset name (steel-10mm, ...), or diameter_m with density_kg_per_m3 or mass_kg

@@ -4,6 +4,10 @@
 
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <string>
+#include <utility>
+#include <variant>
 
 #include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
@@ -36,6 +40,37 @@ double PairRestitutionAt(const SpringDashpot& pair, double effective_mass_kg) {
   SpringDashpot other = pair;
   other.effective_mass_kg = effective_mass_kg;
   return Restitution(other);
+}
+
+// The law's gravity-free closed-form restitution and contact duration, where it has them.
+std::pair<std::optional<double>, std::optional<double>> ClosedForms(const dem::ContactLaw& law,
+                                                                    double m_eff, double r_eff,
+                                                                    double speed) {
+  return std::visit(
+      [&](const auto& typed) {
+        return std::pair{typed.ClosedFormRestitution(m_eff, r_eff, speed),
+                         typed.ClosedFormContactDuration(m_eff, r_eff, speed)};
+      },
+      law);
+}
+
+// The laws MapContactLaw maps at their default parameters for this ball and speed, for messages.
+std::string ExportableLawNames(double ball_mass_kg, double ball_radius_m, double speed) {
+  std::string names;
+  for (dem::ContactLawKind kind : dem::kAllContactLawKinds) {
+    const dem::ContactLaw law = dem::MakeContactLaw({.kind = kind, .parameters = {}});
+    const dem::EngineForm form = dem::ExportFormOf(law);
+    if (std::holds_alternative<dem::NoEngineForm>(form)) continue;
+    if (std::holds_alternative<dem::EngineMatchAtSpeed>(form)) {
+      const auto [wall_e, wall_t] = ClosedForms(law, ball_mass_kg, ball_radius_m, speed);
+      const auto [pair_e, pair_t] =
+          ClosedForms(law, 0.5 * ball_mass_kg, 0.5 * ball_radius_m, speed);
+      if (!wall_e || !wall_t || !pair_e || !pair_t) continue;
+    }
+    if (!names.empty()) names += ", ";
+    names += dem::ToString(kind);
+  }
+  return names;
 }
 
 }  // namespace
@@ -146,33 +181,31 @@ LawMapping MapContactLaw(const dem::ContactLawConfig& law, double ball_mass_kg,
   RequirePositive(ball_radius_m, "ball radius", "metres");
   RequirePositive(reference_impact_speed_mps, "reference impact speed", "m/s");
   const dem::ContactLaw built = dem::MakeContactLaw(law);  // validates, ConfigError if bad
-  switch (law.kind) {
-    case dem::ContactLawKind::kWaltonBraun:
-      return MapWaltonBraun(law.Get("stiffness_n_per_m"), law.Get("gamma_n"), ball_mass_kg, engine);
-    case dem::ContactLawKind::kLinearDashpot:
-      return MapLinearDashpot(law.Get("stiffness_n_per_m"), law.Get("damping_ratio"), ball_mass_kg,
-                              engine);
-    default:
-      break;
-  }
   const std::string name(dem::ToString(law.kind));
-  auto closed_forms = [&](double m_eff, double r_eff, double speed) {
-    return std::visit(
-        [&](const auto& l) {
-          return std::pair{l.ClosedFormRestitution(m_eff, r_eff, speed),
-                           l.ClosedFormContactDuration(m_eff, r_eff, speed)};
-        },
-        built);
-  };
+  const dem::EngineForm form = dem::ExportFormOf(built);
+  if (const auto* hysteresis = std::get_if<dem::EngineLinearHysteresis>(&form)) {
+    return MapWaltonBraun(hysteresis->stiffness_n_per_m, hysteresis->gamma_n, ball_mass_kg, engine);
+  }
+  if (const auto* dashpot = std::get_if<dem::EngineSpringDashpot>(&form)) {
+    return MapLinearDashpot(dashpot->stiffness_n_per_m, dashpot->damping_ratio, ball_mass_kg,
+                            engine);
+  }
+  if (const auto* none = std::get_if<dem::NoEngineForm>(&form)) {
+    throw ConfigError(
+        fmt::format("contact law '{}' cannot be exported to {}: {}; laws that can be exported "
+                    "(fit one of them to the same recordings): {}",
+                    name, EngineName(engine), none->reason,
+                    ExportableLawNames(ball_mass_kg, ball_radius_m, reference_impact_speed_mps)));
+  }
   const double v = reference_impact_speed_mps;
-  const auto [wall_e, wall_t] = closed_forms(ball_mass_kg, ball_radius_m, v);
-  const auto [pair_e, pair_t] = closed_forms(0.5 * ball_mass_kg, 0.5 * ball_radius_m, v);
+  const auto [wall_e, wall_t] = ClosedForms(built, ball_mass_kg, ball_radius_m, v);
+  const auto [pair_e, pair_t] = ClosedForms(built, 0.5 * ball_mass_kg, 0.5 * ball_radius_m, v);
   if (!wall_e || !wall_t || !pair_e || !pair_t) {
     throw ConfigError(fmt::format(
         "contact law '{}' has no closed-form restitution and contact duration, so it cannot be "
-        "mapped to {} with equal e and t_c; laws that can be exported: walton-braun, "
-        "linear-dashpot, walton-braun-plastic, hertz",
-        name, EngineName(engine)));
+        "mapped to {} with equal e and t_c; laws that can be exported: {}",
+        name, EngineName(engine),
+        ExportableLawNames(ball_mass_kg, ball_radius_m, reference_impact_speed_mps)));
   }
   LawMapping mapping;
   mapping.source_law = name;
@@ -189,8 +222,8 @@ LawMapping MapContactLaw(const dem::ContactLawConfig& law, double ball_mass_kg,
   mapping.wall = MatchRestitutionAndDuration(*wall_e, *wall_t, ball_mass_kg);
   mapping.pair = MatchRestitutionAndDuration(*pair_e, *pair_t, 0.5 * ball_mass_kg);
 
-  const auto slow = closed_forms(ball_mass_kg, ball_radius_m, 0.25 * v);
-  const auto fast = closed_forms(ball_mass_kg, ball_radius_m, 4 * v);
+  const auto slow = ClosedForms(built, ball_mass_kg, ball_radius_m, 0.25 * v);
+  const auto fast = ClosedForms(built, ball_mass_kg, ball_radius_m, 4 * v);
   const bool speed_independent =
       slow.first && fast.first && slow.second && fast.second &&
       std::abs(*slow.first - *wall_e) < 1e-9 && std::abs(*fast.first - *wall_e) < 1e-9 &&

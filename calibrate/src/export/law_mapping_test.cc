@@ -162,5 +162,28 @@ TEST(MapContactLaw, LawWithoutClosedFormsIsAConfigErrorNamingIt) {
   }
 }
 
+// A law that states it has no engine form (thornton: neither engine has its plastic Hertz
+// contact, and a one-speed stand-in would drop its speed dependence) is refused in one line with
+// its reason, whatever the engine, and the list of laws that can be exported leaves it out.
+TEST(MapContactLaw, LawWithoutAnEngineFormIsRefusedWithItsReasonInOneLine) {
+  const dem::ContactLawConfig config{.kind = dem::kKindOf<dem::Thornton>, .parameters = {}};
+  for (Engine engine : {Engine::kLammps, Engine::kLiggghts}) {
+    try {
+      MapContactLaw(config, kSteelBallMassKg, 0.005, 1.98, engine);
+      FAIL() << "no ConfigError";
+    } catch (const ConfigError& error) {
+      const std::string message = error.what();
+      EXPECT_NE(message.find("contact law 'thornton' cannot be exported to"), std::string::npos)
+          << message;
+      EXPECT_NE(message.find("elastic-plastic"), std::string::npos) << message;
+      EXPECT_NE(message.find("(fit one of them to the same recordings): walton-braun, "
+                             "walton-braun-plastic, linear-dashpot, hertz"),
+                std::string::npos)
+          << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace bouncecal::calibrate

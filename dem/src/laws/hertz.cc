@@ -8,8 +8,16 @@ namespace bouncecal::dem {
 namespace {
 
 constexpr std::array<ParameterSpec, 1> kSpecs = {{
-    {"effective_modulus_pa", "Pa", 1, 1e14, 1.1e11,
-     "E* = 1/((1-nu1^2)/E1 + (1-nu2^2)/E2); F = (4/3) E* sqrt(R_eff) xi^(3/2)"},
+    {.name = "effective_modulus_pa",
+     .unit = "Pa",
+     .min_value = 1,
+     .max_value = 1e14,
+     .default_value = 1.1e11,
+     .description = "E* = 1/((1-nu1^2)/E1 + (1-nu2^2)/E2); F = (4/3) E* sqrt(R_eff) xi^(3/2)",
+     .role = ParameterRole::kElastic,
+     .fit = {.lower = 1, .upper = 1e14, .log_scale = true},
+     .ball_dependence = BallDependence::kAlways,
+     .alias = "modulus-pa"},
 }};
 
 // The linearised limit omega dt < 2 is not enough for a stiffening contact: near it, Verlet
@@ -21,7 +29,7 @@ constexpr double kNonlinearMargin = 0.6;
 }  // namespace
 
 Hertz::Hertz(const Params& params) : params_(params) {
-  CheckParameterValue(kSpecs[0], params.effective_modulus_pa, ToString(kKind));
+  CheckParameterValue(kSpecs[0], params.effective_modulus_pa, kName);
 }
 
 Hertz::Params Hertz::FromConfig(const ContactLawConfig& config) {

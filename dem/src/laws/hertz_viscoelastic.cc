@@ -10,10 +10,28 @@ namespace bouncecal::dem {
 namespace {
 
 constexpr std::array<ParameterSpec, 2> kSpecs = {{
-    {"effective_modulus_pa", "Pa", 1, 1e14, 1.1e11,
-     "E* = 1/((1-nu1^2)/E1 + (1-nu2^2)/E2); elastic part (4/3) E* sqrt(R_eff) xi^(3/2)"},
-    {"dissipative_time_s", "s", 0, 1e-2, 2e-6,
-     "Brilliantov's A: damping (3/2) A K sqrt(xi) dxi/dt; restitution falls with impact speed"},
+    {.name = "effective_modulus_pa",
+     .unit = "Pa",
+     .min_value = 1,
+     .max_value = 1e14,
+     .default_value = 1.1e11,
+     .description =
+         "E* = 1/((1-nu1^2)/E1 + (1-nu2^2)/E2); elastic part (4/3) E* sqrt(R_eff) xi^(3/2)",
+     .role = ParameterRole::kElastic,
+     .fit = {.lower = 1, .upper = 1e14, .log_scale = true},
+     .ball_dependence = BallDependence::kAlways,
+     .alias = "modulus-pa"},
+    // 1 ns (nearly elastic) to 0.1 ms (e ~ 0 for mm-sized balls).
+    {.name = "dissipative_time_s",
+     .unit = "s",
+     .min_value = 0,
+     .max_value = 1e-2,
+     .default_value = 2e-6,
+     .description =
+         "Brilliantov's A: damping (3/2) A K sqrt(xi) dxi/dt; restitution falls with impact speed",
+     .role = ParameterRole::kDissipative,
+     .fit = {.lower = 1e-9, .upper = 1e-4, .log_scale = true},
+     .ball_dependence = BallDependence::kAlways},
 }};
 
 // Ramirez et al. (1999), Phys. Rev. E 60, 4465, eq. (31)-(32).
@@ -23,8 +41,8 @@ constexpr double kC2 = 0.79826;
 }  // namespace
 
 HertzViscoelastic::HertzViscoelastic(const Params& params) : params_(params) {
-  CheckParameterValue(kSpecs[0], params.effective_modulus_pa, ToString(kKind));
-  CheckParameterValue(kSpecs[1], params.dissipative_time_s, ToString(kKind));
+  CheckParameterValue(kSpecs[0], params.effective_modulus_pa, kName);
+  CheckParameterValue(kSpecs[1], params.dissipative_time_s, kName);
 }
 
 HertzViscoelastic::Params HertzViscoelastic::FromConfig(const ContactLawConfig& config) {

@@ -14,16 +14,33 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 constexpr std::array<ParameterSpec, 2> kSpecs = {{
-    {"stiffness_n_per_m", "N/m", 1e-3, 1e15, 1e7, "normal stiffness k"},
-    {"damping_ratio", "1", 0, 1, 0.1722,
-     "zeta: damping coefficient 2 zeta sqrt(m_eff k); e = exp(-pi zeta/sqrt(1-zeta^2))"},
+    {.name = "stiffness_n_per_m",
+     .unit = "N/m",
+     .min_value = 1e-3,
+     .max_value = 1e15,
+     .default_value = 1e7,
+     .description = "normal stiffness k",
+     .role = ParameterRole::kElastic,
+     .fit = {.lower = 1e-3, .upper = 1e15, .log_scale = true},
+     .alias = "stiffness-n-per-m"},
+    // zeta -> 1 is critical damping, which never releases the ball.
+    {.name = "damping_ratio",
+     .unit = "1",
+     .min_value = 0,
+     .max_value = 1,
+     .default_value = 0.1722,
+     .description =
+         "zeta: damping coefficient 2 zeta sqrt(m_eff k); e = exp(-pi zeta/sqrt(1-zeta^2))",
+     .role = ParameterRole::kDissipative,
+     .fit = {.lower = 0, .upper = 0.95},
+     .alias = "gamma"},
 }};
 
 }  // namespace
 
 LinearDashpot::LinearDashpot(const Params& params) : params_(params) {
-  CheckParameterValue(kSpecs[0], params.stiffness_n_per_m, ToString(kKind));
-  CheckParameterValue(kSpecs[1], params.damping_ratio, ToString(kKind));
+  CheckParameterValue(kSpecs[0], params.stiffness_n_per_m, kName);
+  CheckParameterValue(kSpecs[1], params.damping_ratio, kName);
 }
 
 LinearDashpot::Params LinearDashpot::FromConfig(const ContactLawConfig& config) {

@@ -41,15 +41,15 @@ struct ParameterRange {
   bool log_scale = false;
 };
 
-// The dissipative parameters of a law (what a drop constrains): every parameter except the
-// elastic ones that set only the contact duration (stiffness_n_per_m, effective_modulus_pa) and
-// the opt-in speed dependence of the plastic law (plastic_flow_overlap_m; add it with
-// fitted_parameters / --fit).
+// The dissipative parameters of a law (what a drop constrains; dem::ParameterRole): not the
+// elastic ones that set only the contact duration (stiffness_n_per_m, effective_modulus_pa), nor
+// the opt-in ones (the plastic law's plastic_flow_overlap_m; add them with fitted_parameters /
+// --fit).
 std::vector<std::string> DefaultFittedParameters(dem::ContactLawKind kind);
-// The default search range of a parameter for the law `config` (gamma_n [0, 0.98]; the plastic
-// unloading stiffness [k1, 1e4 k1]; the Hertz dissipative time [1e-9, 1e-4] s in log space; other
-// parameters their ParameterSpec range, capped at 1e3 x the default when unbounded). Throws
-// ConfigError for a name the law does not have.
+// The default search range of a parameter for the law `config`: its ParameterSpec's fit range
+// (gamma_n [0, 0.98]; the plastic unloading stiffness [k1, 1e4 k1]; the Hertz dissipative time
+// [1e-9, 1e-4] s in log space), scaled by the parameter it is relative to. Throws ConfigError for
+// a name the law does not have.
 ParameterRange DefaultParameterRange(const dem::ContactLawConfig& config, std::string_view name);
 
 // The uncertainty model is described in uncertainty.h (and docs/calibration.md); it draws no
@@ -194,13 +194,16 @@ struct FitSummary {
   std::vector<std::string> warnings;
 };
 
-// True when the fitted parameters depend on the ball's size or mass: air drag, the Hertz laws
-// (their restitution depends on impact speed through mass and radius) and Luding's plastic flow.
+// True when the fitted parameters depend on the ball's size or mass: air drag, and the laws whose
+// parameters say so (dem::BallDependence): those with a scale of their own, such as the Hertz
+// laws, whose restitution depends on impact speed through mass and radius, and Luding's plastic
+// flow.
 // The hysteretic, plastic (1986) and dashpot laws lose a fixed fraction of energy per impact
 // whatever the ball; the ball then sets only the contact duration, which moves gamma_n by less
 // than 1e-4 through gravity during contact (the analytic check measures it).
 bool ResultDependsOnBall(const FitOptions& options);
-// Why, as a phrase ("air drag", "the hertz-viscoelastic law"), or empty.
+// Why, as a phrase ("air drag", "the hertz-viscoelastic law", "the walton-braun-plastic law's
+// plastic_flow_overlap_m"), or empty.
 std::string WhyResultDependsOnBall(const FitOptions& options);
 
 // Fits the law's parameters so single-ball DEM drops (dem::SimulateDrop) reproduce the measured

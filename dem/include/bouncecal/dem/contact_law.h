@@ -11,6 +11,32 @@
 
 namespace bouncecal::dem {
 
+// What a parameter does to an impact, which decides whether a fit of drops varies it.
+enum class ParameterRole {
+  kElastic,      // sets the stiffness, hence the contact duration: held fixed unless asked for
+  kDissipative,  // sets the energy loss a drop measures: fitted by default
+  kOptIn,        // switches an extra effect on (its default switches it off): fitted only if asked
+};
+
+// Whether the law's energy loss, through this parameter, depends on the ball (its size and mass,
+// by way of the impact speed): then a fit needs the real ball, not a reference one.
+enum class BallDependence {
+  kNone,
+  kAlways,    // the law has a scale of its own (a modulus, a time, a yield pressure)
+  kWhenUsed,  // only when the parameter is non-zero or fitted (Luding's flow overlap)
+};
+
+// The range a fit searches by default, which may be narrower than the valid range (gamma_n stops
+// at 0.98: at 1 the ball never leaves the plane and the drop spends its whole time budget).
+struct FitRange {
+  double lower = 0;
+  double upper = 1;
+  bool log_scale = false;
+  // When named, lower and upper are multiples of that parameter's value (the plastic law's
+  // unloading stiffness searches [k1, 1e4 k1]).
+  std::string_view relative_to = {};
+};
+
 // A described parameter of a contact law. The descriptions make material cards, CLI options,
 // fitting bounds and export generic: nothing outside a law's own file lists its parameters.
 struct ParameterSpec {
@@ -20,6 +46,12 @@ struct ParameterSpec {
   double max_value;       // may be +infinity
   double default_value;
   std::string_view description;
+  ParameterRole role = ParameterRole::kElastic;
+  FitRange fit = {};
+  BallDependence ball_dependence = BallDependence::kNone;
+  // A shorter option name front ends offer for it ("gamma" is the command line's --gamma), shared
+  // by the laws whose parameter means the same thing; empty for none.
+  std::string_view alias = {};
 };
 
 // The parameters of a law, in a fixed order (the law's own Specs()).

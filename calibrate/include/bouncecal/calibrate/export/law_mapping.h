@@ -47,12 +47,14 @@ LawMapping MapWaltonBraun(double stiffness_n_per_m, double gamma_n, double ball_
 LawMapping MapLinearDashpot(double stiffness_n_per_m, double damping_ratio, double ball_mass_kg,
                             Engine engine);
 
-// Any law of the card, for an engine: linear-dashpot exactly, walton-braun by MapWaltonBraun, and
-// every other law with closed-form restitution and contact duration (dem ClosedForm*) by the
-// spring-dashpot with equal e and t_c at the reference impact speed, for wall (m, R) and pair
-// (m/2, R/2) contacts; the notes say whether the card's law depends on the impact speed and by how
-// much e changes over a factor of 4 in speed. Throws ConfigError for a law without those closed
-// forms (naming it and the laws that can be exported) or for bad parameters.
+// Any law of the card, for an engine, as the law's dem::EngineForm says: the engines' own
+// spring-dashpot exactly (linear-dashpot), linear hysteresis by MapWaltonBraun, and every other
+// law with closed-form restitution and contact duration (dem ClosedForm*) by the spring-dashpot
+// with equal e and t_c at the reference impact speed, for wall (m, R) and pair (m/2, R/2)
+// contacts; the notes say whether the card's law depends on the impact speed and by how much e
+// changes over a factor of 4 in speed. Throws ConfigError, in one line naming the law, its reason
+// and the laws that can be exported, for a law that states it has no engine form
+// (dem::NoEngineForm) or lacks those closed forms, and for bad parameters.
 LawMapping MapContactLaw(const dem::ContactLawConfig& law, double ball_mass_kg,
                          double ball_radius_m, double reference_impact_speed_mps, Engine engine);
 

@@ -17,7 +17,7 @@ namespace bouncecal::dem {
 // so t_c grows as v^(-1/5) for slower impacts.
 class Hertz {
  public:
-  static constexpr ContactLawKind kKind = ContactLawKind::kHertz;
+  static constexpr std::string_view kName = "hertz";
   static constexpr bool kNeedsHistory = false;
 
   struct Params {

@@ -22,7 +22,7 @@ namespace bouncecal::dem {
 //   C1 = 1.15344, C2 = 0.79826; valid while C1 A a^(2/5) v^(1/5) << 1.
 class HertzViscoelastic {
  public:
-  static constexpr ContactLawKind kKind = ContactLawKind::kHertzViscoelastic;
+  static constexpr std::string_view kName = "hertz-viscoelastic";
   static constexpr bool kNeedsHistory = false;
 
   struct Params {

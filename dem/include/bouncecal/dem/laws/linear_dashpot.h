@@ -19,7 +19,7 @@ namespace bouncecal::dem {
 // releases the ball.
 class LinearDashpot {
  public:
-  static constexpr ContactLawKind kKind = ContactLawKind::kLinearDashpot;
+  static constexpr std::string_view kName = "linear-dashpot";
   static constexpr bool kNeedsHistory = false;
 
   struct Params {
@@ -56,6 +56,11 @@ class LinearDashpot {
   ExactImpact SolveImpactExactly(double mass_kg, double gravity_mps2,
                                  double impact_speed_mps) const;
 
+  // The engines' own spring-dashpot (LAMMPS gran/hooke, LIGGGHTS hooke/stiffness).
+  EngineForm ExportForm() const {
+    return EngineSpringDashpot{.stiffness_n_per_m = params_.stiffness_n_per_m,
+                               .damping_ratio = params_.damping_ratio};
+  }
   // The damping ratio that gives restitution e without gravity: -ln e / sqrt(pi^2 + ln^2 e).
   static double DampingRatioForRestitution(double restitution);
 

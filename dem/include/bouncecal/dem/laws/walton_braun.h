@@ -19,7 +19,7 @@ namespace bouncecal::dem {
 // which is what limits the order of stepped integrators on this law.
 class WaltonBraun {
  public:
-  static constexpr ContactLawKind kKind = ContactLawKind::kWaltonBraun;
+  static constexpr std::string_view kName = "walton-braun";
   static constexpr bool kNeedsHistory = false;
 
   struct Params {
@@ -59,6 +59,12 @@ class WaltonBraun {
   // One impact on a plane under gravity g, in closed form (piecewise harmonic motion).
   ExactImpact SolveImpactExactly(double mass_kg, double gravity_mps2,
                                  double impact_speed_mps) const;
+  // Neither LAMMPS nor LIGGGHTS has this law (LIGGGHTS' hooke/hysteresis is Luding's variant):
+  // a spring-dashpot with the same e and t_c stands in.
+  EngineForm ExportForm() const {
+    return EngineLinearHysteresis{.stiffness_n_per_m = params_.stiffness_n_per_m,
+                                  .gamma_n = params_.gamma_n};
+  }
 
  private:
   Params params_;

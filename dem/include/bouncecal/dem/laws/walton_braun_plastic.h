@@ -22,7 +22,7 @@ namespace bouncecal::dem {
 // 0 the force is zero, which the closed-form duration includes.
 class WaltonBraunPlastic {
  public:
-  static constexpr ContactLawKind kKind = ContactLawKind::kWaltonBraunPlastic;
+  static constexpr std::string_view kName = "walton-braun-plastic";
   static constexpr bool kNeedsHistory = true;
 
   struct Params {
