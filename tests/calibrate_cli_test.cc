@@ -227,6 +227,60 @@ TEST(DropOptionsCli, EveryDropOptionChangesWhatSweepAndCompareSimulate) {
   fs::remove_all(folder);
 }
 
+// The same for the drops `simulate drop` runs and `calibrate` fits: only their results are
+// compared (the impacts; the fitted parameters and the analytic check), since both also echo
+// their set-up. calibrate's base has drag on, so the ball matters (without drag the linear law's
+// gamma_n does not depend on the ball, and an unchanged fit would be right).
+TEST(DropOptionsCli, EveryDropOptionChangesWhatSimulateRunsAndCalibrateFits) {
+  const fs::path folder = fs::temp_directory_path() / "bouncecal_drop_options_fit_cli";
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  const std::vector<std::pair<std::string, std::string>> variations = {
+      {"--gravity-mps2", "9.5"}, {"--drop-height-m", "0.3"},   {"--integrator", "euler"},
+      {"--time-step-s", "2e-6"}, {"--steps-per-contact", "5"}, {"--fixed-step-grid", ""},
+      {"--ball", "tennis"}};
+  struct Subcommand {
+    std::string head;
+    std::map<std::string, std::string> base;
+    std::vector<std::string> result_fields;
+  };
+  const std::vector<Subcommand> subcommands = {
+      {"simulate drop --gamma 0.3",
+       {{"--ball", "pingpong-40mm"}, {"--drop-height-m", "0.2"}},
+       {"impacts"}},
+      {"calibrate " + Sample(),
+       {{"--ball", "pingpong-40mm"}, {"--drop-height-m", "0.2"}, {"--drag", ""}},
+       {"parameters", "analytic"}},
+  };
+  for (std::size_t c = 0; c < subcommands.size(); ++c) {
+    const auto& [head, base, fields] = subcommands[c];
+    const auto run = [&](const std::map<std::string, std::string>& set, const fs::path& json) {
+      std::string text = head;
+      for (const auto& [option, value] : set) {
+        text += " " + option + (value.empty() ? "" : " " + value);
+      }
+      text += " --json " + json.string();
+      const auto result = RunBouncecal(text);
+      EXPECT_EQ(result.exit_status, 0) << text << "\n" << result.output;
+      nlohmann::json document = nlohmann::json::parse(ReadFile(json));
+      nlohmann::json results;
+      for (const auto& field : fields) results[field] = document.at(field);
+      return results;
+    };
+    const auto reference = run(base, folder / ("reference_" + std::to_string(c) + ".json"));
+    auto tried = variations;
+    if (!base.contains("--drag")) tried.emplace_back("--drag", "");
+    for (std::size_t i = 0; i < tried.size(); ++i) {
+      auto set = base;
+      set[tried[i].first] = tried[i].second;
+      const auto changed =
+          run(set, folder / (std::to_string(c) + "_" + std::to_string(i) + ".json"));
+      EXPECT_NE(changed, reference) << head << " " << tried[i].first;
+    }
+  }
+  fs::remove_all(folder);
+}
+
 // compare sets the measured arcs against drops released from the given height: it does not
 // assume one (it assumed the paper's 0.2 m).
 TEST(CompareCli, RefusesToAssumeADropHeight) {
