@@ -179,6 +179,15 @@ void BindPack(py::module_& module) {
         if (summary.stop_reason == dem::PackStopReason::kUnstable) {
           throw ConfigError(scene.source.string() + ": " + summary.message);
         }
+        if (summary.boiling) {
+          // The command exits 3 and still writes what it measured; here the result is returned
+          // with a RuntimeWarning, so a script that never reads result["boiling"] still hears
+          // that its "packing" is a boiling state.
+          const std::string text = scene.source.string() + ": " + summary.message;
+          if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) {
+            throw py::error_already_set();  // warnings turned into errors
+          }
+        }
         return ToPython(scene, summary);
       },
       py::arg("scene"), py::kw_only(), py::arg("threads") = defaults.threads,
@@ -195,7 +204,8 @@ scene: a scene file's path or a scene dict (docs/scenes.md); relative paths insi
 threads: the engine's worker threads (results are identical for any count). duration_s: the
     simulated time, overriding the scene's (0 measures the start state).
 Raises InputError for a bad scene, ConfigError when the run becomes unstable (with the
-command line's message) or an option is out of range.)doc");
+command line's message) or an option is out of range. A run that ends boiling (the command's
+exit status 3) returns its result with boiling true and a RuntimeWarning saying why.)doc");
 }
 
 }  // namespace bouncecal::python

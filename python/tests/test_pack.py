@@ -110,3 +110,32 @@ def test_a_scene_that_is_neither_a_path_nor_a_dict_is_refused():
         bouncecal.pack(42)
     with pytest.raises(bouncecal.ConfigError, match="not a finite number"):
         bouncecal.pack({**FREE_FALL, "time_step_s": float("inf")})
+
+
+def boiling_scene(step_s):
+    """40 frictionless spheres for 0.5 s: at 2e-5 s (0.86 of one contact's stability limit) they
+    never settle, at 1e-5 s they come to rest (tests/pack_cli_test.cc, WriteBoilingScene)."""
+    return {
+        "format": "bouncecal-scene/1",
+        "particles": {"count": 40, "diameter_m": 0.01,
+                      "species": [{"density_kg_per_m3": 7800}]},
+        "container": {"type": "cylinder", "radius_m": 0.03, "height_m": 0.1},
+        "insertion": {"type": "random",
+                      "region": {"type": "cylinder", "radius_m": 0.03,
+                                 "z_min_m": 0.0, "z_max_m": 0.05}},
+        "physics": {"tangential": False, "rotation": False},
+        "material": {"contact_law": {"law": "walton-braun"}},
+        "time_step_s": step_s, "duration_s": 0.5,
+        "measurement": {"band_m": [0.005, 0.02]},
+    }
+
+
+def test_a_boiling_pack_returns_its_result_with_a_runtime_warning():
+    with pytest.warns(RuntimeWarning, match="boil"):
+        result = bouncecal.pack(boiling_scene(2e-5))
+    assert result["boiling"] is True
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a settled pack warns of nothing
+        settled = bouncecal.pack(boiling_scene(1e-5))
+    assert settled["boiling"] is False
