@@ -478,9 +478,15 @@ OnsetPick PickOnset(std::span<const float> x, std::size_t search_begin, std::siz
   }
   // The level lies in the noise: where the fitted edge reaches it.
   if (start.edge_fitted && pick.edge_amplitude > 0) {
+    // The level ReferenceCrossing would have used at the edge's origin.
     const auto origin = static_cast<std::size_t>(
         std::clamp(std::ceil(pick.index), 0.0, static_cast<double>(peak_end - 1)));
-    pick.reference_level = ReferenceLevelAt(x, origin, peak_end);
+    double peak = 0;
+    for (std::size_t i = from; i < peak_end; ++i) peak = std::max(peak, double{std::fabs(x[i])});
+    const double impact_level = kReferenceFraction * peak;
+    pick.reference_level = ImpactLevelFollows(x, origin, peak_end, impact_level)
+                               ? ReferenceLevelAt(x, origin, peak_end)
+                               : impact_level;
     const double rise = std::pow(pick.reference_level / pick.edge_amplitude, 1.0 / pick.edge_power);
     pick.reference_index = pick.index + rise;
     pick.reference_sigma_samples = std::hypot(pick.sigma_samples, kReferenceShapeSamples);
