@@ -60,7 +60,7 @@ class CandidateTracker {
   // Where the sound whose rise frame n reports began: the first frame of the attack window that
   // rose by the secondary threshold over the reference.
   std::int64_t FirstRisingFrame(const NoveltyRise& band, std::int64_t n, std::ptrdiff_t k) const;
-  // Records in the open candidate a second, louder sound that began at `start` (see
+  // Records in the open candidate a second, louder sound whose rise frame n reports (see
   // Candidate::later_sound_frame).
   void NoteLaterSound(const NoveltyRise& band, std::int64_t n, std::ptrdiff_t k);
 
