@@ -72,8 +72,8 @@ TEST(CandidateTracker, NoiseAloneOpensNoCandidate) {
   EXPECT_TRUE(Track(x, 48000).empty());
 }
 
-// A precursor click 2.5 ms before an impact 20 dB louder (within the peak search, so the two are one
-// candidate; more than the 2 ms an impact takes to build up its rise): the candidate records
+// A precursor click 2.5 ms before an impact 20 dB louder (within the peak search, so the two are
+// one candidate; more than the 2 ms an impact takes to build up its rise): the candidate records
 // the impact's rise as a later, louder sound, within a frame or two of its onset, so the onset
 // locator can widen the onset's uncertainty over both. One impact alone, or the same two sounds
 // at equal level (a second hit, not a louder one), records none.
