@@ -350,7 +350,9 @@ FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
 
   std::string model = "linearised through the DEM drops at the fit: ";
   if (scatter.within_estimable) {
-    model += "per-impact scatter of eta_k about the law (sd " +
+    // The scatter beyond what the onsets' timing explains (ScatterEstimate: the excess, 0 when
+    // timing explains all of it), not the raw sd the report prints beside eta-bar.
+    model += "per-impact scatter of eta_k about the law beyond timing (sd " +
              Format("%.2g", summary.per_impact_scatter) + ", " +
              std::to_string(scatter.within_dof) + " dof, from " +
              (scatter.within_from_every_impact ? "every measured impact" : "the fitted impacts") +
