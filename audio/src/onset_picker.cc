@@ -266,11 +266,15 @@ namespace {
 // The level at which the edge through sample i is timed: kReferenceFraction of the largest sample
 // within kReferenceHorizonSamples from i on, so an impact is timed on its own first lobe even
 // where a later lobe of its ringing is larger.
+double LargestMagnitude(std::span<const float> x, std::size_t begin, std::size_t end) {
+  double largest = 0;
+  for (std::size_t i = begin; i < end; ++i) largest = std::max(largest, double{std::fabs(x[i])});
+  return largest;
+}
+
 double ReferenceLevelAt(std::span<const float> x, std::size_t i, std::size_t peak_end) {
-  const std::size_t end = std::min(peak_end, i + kReferenceHorizonSamples);
-  double local_peak = 0;
-  for (std::size_t j = i; j < end; ++j) local_peak = std::max(local_peak, double{std::fabs(x[j])});
-  return kReferenceFraction * local_peak;
+  return kReferenceFraction *
+         LargestMagnitude(x, i, std::min(peak_end, i + kReferenceHorizonSamples));
 }
 
 // Whether the impact's own level (a fraction of the window's largest sample) is reached within
@@ -291,9 +295,7 @@ std::optional<OnsetPick> ReferenceCrossing(std::span<const float> x, std::size_t
                                            std::size_t peak_end, double noise_rms) {
   peak_end = std::min(peak_end, x.size());
   if (from >= peak_end) return std::nullopt;
-  double peak = 0;
-  for (std::size_t i = from; i < peak_end; ++i) peak = std::max(peak, double{std::fabs(x[i])});
-  const double impact_level = kReferenceFraction * peak;
+  const double impact_level = kReferenceFraction * LargestMagnitude(x, from, peak_end);
   const double floor = kLobeNoiseSigmas * noise_rms;
   if (!(impact_level > 0) || impact_level < floor) return std::nullopt;
   std::size_t f = from;
@@ -481,9 +483,7 @@ OnsetPick PickOnset(std::span<const float> x, std::size_t search_begin, std::siz
     // The level ReferenceCrossing would have used at the edge's origin.
     const auto origin = static_cast<std::size_t>(
         std::clamp(std::ceil(pick.index), 0.0, static_cast<double>(peak_end - 1)));
-    double peak = 0;
-    for (std::size_t i = from; i < peak_end; ++i) peak = std::max(peak, double{std::fabs(x[i])});
-    const double impact_level = kReferenceFraction * peak;
+    const double impact_level = kReferenceFraction * LargestMagnitude(x, from, peak_end);
     pick.reference_level = ImpactLevelFollows(x, origin, peak_end, impact_level)
                                ? ReferenceLevelAt(x, origin, peak_end)
                                : impact_level;
