@@ -28,7 +28,7 @@ BASE = os.path.join(REPO, "samples", "scenes", "paper004_disks_friction_vdw.json
 # literal reading), contact-forces, or None (no local damping). hmin: van der Waals minimum gap
 # in m, None: no van der Waals. zeta: the linear dashpot's damping ratio.
 ROWS = [
-    ("literal", "literal: alpha 0.7 on all forces, h_min 0.4 nm, stop (shipped)",
+    ("literal", "literal: alpha 0.7 on all forces, h_min 0.4 nm, stop (variant scene _literal)",
      dict(scope="unbalanced-force", alpha=0.7, hmin=4e-10, zeta=0.0, stop=True)),
     ("pfc-novdw", "alpha 0.7 on all forces, no vdW, stop",
      dict(scope="unbalanced-force", alpha=0.7, hmin=None, zeta=0.0, stop=True)),
@@ -48,8 +48,30 @@ ROWS = [
      dict(scope=None, alpha=0.0, hmin=None, zeta=0.1, stop=False)),
     ("viscous-10nm", "no local damping, zeta 0.1, h_min 10 nm, no stop",
      dict(scope=None, alpha=0.0, hmin=1e-8, zeta=0.1, stop=False)),
+    ("viscous-4nm", "no local damping, zeta 0.1, h_min 4 nm, no stop",
+     dict(scope=None, alpha=0.0, hmin=4e-9, zeta=0.1, stop=False)),
+    ("viscous-10nm-stop", "**no local damping, zeta 0.1, h_min 10 nm, stop (shipped)**",
+     dict(scope=None, alpha=0.0, hmin=1e-8, zeta=0.1, stop=True)),
+    ("viscous-0.4nm-stop", "no local damping, zeta 0.1, h_min 0.4 nm, stop",
+     dict(scope=None, alpha=0.0, hmin=4e-10, zeta=0.1, stop=True)),
+    ("viscous-4nm-stop", "no local damping, zeta 0.1, h_min 4 nm, stop",
+     dict(scope=None, alpha=0.0, hmin=4e-9, zeta=0.1, stop=True)),
+    ("viscous0.05-10nm-stop", "no local damping, zeta 0.05, h_min 10 nm, stop",
+     dict(scope=None, alpha=0.0, hmin=1e-8, zeta=0.05, stop=True)),
+    ("viscous0.3-10nm-stop", "no local damping, zeta 0.3, h_min 10 nm, stop",
+     dict(scope=None, alpha=0.0, hmin=1e-8, zeta=0.3, stop=True)),
+    ("pfc0.3-novdw", "alpha 0.3 on all forces, no vdW, stop",
+     dict(scope="unbalanced-force", alpha=0.3, hmin=None, zeta=0.0, stop=True)),
+    ("pfc0.93-novdw", "alpha 0.93 on all forces (fall at 0.07 g), no vdW, stop, 0.4 s",
+     dict(scope="unbalanced-force", alpha=0.93, hmin=None, zeta=0.0, stop=True, duration=0.4)),
+    ("pfc0.93-10nm", "alpha 0.93 on all forces (fall at 0.07 g), h_min 10 nm, stop, 0.4 s",
+     dict(scope="unbalanced-force", alpha=0.93, hmin=1e-8, zeta=0.0, stop=True, duration=0.4)),
     ("frictionless-literal", "frictionless, no vdW, alpha 0.7 on all forces, stop",
      dict(scope="unbalanced-force", alpha=0.7, hmin=None, zeta=0.0, stop=True, friction=0.0)),
+    ("frictionless-viscous", "frictionless, no vdW, no local damping, zeta 0.1, stop",
+     dict(scope=None, alpha=0.0, hmin=None, zeta=0.1, stop=True, friction=0.0)),
+    ("frictionless-viscous-0.4", "frictionless, no vdW, no local damping, zeta 0.1, stop, 0.4 s",
+     dict(scope=None, alpha=0.0, hmin=None, zeta=0.1, stop=True, friction=0.0, duration=0.4)),
     ("frictionless-contact", "frictionless, no vdW, alpha 0.7 contact-only, stop",
      dict(scope="contact-forces", alpha=0.7, hmin=None, zeta=0.0, stop=True, friction=0.0)),
 ]
@@ -100,7 +122,7 @@ def run_one(args, base, change, seed):
     os.makedirs(folder, exist_ok=True)
     scene_path = os.path.join(folder, "scene.json")
     with open(scene_path, "w") as f:
-        json.dump(make_scene(base, change, seed, args.duration, "out"), f, indent=1)
+        json.dump(make_scene(base, change, seed, change.get("duration", args.duration), "out"), f, indent=1)
     summary_path = os.path.join(folder, "out", "summary.json")
     if not os.path.exists(summary_path):
         command = ["nice", "-n", str(args.nice), args.bouncecal, "pack", scene_path]

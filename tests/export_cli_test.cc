@@ -78,9 +78,14 @@ TEST_F(ExportCli, SceneAddsThePackingDeckForMpirun) {
 }
 
 TEST_F(ExportCli, TwoDimensionalSceneWithLocalDampingIsABadOptionNamingTheKey) {
-  // 2D boxes are exported (from their start positions), but the shipped paper 004 scenes use
-  // Cundall's local damping, which neither engine's hooke models have.
-  const auto scene = SourceDir() / "samples/scenes/paper004_disks_frictionless.json";
+  // 2D boxes are exported (from their start positions), but the literal reading of paper 004 uses
+  // Cundall's local damping, which neither engine's hooke models have (its van der Waals, refused
+  // first, is switched off here).
+  auto json = nlohmann::json::parse(
+      std::ifstream(SourceDir() / "samples/scenes/paper004_disks_friction_vdw_literal.json"));
+  json["physics"]["van_der_waals"] = false;
+  const fs::path scene = folder_ / "literal.json";
+  std::ofstream(scene) << json.dump();
   const auto result = RunBouncecal("export --material " + Card() + " --engine lammps --scene " +
                                    scene.string() + " -o " + (folder_ / "deck").string());
   EXPECT_EQ(result.exit_status, 3) << result.output;
