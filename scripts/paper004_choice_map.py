@@ -16,6 +16,7 @@ coordination 3.609; frictionless 0.8696. Standard library only.
 import argparse
 import csv
 import json
+import math
 import os
 import statistics
 import subprocess
@@ -139,6 +140,17 @@ def run_one(args, base, change, seed):
                 ke=summary["kinetic_energy_j"])
 
 
+def pull_off_in_weights(base, hmin):
+    """Van der Waals at contact, A R / (12 h_min^2), over the weight of one disk (a sphere's mass)."""
+    if hmin is None:
+        return "-"
+    diameter = base["particles"]["diameter_m"]
+    density = base["particles"]["species"][0]["density_kg_per_m3"]
+    weight = density * math.pi / 6 * diameter**3 * base["gravity_mps2"]
+    force = base["material"]["hamaker_j"] * (diameter / 2) / (12 * hmin**2)
+    return f"{force / weight:.3g}"
+
+
 def fmt(values, digits=3):
     values = [v for v in values if v == v]
     if not values:
@@ -162,15 +174,16 @@ def main():
     wanted = [r for r in args.rows.split(",") if r]
     rows = [r for r in ROWS if not wanted or r[0] in wanted]
     print(f"{args.seeds} seeds, {args.duration} s each; mean ± sd over the seeds\n")
-    print("| choice | area fraction (exact) | by count (paper's) | coordination | "
-          "at 0.0475 s | at 0.147 s |")
-    print("| --- | --- | --- | --- | --- | --- |")
-    print("| paper 004 | 0.8236 | 0.8236 | 3.609 | 0.6894 | 0.8236 |")
+    print("| choice | pull-off / weight | area fraction (exact) | by count (paper's) | "
+          "coordination | at 0.0475 s | at 0.147 s |")
+    print("| --- | --- | --- | --- | --- | --- | --- |")
+    print("| paper 004 | ? | 0.8236 | 0.8236 | 3.609 | 0.6894 | 0.8236 |")
     for key, label, change in rows:
         change = dict(change, key=key)
         results = [run_one(args, base, change, seed) for seed in range(1, args.seeds + 1)]
         column = lambda name: [r[name] for r in results]  # noqa: E731
-        print(f"| {label} | {fmt(column('exact'))} | {fmt(column('count'))} | "
+        print(f"| {label} | {pull_off_in_weights(base, change['hmin'])} | "
+              f"{fmt(column('exact'))} | {fmt(column('count'))} | "
               f"{fmt(column('z'), 2)} | {fmt(column('at1'))} | {fmt(column('at2'))} |",
               flush=True)
 
