@@ -92,7 +92,15 @@ TimeStepLimits CheckTimeStep(const Scene& scene, const BodyExtremes& bodies, boo
         "time_step_s = {:.3g} s exceeds {:.3g} s, the stability limit of the {}: sticking "
         "contacts will oscillate until they slide (friction caps them, so the run goes on); use "
         "at most {:.3g} s, or a softer tangential_stiffness_n_per_m, to resolve them",
-        dt, tangential.limit_s, tangential.stiffest, tangential.limit_s));
+        dt, tangential.limit_s, tangential.stiffest, kSafeFractionOfLimit * tangential.limit_s));
+  } else if (dt > kSafeFractionOfLimit * tangential.limit_s) {
+    warnings.push_back(fmt::format(
+        "time_step_s = {:.3g} s is {:.2f} of {:.3g} s, the stability limit of the {}: sticking "
+        "contacts are resolved by too few steps and slip, so packs settle denser than with a "
+        "finer step (measured 0.004-0.03 denser, mean coordination up by 0.1-1, at 0.65-0.8 of "
+        "it); at most {:.3g} s resolves them",
+        dt, dt / tangential.limit_s, tangential.limit_s, tangential.stiffest,
+        kSafeFractionOfLimit * tangential.limit_s));
   }
   return limits;
 }
