@@ -16,6 +16,12 @@ constexpr double kPeakLevelMs = 5.0;
 // Order of the linear predictor that removes ringing before picking an onset inside it: two
 // coefficients per mode, so up to 12 modes in the band (a plate's strong low modes).
 constexpr int kInnovationOrder = 24;
+// Samples per predictor coefficient in the stretch before the search it is fitted on. The
+// picker's kPickerNoiseMs give 8 at 48 kHz, where the innovation was measured; at a lower rate
+// the same milliseconds hold fewer samples (64 at 16 kHz, under the 4 per coefficient below which
+// PredictionInnovation refuses to fit), so the innovation was skipped and the onset picked on the
+// tail itself. The fit spans at least this many samples per coefficient at every rate.
+constexpr int kInnovationFitSamplesPerCoefficient = 8;
 // History kept for the picker and the peak level; longer than every window above together.
 constexpr double kHistoryS = 0.1;
 
@@ -80,9 +86,13 @@ std::optional<LocatedImpact> OnsetLocator::Locate(const Candidate& candidate) {
   for (std::int64_t i = search_begin; i < peak_end; ++i) {
     if (std::fabs(samples[i]) > std::fabs(samples[peak])) peak = i;
   }
+  std::int64_t noise_samples = frames_.Samples(kPickerNoiseMs * 1e-3);
+  if (in_ringing) {
+    noise_samples = std::max<std::int64_t>(noise_samples,
+                                           kInnovationFitSamplesPerCoefficient * kInnovationOrder);
+  }
   const std::int64_t window_begin =
-      std::max({samples.begin(), search_begin - frames_.Samples(kPickerNoiseMs * 1e-3),
-                last_peak_sample_ + 1});
+      std::max({samples.begin(), search_begin - noise_samples, last_peak_sample_ + 1});
   std::int64_t window_end = std::min(samples.end(), peak + 2);
   const auto begin_offset =
       static_cast<std::size_t>(std::max<std::int64_t>(0, search_begin - window_begin));
