@@ -289,6 +289,80 @@ bool PassesOverLouderSounds(const std::vector<Impact>& impacts, const std::vecto
   return false;
 }
 
+// Where a chain's skipped bounces would be: a chain of every other bounce of a ball of
+// restitution e times like a ball of restitution e^2 (its flights D_k = dt_2k (1 + e) shrink by
+// e^2), so its own timing cannot tell, and its eta-bar is 1 - e^4 instead of 1 - e^2 (the
+// random-impairment sweep found such sequences 0.16-0.24 off at 30-60 sigma, exit 0, where every
+// other bounce was found only by the ringing residual, which cannot make the second impact of a
+// chain). The skipped bounce of flight D_k lies at t_k + D_k / (1 + sqrt(r_k)), r_k = D_{k+1} /
+// D_k. A chain counts as one of every other bounce when unassigned sounds sit there (within
+// kSkippedBounceWindow of the flight: restitution changing by up to ~10 % from bounce to bounce
+// and onset errors of a few ms) in at least two flights and more often than the chain's own
+// span's rate of other sounds makes probable (kSkippedBounceChance: the probability that random
+// sounds fill as many of those windows).
+constexpr double kSkippedBounceWindow = 0.03;
+constexpr double kSkippedBounceChance = 1e-4;
+
+struct SkippedBounces {
+  int found = 0;    // flights with a sound where the skipped bounce would be
+  int flights = 0;  // flights tested
+  double chance = 1;
+};
+
+SkippedBounces FindSkippedBounces(const std::vector<Impact>& impacts, const std::vector<bool>& free,
+                                  const std::vector<int>& members) {
+  SkippedBounces result;
+  const auto onset = [&](int index) { return impacts[static_cast<size_t>(index)].onset_s; };
+  const std::size_t m = members.size();
+  if (m < 3) return result;
+  const double span_s = onset(members.back()) - onset(members.front());
+  int others = 0;
+  std::size_t next_member = 0;
+  for (int i = members.front(); i <= members.back(); ++i) {
+    if (i == members[next_member]) {
+      ++next_member;
+      continue;
+    }
+    ++others;
+  }
+  if (others == 0 || !(span_s > 0)) return result;
+  const double rate_hz = others / span_s;
+  // P(at least `found` of the windows hold a random sound), each with its own probability: the
+  // distribution of the count by dynamic programming over the flights.
+  std::vector<double> count_probability = {1.0};
+  for (std::size_t k = 0; k + 2 < m; ++k) {
+    const double flight_s = onset(members[k + 1]) - onset(members[k]);
+    const double next_flight_s = onset(members[k + 2]) - onset(members[k + 1]);
+    const double ratio = next_flight_s / flight_s;
+    if (!(ratio > 0 && ratio < 1)) continue;
+    const double skipped_s = onset(members[k]) + flight_s / (1 + std::sqrt(ratio));
+    const double half_width_s = kSkippedBounceWindow * flight_s;
+    bool heard = false;
+    for (int i = members[k] + 1; i < members[k + 1] && !heard; ++i) {
+      heard = free[static_cast<size_t>(i)] && std::fabs(onset(i) - skipped_s) <= half_width_s;
+    }
+    result.found += heard ? 1 : 0;
+    ++result.flights;
+    const double q = -std::expm1(-2.0 * rate_hz * half_width_s);
+    std::vector<double> next(count_probability.size() + 1, 0.0);
+    for (std::size_t c = 0; c < count_probability.size(); ++c) {
+      next[c] += count_probability[c] * (1 - q);
+      next[c + 1] += count_probability[c] * q;
+    }
+    count_probability = std::move(next);
+  }
+  double tail = 0;
+  for (std::size_t c = static_cast<std::size_t>(result.found); c < count_probability.size(); ++c) {
+    tail += count_probability[c];
+  }
+  result.chance = std::min(1.0, tail);
+  return result;
+}
+
+bool SkipsBounces(const SkippedBounces& skipped) {
+  return skipped.found >= 2 && skipped.chance < kSkippedBounceChance;
+}
+
 // Impacts after the first of a short sequence may be this much louder than it: loudness falls
 // with impact speed, but not monotonically (alessia rimbalzi's 4th impact is 2-4 dB louder than
 // the 1st-3rd).
@@ -399,6 +473,7 @@ SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
   const auto worse = [](const Chain& a, const Chain& b) { return ChainFinder::Better(b, a); };
   std::priority_queue<Chain, std::vector<Chain>, decltype(worse)> heap(worse);
   std::vector<int> assigned_in_epoch(static_cast<size_t>(n), 0);  // 0 = still free
+  std::vector<std::string> skipped_bounce_reason(static_cast<size_t>(n));
   int epoch = 0;
   for (int first = 0; first < n; ++first) heap.push(finder.BestFrom(first));
   while (!heap.empty()) {
@@ -424,6 +499,23 @@ SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
       Chain again = finder.BestFrom(first);
       again.epoch = epoch;
       heap.push(std::move(again));
+      continue;
+    }
+    if (const SkippedBounces skipped = FindSkippedBounces(impacts, free, best.members);
+        SkipsBounces(skipped)) {
+      // No sequence rather than one with the restitution squared; its impacts are kept out of
+      // every other chain, whose subchains would skip the same bounces (chains that looked at
+      // them are tracked again).
+      ++epoch;
+      for (int member : best.members) {
+        free[static_cast<size_t>(member)] = false;
+        assigned_in_epoch[static_cast<size_t>(member)] = epoch;
+        skipped_bounce_reason[static_cast<size_t>(member)] = Format(
+            "in a chain of every other bounce (sounds where %.0f of its %.0f skipped bounces "
+            "would be, by chance with probability %.1e): its restitution would be e^2, so no "
+            "sequence",
+            skipped.found, skipped.flights, skipped.chance);
+      }
       continue;
     }
     ++epoch;
@@ -465,7 +557,7 @@ SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
   for (int i = 0; i < n; ++i) {
     if (result.sequence_of_impact[static_cast<size_t>(i)]) continue;
     const double t = impacts[static_cast<size_t>(i)].onset_s;
-    std::string reason;
+    std::string reason = skipped_bounce_reason[static_cast<size_t>(i)];
     for (size_t s = 0; s < result.sequences.size() && reason.empty(); ++s) {
       const auto& members = result.sequences[s].impact_indices;
       if (i > members.front() && i < members.back()) {
