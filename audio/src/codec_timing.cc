@@ -26,12 +26,12 @@ struct FamilyTiming {
 };
 
 constexpr std::array<FamilyTiming, 6> kMeasured = {{
-    {"aac", 96000, 1432e-6, 967e-6},
-    {"mp3", 96000, 737e-6, 74e-6},
-    {"vorbis", 90000, 605e-6, 361e-6},
-    {"opus", 48000, 1410e-6, 252e-6},
-    {"g711", 0, 39e-6, 39e-6},
-    {"adpcm", 0, 224e-6, 224e-6},
+    {"aac", 96000, 1413e-6, 967e-6},
+    {"mp3", 96000, 719e-6, 96e-6},
+    {"vorbis", 90000, 598e-6, 361e-6},
+    {"opus", 48000, 1410e-6, 248e-6},
+    {"g711", 0, 41e-6, 41e-6},
+    {"adpcm", 0, 220e-6, 220e-6},
 }};
 
 std::string_view FamilyOf(const std::string& codec) {
