@@ -41,7 +41,7 @@ void PrintParameters(std::FILE* out, const calibrate::FitSummary& summary,
 }
 
 std::string BallLine(const calibrate::FitSummary& summary, const calibrate::FitOptions& options) {
-  if (!options.ball) {
+  if (!options.ball_given) {
     return fmt::format(
         "ball: not given ({} loses the same fraction of energy whatever the ball, so the drops "
         "simulate the 1 cm steel reference; give --ball for a card)",
@@ -49,12 +49,13 @@ std::string BallLine(const calibrate::FitSummary& summary, const calibrate::FitO
   }
   return fmt::format("ball: {}d = {} m, m = {:.4g} kg",
                      options.ball_preset.empty() ? "" : options.ball_preset + ", ",
-                     FormatValue(options.ball->diameter_m), options.ball->MassKg());
+                     FormatValue(options.drop.ball.diameter_m), options.drop.ball.MassKg());
 }
 
 std::string DropHeightLine(const calibrate::FitSummary& summary,
                            const calibrate::FitOptions& options) {
-  if (options.drop_height_m) return "drop height " + FormatValue(*options.drop_height_m) + " m";
+  if (const auto height = options.GivenDropHeightM())
+    return "drop height " + FormatValue(*height) + " m";
   std::string apexes;
   for (const auto& sequence : summary.sequences) {
     if (sequence.measured.bounce_height_m.empty()) continue;
@@ -98,8 +99,8 @@ void PrintFit(std::FILE* out, const calibrate::FitSummary& summary,
                  ? fmt::format(" (first {} impacts)", options.first_n)
                  : "");
   fmt::print(out, "{}\n{}; integrator {}{}\n", BallLine(summary, options),
-             DropHeightLine(summary, options), dem::ToString(options.integrator),
-             options.drag.enabled ? ", air drag on" : "");
+             DropHeightLine(summary, options), dem::ToString(options.drop.integrator),
+             options.drop.drag.enabled ? ", air drag on" : "");
   const double scatter = summary.uncertainty.per_impact_scatter;
   for (size_t r = 0; r < summary.sequences.size(); ++r) {
     const auto& measured = summary.sequences[r].measured;
@@ -139,7 +140,7 @@ void PrintFit(std::FILE* out, const calibrate::FitSummary& summary,
         "step vs {:.4f} exact), gravity during contact {:+.4f}{}\n",
         check.difference, check.time_step_gamma_error, check.energy_loss_mean_chosen_step,
         check.energy_loss_mean_exact, check.model_gamma_error,
-        options.drag.enabled ? fmt::format(", air drag {:+.4f}", check.drag_gamma_error) : "");
+        options.drop.drag.enabled ? fmt::format(", air drag {:+.4f}", check.drag_gamma_error) : "");
     fmt::print(out, "  {}\n", check.message);
   } else {
     fmt::print(out, "analytic check: not applicable ({})\n", check.message);
@@ -212,7 +213,7 @@ std::vector<PlotPanel> FitPlotPanels(const calibrate::FitSummary& summary,
     PlotSeries simulated{sequence.source + " fitted drop", {},  {}, {},
                          SeriesStyle::kLinesPoints,        true};
     // The simulation starts at the measured impact it stands for (1 with an unknown height).
-    const int offset = options.drop_height_m ? 0 : 1;
+    const int offset = options.drop_height_given ? 0 : 1;
     for (size_t j = 0; j < sequence.simulated.energy_loss.size(); ++j) {
       simulated.x.push_back(static_cast<double>(j + 1 + offset));
       simulated.y.push_back(sequence.simulated.energy_loss[j]);

@@ -48,17 +48,18 @@ std::string InputsSection(const CalibrationReportContent& content) {
   }
   html += "</table>\n";
   const auto& options = content.options;
-  const dem::Ball ball = options.ball.value_or(calibrate::ReferenceBall());
+  const dem::Ball& ball = options.drop.ball;  // ReferenceBall() when not given
   html += fmt::format(
       "<p>Ball: {}d = {} m, m = {} kg; drop height {}; gravity {} m/s&sup2;; integrator "
       "{}{}.</p>\n",
       options.ball_preset.empty() ? "" : EscapeHtml(options.ball_preset) + ", ",
       Number(ball.diameter_m), Number(ball.MassKg(), 4),
-      options.drop_height_m ? Number(*options.drop_height_m) + " m"
-                            : "not given (e_1 and eta_1 not computed; drops start from the first "
-                              "measured bounce apex)",
-      Number(options.gravity_mps2), dem::ToString(options.integrator),
-      options.drag.enabled ? ", air drag on" : "");
+      options.drop_height_given
+          ? Number(options.drop.drop_height_m) + " m"
+          : "not given (e_1 and eta_1 not computed; drops start from the first "
+            "measured bounce apex)",
+      Number(options.drop.gravity_mps2), dem::ToString(options.drop.integrator),
+      options.drop.drag.enabled ? ", air drag on" : "");
   html += "<p>Command: <code>" + EscapeHtml(content.command_line) + "</code></p>\n";
   return html;
 }
@@ -111,7 +112,7 @@ std::string ImpactsSection(const CalibrationReportContent& content) {
                 true);
     // Row k describes impact k (1-based) and the flight after it.
     const std::size_t rows = measured.intervals_s.size() + 1;
-    const int offset = content.options.drop_height_m ? 0 : 1;
+    const int offset = content.options.drop_height_given ? 0 : 1;
     for (std::size_t k = 0; k < rows; ++k) {
       std::vector<std::string> cells(9);
       cells[0] = std::to_string(k + 1);

@@ -50,7 +50,8 @@ TEST_F(CalibrateSharedRecordings, TennisBallWithoutAHeightGivesTheFormulasGamma)
 TEST_F(CalibrateSharedRecordings, TennisBallBelowTheGivenHeightIsRefused) {
   // Its first rebound rises to about 1.46 m: a 0.2 m drop height cannot be right.
   auto options = calibrate::FitOptions{};
-  options.drop_height_m = 0.2;
+  options.drop.drop_height_m = 0.2;
+  options.drop_height_given = true;
   const auto sequences = calibrate::LoadSequences({Recording("fr4nci-rimbalzi/Audio.wav")});
   try {
     calibrate::Fit(sequences, options);

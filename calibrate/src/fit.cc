@@ -32,15 +32,34 @@ std::string Format(const char* format, double value) {
   return text;
 }
 
+bool SameBall(const dem::Ball& a, const dem::Ball& b) {
+  return a.diameter_m == b.diameter_m && a.density_kg_per_m3 == b.density_kg_per_m3 &&
+         a.mass_kg == b.mass_kg;
+}
+
 void ValidateOptions(const FitOptions& options) {
-  options.law.Validate();
-  if (options.drop_height_m && !(*options.drop_height_m > 0 && *options.drop_height_m < 1e3)) {
-    throw ConfigError("drop height must be in (0, 1000) m, got " +
-                      std::to_string(*options.drop_height_m));
+  const dem::DropOptions& drop = options.drop;
+  drop.law.Validate();
+  // A value set without its flag would otherwise be silently replaced by the reference ball or
+  // by the first bounce's apex.
+  if (!options.ball_given && !SameBall(drop.ball, ReferenceBall())) {
+    throw ConfigError(
+        "FitOptions: drop.ball is set but ball_given is false; set ball_given = true for the "
+        "experiment's ball, or leave drop.ball at ReferenceBall()");
   }
-  if (!(options.gravity_mps2 > 0) || !std::isfinite(options.gravity_mps2)) {
+  if (!options.drop_height_given && drop.drop_height_m != dem::DropOptions{}.drop_height_m) {
+    throw ConfigError(
+        "FitOptions: drop.drop_height_m is set but drop_height_given is false; set "
+        "drop_height_given = true for the release height, or leave drop.drop_height_m at its "
+        "default");
+  }
+  if (options.drop_height_given && !(drop.drop_height_m > 0 && drop.drop_height_m < 1e3)) {
+    throw ConfigError("drop height must be in (0, 1000) m, got " +
+                      std::to_string(drop.drop_height_m));
+  }
+  if (!(drop.gravity_mps2 > 0) || !std::isfinite(drop.gravity_mps2)) {
     throw ConfigError("gravity must be a positive number of m/s^2, got " +
-                      std::to_string(options.gravity_mps2));
+                      std::to_string(drop.gravity_mps2));
   }
   if (options.first_n < 1) {
     throw ConfigError("--first must be at least 1, got " + std::to_string(options.first_n));
@@ -56,27 +75,19 @@ void ValidateOptions(const FitOptions& options) {
         "uncertainty options: confidence level in (0, 1), threads >= 1 and drop-height "
         "uncertainty >= 0 m are required");
   }
-  if (u.drop_height_uncertainty_m > 0 && !options.drop_height_m) {
+  if (u.drop_height_uncertainty_m > 0 && !options.drop_height_given) {
     throw ConfigError(
         "a drop-height uncertainty needs a drop height; give --drop-height-m or drop "
         "--drop-height-uncertainty-m");
   }
-  if (options.ball) {
-    options.ball->Validate();
+  if (options.ball_given) {
+    drop.ball.Validate();
   } else if (const auto why = WhyResultDependsOnBall(options); !why.empty()) {
     throw ConfigError("the ball is needed: with " + why +
                       " the fitted damping depends on its size and mass; give --ball NAME (e.g. "
                       "steel-10mm, pingpong-40mm, tennis) or --diameter-m with --density-kg-per-m3 "
                       "or --mass-kg");
   }
-}
-
-// The ball every drop simulates: the given one, or the reference where the result does not
-// depend on it.
-FitOptions WithSimulatedBall(const FitOptions& options) {
-  FitOptions result = options;
-  if (!result.ball) result.ball = ReferenceBall();
-  return result;
 }
 
 // Sequences with identical impact times are one recording given twice (the same file, a copy,
@@ -119,7 +130,7 @@ class Problem {
       : options_(options), map_(map), plans_(std::move(plans)) {}
 
   double Evaluate(std::span<const double> x) const {
-    const auto law = map_.Apply(options_.law, x);
+    const auto law = map_.Apply(options_.drop.law, x);
     double chi_square = 0;
     for (const auto& plan : plans_) {
       chi_square += internal::SequenceResidual(
@@ -168,7 +179,7 @@ double SimulatedEnergyLossMean(const FitOptions& options, const dem::ContactLawC
                                const SequencePlan& plan, bool drag,
                                std::optional<dem::Integrator> integrator = {}) {
   FitOptions variant = options;
-  variant.drag.enabled = drag && options.drag.enabled;
+  variant.drop.drag.enabled = drag && options.drop.drag.enabled;
   return internal::MeanOfFirst(
       internal::SimulateSequence(law, plan, variant, integrator).energy_loss, options.first_n);
 }
@@ -232,7 +243,7 @@ AnalyticCheck MakeCheck(const FitOptions& options, const dem::ContactLawConfig& 
                 "(%.4f), gravity during contact (%.4f)%s and the uncertainty of eta-bar explain",
                 check.difference, check.warning ? "more than" : "within", check.explained,
                 check.time_step_gamma_error, check.model_gamma_error,
-                options.drag.enabled
+                options.drop.drag.enabled
                     ? (", air drag (" + Format("%.4f", check.drag_gamma_error) + ")").c_str()
                     : "");
   check.message = text;
@@ -261,9 +272,9 @@ AnalyticCheck MakeCheck(const FitOptions& options, const dem::ContactLawConfig& 
 ModelAdequacy TestAdequacy(const FitOptions& options, const dem::ContactLawConfig& law,
                            const std::vector<SequencePlan>& plans, bool comparing) {
   internal::AdequacyContext context;
-  context.law = std::string(dem::ToString(options.law.kind));
+  context.law = std::string(dem::ToString(options.drop.law.kind));
   FitOptions without_drag = options;
-  without_drag.drag.enabled = false;
+  without_drag.drop.drag.enabled = false;
   context.speed_dependent = ResultDependsOnBall(without_drag);
   context.comparing = comparing;
   return internal::TestSpeedTrend(internal::EveryImpactResiduals(plans, options, law), context);
@@ -321,15 +332,25 @@ dem::Ball ReferenceBall() {
   return ball;
 }
 
+std::optional<dem::Ball> FitOptions::GivenBall() const {
+  if (!ball_given) return std::nullopt;
+  return drop.ball;
+}
+
+std::optional<double> FitOptions::GivenDropHeightM() const {
+  if (!drop_height_given) return std::nullopt;
+  return drop.drop_height_m;
+}
+
 std::string WhyResultDependsOnBall(const FitOptions& options) {
-  if (options.drag.enabled) return "air drag";
-  const auto kind = options.law.kind;
+  if (options.drop.drag.enabled) return "air drag";
+  const auto kind = options.drop.law.kind;
   const std::string law(dem::ToString(kind));
   const auto& fitted = options.fitted_parameters;
   for (const auto& spec : dem::ParameterSpecs(kind)) {
     if (spec.ball_dependence == dem::BallDependence::kAlways) return "the " + law + " law";
     const bool used = std::find(fitted.begin(), fitted.end(), spec.name) != fitted.end() ||
-                      options.law.Get(spec.name) != 0;
+                      options.drop.law.Get(spec.name) != 0;
     if (spec.ball_dependence == dem::BallDependence::kWhenUsed && used)
       return "the " + law + " law's " + std::string(spec.name);
   }
@@ -342,22 +363,21 @@ bool ResultDependsOnBall(const FitOptions& options) {
 
 namespace {
 
-FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOptions& given,
+FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOptions& options,
                         bool comparing) {
   const auto start = Clock::now();
-  ValidateOptions(given);
+  ValidateOptions(options);
   if (input.empty()) throw ConfigError("no recording to fit; give at least one");
-  const FitOptions options = WithSimulatedBall(given);
   FitSummary summary;
-  summary.ball_given = given.ball.has_value();
+  summary.ball_given = options.ball_given;
   summary.objective = options.objective;
   const auto sequences = DistinctSequences(input, summary.warnings, summary.uncertainty.duplicates);
   const ParameterMap map(options);
-  const auto plans = MakePlans(sequences, options, options.drop_height_m);
+  const auto plans = MakePlans(sequences, options, options.GivenDropHeightM());
   const Problem problem(options, map, plans);
 
   auto minimized =
-      problem.Minimize(MainMinimizerOptions(options, map.size()), map.StartPoint(options.law));
+      problem.Minimize(MainMinimizerOptions(options, map.size()), map.StartPoint(options.drop.law));
   // Timing noise alone would weight the recordings of a joint mean-energy-loss fit by how clean
   // their onsets are, whereas their eta-bar differ by the impacts' own scatter: refit once with
   // each recording's eta-bar variance including the per-impact scatter (and the between-recording
@@ -381,12 +401,12 @@ FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOpt
   summary.stop_message = minimized.message;
   summary.evaluations = minimized.evaluations;
   summary.residual = problem.Evaluate(minimized.x);  // timing-weighted, whatever the pass
-  summary.law = map.Apply(options.law, minimized.x);
+  summary.law = map.Apply(options.drop.law, minimized.x);
 
   for (size_t i = 0; i < map.size(); ++i) {
     FittedParameter parameter;
     parameter.name = map.names()[i];
-    for (const auto& spec : dem::ParameterSpecs(options.law.kind)) {
+    for (const auto& spec : dem::ParameterSpecs(options.drop.law.kind)) {
       if (spec.name == parameter.name) parameter.unit = spec.unit;
     }
     parameter.range = map.ranges()[i];
@@ -415,7 +435,7 @@ FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOpt
                          (simulated.onsets_s.empty() ? 0.0 : simulated.onsets_s.front());
     for (double onset : simulated.onsets_s) fit.simulated_onsets_s.push_back(onset + shift);
     RestitutionOptions restitution;
-    restitution.gravity_mps2 = options.gravity_mps2;
+    restitution.gravity_mps2 = options.drop.gravity_mps2;
     restitution.first_n = options.first_n;
     restitution.drop_height_m = plan.release_height_m;
     if (fit.simulated_onsets_s.size() >= 2) {
@@ -496,11 +516,12 @@ LawComparison CompareLaws(const std::vector<MeasuredSequence>& sequences,
     {
       try {
         FitOptions law_options = options;
-        law_options.law = {fittable[i], {}};
+        law_options.drop.law = {fittable[i], {}};
         // Keep the parameters this law shares by name (stiffness_n_per_m for the linear laws).
+        const auto& given = options.drop.law.parameters;
         for (const auto& spec : dem::ParameterSpecs(fittable[i])) {
-          if (auto it = options.law.parameters.find(spec.name); it != options.law.parameters.end())
-            law_options.law.parameters[it->first] = it->second;
+          if (auto it = given.find(spec.name); it != given.end())
+            law_options.drop.law.parameters[it->first] = it->second;
         }
         law_options.fitted_parameters.clear();
         law_options.ranges.clear();

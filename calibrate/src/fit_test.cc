@@ -41,20 +41,21 @@ dem::ContactLawConfig WaltonBraun(double gamma) {
 // The simulated recordings below are dropped from 0.2 m, and most tests tell the fit so.
 FitOptions QuickOptions() {
   FitOptions options;
-  options.drop_height_m = 0.2;
+  options.drop.drop_height_m = 0.2;
+  options.drop_height_given = true;
   options.analytic_check = false;
   return options;
 }
 
 TEST(FitOptions, DefaultsAreValidAndAssumeNoExperimentGeometry) {
   const FitOptions options;
-  EXPECT_NO_THROW(options.law.Validate());
+  EXPECT_NO_THROW(options.drop.law.Validate());
   EXPECT_EQ(options.objective, FitObjective::kMeanEnergyLoss);
   EXPECT_EQ(options.first_n, 3);
   // Neither the drop height nor the ball is assumed: an experiment states them.
-  EXPECT_FALSE(options.drop_height_m.has_value());
-  EXPECT_FALSE(options.ball.has_value());
-  EXPECT_EQ(DefaultFittedParameters(options.law.kind), std::vector<std::string>{"gamma_n"});
+  EXPECT_FALSE(options.GivenDropHeightM().has_value());
+  EXPECT_FALSE(options.GivenBall().has_value());
+  EXPECT_EQ(DefaultFittedParameters(options.drop.law.kind), std::vector<std::string>{"gamma_n"});
 }
 
 // What the fitter varies, where it searches and when it needs the ball come from the laws'
@@ -91,18 +92,18 @@ TEST(Fit, DefaultsComeFromTheLawsParameterSpecs) {
   EXPECT_THROW(DefaultParameterRange(wb, "damping_ratio"), ConfigError);
 
   FitOptions options;
-  options.law = plastic;
+  options.drop.law = plastic;
   EXPECT_EQ(WhyResultDependsOnBall(options), "");
   options.fitted_parameters = {"unloading_stiffness_n_per_m", "plastic_flow_overlap_m"};
   EXPECT_EQ(WhyResultDependsOnBall(options),
             "the walton-braun-plastic law's plastic_flow_overlap_m");
   options.fitted_parameters.clear();
-  options.law.parameters["plastic_flow_overlap_m"] = 1e-5;
+  options.drop.law.parameters["plastic_flow_overlap_m"] = 1e-5;
   EXPECT_EQ(WhyResultDependsOnBall(options),
             "the walton-braun-plastic law's plastic_flow_overlap_m");
-  options.law = {ContactLawKind::kHertz, {}};
+  options.drop.law = {ContactLawKind::kHertz, {}};
   EXPECT_EQ(WhyResultDependsOnBall(options), "the hertz law");
-  options.law = {ContactLawKind::kLinearDashpot, {}};
+  options.drop.law = {ContactLawKind::kLinearDashpot, {}};
   EXPECT_EQ(WhyResultDependsOnBall(options), "");
 }
 
@@ -145,7 +146,7 @@ TEST(Fit, IntervalsObjectiveWithTimingNoiseCoversTheTruthWithItsInterval) {
 
 TEST(Fit, UnknownDropHeightStartsFromTheFirstMeasuredApex) {
   auto options = QuickOptions();
-  options.drop_height_m.reset();  // the default
+  options.drop_height_given = false;  // the default
   options.objective = FitObjective::kIntervals;
   // The recording was dropped from 0.35 m, which the fit is not told.
   const auto recording = SimulatedRecording(WaltonBraun(0.3), 10, 5e-6, 3, 0.35);
@@ -200,8 +201,8 @@ TEST(Fit, AnalyticCheckWarnsWhenOneGammaCannotDescribeTheImpacts) {
 
 TEST(Fit, RecoversTheHertzViscoelasticDissipativeTime) {
   auto options = QuickOptions();
-  options.ball = ReferenceBall();  // the simulated recording's ball
-  options.law = {dem::ContactLawKind::kHertzViscoelastic, {}};
+  options.ball_given = true;  // drop.ball, the reference, is the simulated recording's ball
+  options.drop.law = {dem::ContactLawKind::kHertzViscoelastic, {}};
   options.objective = FitObjective::kIntervals;
   const dem::ContactLawConfig truth{dem::ContactLawKind::kHertzViscoelastic,
                                     {{"dissipative_time_s", 3e-6}}};
@@ -215,7 +216,7 @@ TEST(Fit, RecoversTheHertzViscoelasticDissipativeTime) {
 
 TEST(CompareLaws, PrefersTheLawThatGeneratedTheData) {
   auto options = QuickOptions();
-  options.ball = ReferenceBall();
+  options.ball_given = true;  // drop.ball is the reference
   options.objective = FitObjective::kIntervals;
   const dem::ContactLawConfig truth{dem::ContactLawKind::kHertzViscoelastic,
                                     {{"dissipative_time_s", 3e-6}}};
@@ -232,10 +233,10 @@ TEST(CompareLaws, PrefersTheLawThatGeneratedTheData) {
 
 TEST(CompareLaws, EachLawTakesTheParametersItHasByName) {
   auto options = QuickOptions();
-  options.ball = ReferenceBall();
+  options.ball_given = true;  // drop.ball is the reference
   options.uncertainty.threads = 1;
-  options.law = {dem::ContactLawKind::kWaltonBraun,
-                 {{"stiffness_n_per_m", 2e7}, {"effective_modulus_pa", 5e10}}};
+  options.drop.law = {dem::ContactLawKind::kWaltonBraun,
+                      {{"stiffness_n_per_m", 2e7}, {"effective_modulus_pa", 5e10}}};
   const auto recording = SimulatedRecording(WaltonBraun(0.4), 6, 10e-6, 2);
   const auto comparison = CompareLaws(
       {recording}, {dem::ContactLawKind::kWaltonBraun, dem::ContactLawKind::kHertzViscoelastic},
@@ -251,7 +252,7 @@ TEST(CompareLaws, EachLawTakesTheParametersItHasByName) {
 
 TEST(CompareLaws, ResultsAreIndependentOfThreads) {
   auto options = QuickOptions();
-  options.ball = ReferenceBall();
+  options.ball_given = true;  // drop.ball is the reference
   const auto recording = SimulatedRecording(WaltonBraun(0.5), 6, 10e-6, 2);
   const std::vector<dem::ContactLawKind> laws = {dem::ContactLawKind::kWaltonBraun,
                                                  dem::ContactLawKind::kLinearDashpot};
@@ -324,7 +325,8 @@ TEST(Fit, FirstReboundAboveTheDropHeightIsRefusedWithBothHeights) {
   EXPECT_NE(message.find("first rebound rose to 0.269"), std::string::npos) << message;
   EXPECT_NE(message.find("drop height 0.2 m"), std::string::npos) << message;
   EXPECT_NE(message.find("omit --drop-height-m"), std::string::npos) << message;
-  options.drop_height_m = 0.5;
+  options.drop.drop_height_m = 0.5;
+  options.drop_height_given = true;
   EXPECT_NO_THROW(Fit({recording}, options));
 }
 
@@ -349,16 +351,32 @@ TEST(Fit, BallIsNeededWhereTheResultDependsOnIt) {
   // walton-braun loses a fixed fraction of energy whatever the ball: the reference ball serves.
   const auto summary = Fit({recording}, options);
   EXPECT_FALSE(summary.ball_given);
-  options.law = {dem::ContactLawKind::kHertzViscoelastic, {}};
+  options.drop.law = {dem::ContactLawKind::kHertzViscoelastic, {}};
   EXPECT_NE(MessageOf({recording}, options).find("--ball"), std::string::npos);
-  options.law = {dem::ContactLawKind::kWaltonBraun, {}};
-  options.drag.enabled = true;
+  options.drop.law = {dem::ContactLawKind::kWaltonBraun, {}};
+  options.drop.drag.enabled = true;
   EXPECT_NE(MessageOf({recording}, options).find("air drag"), std::string::npos);
-  options.ball = ReferenceBall();
+  options.ball_given = true;  // drop.ball is the reference
   EXPECT_TRUE(Fit({recording}, options).ball_given);
   EXPECT_TRUE(ResultDependsOnBall(options));
-  options.drag.enabled = false;
+  options.drop.drag.enabled = false;
   EXPECT_FALSE(ResultDependsOnBall(options));
+}
+
+TEST(Fit, ABallOrHeightSetWithoutItsGivenFlagIsRefused) {
+  // Otherwise the fit would silently simulate the reference ball, or start from the first apex.
+  const auto recording = SimulatedRecording(WaltonBraun(0.4), 6, 10e-6, 2);
+  auto options = QuickOptions();
+  options.drop.ball.diameter_m = 0.02;
+  EXPECT_NE(MessageOf({recording}, options).find("ball_given"), std::string::npos);
+  options.ball_given = true;
+  EXPECT_NO_THROW(Fit({recording}, options));
+  options = QuickOptions();
+  options.drop_height_given = false;
+  options.drop.drop_height_m = 0.5;
+  EXPECT_NE(MessageOf({recording}, options).find("drop_height_given"), std::string::npos);
+  options.drop_height_given = true;
+  EXPECT_NO_THROW(Fit({recording}, options));
 }
 
 TEST(Fit, IntervalReflectsTheImpactToImpactScatter) {
@@ -425,21 +443,21 @@ TEST(Fit, DropHeightUncertaintyWidensTheInterval) {
   // d eta_1 / d h0 = e^2 / h0 = 2.1 per m; 5 mm move eta_1 by 0.0105 and eta-bar (first 3) by
   // a third of it; d gamma / d eta = 0.98, so sigma(gamma) from the height alone is 0.0034.
   EXPECT_NEAR(uncertain.parameters[0].standard_error, 0.0034, 0.0006);
-  options.drop_height_m.reset();
+  options.drop_height_given = false;
   EXPECT_NE(MessageOf({recording}, options).find("--drop-height-m"), std::string::npos);
 }
 
 TEST(Fit, AnalyticCheckNamesAirDragAsDragNotGravity) {
   auto options = QuickOptions();
   options.analytic_check = true;
-  options.ball = FitOptions{}.ball.value_or(ReferenceBall());
-  options.ball->diameter_m = 0.04;  // a ping-pong ball: drag matters
-  options.ball->mass_kg = 0.0027;
+  options.drop.ball.diameter_m = 0.04;  // a ping-pong ball: drag matters
+  options.drop.ball.mass_kg = 0.0027;
+  options.ball_given = true;
   const auto recording = SimulatedRecording(WaltonBraun(0.1), 6, 10e-6, 3);
   const auto without = Fit({recording}, options).check;
   EXPECT_EQ(without.drag_gamma_error, 0.0);
   EXPECT_EQ(without.message.find("drag"), std::string::npos) << without.message;
-  options.drag.enabled = true;
+  options.drop.drag.enabled = true;
   const auto with = Fit({recording}, options).check;
   // A 2.7 g ball loses ~1 % of its energy to drag over a 0.2 m fall and rise: d gamma ~ 0.01.
   EXPECT_GT(std::abs(with.drag_gamma_error), 1e-3);
