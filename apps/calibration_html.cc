@@ -198,17 +198,21 @@ std::string CheckSection(const CalibrationReportContent& content) {
   if (!check.applicable) {
     return html + "<p>Not applicable: " + EscapeHtml(check.message) + ".</p>\n";
   }
-  html +=
-      "<p>For the Walton&ndash;Braun law eta = 2 gamma_n / (1 + gamma_n) (Walton &amp; Braun "
-      "1986), so the measured mean energy loss gives gamma_n without any simulation.</p>\n"
-      "<table class=\"facts\">\n";
+  const std::string& name = check.parameter;
+  html += check.parameter == "gamma_n"
+              ? "<p>For the Walton&ndash;Braun law eta = 2 gamma_n / (1 + gamma_n) (Walton &amp; "
+                "Braun 1986), so the measured mean energy loss gives gamma_n without any "
+                "simulation.</p>\n"
+              : "<p>Closed form: " + EscapeHtml(check.formula) + " (gravity-free), inverted for " +
+                    EscapeHtml(name) + " without any simulation.</p>\n";
+  html += "<table class=\"facts\">\n";
   html += Row({"measured eta-bar", Number(check.energy_loss_mean, 4) + " &plusmn; " +
                                        Number(check.energy_loss_mean_uncertainty, 2)});
-  html += Row({"gamma_n from the formula", Number(check.gamma_n_formula, 5)});
-  html += Row({"gamma_n fitted", Number(check.gamma_n_fitted, 5)});
+  html += Row({EscapeHtml(name) + " from the formula", Number(check.formula_value, 5)});
+  html += Row({EscapeHtml(name) + " fitted", Number(check.fitted_value, 5)});
   html += Row({"fitted &minus; formula", Number(check.difference, 4)});
-  html += Row({"time-step error in gamma_n", Number(check.time_step_gamma_error, 4)});
-  html += Row({"formula model error in gamma_n", Number(check.model_gamma_error, 4)});
+  html += Row({"time-step error in " + EscapeHtml(name), Number(check.time_step_error, 4)});
+  html += Row({"formula model error in " + EscapeHtml(name), Number(check.model_error, 4)});
   html += "</table>\n";
   html += fmt::format("<p class=\"{}\">{}{}</p>\n", check.warning ? "warning" : "",
                       check.warning ? "Warning: " : "", EscapeHtml(check.message));

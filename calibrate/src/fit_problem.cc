@@ -77,6 +77,11 @@ SequencePlan MakePlan(const MeasuredSequence& sequence, const FitOptions& option
   return plan;
 }
 
+double IncomingSpeedMps(const SequencePlan& plan, int impact, double gravity_mps2) {
+  if (impact == 0) return std::sqrt(2 * gravity_mps2 * plan.release_height_m);
+  return gravity_mps2 * plan.measured.intervals_s[static_cast<size_t>(impact - 1)] / 2;
+}
+
 ParameterMap::ParameterMap(const FitOptions& options) {
   names_ = options.fitted_parameters.empty() ? DefaultFittedParameters(options.drop.law.kind)
                                              : options.fitted_parameters;

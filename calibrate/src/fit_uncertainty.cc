@@ -201,9 +201,7 @@ std::vector<AdequacyImpact> EveryImpactResiduals(const std::vector<SequencePlan>
     const auto& measured = whole.measured;
     for (size_t j = 0; j < measured.energy_loss.size() && j < simulated.size(); ++j) {
       const int k = measured.impact_index[j];
-      const double speed =
-          k == 0 ? std::sqrt(2 * options.drop.gravity_mps2 * whole.release_height_m)
-                 : options.drop.gravity_mps2 * measured.intervals_s[static_cast<size_t>(k - 1)] / 2;
+      const double speed = IncomingSpeedMps(whole, k, options.drop.gravity_mps2);
       impacts.push_back({static_cast<int>(r), speed, measured.energy_loss[j] - simulated[j],
                          std::pow(measured.energy_loss_uncertainty[j], 2)});
     }

@@ -152,7 +152,7 @@ MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& optio
   }
   if (summary.check.applicable) {
     fit.energy_loss_mean_measured = summary.check.energy_loss_mean;
-    fit.gamma_n_formula = summary.check.gamma_n_formula;
+    if (summary.check.parameter == "gamma_n") fit.gamma_n_formula = summary.check.formula_value;
   }
   for (const auto& path : recordings) {
     RecordingReference reference{path.filename().string(), FileContentHash(path)};

@@ -138,28 +138,39 @@ struct FittedParameter {
   double standard_error = 0;      // linearised, in the parameter's unit
 };
 
-// The paper's closed form eta = 2 gamma / (1 + gamma) (walton-braun only) beside the fit.
+// The fitted damping parameter beside the value the law's closed form gives for the measured
+// eta-bar. walton-braun: the paper's eta = 2 gamma / (1 + gamma). Every other law with one fitted
+// parameter: 1 - e^2 of its gravity-free closed-form restitution (dem::ClosedFormRestitutionOf)
+// averaged over the measured incoming speeds of the impacts in eta-bar (speed-dependent laws
+// differ from impact to impact), inverted over the parameter's search range by bisection. Not
+// applicable with several fitted parameters, or where the closed form cannot reach eta-bar.
 struct AnalyticCheck {
   bool applicable = false;
+  std::string parameter;        // the fitted parameter checked, e.g. "gamma_n"
+  std::string formula;          // "eta = 2 gamma / (1 + gamma)", or which law's closed form
   double energy_loss_mean = 0;  // measured eta-bar (first N), averaged over the recordings
   double energy_loss_mean_uncertainty = 0;
-  double gamma_n_formula = 0;  // eta-bar / (2 - eta-bar)
-  double gamma_n_fitted = 0;
-  double difference = 0;  // fitted - formula
-  // Measured, not tabulated, each converted to gamma through d eta / d gamma = 2 / (1 + gamma)^2:
+  double formula_value = 0;  // the parameter the closed form gives for eta-bar
+  double fitted_value = 0;
+  double difference = 0;  // fitted - formula, in the parameter's unit
+  // Measured, not tabulated, each converted to the parameter: walton-braun's through d eta /
+  // d gamma = 2 / (1 + gamma)^2 (its errors are ~1e-4 small), the other laws' through the closed
+  // form's inverse (an approximate closed form can be off by per cent, beyond first order):
   //  - time-step error: the fitted law simulated without drag with the chosen integrator and step
-  //    against the exact (event-driven) integrator;
-  //  - model error of the formula: the exact drop against the formula (gravity during contact,
-  //    onsets vs the centre of the contact);
+  //    against the reference path: exact (event-driven) where the law has one, else RK4 at eight
+  //    times the steps per contact;
+  //  - model error of the closed form: the reference drop against it (gravity during contact,
+  //    onsets vs the centre of the contact, impact speeds from flight times);
   //  - air drag (with drag on): the chosen-step drop with drag against the same drop without it.
   double energy_loss_mean_chosen_step = 0;  // as fitted (drag included when on)
-  double energy_loss_mean_exact = 0;        // exact integrator, no drag
-  double energy_loss_formula = 0;
-  double time_step_gamma_error = 0;
-  double model_gamma_error = 0;  // gravity during contact
-  double drag_gamma_error = 0;   // 0 without drag
-  // |time-step| + |model| + |drag| + 2 sigma of gamma_n_formula (sigma from the uncertainty
-  // model's eta-bar uncertainty) + the optimiser's tolerance.
+  double energy_loss_mean_exact = 0;        // reference path, no drag
+  std::string reference_integrator;         // "exact", or "rk4" where the law has no exact path
+  double energy_loss_formula = 0;           // the closed form's eta-bar at the fitted value
+  double time_step_error = 0;
+  double model_error = 0;  // gravity during contact
+  double drag_error = 0;   // 0 without drag
+  // |time-step| + |model| + |drag| + 2 sigma of formula_value (sigma from the uncertainty model's
+  // eta-bar uncertainty) + the optimiser's tolerance (1e-4 of the search range).
   double explained = 0;
   bool warning = false;
   std::string message;  // one sentence; a warning names the next step
