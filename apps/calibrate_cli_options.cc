@@ -83,17 +83,11 @@ calibrate::FitOptions CalibrateCliOptions::FitOptions(bool validate_law) const {
     throw ConfigError(fmt::format("--max-evaluations must be >= 1, got {}", max_evaluations));
   }
   calibrate::FitOptions options;
-  options.law = cli.drop.Law(validate_law);
-  options.fitted_parameters = cli.fitted;
-  options.ball = cli.drop.GivenBall();
+  options.drop = cli.drop.DropSetUp(validate_law);
+  options.ball_given = cli.drop.GivenBall().has_value();
+  options.drop_height_given = cli.drop.drop_height_m.has_value();
   options.ball_preset = cli.drop.ball_preset;
-  options.drop_height_m = cli.drop.drop_height_m;
-  options.gravity_mps2 = cli.drop.gravity_mps2;
-  options.drag = cli.drop.Drag();
-  options.integrator = cli.drop.Integrator();
-  options.time_step_s = cli.drop.time_step_s;
-  options.steps_per_contact = cli.drop.steps_per_contact;
-  options.fixed_step_grid = cli.drop.fixed_step_grid;
+  options.fitted_parameters = cli.fitted;
   options.objective = calibrate::FitObjectiveFromString(cli.objective);
   options.first_n = cli.first_n;
   options.max_intervals = cli.max_intervals;

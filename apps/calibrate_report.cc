@@ -41,7 +41,7 @@ void PrintParameters(std::FILE* out, const calibrate::FitSummary& summary,
 }
 
 std::string BallLine(const calibrate::FitSummary& summary, const calibrate::FitOptions& options) {
-  if (!options.ball) {
+  if (!options.ball_given) {
     return fmt::format(
         "ball: not given ({} loses the same fraction of energy whatever the ball, so the drops "
         "simulate the 1 cm steel reference; give --ball for a card)",
@@ -49,12 +49,13 @@ std::string BallLine(const calibrate::FitSummary& summary, const calibrate::FitO
   }
   return fmt::format("ball: {}d = {} m, m = {:.4g} kg",
                      options.ball_preset.empty() ? "" : options.ball_preset + ", ",
-                     FormatValue(options.ball->diameter_m), options.ball->MassKg());
+                     FormatValue(options.drop.ball.diameter_m), options.drop.ball.MassKg());
 }
 
 std::string DropHeightLine(const calibrate::FitSummary& summary,
                            const calibrate::FitOptions& options) {
-  if (options.drop_height_m) return "drop height " + FormatValue(*options.drop_height_m) + " m";
+  if (const auto height = options.GivenDropHeightM())
+    return "drop height " + FormatValue(*height) + " m";
   std::string apexes;
   for (const auto& sequence : summary.sequences) {
     if (sequence.measured.bounce_height_m.empty()) continue;
@@ -98,8 +99,8 @@ void PrintFit(std::FILE* out, const calibrate::FitSummary& summary,
                  ? fmt::format(" (first {} impacts)", options.first_n)
                  : "");
   fmt::print(out, "{}\n{}; integrator {}{}\n", BallLine(summary, options),
-             DropHeightLine(summary, options), dem::ToString(options.integrator),
-             options.drag.enabled ? ", air drag on" : "");
+             DropHeightLine(summary, options), dem::ToString(options.drop.integrator),
+             options.drop.drag.enabled ? ", air drag on" : "");
   const double scatter = summary.uncertainty.per_impact_scatter;
   for (size_t r = 0; r < summary.sequences.size(); ++r) {
     const auto& measured = summary.sequences[r].measured;
@@ -129,17 +130,30 @@ void PrintFit(std::FILE* out, const calibrate::FitSummary& summary,
   fmt::print(out, "  implied first impact: e = {:.4f}, eta = {:.4f}\n", summary.implied_restitution,
              summary.implied_energy_loss);
   const auto& check = summary.check;
-  if (check.applicable) {
+  if (check.applicable && check.parameter == "gamma_n") {
     fmt::print(out, "analytic check (eta = 2 gamma / (1 + gamma)):\n");
     fmt::print(out, "  measured eta-bar = {:.4f} +- {:.2g} -> gamma_n = eta/(2 - eta) = {:.4f}\n",
-               check.energy_loss_mean, check.energy_loss_mean_uncertainty, check.gamma_n_formula);
+               check.energy_loss_mean, check.energy_loss_mean_uncertainty, check.formula_value);
     fmt::print(
         out,
         "  fitted - formula = {:+.4f}; time-step error {:+.4f} (eta-bar {:.4f} with this "
         "step vs {:.4f} exact), gravity during contact {:+.4f}{}\n",
-        check.difference, check.time_step_gamma_error, check.energy_loss_mean_chosen_step,
-        check.energy_loss_mean_exact, check.model_gamma_error,
-        options.drag.enabled ? fmt::format(", air drag {:+.4f}", check.drag_gamma_error) : "");
+        check.difference, check.time_step_error, check.energy_loss_mean_chosen_step,
+        check.energy_loss_mean_exact, check.model_error,
+        options.drop.drag.enabled ? fmt::format(", air drag {:+.4f}", check.drag_error) : "");
+    fmt::print(out, "  {}\n", check.message);
+  } else if (check.applicable) {
+    fmt::print(out, "analytic check ({}):\n", check.formula);
+    fmt::print(out, "  measured eta-bar = {:.4f} +- {:.2g} -> {} = {:.6g}\n",
+               check.energy_loss_mean, check.energy_loss_mean_uncertainty, check.parameter,
+               check.formula_value);
+    fmt::print(
+        out,
+        "  fitted - closed form = {:+.4g}; time-step error {:+.4g} (eta-bar {:.4f} with this "
+        "step vs {:.4f} {}), closed-form model error {:+.4g}{}\n",
+        check.difference, check.time_step_error, check.energy_loss_mean_chosen_step,
+        check.energy_loss_mean_exact, check.reference_integrator, check.model_error,
+        options.drop.drag.enabled ? fmt::format(", air drag {:+.4g}", check.drag_error) : "");
     fmt::print(out, "  {}\n", check.message);
   } else {
     fmt::print(out, "analytic check: not applicable ({})\n", check.message);
@@ -212,7 +226,7 @@ std::vector<PlotPanel> FitPlotPanels(const calibrate::FitSummary& summary,
     PlotSeries simulated{sequence.source + " fitted drop", {},  {}, {},
                          SeriesStyle::kLinesPoints,        true};
     // The simulation starts at the measured impact it stands for (1 with an unknown height).
-    const int offset = options.drop_height_m ? 0 : 1;
+    const int offset = options.drop_height_given ? 0 : 1;
     for (size_t j = 0; j < sequence.simulated.energy_loss.size(); ++j) {
       simulated.x.push_back(static_cast<double>(j + 1 + offset));
       simulated.y.push_back(sequence.simulated.energy_loss[j]);
@@ -241,7 +255,9 @@ std::vector<PlotPanel> FitPlotPanels(const calibrate::FitSummary& summary,
     const double x_max = energy.series.empty() || energy.series.front().x.empty()
                              ? 3.0
                              : energy.series.front().x.back();
-    energy.series.push_back({"formula 2 gamma/(1+gamma) at the fitted gamma_n",
+    energy.series.push_back({summary.check.parameter == "gamma_n"
+                                 ? "formula 2 gamma/(1+gamma) at the fitted gamma_n"
+                                 : "closed form at the fitted " + summary.check.parameter,
                              {1.0, x_max},
                              {summary.check.energy_loss_formula, summary.check.energy_loss_formula},
                              {},
@@ -273,7 +289,8 @@ void PlotFit(const std::filesystem::path& target, const calibrate::FitSummary& s
 
 std::optional<PlotPanel> GammaEtaPanel(const calibrate::FitSummary& summary) {
   const auto& check = summary.check;
-  if (!check.applicable) return std::nullopt;
+  // The curve is walton-braun's; other laws' closed forms depend on more than their parameter.
+  if (!check.applicable || check.parameter != "gamma_n") return std::nullopt;
   PlotPanel panel;
   panel.title = "Analytic check: energy loss vs damping, eta = 2 gamma_n / (1 + gamma_n)";
   panel.x_label = "damping gamma_n (1)";
@@ -291,7 +308,7 @@ std::optional<PlotPanel> GammaEtaPanel(const calibrate::FitSummary& summary) {
   PlotSeries measured;
   measured.title = "measured eta-bar (1 sigma) at the formula's gamma_n";
   measured.style = SeriesStyle::kErrorBars;
-  measured.x = {check.gamma_n_formula};
+  measured.x = {check.formula_value};
   measured.y = {check.energy_loss_mean};
   measured.y_error = {check.energy_loss_mean_uncertainty};
   panel.series.push_back(std::move(measured));
@@ -300,7 +317,7 @@ std::optional<PlotPanel> GammaEtaPanel(const calibrate::FitSummary& summary) {
   fitted.style = SeriesStyle::kPoints;
   fitted.point_type = 9;
   fitted.point_size = 1.6;
-  fitted.x = {check.gamma_n_fitted};
+  fitted.x = {check.fitted_value};
   fitted.y = {check.energy_loss_mean_chosen_step};
   panel.series.push_back(std::move(fitted));
   panel.x_range = std::make_pair(0.0, 1.0);

@@ -48,17 +48,18 @@ std::string InputsSection(const CalibrationReportContent& content) {
   }
   html += "</table>\n";
   const auto& options = content.options;
-  const dem::Ball ball = options.ball.value_or(calibrate::ReferenceBall());
+  const dem::Ball& ball = options.drop.ball;  // ReferenceBall() when not given
   html += fmt::format(
       "<p>Ball: {}d = {} m, m = {} kg; drop height {}; gravity {} m/s&sup2;; integrator "
       "{}{}.</p>\n",
       options.ball_preset.empty() ? "" : EscapeHtml(options.ball_preset) + ", ",
       Number(ball.diameter_m), Number(ball.MassKg(), 4),
-      options.drop_height_m ? Number(*options.drop_height_m) + " m"
-                            : "not given (e_1 and eta_1 not computed; drops start from the first "
-                              "measured bounce apex)",
-      Number(options.gravity_mps2), dem::ToString(options.integrator),
-      options.drag.enabled ? ", air drag on" : "");
+      options.drop_height_given
+          ? Number(options.drop.drop_height_m) + " m"
+          : "not given (e_1 and eta_1 not computed; drops start from the first "
+            "measured bounce apex)",
+      Number(options.drop.gravity_mps2), dem::ToString(options.drop.integrator),
+      options.drop.drag.enabled ? ", air drag on" : "");
   html += "<p>Command: <code>" + EscapeHtml(content.command_line) + "</code></p>\n";
   return html;
 }
@@ -111,7 +112,7 @@ std::string ImpactsSection(const CalibrationReportContent& content) {
                 true);
     // Row k describes impact k (1-based) and the flight after it.
     const std::size_t rows = measured.intervals_s.size() + 1;
-    const int offset = content.options.drop_height_m ? 0 : 1;
+    const int offset = content.options.drop_height_given ? 0 : 1;
     for (std::size_t k = 0; k < rows; ++k) {
       std::vector<std::string> cells(9);
       cells[0] = std::to_string(k + 1);
@@ -197,17 +198,21 @@ std::string CheckSection(const CalibrationReportContent& content) {
   if (!check.applicable) {
     return html + "<p>Not applicable: " + EscapeHtml(check.message) + ".</p>\n";
   }
-  html +=
-      "<p>For the Walton&ndash;Braun law eta = 2 gamma_n / (1 + gamma_n) (Walton &amp; Braun "
-      "1986), so the measured mean energy loss gives gamma_n without any simulation.</p>\n"
-      "<table class=\"facts\">\n";
+  const std::string& name = check.parameter;
+  html += check.parameter == "gamma_n"
+              ? "<p>For the Walton&ndash;Braun law eta = 2 gamma_n / (1 + gamma_n) (Walton &amp; "
+                "Braun 1986), so the measured mean energy loss gives gamma_n without any "
+                "simulation.</p>\n"
+              : "<p>Closed form: " + EscapeHtml(check.formula) + " (gravity-free), inverted for " +
+                    EscapeHtml(name) + " without any simulation.</p>\n";
+  html += "<table class=\"facts\">\n";
   html += Row({"measured eta-bar", Number(check.energy_loss_mean, 4) + " &plusmn; " +
                                        Number(check.energy_loss_mean_uncertainty, 2)});
-  html += Row({"gamma_n from the formula", Number(check.gamma_n_formula, 5)});
-  html += Row({"gamma_n fitted", Number(check.gamma_n_fitted, 5)});
+  html += Row({EscapeHtml(name) + " from the formula", Number(check.formula_value, 5)});
+  html += Row({EscapeHtml(name) + " fitted", Number(check.fitted_value, 5)});
   html += Row({"fitted &minus; formula", Number(check.difference, 4)});
-  html += Row({"time-step error in gamma_n", Number(check.time_step_gamma_error, 4)});
-  html += Row({"formula model error in gamma_n", Number(check.model_gamma_error, 4)});
+  html += Row({"time-step error in " + EscapeHtml(name), Number(check.time_step_error, 4)});
+  html += Row({"formula model error in " + EscapeHtml(name), Number(check.model_error, 4)});
   html += "</table>\n";
   html += fmt::format("<p class=\"{}\">{}{}</p>\n", check.warning ? "warning" : "",
                       check.warning ? "Warning: " : "", EscapeHtml(check.message));

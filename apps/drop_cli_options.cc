@@ -227,9 +227,9 @@ dem::AirDrag DropCliOptions::Drag() const {
   return air;
 }
 
-dem::DropOptions DropCliOptions::DropSetUp() const {
+dem::DropOptions DropCliOptions::DropSetUp(bool validate_law) const {
   dem::DropOptions drop;
-  drop.law = Law();
+  drop.law = Law(validate_law);
   drop.ball = Ball();
   drop.drop_height_m = DropHeightM();
   drop.gravity_mps2 = gravity_mps2;

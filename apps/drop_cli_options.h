@@ -77,8 +77,9 @@ struct DropCliOptions {
   dem::AirDrag Drag() const;
   // The drop set-up every option above describes, in one place so no subcommand can leave one
   // out (sweep once ignored --drag): ball (Ball()), DropHeightM(), gravity, drag, integrator,
-  // time step or steps per contact, step grid, and the validated Law().
-  dem::DropOptions DropSetUp() const;
+  // time step or steps per contact, step grid, and Law(validate_law). Under kAsGiven an absent
+  // ball or height comes out as the reference one; calibrate records what was given beside it.
+  dem::DropOptions DropSetUp(bool validate_law = true) const;
 
  private:
   Geometry geometry_ = Geometry::kPaperDefaults;

@@ -28,7 +28,8 @@ struct SweepCliOptions {
 // The format of --json (docs/json.md).
 constexpr const char* kSweepFormat = "bouncecal-sweep/1";
 
-void Plot(const SweepCliOptions& cli, const calibrate::SweepSummary& summary) {
+void Plot(const SweepCliOptions& cli, const calibrate::SweepOptions& options,
+          const calibrate::SweepSummary& summary) {
   PlotPanel panel{"Simulated energy loss vs " + cli.parameter + " (" +
                       std::string(dem::ToString(cli.drop.LawKind())) +
                       ", h0 = " + fmt::format("{:g}", cli.drop.DropHeightM()) + " m)",
@@ -54,12 +55,17 @@ void Plot(const SweepCliOptions& cli, const calibrate::SweepSummary& summary) {
   }
   panel.series = {first, mean};
   if (summary.points.front().analytic_energy_loss) {
-    PlotSeries analytic{"analytic 2 gamma / (1 + gamma)", {}, {}, {}, SeriesStyle::kLines, false};
+    PlotSeries analytic{"closed form, first impact", {}, {}, {}, SeriesStyle::kLines, false};
     const double lo = summary.points.front().value, hi = summary.points.back().value;
+    dem::ContactLawConfig law = options.drop.law;
     for (int i = 0; i <= 100; ++i) {
-      const double gamma = lo + (hi - lo) * i / 100.0;
-      analytic.x.push_back(gamma);
-      analytic.y.push_back(2 * gamma / (1 + gamma));
+      const double value = lo + (hi - lo) * i / 100.0;
+      law.parameters[options.parameter] = value;
+      const auto eta =
+          calibrate::ClosedFormEnergyLoss(law, options.drop.ball, summary.first_impact_speed_mps);
+      if (!eta) continue;
+      analytic.x.push_back(value);
+      analytic.y.push_back(*eta);
     }
     panel.series.push_back(analytic);
   }
@@ -121,7 +127,7 @@ void Run(SweepCliOptions& cli) {
                                   "\n");
   }
   if (!cli.plot.empty()) {
-    Plot(cli, summary);
+    Plot(cli, options, summary);
     fmt::print(out, "plot written to {}\n", cli.plot.string());
   }
 }

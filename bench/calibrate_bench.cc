@@ -50,9 +50,11 @@ void Calibrate(const std::vector<std::filesystem::path>& inputs, calibrate::FitO
 // height the synthetic recordings were made with.
 calibrate::FitOptions CardOptions(bool drop_height_known) {
   calibrate::FitOptions options;
-  options.ball = calibrate::FindBallPreset("steel-10mm").ToBall();
+  options.drop.ball = calibrate::FindBallPreset("steel-10mm").ToBall();
+  options.ball_given = true;
   options.ball_preset = "steel-10mm";
-  if (drop_height_known) options.drop_height_m = 0.2;
+  options.drop.drop_height_m = 0.2;
+  options.drop_height_given = drop_height_known;
   return options;
 }
 

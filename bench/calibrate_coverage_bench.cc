@@ -43,7 +43,8 @@ calibrate::FitOptions Options(const Row& row) {
   options.first_n = row.first_n;
   options.analytic_check = false;
   options.uncertainty.threads = 1;
-  if (row.known_height) options.drop_height_m = 0.2;
+  options.drop.drop_height_m = 0.2;  // unused unless given
+  options.drop_height_given = row.known_height;
   return options;
 }
 

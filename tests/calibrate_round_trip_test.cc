@@ -64,7 +64,8 @@ TEST(CalibrateRoundTrip, WaltonBraunGammaComesBackFromASynthesizedRecording) {
   EXPECT_NEAR(sequence.impacts.front().onset_s, trip.true_onsets_s.front(), 1e-4);
 
   calibrate::FitOptions options;  // the paper's method: eta-bar of the first 3, h0 = 0.2 m
-  options.drop_height_m = 0.2;
+  options.drop.drop_height_m = 0.2;
+  options.drop_height_given = true;
   const auto summary = calibrate::Fit({sequence}, options);
   const auto& fitted = summary.parameters.front();
   // Tolerance 2e-3 on gamma: the fit's drops use velocity Verlet at the default 50 steps per
@@ -74,7 +75,7 @@ TEST(CalibrateRoundTrip, WaltonBraunGammaComesBackFromASynthesizedRecording) {
   // the intervals) move eta-bar by < 1e-4 each, i.e. < 1e-4 in gamma. 2e-3 is twice their sum
   // plus margin for the reverb tail raising the floor under the later impacts.
   EXPECT_NEAR(fitted.value, gamma, 2e-3);
-  EXPECT_NEAR(fitted.value + summary.check.time_step_gamma_error, gamma, 1e-3)
+  EXPECT_NEAR(fitted.value + summary.check.time_step_error, gamma, 1e-3)
       << "the measured time-step error should explain most of the bias";
   EXPECT_FALSE(summary.check.warning) << summary.check.message;
   std::filesystem::remove(trip.wav);
@@ -90,10 +91,12 @@ TEST(CalibrateRoundTrip, HertzViscoelasticDissipativeTimeComesBackFromTheWholeSe
   ASSERT_GE(sequence.impacts.size(), 4u);
 
   calibrate::FitOptions options;
-  options.law = {dem::ContactLawKind::kHertzViscoelastic, {}};
-  options.ball = calibrate::ReferenceBall();  // the simulated drop's ball (dem::Ball defaults)
+  options.drop.law = {dem::ContactLawKind::kHertzViscoelastic, {}};
+  // The simulated drop's ball: drop.ball's default, calibrate::ReferenceBall().
+  options.ball_given = true;
   // From 0.4 m the first impacts come at 2.8 m/s, so the sequence spans a wider speed range.
-  options.drop_height_m = 0.4;
+  options.drop.drop_height_m = 0.4;
+  options.drop_height_given = true;
   options.objective = calibrate::FitObjective::kIntervals;
   const auto summary = calibrate::Fit({sequence}, options);
   // 3 %: the speed dependence is weak (e ~ v^(1/5)), so A is set mostly by the mean loss; the

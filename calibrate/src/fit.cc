@@ -5,9 +5,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <string>
 
+#include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
 #include "bouncecal/worker_pool.h"
 #include "fit_problem.h"
@@ -32,15 +34,34 @@ std::string Format(const char* format, double value) {
   return text;
 }
 
+bool SameBall(const dem::Ball& a, const dem::Ball& b) {
+  return a.diameter_m == b.diameter_m && a.density_kg_per_m3 == b.density_kg_per_m3 &&
+         a.mass_kg == b.mass_kg;
+}
+
 void ValidateOptions(const FitOptions& options) {
-  options.law.Validate();
-  if (options.drop_height_m && !(*options.drop_height_m > 0 && *options.drop_height_m < 1e3)) {
-    throw ConfigError("drop height must be in (0, 1000) m, got " +
-                      std::to_string(*options.drop_height_m));
+  const dem::DropOptions& drop = options.drop;
+  drop.law.Validate();
+  // A value set without its flag would otherwise be silently replaced by the reference ball or
+  // by the first bounce's apex.
+  if (!options.ball_given && !SameBall(drop.ball, ReferenceBall())) {
+    throw ConfigError(
+        "FitOptions: drop.ball is set but ball_given is false; set ball_given = true for the "
+        "experiment's ball, or leave drop.ball at ReferenceBall()");
   }
-  if (!(options.gravity_mps2 > 0) || !std::isfinite(options.gravity_mps2)) {
+  if (!options.drop_height_given && drop.drop_height_m != dem::DropOptions{}.drop_height_m) {
+    throw ConfigError(
+        "FitOptions: drop.drop_height_m is set but drop_height_given is false; set "
+        "drop_height_given = true for the release height, or leave drop.drop_height_m at its "
+        "default");
+  }
+  if (options.drop_height_given && !(drop.drop_height_m > 0 && drop.drop_height_m < 1e3)) {
+    throw ConfigError("drop height must be in (0, 1000) m, got " +
+                      std::to_string(drop.drop_height_m));
+  }
+  if (!(drop.gravity_mps2 > 0) || !std::isfinite(drop.gravity_mps2)) {
     throw ConfigError("gravity must be a positive number of m/s^2, got " +
-                      std::to_string(options.gravity_mps2));
+                      std::to_string(drop.gravity_mps2));
   }
   if (options.first_n < 1) {
     throw ConfigError("--first must be at least 1, got " + std::to_string(options.first_n));
@@ -56,27 +77,19 @@ void ValidateOptions(const FitOptions& options) {
         "uncertainty options: confidence level in (0, 1), threads >= 1 and drop-height "
         "uncertainty >= 0 m are required");
   }
-  if (u.drop_height_uncertainty_m > 0 && !options.drop_height_m) {
+  if (u.drop_height_uncertainty_m > 0 && !options.drop_height_given) {
     throw ConfigError(
         "a drop-height uncertainty needs a drop height; give --drop-height-m or drop "
         "--drop-height-uncertainty-m");
   }
-  if (options.ball) {
-    options.ball->Validate();
+  if (options.ball_given) {
+    drop.ball.Validate();
   } else if (const auto why = WhyResultDependsOnBall(options); !why.empty()) {
     throw ConfigError("the ball is needed: with " + why +
                       " the fitted damping depends on its size and mass; give --ball NAME (e.g. "
                       "steel-10mm, pingpong-40mm, tennis) or --diameter-m with --density-kg-per-m3 "
                       "or --mass-kg");
   }
-}
-
-// The ball every drop simulates: the given one, or the reference where the result does not
-// depend on it.
-FitOptions WithSimulatedBall(const FitOptions& options) {
-  FitOptions result = options;
-  if (!result.ball) result.ball = ReferenceBall();
-  return result;
 }
 
 // Sequences with identical impact times are one recording given twice (the same file, a copy,
@@ -119,7 +132,7 @@ class Problem {
       : options_(options), map_(map), plans_(std::move(plans)) {}
 
   double Evaluate(std::span<const double> x) const {
-    const auto law = map_.Apply(options_.law, x);
+    const auto law = map_.Apply(options_.drop.law, x);
     double chi_square = 0;
     for (const auto& plan : plans_) {
       chi_square += internal::SequenceResidual(
@@ -168,25 +181,123 @@ double SimulatedEnergyLossMean(const FitOptions& options, const dem::ContactLawC
                                const SequencePlan& plan, bool drag,
                                std::optional<dem::Integrator> integrator = {}) {
   FitOptions variant = options;
-  variant.drag.enabled = drag && options.drag.enabled;
+  variant.drop.drag.enabled = drag && options.drop.drag.enabled;
   return internal::MeanOfFirst(
       internal::SimulateSequence(law, plan, variant, integrator).energy_loss, options.first_n);
 }
 
-AnalyticCheck MakeCheck(const FitOptions& options, const dem::ContactLawConfig& law,
-                        const std::vector<SequencePlan>& plans,
+// The incoming speeds of the impacts in a recording's measured eta-bar (its first N energy
+// losses), where the closed forms of speed-dependent laws are taken.
+std::vector<double> EnergyLossMeanSpeeds(const SequencePlan& plan, const FitOptions& options) {
+  std::vector<double> speeds;
+  const auto& measured = plan.measured;
+  for (size_t j = 0; j < measured.energy_loss.size() && static_cast<int>(j) < options.first_n; ++j)
+    speeds.push_back(
+        internal::IncomingSpeedMps(plan, measured.impact_index[j], options.drop.gravity_mps2));
+  return speeds;
+}
+
+// eta-bar of the law's closed form with `name` = value, averaged over each recording's speeds
+// and then over the recordings, as the measured eta-bar is; nothing where the law has no closed
+// form or the value is not a valid law.
+std::optional<double> ClosedFormEnergyLossMean(const dem::ContactLawConfig& law,
+                                               const std::string& name, double value,
+                                               const dem::Ball& ball,
+                                               const std::vector<std::vector<double>>& speeds) {
+  dem::ContactLawConfig at = law;
+  at.parameters[name] = value;
+  std::optional<dem::ContactLaw> built;
+  try {
+    built = dem::MakeContactLaw(at);
+  } catch (const ConfigError&) {
+    return std::nullopt;
+  }
+  double sum = 0;
+  for (const auto& recording : speeds) {
+    double recording_sum = 0;
+    for (double speed : recording) {
+      const auto e = dem::ClosedFormRestitutionOf(*built, ball.MassKg(), ball.RadiusM(), speed);
+      if (!e) return std::nullopt;
+      recording_sum += 1 - *e * *e;
+    }
+    sum += recording_sum / static_cast<double>(recording.size());
+  }
+  return sum / static_cast<double>(speeds.size());
+}
+
+// The parameter's value in `range` at which `eta_bar` equals `target`: the first crossing from
+// the lower end on a grid of 64 steps (in log space for a log range), refined by bisection; the
+// first, because an approximate closed form may turn back beyond its validity (the Ramirez series
+// of hertz-viscoelastic rises to e = 1 again at large damping). Nothing without a crossing.
+std::optional<double> InvertOverRange(const std::function<std::optional<double>(double)>& eta_bar,
+                                      const ParameterRange& range, double target) {
+  const auto to_value = [&](double u) {
+    return range.log_scale ? range.lower * std::pow(range.upper / range.lower, u)
+                           : range.lower + u * (range.upper - range.lower);
+  };
+  constexpr int kGrid = 64;
+  auto previous = eta_bar(to_value(0));
+  if (!previous) return std::nullopt;
+  for (int k = 1; k <= kGrid; ++k) {
+    double a = static_cast<double>(k - 1) / kGrid, b = static_cast<double>(k) / kGrid;
+    const auto next = eta_bar(to_value(b));
+    if (!next) return std::nullopt;
+    if ((*previous - target) * (*next - target) <= 0) {
+      const bool rising = *next > *previous;
+      for (int i = 0; i < 100 && b - a > 1e-14; ++i) {
+        const double middle = (a + b) / 2;
+        const auto value = eta_bar(to_value(middle));
+        if (!value) return std::nullopt;
+        ((*value < target) == rising ? a : b) = middle;
+      }
+      return to_value((a + b) / 2);
+    }
+    previous = next;
+  }
+  return std::nullopt;
+}
+
+// d eta_bar / d parameter at value by a central difference inside the range (one-sided at an
+// edge), steps of 1e-6 of the range (relative for a log range).
+std::optional<double> SlopeAt(const std::function<std::optional<double>(double)>& eta_bar,
+                              const ParameterRange& range, double value) {
+  const double step = range.log_scale ? value * 1e-6 * std::log(range.upper / range.lower)
+                                      : 1e-6 * (range.upper - range.lower);
+  const double a = std::max(range.lower, value - step), b = std::min(range.upper, value + step);
+  const auto fa = eta_bar(a), fb = eta_bar(b);
+  if (!fa || !fb || !(b > a)) return std::nullopt;
+  return (*fb - *fa) / (b - a);
+}
+
+AnalyticCheck MakeCheck(const FitOptions& options, const ParameterMap& map,
+                        const dem::ContactLawConfig& law, const std::vector<SequencePlan>& plans,
                         const UncertaintySummary& uncertainty, MinimizerStop stop) {
   AnalyticCheck check;
-  if (law.kind != dem::ContactLawKind::kWaltonBraun) {
-    check.message = "the closed form eta = 2 gamma / (1 + gamma) holds for walton-braun only";
+  const std::string law_name(dem::ToString(law.kind));
+  // walton-braun keeps the paper's formula and its exact inverse and slope; gamma_n alone sets
+  // its energy loss, whatever else is fitted.
+  const auto& names = map.names();
+  const auto gamma = std::find(names.begin(), names.end(), "gamma_n");
+  const bool paper = law.kind == dem::ContactLawKind::kWaltonBraun && gamma != names.end();
+  if (!paper && map.size() != 1) {
+    check.message = "the closed-form check inverts one fitted parameter, and " +
+                    std::to_string(map.size()) + " are fitted";
     return check;
   }
+  const size_t index = paper ? static_cast<size_t>(gamma - names.begin()) : 0;
+  const std::string& name = names[index];
+  const ParameterRange& range = map.ranges()[index];
+  check.parameter = name;
+  check.formula = paper ? "eta = 2 gamma / (1 + gamma)"
+                        : "the " + law_name + " closed form at the measured impact speeds";
   double sum = 0, timing_variance = 0;
   int count = 0;
+  std::vector<std::vector<double>> speeds;
   for (const auto& plan : plans) {
     if (!plan.measured.energy_loss_mean_first_n) continue;
     sum += *plan.measured.energy_loss_mean_first_n;
     timing_variance += std::pow(*plan.measured.energy_loss_mean_first_n_uncertainty, 2);
+    speeds.push_back(EnergyLossMeanSpeeds(plan, options));
     ++count;
   }
   if (count == 0) {
@@ -194,56 +305,133 @@ AnalyticCheck MakeCheck(const FitOptions& options, const dem::ContactLawConfig& 
                     " energy losses, so eta-bar is unknown";
     return check;
   }
-  check.applicable = true;
   const double eta = sum / count;
+  const dem::Ball& ball = options.drop.ball;
+  const std::function<std::optional<double>(double)> closed_all = [&](double value) {
+    return ClosedFormEnergyLossMean(law, name, value, ball, speeds);
+  };
+  // The model error compares the closed form with the simulated (first) recording alone.
+  const std::vector<std::vector<double>> reference_speeds = {speeds.front()};
+  const std::function<std::optional<double>(double)> closed_reference = [&](double value) {
+    return ClosedFormEnergyLossMean(law, name, value, ball, reference_speeds);
+  };
+  const double fitted = law.Get(name);
+  std::optional<double> formula_value, slope, formula_slope, formula_eta;
+  if (paper) {
+    formula_value = eta / (2 - eta);
+    formula_eta = 2 * fitted / (1 + fitted);
+    slope = 2 / std::pow(1 + fitted, 2);  // d eta / d gamma of the closed form
+    formula_slope = std::pow(2 - eta, 2) / 2;
+  } else {
+    formula_value = InvertOverRange(closed_all, range, eta);
+    formula_eta = closed_reference(fitted);
+    slope = SlopeAt(closed_all, range, fitted);
+    if (formula_value) formula_slope = SlopeAt(closed_all, range, *formula_value);
+  }
+  if (!formula_value || !formula_eta || !slope || !formula_slope || *slope == 0 ||
+      *formula_slope == 0) {
+    check.message = closed_all(range.lower)
+                        ? "the " + law_name + " closed form does not reach the measured eta-bar " +
+                              Format("%.4f", eta) + " within the search range of " + name
+                        : "the " + law_name + " law has no closed-form restitution";
+    return check;
+  }
+  check.applicable = true;
   check.energy_loss_mean = eta;
   // The uncertainty model's components for the mean of the first N of each recording.
   const double scatter = std::pow(uncertainty.per_impact_scatter, 2) / options.first_n;
   const double between = std::pow(uncertainty.between_recording_sd, 2);
   check.energy_loss_mean_uncertainty =
       std::sqrt(timing_variance / (count * count) + (scatter + between) / count);
-  check.gamma_n_formula = eta / (2 - eta);
-  const double gamma = law.Get("gamma_n");
-  check.gamma_n_fitted = gamma;
-  check.difference = gamma - check.gamma_n_formula;
+  check.formula_value = *formula_value;
+  check.fitted_value = fitted;
+  check.difference = fitted - check.formula_value;
 
   const SequencePlan& reference = plans.front();
   check.energy_loss_mean_chosen_step = SimulatedEnergyLossMean(options, law, reference, true);
   const double chosen_without_drag = SimulatedEnergyLossMean(options, law, reference, false);
-  check.energy_loss_formula = 2 * gamma / (1 + gamma);
-  const double slope = 2 / std::pow(1 + gamma, 2);  // d eta / d gamma of the closed form
+  check.energy_loss_formula = *formula_eta;
   try {
     check.energy_loss_mean_exact =
         SimulatedEnergyLossMean(options, law, reference, false, dem::Integrator::kExact);
+    check.reference_integrator = "exact";
   } catch (const ConfigError&) {
-    check.energy_loss_mean_exact = chosen_without_drag;  // no exact path
+    // No exact path (a nonlinear law): RK4 at eight times the steps, on no fixed grid.
+    FitOptions fine = options;
+    fine.drop.integrator = dem::Integrator::kRungeKutta4;
+    fine.drop.steps_per_contact *= 8;
+    if (fine.drop.time_step_s) *fine.drop.time_step_s /= 8;
+    fine.drop.fixed_step_grid = false;
+    check.energy_loss_mean_exact = SimulatedEnergyLossMean(fine, law, reference, false);
+    check.reference_integrator = "rk4";
   }
-  check.time_step_gamma_error = (chosen_without_drag - check.energy_loss_mean_exact) / slope;
-  check.model_gamma_error = (check.energy_loss_mean_exact - check.energy_loss_formula) / slope;
-  check.drag_gamma_error = (check.energy_loss_mean_chosen_step - chosen_without_drag) / slope;
-  const double formula_sigma = check.energy_loss_mean_uncertainty * 2 / std::pow(2 - eta, 2);
-  check.explained = std::abs(check.time_step_gamma_error) + std::abs(check.model_gamma_error) +
-                    std::abs(check.drag_gamma_error) + 2 * formula_sigma +
-                    1e-4;  // + the optimiser's tolerance on gamma
+  if (paper) {
+    check.time_step_error = (chosen_without_drag - check.energy_loss_mean_exact) / *slope;
+    check.model_error = (check.energy_loss_mean_exact - check.energy_loss_formula) / *slope;
+    check.drag_error = (check.energy_loss_mean_chosen_step - chosen_without_drag) / *slope;
+  } else {
+    // Through the closed form's inverse, not its slope: an approximate closed form (the Ramirez
+    // series) can be off by several per cent, where the slope's first order falls short.
+    const auto reference_value =
+        InvertOverRange(closed_reference, range, check.energy_loss_mean_exact);
+    const auto chosen_value = InvertOverRange(closed_reference, range, chosen_without_drag);
+    const auto drag_value =
+        InvertOverRange(closed_reference, range, check.energy_loss_mean_chosen_step);
+    if (!reference_value || !chosen_value || !drag_value) {
+      AnalyticCheck refused;
+      refused.parameter = name;
+      refused.formula = check.formula;
+      refused.message = "the " + law_name +
+                        " closed form does not reach the simulated eta-bar within the search "
+                        "range of " +
+                        name;
+      return refused;
+    }
+    check.time_step_error = *chosen_value - *reference_value;
+    check.model_error = *reference_value - fitted;
+    check.drag_error = *drag_value - *chosen_value;
+  }
+  const double formula_sigma = check.energy_loss_mean_uncertainty / std::abs(*formula_slope);
+  // The optimiser's tolerance: 1e-4 in gamma, 1e-4 of the search range otherwise.
+  const double tolerance = paper             ? 1e-4
+                           : range.log_scale ? 1e-4 * fitted * std::log(range.upper / range.lower)
+                                             : 1e-4 * (range.upper - range.lower);
+  check.explained = std::abs(check.time_step_error) + std::abs(check.model_error) +
+                    std::abs(check.drag_error) + 2 * formula_sigma + tolerance;
   check.warning = std::abs(check.difference) > check.explained;
-  char text[600];
-  std::snprintf(text, sizeof text,
-                "fitted gamma_n differs from the formula by %.4f, %s the %.4f that time-step error "
-                "(%.4f), gravity during contact (%.4f)%s and the uncertainty of eta-bar explain",
-                check.difference, check.warning ? "more than" : "within", check.explained,
-                check.time_step_gamma_error, check.model_gamma_error,
-                options.drag.enabled
-                    ? (", air drag (" + Format("%.4f", check.drag_gamma_error) + ")").c_str()
-                    : "");
+  char text[700];
+  if (paper) {
+    std::snprintf(text, sizeof text,
+                  "fitted gamma_n differs from the formula by %.4f, %s the %.4f that time-step "
+                  "error (%.4f), gravity during contact (%.4f)%s and the uncertainty of eta-bar "
+                  "explain",
+                  check.difference, check.warning ? "more than" : "within", check.explained,
+                  check.time_step_error, check.model_error,
+                  options.drop.drag.enabled
+                      ? (", air drag (" + Format("%.4f", check.drag_error) + ")").c_str()
+                      : "");
+  } else {
+    std::snprintf(text, sizeof text,
+                  "fitted %s differs from the %s closed form's by %.4g, %s the %.4g that "
+                  "time-step error (%.4g), the closed form's model error (%.4g)%s and the "
+                  "uncertainty of eta-bar explain",
+                  name.c_str(), law_name.c_str(), check.difference,
+                  check.warning ? "more than" : "within", check.explained, check.time_step_error,
+                  check.model_error,
+                  options.drop.drag.enabled
+                      ? (", air drag (" + Format("%.4g", check.drag_error) + ")").c_str()
+                      : "");
+  }
   check.message = text;
   if (check.warning) {
     // The next step depends on why the fit and eta-bar disagree.
     if (options.objective != FitObjective::kMeanEnergyLoss) {
-      check.message +=
-          ": the " + std::string(ToString(options.objective)) +
-          " fit also weights later, slower impacts whose energy loss differs, so one constant "
-          "gamma does not describe these impacts; fit the first impacts only with --objective "
-          "mean-energy-loss, or rank speed-dependent laws with --compare-laws";
+      check.message += ": the " + std::string(ToString(options.objective)) +
+                       " fit also weights later, slower impacts whose energy loss differs, so " +
+                       (paper ? std::string("one constant gamma") : "one value of " + name) +
+                       " does not describe these impacts; fit the first impacts only with "
+                       "--objective mean-energy-loss, or rank speed-dependent laws with "
+                       "--compare-laws";
     } else if (!IsConverged(stop)) {
       check.message +=
           ": the optimiser did not converge, so the fit does not reproduce eta-bar; raise "
@@ -261,9 +449,9 @@ AnalyticCheck MakeCheck(const FitOptions& options, const dem::ContactLawConfig& 
 ModelAdequacy TestAdequacy(const FitOptions& options, const dem::ContactLawConfig& law,
                            const std::vector<SequencePlan>& plans, bool comparing) {
   internal::AdequacyContext context;
-  context.law = std::string(dem::ToString(options.law.kind));
+  context.law = std::string(dem::ToString(options.drop.law.kind));
   FitOptions without_drag = options;
-  without_drag.drag.enabled = false;
+  without_drag.drop.drag.enabled = false;
   context.speed_dependent = ResultDependsOnBall(without_drag);
   context.comparing = comparing;
   return internal::TestSpeedTrend(internal::EveryImpactResiduals(plans, options, law), context);
@@ -321,15 +509,25 @@ dem::Ball ReferenceBall() {
   return ball;
 }
 
+std::optional<dem::Ball> FitOptions::GivenBall() const {
+  if (!ball_given) return std::nullopt;
+  return drop.ball;
+}
+
+std::optional<double> FitOptions::GivenDropHeightM() const {
+  if (!drop_height_given) return std::nullopt;
+  return drop.drop_height_m;
+}
+
 std::string WhyResultDependsOnBall(const FitOptions& options) {
-  if (options.drag.enabled) return "air drag";
-  const auto kind = options.law.kind;
+  if (options.drop.drag.enabled) return "air drag";
+  const auto kind = options.drop.law.kind;
   const std::string law(dem::ToString(kind));
   const auto& fitted = options.fitted_parameters;
   for (const auto& spec : dem::ParameterSpecs(kind)) {
     if (spec.ball_dependence == dem::BallDependence::kAlways) return "the " + law + " law";
     const bool used = std::find(fitted.begin(), fitted.end(), spec.name) != fitted.end() ||
-                      options.law.Get(spec.name) != 0;
+                      options.drop.law.Get(spec.name) != 0;
     if (spec.ball_dependence == dem::BallDependence::kWhenUsed && used)
       return "the " + law + " law's " + std::string(spec.name);
   }
@@ -342,22 +540,21 @@ bool ResultDependsOnBall(const FitOptions& options) {
 
 namespace {
 
-FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOptions& given,
+FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOptions& options,
                         bool comparing) {
   const auto start = Clock::now();
-  ValidateOptions(given);
+  ValidateOptions(options);
   if (input.empty()) throw ConfigError("no recording to fit; give at least one");
-  const FitOptions options = WithSimulatedBall(given);
   FitSummary summary;
-  summary.ball_given = given.ball.has_value();
+  summary.ball_given = options.ball_given;
   summary.objective = options.objective;
   const auto sequences = DistinctSequences(input, summary.warnings, summary.uncertainty.duplicates);
   const ParameterMap map(options);
-  const auto plans = MakePlans(sequences, options, options.drop_height_m);
+  const auto plans = MakePlans(sequences, options, options.GivenDropHeightM());
   const Problem problem(options, map, plans);
 
   auto minimized =
-      problem.Minimize(MainMinimizerOptions(options, map.size()), map.StartPoint(options.law));
+      problem.Minimize(MainMinimizerOptions(options, map.size()), map.StartPoint(options.drop.law));
   // Timing noise alone would weight the recordings of a joint mean-energy-loss fit by how clean
   // their onsets are, whereas their eta-bar differ by the impacts' own scatter: refit once with
   // each recording's eta-bar variance including the per-impact scatter (and the between-recording
@@ -381,12 +578,12 @@ FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOpt
   summary.stop_message = minimized.message;
   summary.evaluations = minimized.evaluations;
   summary.residual = problem.Evaluate(minimized.x);  // timing-weighted, whatever the pass
-  summary.law = map.Apply(options.law, minimized.x);
+  summary.law = map.Apply(options.drop.law, minimized.x);
 
   for (size_t i = 0; i < map.size(); ++i) {
     FittedParameter parameter;
     parameter.name = map.names()[i];
-    for (const auto& spec : dem::ParameterSpecs(options.law.kind)) {
+    for (const auto& spec : dem::ParameterSpecs(options.drop.law.kind)) {
       if (spec.name == parameter.name) parameter.unit = spec.unit;
     }
     parameter.range = map.ranges()[i];
@@ -415,7 +612,7 @@ FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOpt
                          (simulated.onsets_s.empty() ? 0.0 : simulated.onsets_s.front());
     for (double onset : simulated.onsets_s) fit.simulated_onsets_s.push_back(onset + shift);
     RestitutionOptions restitution;
-    restitution.gravity_mps2 = options.gravity_mps2;
+    restitution.gravity_mps2 = options.drop.gravity_mps2;
     restitution.first_n = options.first_n;
     restitution.drop_height_m = plan.release_height_m;
     if (fit.simulated_onsets_s.size() >= 2) {
@@ -467,7 +664,7 @@ FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOpt
   }
 
   if (options.analytic_check) {
-    summary.check = MakeCheck(options, summary.law, plans, summary.uncertainty, summary.stop);
+    summary.check = MakeCheck(options, map, summary.law, plans, summary.uncertainty, summary.stop);
     if (summary.check.warning) summary.warnings.push_back(summary.check.message);
   }
   summary.total_time_s = SecondsSince(start);
@@ -496,11 +693,12 @@ LawComparison CompareLaws(const std::vector<MeasuredSequence>& sequences,
     {
       try {
         FitOptions law_options = options;
-        law_options.law = {fittable[i], {}};
+        law_options.drop.law = {fittable[i], {}};
         // Keep the parameters this law shares by name (stiffness_n_per_m for the linear laws).
+        const auto& given = options.drop.law.parameters;
         for (const auto& spec : dem::ParameterSpecs(fittable[i])) {
-          if (auto it = options.law.parameters.find(spec.name); it != options.law.parameters.end())
-            law_options.law.parameters[it->first] = it->second;
+          if (auto it = given.find(spec.name); it != given.end())
+            law_options.drop.law.parameters[it->first] = it->second;
         }
         law_options.fitted_parameters.clear();
         law_options.ranges.clear();

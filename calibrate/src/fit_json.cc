@@ -112,19 +112,32 @@ nlohmann::json ToJson(const FitSummary& summary) {
   const auto& check = summary.check;
   nlohmann::json analytic = {{"applicable", check.applicable}, {"message", check.message}};
   if (check.applicable) {
-    analytic.update({{"energy_loss_mean", check.energy_loss_mean},
+    analytic.update({{"parameter", check.parameter},
+                     {"formula", check.formula},
+                     {"energy_loss_mean", check.energy_loss_mean},
                      {"energy_loss_mean_uncertainty", check.energy_loss_mean_uncertainty},
-                     {"gamma_n", check.gamma_n_formula},
-                     {"gamma_n_fitted", check.gamma_n_fitted},
+                     {"formula_value", check.formula_value},
+                     {"fitted_value", check.fitted_value},
                      {"difference", check.difference},
                      {"energy_loss_mean_chosen_step", check.energy_loss_mean_chosen_step},
                      {"energy_loss_mean_exact", check.energy_loss_mean_exact},
+                     {"reference_integrator", check.reference_integrator},
                      {"energy_loss_formula", check.energy_loss_formula},
-                     {"time_step_gamma_error", check.time_step_gamma_error},
-                     {"model_gamma_error", check.model_gamma_error},
-                     {"drag_gamma_error", check.drag_gamma_error},
+                     {"time_step_error", check.time_step_error},
+                     {"model_error", check.model_error},
+                     {"drag_error", check.drag_error},
                      {"explained", check.explained},
                      {"warning", check.warning}});
+    // The names of the walton-braun-only check, kept for older readers.
+    if (check.parameter == "gamma_n") {
+      analytic.update({{"gamma_n", check.formula_value},
+                       {"gamma_n_fitted", check.fitted_value},
+                       {"time_step_gamma_error", check.time_step_error},
+                       {"model_gamma_error", check.model_error},
+                       {"drag_gamma_error", check.drag_error}});
+    } else {
+      analytic["gamma_n"] = nullptr;  // as before this law's check was applicable
+    }
   } else {
     analytic.update({{"energy_loss_mean", nullptr}, {"gamma_n", nullptr}});
   }

@@ -22,7 +22,7 @@ SequencePlan MakePlan(const MeasuredSequence& sequence, const FitOptions& option
   plan.source = sequence.source;
   plan.impacts = sequence.impacts;
   RestitutionOptions restitution;
-  restitution.gravity_mps2 = options.gravity_mps2;
+  restitution.gravity_mps2 = options.drop.gravity_mps2;
   restitution.first_n = options.first_n;
   restitution.drop_height_m = drop_height_m;
   plan.measured = AnalyzeRestitution(sequence.impacts, restitution);
@@ -48,7 +48,7 @@ SequencePlan MakePlan(const MeasuredSequence& sequence, const FitOptions& option
   } else {
     // The apex of the first measured flight is a release from rest for the rest of the sequence.
     const double first = plan.measured.intervals_s.front();
-    plan.release_height_m = options.gravity_mps2 * first * first / 8.0;
+    plan.release_height_m = options.drop.gravity_mps2 * first * first / 8.0;
     plan.first_matched_impact = 1;
   }
   const int measured_impacts = static_cast<int>(sequence.impacts.size());
@@ -73,19 +73,24 @@ SequencePlan MakePlan(const MeasuredSequence& sequence, const FitOptions& option
   // parameters that bounce longer than the measurement.
   const double span = sequence.impacts.back().onset_s - sequence.impacts.front().onset_s;
   plan.max_time_s =
-      1.5 * span + 2.0 * std::sqrt(2.0 * plan.release_height_m / options.gravity_mps2);
+      1.5 * span + 2.0 * std::sqrt(2.0 * plan.release_height_m / options.drop.gravity_mps2);
   return plan;
 }
 
+double IncomingSpeedMps(const SequencePlan& plan, int impact, double gravity_mps2) {
+  if (impact == 0) return std::sqrt(2 * gravity_mps2 * plan.release_height_m);
+  return gravity_mps2 * plan.measured.intervals_s[static_cast<size_t>(impact - 1)] / 2;
+}
+
 ParameterMap::ParameterMap(const FitOptions& options) {
-  names_ = options.fitted_parameters.empty() ? DefaultFittedParameters(options.law.kind)
+  names_ = options.fitted_parameters.empty() ? DefaultFittedParameters(options.drop.law.kind)
                                              : options.fitted_parameters;
   if (names_.empty()) {
-    throw ConfigError("law " + std::string(dem::ToString(options.law.kind)) +
+    throw ConfigError("law " + std::string(dem::ToString(options.drop.law.kind)) +
                       " has no dissipative parameter to fit; choose a damped law");
   }
   for (const auto& name : names_) {
-    ParameterRange range = DefaultParameterRange(options.law, name);
+    ParameterRange range = DefaultParameterRange(options.drop.law, name);
     if (auto it = options.ranges.find(name); it != options.ranges.end()) range = it->second;
     if (!(range.lower < range.upper) || !std::isfinite(range.lower) ||
         !std::isfinite(range.upper) || (range.log_scale && !(range.lower > 0))) {
@@ -142,18 +147,13 @@ double MeanOfFirst(const std::vector<double>& energy_loss, int n) {
 SimulatedSequence SimulateSequence(const dem::ContactLawConfig& law, const SequencePlan& plan,
                                    const FitOptions& options,
                                    std::optional<dem::Integrator> integrator_override) {
-  dem::DropOptions drop;
+  dem::DropOptions drop = options.drop;
   drop.law = law;
-  drop.ball = options.ball.value_or(ReferenceBall());
   drop.drop_height_m = plan.release_height_m;
-  drop.gravity_mps2 = options.gravity_mps2;
-  drop.drag = options.drag;
-  drop.integrator = integrator_override.value_or(options.integrator);
-  drop.time_step_s = options.time_step_s;
-  if (options.steps_per_contact) drop.steps_per_contact = *options.steps_per_contact;
-  drop.fixed_step_grid = options.fixed_step_grid;
+  if (integrator_override) drop.integrator = *integrator_override;
   drop.max_impacts = plan.impacts_needed;
   drop.max_time_s = plan.max_time_s;
+  drop.trajectory_interval_s = 0;  // only the impacts are compared
   const dem::DropResult result = dem::SimulateDrop(drop);
 
   SimulatedSequence simulated;
@@ -163,7 +163,7 @@ SimulatedSequence SimulateSequence(const dem::ContactLawConfig& law, const Seque
     simulated.intervals_s.push_back(simulated.onsets_s[j + 1] - simulated.onsets_s[j]);
   // The same estimator as the measurement (flight ratios, dt_0 from the release height), so
   // contact duration and gravity during contact bias both sides alike.
-  double incoming = DropFlightTime(plan.release_height_m, options.gravity_mps2);
+  double incoming = DropFlightTime(plan.release_height_m, options.drop.gravity_mps2);
   for (double outgoing : simulated.intervals_s) {
     const double e = outgoing / incoming;
     simulated.energy_loss.push_back(1.0 - e * e);
@@ -185,7 +185,7 @@ ObjectiveTerms Terms(const SequencePlan& plan, const SimulatedSequence& simulate
     return terms;
   }
   const int count = plan.impacts_needed - 1;
-  const double g = options.gravity_mps2;
+  const double g = options.drop.gravity_mps2;
   for (int j = 0; j < count; ++j) {
     const size_t m = static_cast<size_t>(plan.first_matched_impact + j);
     const double measured_interval = measured.intervals_s[m];

@@ -33,6 +33,10 @@ struct SequencePlan {
 SequencePlan MakePlan(const MeasuredSequence& sequence, const FitOptions& options,
                       std::optional<double> drop_height_m);
 
+// The measured incoming speed of impact `impact` (0-based) of the plan's recording: sqrt(2 g h0)
+// for the first impact from the release height, g dt / 2 from the flight before it otherwise.
+double IncomingSpeedMps(const SequencePlan& plan, int impact, double gravity_mps2);
+
 // The indices into plan.measured.energy_loss of the impacts the objective depends on: those whose
 // incoming and outgoing flights are both simulated and compared (the first first_n under
 // kMeanEnergyLoss). The simulated energy_loss of a SimulatedSequence has the same indices.

@@ -39,7 +39,7 @@ Eigen::VectorXd ModelAt(const SequencePlan& plan, const dem::ContactLawConfig& l
 // eta(gamma) jagged on the scale of 1e-3 of the range, so its slope is taken over a wider span.
 double ParameterStep(const FitOptions& options, const ParameterMap& map, size_t i) {
   const double width = map.UpperBounds()[i] - map.LowerBounds()[i];
-  return (options.fixed_step_grid ? 0.05 : 0.005) * width;
+  return (options.drop.fixed_step_grid ? 0.05 : 0.005) * width;
 }
 
 struct Linearized {
@@ -54,7 +54,7 @@ struct Linearized {
 Linearized Linearize(const SequencePlan& plan, const FitOptions& options, const ParameterMap& map,
                      const std::vector<double>& x, bool full) {
   Linearized result;
-  const auto law = map.Apply(options.law, x);
+  const auto law = map.Apply(options.drop.law, x);
   result.simulated = SimulateSequence(law, plan, options);
   const auto terms = Terms(plan, result.simulated, options);
   const auto terms_count = static_cast<Eigen::Index>(terms.model.size());
@@ -110,15 +110,15 @@ Linearized Linearize(const SequencePlan& plan, const FitOptions& options, const 
     above[i] = std::min(x[i] + step, map.UpperBounds()[i]);
     below[i] = std::max(x[i] - step, map.LowerBounds()[i]);
     linear.parameters.col(static_cast<Eigen::Index>(i)) =
-        (ModelAt(plan, map.Apply(options.law, above), options) -
-         ModelAt(plan, map.Apply(options.law, below), options)) /
+        (ModelAt(plan, map.Apply(options.drop.law, above), options) -
+         ModelAt(plan, map.Apply(options.drop.law, below), options)) /
         (above[i] - below[i]);
   }
 
   if (!plan.known_drop_height) {
     // The release is the apex of the first measured flight, so the model moves with t_0 and t_1.
     const double first = plan.measured.intervals_s.front();
-    const double g = options.gravity_mps2;
+    const double g = options.drop.gravity_mps2;
     Eigen::VectorXd model[2];
     for (int side = 0; side < 2; ++side) {
       SequencePlan moved = plan;
@@ -201,9 +201,7 @@ std::vector<AdequacyImpact> EveryImpactResiduals(const std::vector<SequencePlan>
     const auto& measured = whole.measured;
     for (size_t j = 0; j < measured.energy_loss.size() && j < simulated.size(); ++j) {
       const int k = measured.impact_index[j];
-      const double speed =
-          k == 0 ? std::sqrt(2 * options.gravity_mps2 * whole.release_height_m)
-                 : options.gravity_mps2 * measured.intervals_s[static_cast<size_t>(k - 1)] / 2;
+      const double speed = IncomingSpeedMps(whole, k, options.drop.gravity_mps2);
       impacts.push_back({static_cast<int>(r), speed, measured.energy_loss[j] - simulated[j],
                          std::pow(measured.energy_loss_uncertainty[j], 2)});
     }
@@ -216,7 +214,7 @@ ScatterEstimate ScatterAt(const std::vector<SequencePlan>& plans, const FitOptio
   std::vector<ImpactResiduals> impacts;
   for (const auto& plan : plans)
     impacts.push_back(Linearize(plan, options, map, x, /*full=*/false).impacts);
-  const auto trend = EveryImpactTrend(plans, options, map.Apply(options.law, x));
+  const auto trend = EveryImpactTrend(plans, options, map.Apply(options.drop.law, x));
   return EstimateScatter(impacts, static_cast<int>(map.size()), &trend);
 }
 
@@ -238,7 +236,7 @@ FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
     impacts.push_back(linearized.back().impacts);
     summary.impacts_used += static_cast<int>(linearized.back().used.size());
   }
-  const auto trend = EveryImpactTrend(plans, options, map.Apply(options.law, x));
+  const auto trend = EveryImpactTrend(plans, options, map.Apply(options.drop.law, x));
   const ScatterEstimate scatter = EstimateScatter(impacts, static_cast<int>(map.size()), &trend);
   summary.per_impact_estimable = scatter.within_estimable;
   summary.per_impact_scatter = std::sqrt(scatter.within_variance);
@@ -302,7 +300,7 @@ FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
   }
 
   const double height_variance =
-      options.drop_height_m ? std::pow(options.uncertainty.drop_height_uncertainty_m, 2) : 0.0;
+      options.drop_height_given ? std::pow(options.uncertainty.drop_height_uncertainty_m, 2) : 0.0;
   for (size_t i = 0; i < map.size(); ++i) {
     const auto d = static_cast<Eigen::Index>(i);
     const double timing = parts.timing(d, d);

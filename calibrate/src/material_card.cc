@@ -101,7 +101,7 @@ std::string UtcTimestamp(std::time_t seconds_since_epoch) {
 }
 
 void CheckCardOptions(const FitOptions& options) {
-  if (!options.ball) {
+  if (!options.ball_given) {
     throw ConfigError(
         "a material card records the ball its damping was calibrated with (exported damping "
         "scales with its mass); give --ball NAME or --diameter-m with --density-kg-per-m3 or "
@@ -115,7 +115,7 @@ MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& optio
   CheckCardOptions(options);
   MaterialCard card;
   card.law = summary.law;
-  card.ball = *options.ball;
+  card.ball = options.drop.ball;
   card.ball_preset = options.ball_preset;
   card.implied_restitution = summary.implied_restitution;
   card.implied_energy_loss = summary.implied_energy_loss;
@@ -126,12 +126,15 @@ MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& optio
   fit.data_points = summary.data_points;
   fit.evaluations = summary.evaluations;
   fit.stop_reason = std::string(ToString(summary.stop));
-  fit.drop_height_m = options.drop_height_m;
-  fit.integrator = std::string(dem::ToString(options.integrator));
-  fit.time_step_s = options.time_step_s;
-  fit.steps_per_contact = options.steps_per_contact;
-  fit.fixed_step_grid = options.fixed_step_grid;
-  fit.drag = options.drag.enabled;
+  const dem::DropOptions& drop = options.drop;
+  fit.drop_height_m = options.GivenDropHeightM();
+  fit.integrator = std::string(dem::ToString(drop.integrator));
+  fit.time_step_s = drop.time_step_s;
+  // null: the drop engine's default accuracy, as the card has always written it.
+  if (drop.steps_per_contact != dem::DropOptions{}.steps_per_contact)
+    fit.steps_per_contact = drop.steps_per_contact;
+  fit.fixed_step_grid = drop.fixed_step_grid;
+  fit.drag = drop.drag.enabled;
   fit.confidence_level = options.uncertainty.confidence_level;
   fit.uncertainty_method = summary.uncertainty.model;
   const auto& uncertainty = summary.uncertainty;
@@ -149,7 +152,7 @@ MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& optio
   }
   if (summary.check.applicable) {
     fit.energy_loss_mean_measured = summary.check.energy_loss_mean;
-    fit.gamma_n_formula = summary.check.gamma_n_formula;
+    if (summary.check.parameter == "gamma_n") fit.gamma_n_formula = summary.check.formula_value;
   }
   for (const auto& path : recordings) {
     RecordingReference reference{path.filename().string(), FileContentHash(path)};

@@ -121,7 +121,7 @@ TEST(MakeMaterialCard, NeedsTheBallAndListsARecordingGivenTwiceOnce) {
   FitOptions options;
   EXPECT_THROW(MakeMaterialCard(summary, options, {}, 0), ConfigError);
   EXPECT_THROW(CheckCardOptions(options), ConfigError);
-  options.ball = ReferenceBall();
+  options.ball_given = true;  // drop.ball is the reference
   options.ball_preset = "steel-10mm";
   const auto path = std::filesystem::temp_directory_path() / "bouncecal_card_recording.csv";
   std::ofstream(path) << "onset_s\n0.1\n0.3\n";

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "bouncecal/calibrate/restitution.h"
+#include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
 
 namespace bouncecal::calibrate {
@@ -68,8 +69,10 @@ SweepSummary Sweep(const SweepOptions& options) {
     point.impacts = static_cast<int>(result.impacts.size());
     point.time_step_s = result.time_step_s;
     if (!result.impacts.empty()) {
-      const double e = result.impacts.front().restitution;
-      point.first_contact_energy_loss = 1 - e * e;
+      const auto& first = result.impacts.front();
+      point.first_contact_energy_loss = 1 - first.restitution * first.restitution;
+      point.analytic_energy_loss = ClosedFormEnergyLoss(drop.law, drop.ball, first.speed_in_mps);
+      summary.first_impact_speed_mps = first.speed_in_mps;
     }
     // Flight-time energy losses, padded with 1 (all energy lost) if the ball came to rest.
     std::vector<double> energy_loss;
@@ -84,12 +87,18 @@ SweepSummary Sweep(const SweepOptions& options) {
     double sum = 0;
     for (int k = 0; k < options.first_n; ++k) sum += energy_loss[static_cast<size_t>(k)];
     point.energy_loss_mean_first_n = sum / options.first_n;
-    if (drop.law.kind == dem::ContactLawKind::kWaltonBraun && options.parameter == "gamma_n")
-      point.analytic_energy_loss = 2 * value / (1 + value);
     summary.points.push_back(point);
   }
   summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
+}
+
+std::optional<double> ClosedFormEnergyLoss(const dem::ContactLawConfig& law, const dem::Ball& ball,
+                                           double impact_speed_mps) {
+  const auto e = dem::ClosedFormRestitutionOf(dem::MakeContactLaw(law), ball.MassKg(),
+                                              ball.RadiusM(), impact_speed_mps);
+  if (!e) return std::nullopt;
+  return 1 - *e * *e;
 }
 
 }  // namespace bouncecal::calibrate

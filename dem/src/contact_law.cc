@@ -120,4 +120,24 @@ EngineForm ExportFormOf(const ContactLaw& law) {
       law);
 }
 
+std::optional<double> ClosedFormRestitutionOf(const ContactLaw& law, double effective_mass_kg,
+                                              double effective_radius_m, double impact_speed_mps) {
+  return std::visit(
+      [&](const auto& typed) {
+        return typed.ClosedFormRestitution(effective_mass_kg, effective_radius_m, impact_speed_mps);
+      },
+      law);
+}
+
+std::optional<double> ClosedFormContactDurationOf(const ContactLaw& law, double effective_mass_kg,
+                                                  double effective_radius_m,
+                                                  double impact_speed_mps) {
+  return std::visit(
+      [&](const auto& typed) {
+        return typed.ClosedFormContactDuration(effective_mass_kg, effective_radius_m,
+                                               impact_speed_mps);
+      },
+      law);
+}
+
 }  // namespace bouncecal::dem

@@ -50,7 +50,7 @@ std::time_t CreationTime(std::optional<std::int64_t> created_at) {
 }
 
 calibrate::MaterialCard MakeCard(const CardSource& source, std::optional<std::int64_t> created_at) {
-  if (!source.options.ball) {
+  if (!source.options.ball_given) {
     throw ConfigError(
         "a material card records the ball its damping was calibrated with (exported damping "
         "scales with its mass); give calibrate() ball=NAME, or diameter_m with "
@@ -248,21 +248,25 @@ void BindCalibrate(py::module_& module) {
         }
         auto source = std::make_shared<CardSource>();
         calibrate::FitOptions& options = source->options;
-        options.law = LawFromPython(law, parameters);
+        dem::DropOptions& drop = options.drop;
+        drop.law = LawFromPython(law, parameters);
+        const auto given_ball =
+            BallFromArguments({ball, diameter_m, density_kg_per_m3, mass_kg}, /*complete=*/true);
+        if (given_ball) drop.ball = *given_ball;
+        options.ball_given = given_ball.has_value();
+        options.ball_preset = ball.value_or("");
+        if (drop_height_m) drop.drop_height_m = *drop_height_m;
+        options.drop_height_given = drop_height_m.has_value();
+        drop.gravity_mps2 = gravity_mps2;
+        drop.drag = {.enabled = drag,
+                     .drag_coefficient = drag_coefficient,
+                     .air_density_kg_per_m3 = air_density_kg_per_m3};
+        drop.integrator = dem::IntegratorFromString(integrator);
+        drop.time_step_s = time_step_s;
+        if (steps_per_contact) drop.steps_per_contact = *steps_per_contact;
+        drop.fixed_step_grid = fixed_step_grid;
         options.fitted_parameters = std::move(fitted_parameters);
         options.ranges = RangesFromPython(ranges);
-        options.ball =
-            BallFromArguments({ball, diameter_m, density_kg_per_m3, mass_kg}, /*complete=*/true);
-        options.ball_preset = ball.value_or("");
-        options.drop_height_m = drop_height_m;
-        options.gravity_mps2 = gravity_mps2;
-        options.drag = {.enabled = drag,
-                        .drag_coefficient = drag_coefficient,
-                        .air_density_kg_per_m3 = air_density_kg_per_m3};
-        options.integrator = dem::IntegratorFromString(integrator);
-        options.time_step_s = time_step_s;
-        options.steps_per_contact = steps_per_contact;
-        options.fixed_step_grid = fixed_step_grid;
         options.objective = calibrate::FitObjectiveFromString(objective);
         options.first_n = first_n;
         options.max_intervals = max_intervals;
@@ -291,13 +295,13 @@ void BindCalibrate(py::module_& module) {
       py::arg("diameter_m") = py::none(), py::arg("density_kg_per_m3") = py::none(),
       py::arg("mass_kg") = py::none(), py::arg("drop_height_m") = py::none(),
       py::arg("drop_height_uncertainty_m") = defaults.uncertainty.drop_height_uncertainty_m,
-      py::arg("gravity_mps2") = defaults.gravity_mps2,
-      py::arg("integrator") = std::string(dem::ToString(defaults.integrator)),
+      py::arg("gravity_mps2") = defaults.drop.gravity_mps2,
+      py::arg("integrator") = std::string(dem::ToString(defaults.drop.integrator)),
       py::arg("time_step_s") = py::none(), py::arg("steps_per_contact") = py::none(),
-      py::arg("fixed_step_grid") = defaults.fixed_step_grid,
-      py::arg("drag") = defaults.drag.enabled,
-      py::arg("drag_coefficient") = defaults.drag.drag_coefficient,
-      py::arg("air_density_kg_per_m3") = defaults.drag.air_density_kg_per_m3,
+      py::arg("fixed_step_grid") = defaults.drop.fixed_step_grid,
+      py::arg("drag") = defaults.drop.drag.enabled,
+      py::arg("drag_coefficient") = defaults.drop.drag.drag_coefficient,
+      py::arg("air_density_kg_per_m3") = defaults.drop.drag.air_density_kg_per_m3,
       py::arg("objective") = std::string(calibrate::ToString(defaults.objective)),
       py::arg("first_n") = defaults.first_n, py::arg("max_intervals") = defaults.max_intervals,
       py::arg("optimizer") = std::string(calibrate::ToString(defaults.minimizer.local_method)),

@@ -46,12 +46,8 @@ double PairRestitutionAt(const SpringDashpot& pair, double effective_mass_kg) {
 std::pair<std::optional<double>, std::optional<double>> ClosedForms(const dem::ContactLaw& law,
                                                                     double m_eff, double r_eff,
                                                                     double speed) {
-  return std::visit(
-      [&](const auto& typed) {
-        return std::pair{typed.ClosedFormRestitution(m_eff, r_eff, speed),
-                         typed.ClosedFormContactDuration(m_eff, r_eff, speed)};
-      },
-      law);
+  return {dem::ClosedFormRestitutionOf(law, m_eff, r_eff, speed),
+          dem::ClosedFormContactDurationOf(law, m_eff, r_eff, speed)};
 }
 
 // The laws MapContactLaw maps at their default parameters for this ball and speed, for messages.

@@ -126,8 +126,8 @@ class ContactStages {
     Arithmetic<kWall>(t, n, history);
   }
   template <bool kWall>
-  [[gnu::target(BOUNCECAL_SCENE_AVX512_TARGET)]] void RunAvx512(
-      Scratch& t, int n, std::vector<NormalHistory>& history) const {
+  [[BOUNCECAL_SCENE_AVX512]] void RunAvx512(Scratch& t, int n,
+                                            std::vector<NormalHistory>& history) const {
     Arithmetic<kWall>(t, n, history);
   }
 #endif

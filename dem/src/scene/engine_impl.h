@@ -214,8 +214,8 @@ class Engine final : public EngineBase<Dim> {
   inline std::int64_t DenseBlockBaseline(Scratch& t, std::int64_t b, int n);
 #if BOUNCECAL_SCENE_HAS_SIMD_PATHS
   [[gnu::target("avx2")]] inline std::int64_t DenseBlockAvx2(Scratch& t, std::int64_t b, int n);
-  [[gnu::target(BOUNCECAL_SCENE_AVX512_TARGET)]] inline std::int64_t DenseBlockAvx512(
-      Scratch& t, std::int64_t b, int n);
+  [[BOUNCECAL_SCENE_AVX512]] inline std::int64_t DenseBlockAvx512(Scratch& t, std::int64_t b,
+                                                                  int n);
   [[gnu::always_inline, gnu::target("avx2")]] inline int GatherTransposed(Scratch& t,
                                                                           std::int64_t b,
                                                                           int n) const;

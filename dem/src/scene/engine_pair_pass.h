@@ -69,8 +69,8 @@ template <int Dim, class Law, class Phys>
   return interacting + DenseScatter(t, b, written, n);
 }
 template <int Dim, class Law, class Phys>
-[[gnu::target(BOUNCECAL_SCENE_AVX512_TARGET)]] inline std::int64_t
-Engine<Dim, Law, Phys>::DenseBlockAvx512(Scratch& t, std::int64_t b, int n) {
+[[BOUNCECAL_SCENE_AVX512]] inline std::int64_t Engine<Dim, Law, Phys>::DenseBlockAvx512(
+    Scratch& t, std::int64_t b, int n) {
   DenseGather(t, b, GatherTransposed(t, b, n), n);
   stages_.template Arithmetic<false>(t, n, this->pair_normal_history_);
   std::int64_t interacting = 0;

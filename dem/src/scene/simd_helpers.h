@@ -18,9 +18,16 @@
 #define BOUNCECAL_SCENE_HAS_SIMD_PATHS 0
 #endif
 
-// The AVX-512 build at the full 512-bit width (8 contacts per instruction): at 256 bits it gained
-// nothing over AVX2.
-#define BOUNCECAL_SCENE_AVX512_TARGET "avx512f,avx512dq,avx512vl,prefer-vector-width=512"
+// The attributes of the AVX-512 build, at the full 512-bit width (8 contacts per instruction): at
+// 256 bits it gained nothing over AVX2. Clang's target attribute does not take the width (it
+// ignores the whole string, and then the AVX2 helpers cannot be inlined); its min_vector_width
+// says the same.
+#if defined(__clang__)
+#define BOUNCECAL_SCENE_AVX512 \
+  gnu::target("avx512f,avx512dq,avx512vl"), clang::min_vector_width(512)
+#else
+#define BOUNCECAL_SCENE_AVX512 gnu::target("avx512f,avx512dq,avx512vl,prefer-vector-width=512")
+#endif
 
 namespace bouncecal::dem::scene {
 

@@ -59,7 +59,7 @@ struct UncertaintyOptions {
   // Threads for CompareLaws (one law per thread); results do not depend on it.
   int threads = 2;
   // One-sigma uncertainty of the drop height, propagated into the intervals (h0 sets dt_0, so it
-  // enters eta_1 directly); 0 treats h0 as exact. Requires drop_height_m.
+  // enters eta_1 directly); 0 treats h0 as exact. Requires a given drop height.
   double drop_height_uncertainty_m = 0;
 };
 
@@ -68,30 +68,35 @@ struct UncertaintyOptions {
 dem::Ball ReferenceBall();
 
 struct FitOptions {
-  // The law, its fixed parameters and the start values of the fitted ones.
-  dem::ContactLawConfig law;
-  // Empty: DefaultFittedParameters(law.kind).
+  // The simulated drop set-up, declared once for the fit, sweep and compare (dem::DropOptions):
+  //  - drop.law: the law, its fixed parameters and the start values of the fitted ones;
+  //  - drop.ball: the ball simulated, the experiment's when ball_given, else ReferenceBall();
+  //  - drop.drop_height_m: the release height when drop_height_given, else unused;
+  //  - gravity, drag, integrator, time step or steps per contact, step grid and the drop engine's
+  //    other settings as given;
+  //  - max_impacts and max_time_s are set for each recording from its measured impacts, and no
+  //    trajectory is recorded.
+  dem::DropOptions drop;
+  // Whether the experiment's ball and release height were given. The fit never assumes a geometry
+  // nobody gave, yet every drop needs a ball and a height, so the two are flags beside the one
+  // drop set-up rather than optional copies of its fields (two places for one quantity) or
+  // optionals inside dem::DropOptions (every other caller of the drop engine would have to fill
+  // them). Fit refuses a drop.ball other than ReferenceBall() or a drop.drop_height_m other than
+  // dem::DropOptions' default without its flag, so a forgotten flag is an error, never a silently
+  // ignored value. Read them through GivenBall() and GivenDropHeightM().
+  //  - Ball not given: Fit accepts it only when the result does not depend on it
+  //    (ResultDependsOnBall); the drops then use ReferenceBall() and the summary says so.
+  //  - Height not given (the default: an experiment's geometry is never assumed): e_1 and eta_1
+  //    are not computed, and each simulation starts from rest at the apex of the first measured
+  //    flight (g dt_1^2 / 8), matched to the measured impacts from the second one on. Given: a
+  //    first rebound higher than it is refused (ConfigError).
+  bool ball_given = false;
+  bool drop_height_given = false;
+  std::string ball_preset;  // the preset name the ball came from, if any (recorded in the card)
+  // Empty: DefaultFittedParameters(drop.law.kind).
   std::vector<std::string> fitted_parameters;
   // Overrides of DefaultParameterRange per parameter name.
   std::map<std::string, ParameterRange, std::less<>> ranges;
-
-  // The ball dropped. Unset: not given, which Fit accepts only when the result does not depend on
-  // it (ResultDependsOnBall); the drops then use ReferenceBall() and the summary says so.
-  std::optional<dem::Ball> ball;
-  std::string ball_preset;  // the preset name the ball came from, if any (recorded in the card)
-  // Release height of the ball's lowest point. Unset (the default: an experiment's geometry is
-  // never assumed): e_1 and eta_1 are not computed, and each simulation starts from rest at the
-  // apex of the first measured flight (g dt_1^2 / 8), matched to the measured impacts from the
-  // second one on. Set: a first rebound higher than it is refused (ConfigError).
-  std::optional<double> drop_height_m;
-  double gravity_mps2 = 9.81;
-  dem::AirDrag drag;
-  dem::Integrator integrator = dem::Integrator::kVelocityVerlet;
-  std::optional<double> time_step_s;        // absolute step; otherwise steps_per_contact
-  std::optional<double> steps_per_contact;  // unset: the drop engine's default accuracy
-  // One fixed step grid from the release, contact force switched on at the first grid step with
-  // overlap: a classic DEM code, as in the paper (dem::DropOptions::fixed_step_grid).
-  bool fixed_step_grid = false;
 
   FitObjective objective = FitObjective::kMeanEnergyLoss;
   int first_n = 3;  // impacts averaged by kMeanEnergyLoss
@@ -113,6 +118,11 @@ struct FitOptions {
   UncertaintyOptions uncertainty;
   // Run the analytic check of AnalyticCheck (two extra drops).
   bool analytic_check = true;
+
+  // drop.ball when ball_given, else nothing.
+  std::optional<dem::Ball> GivenBall() const;
+  // drop.drop_height_m when drop_height_given, else nothing.
+  std::optional<double> GivenDropHeightM() const;
 };
 
 struct FittedParameter {
@@ -128,28 +138,39 @@ struct FittedParameter {
   double standard_error = 0;      // linearised, in the parameter's unit
 };
 
-// The paper's closed form eta = 2 gamma / (1 + gamma) (walton-braun only) beside the fit.
+// The fitted damping parameter beside the value the law's closed form gives for the measured
+// eta-bar. walton-braun: the paper's eta = 2 gamma / (1 + gamma). Every other law with one fitted
+// parameter: 1 - e^2 of its gravity-free closed-form restitution (dem::ClosedFormRestitutionOf)
+// averaged over the measured incoming speeds of the impacts in eta-bar (speed-dependent laws
+// differ from impact to impact), inverted over the parameter's search range by bisection. Not
+// applicable with several fitted parameters, or where the closed form cannot reach eta-bar.
 struct AnalyticCheck {
   bool applicable = false;
+  std::string parameter;        // the fitted parameter checked, e.g. "gamma_n"
+  std::string formula;          // "eta = 2 gamma / (1 + gamma)", or which law's closed form
   double energy_loss_mean = 0;  // measured eta-bar (first N), averaged over the recordings
   double energy_loss_mean_uncertainty = 0;
-  double gamma_n_formula = 0;  // eta-bar / (2 - eta-bar)
-  double gamma_n_fitted = 0;
-  double difference = 0;  // fitted - formula
-  // Measured, not tabulated, each converted to gamma through d eta / d gamma = 2 / (1 + gamma)^2:
+  double formula_value = 0;  // the parameter the closed form gives for eta-bar
+  double fitted_value = 0;
+  double difference = 0;  // fitted - formula, in the parameter's unit
+  // Measured, not tabulated, each converted to the parameter: walton-braun's through d eta /
+  // d gamma = 2 / (1 + gamma)^2 (its errors are ~1e-4 small), the other laws' through the closed
+  // form's inverse (an approximate closed form can be off by per cent, beyond first order):
   //  - time-step error: the fitted law simulated without drag with the chosen integrator and step
-  //    against the exact (event-driven) integrator;
-  //  - model error of the formula: the exact drop against the formula (gravity during contact,
-  //    onsets vs the centre of the contact);
+  //    against the reference path: exact (event-driven) where the law has one, else RK4 at eight
+  //    times the steps per contact;
+  //  - model error of the closed form: the reference drop against it (gravity during contact,
+  //    onsets vs the centre of the contact, impact speeds from flight times);
   //  - air drag (with drag on): the chosen-step drop with drag against the same drop without it.
   double energy_loss_mean_chosen_step = 0;  // as fitted (drag included when on)
-  double energy_loss_mean_exact = 0;        // exact integrator, no drag
-  double energy_loss_formula = 0;
-  double time_step_gamma_error = 0;
-  double model_gamma_error = 0;  // gravity during contact
-  double drag_gamma_error = 0;   // 0 without drag
-  // |time-step| + |model| + |drag| + 2 sigma of gamma_n_formula (sigma from the uncertainty
-  // model's eta-bar uncertainty) + the optimiser's tolerance.
+  double energy_loss_mean_exact = 0;        // reference path, no drag
+  std::string reference_integrator;         // "exact", or "rk4" where the law has no exact path
+  double energy_loss_formula = 0;           // the closed form's eta-bar at the fitted value
+  double time_step_error = 0;
+  double model_error = 0;  // gravity during contact
+  double drag_error = 0;   // 0 without drag
+  // |time-step| + |model| + |drag| + 2 sigma of formula_value (sigma from the uncertainty model's
+  // eta-bar uncertainty) + the optimiser's tolerance (1e-4 of the search range).
   double explained = 0;
   bool warning = false;
   std::string message;  // one sentence; a warning names the next step
@@ -221,7 +242,7 @@ struct LawComparison {
 // (is one constant gamma enough?), and BIC is consistent for that as the number of intervals
 // grows, while AIC (also reported) targets prediction and keeps over-parameterised laws. Laws
 // without dissipative parameters (hertz) are skipped. Each law takes the parameters of
-// options.law it has by name (so options.law may carry, e.g., both stiffness_n_per_m and
+// options.drop.law it has by name (so options.drop.law may carry, e.g., both stiffness_n_per_m and
 // effective_modulus_pa); the rest take their defaults. Runs the laws on
 // options.uncertainty.threads.
 LawComparison CompareLaws(const std::vector<MeasuredSequence>& sequences,

@@ -50,6 +50,7 @@ struct FitRecord {
   std::optional<double> drop_height_m;
   std::string integrator;
   std::optional<double> time_step_s;
+  // Unset: the drop engine's default (dem::DropOptions::steps_per_contact) at the time of the fit.
   std::optional<double> steps_per_contact;
   bool fixed_step_grid = false;
   bool drag = false;
@@ -84,7 +85,7 @@ struct MaterialCard {
 // The card of a fit; hashes each recording file (InputError if one cannot be read; a file given
 // twice is listed once) and stamps the tool version and `created_at` (seconds since 1970-01-01
 // UTC). The caller chooses the time so a build can pin it (SOURCE_DATE_EPOCH) and the card
-// becomes reproducible. Throws ConfigError when options.ball is unset: a card states the ball its
+// becomes reproducible. Throws ConfigError when the ball was not given: a card states the ball its
 // damping belongs to (exported damping coefficients scale with its mass).
 MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& options,
                               const std::vector<std::filesystem::path>& recordings,

@@ -187,6 +187,14 @@ std::string ExactImpactLawNames();
 // How LAMMPS/LIGGGHTS can run the law: its ExportForm(), or EngineMatchAtSpeed without one.
 EngineForm ExportFormOf(const ContactLaw& law);
 
+// The law's gravity-free closed forms of one impact at impact_speed_mps (ClosedFormRestitution,
+// ClosedFormContactDuration), or nothing where the law has none.
+std::optional<double> ClosedFormRestitutionOf(const ContactLaw& law, double effective_mass_kg,
+                                              double effective_radius_m, double impact_speed_mps);
+std::optional<double> ClosedFormContactDurationOf(const ContactLaw& law, double effective_mass_kg,
+                                                  double effective_radius_m,
+                                                  double impact_speed_mps);
+
 }  // namespace bouncecal::dem
 
 #endif  // BOUNCECAL_DEM_CONTACT_LAWS_H_
