@@ -340,6 +340,19 @@ TEST(DetectorGroundTruth, StereoPicksTheBetterChannelIn24BitAndFloatFiles) {
 namespace bouncecal::audio {
 namespace {
 
+// A drop on a free plate (rings for its whole flight), e constant, 30 dB over the weakest impact.
+SynthesisOptions FreePlateDrop(double e, std::uint64_t seed) {
+  SynthesisOptions options;
+  options.drop.restitution.constant = e;
+  options.drop.min_flight_s = 0.03;
+  NoiseOptions noise;
+  noise.snr_db = 30.0;
+  noise.reference = SnrReference::kWeakestImpact;
+  options.noise = noise;
+  options.seed = seed;
+  return options;
+}
+
 // The paper's own setup: a steel ball dropped 20 cm on a free steel plate whose modes ring for
 // up to 1.7 s (the synthesiser's default SteelPlateModes). From the third or fourth bounce on,
 // each impact is quieter than the tail of the earlier ones in every band, so only the ringing
@@ -353,15 +366,7 @@ TEST(DetectorGroundTruth, ImpactsInsideALongRingingFreePlateAreFound) {
   std::vector<double> errors;
   for (double e : {0.5, 0.65, 0.8, 0.9}) {
     for (std::uint64_t seed : {1u, 2u, 3u}) {
-      SynthesisOptions options;
-      options.drop.restitution.constant = e;
-      options.drop.min_flight_s = 0.03;
-      NoiseOptions noise;
-      noise.snr_db = 30.0;
-      noise.reference = SnrReference::kWeakestImpact;
-      options.noise = noise;
-      options.seed = seed;
-      const auto synthesized = SynthesizeBounces(options);
+      const auto synthesized = SynthesizeBounces(FreePlateDrop(e, seed));
       const auto detection = Detect(synthesized.channels[0]);
       const auto onsets = synthesized.BallImpactOnsetsS();
       const auto score = Compare(detection.impacts, onsets);
@@ -419,17 +424,10 @@ TEST(DetectorGroundTruth, AtSixteenKilohertzImpactsInsideAFreePlatesRingingAreFo
   int extra = 0;
   for (double e : {0.5, 0.65, 0.8, 0.9}) {
     for (std::uint64_t seed : {1u, 2u, 3u}) {
-      SynthesisOptions options;
+      SynthesisOptions options = FreePlateDrop(e, seed);
       options.sample_rate_hz = 16000;
       options.chain = RecordingChain{};
       options.click_gain = 0.2;
-      options.drop.restitution.constant = e;
-      options.drop.min_flight_s = 0.03;
-      NoiseOptions noise;
-      noise.snr_db = 30.0;
-      noise.reference = SnrReference::kWeakestImpact;
-      options.noise = noise;
-      options.seed = seed;
       const auto synthesized = SynthesizeBounces(options);
       const auto score =
           Compare(Detect(synthesized.channels[0]).impacts, synthesized.BallImpactOnsetsS());
