@@ -103,9 +103,10 @@ void RingingResidual::CompleteFrame() {
   // more); the other spectra only when a novelty is asked for, which the detector does only
   // inside a tail: elsewhere two FFTs in three are skipped.
   if (bins_ > 0 && t % kHopsPerWindow == 0) {
-    const float* current = Powers(t);
-    sorted_.assign(current, current + bins_);
-    const float quartile = SelectKth(sorted_, bins_ / 4);
+    // The last estimate as the guess: the noise changes little from one window to the next.
+    const float quartile =
+        SelectKth({Powers(t), bins_}, bins_ / 4, select_scratch_, last_quartile_);
+    last_quartile_ = quartile;
     // Parseval with the Hann window's mean square 3/8: a bin of white noise of variance s^2
     // has mean power 3/8 N s^2.
     noise_power_ = quartile / kQuartileOfMean / (0.375 * window_);

@@ -128,7 +128,8 @@ class RingingResidual {
   std::vector<Slot> slots_;
   std::vector<float> powers_;
   std::vector<float> reference_;
-  std::vector<float> sorted_;
+  std::vector<float> select_scratch_;  // SelectKth's
+  float last_quartile_ = 0;            // of the last noise estimate's bin powers, SelectKth's guess
   std::int64_t frames_ = 0;
   double noise_power_ = 0;
   RealFft fft_;

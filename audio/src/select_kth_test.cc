@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -10,11 +11,13 @@ namespace bouncecal::audio {
 namespace {
 
 // Exact selection: every rank of many random inputs (exponential like noise bin powers, with
-// and without ties) must equal std::nth_element's answer bit for bit; no tolerance.
+// and without ties) must equal std::nth_element's answer bit for bit; no tolerance. One
+// scratch buffer serves inputs of every size, and the input itself is left as it was.
 TEST(SelectKth, FindsTheSameValueAsNthElementForEveryRank) {
   std::mt19937 random(7);
   std::exponential_distribution<float> power(1.0f);
   std::uniform_int_distribution<int> level(0, 5);
+  std::vector<float> scratch;
   for (int trial = 0; trial < 300; ++trial) {
     const std::size_t n = 1 + static_cast<std::size_t>(trial % 140);
     std::vector<float> values(n);
@@ -26,22 +29,51 @@ TEST(SelectKth, FindsTheSameValueAsNthElementForEveryRank) {
       auto expected = values;
       std::nth_element(expected.begin(), expected.begin() + static_cast<std::ptrdiff_t>(k),
                        expected.end());
-      auto scratch = values;
-      ASSERT_EQ(SelectKth(scratch, k), expected[k]) << "n " << n << " k " << k;
+      const auto before = values;
+      ASSERT_EQ(SelectKth(values, k, scratch), expected[k]) << "n " << n << " k " << k;
+      ASSERT_EQ(values, before);
+    }
+  }
+}
+
+// The guess only saves time: a guess at the answer itself, near it (so the answer's rank falls
+// inside or just outside the bracket the guess spans), far from it, or none of use (zero,
+// negative, infinite, NaN) gives std::nth_element's value bit for bit; no tolerance.
+TEST(SelectKth, FindsTheSameValueWhateverTheGuess) {
+  std::mt19937 random(11);
+  std::exponential_distribution<float> power(1.0f);
+  std::uniform_int_distribution<int> level(0, 5);
+  std::vector<float> scratch;
+  for (int trial = 0; trial < 200; ++trial) {
+    const std::size_t n = 1 + static_cast<std::size_t>(trial % 140);
+    std::vector<float> values(n);
+    for (auto& v : values) v = trial % 3 == 0 ? static_cast<float>(level(random)) : power(random);
+    for (std::size_t k = 0; k < n; ++k) {
+      auto sorted = values;
+      std::sort(sorted.begin(), sorted.end());
+      const float answer = sorted[k];
+      for (const float guess :
+           {answer, 0.7f * answer, 1.5f * answer, 0.3f * answer, 3.0f * answer, sorted.front(),
+            sorted.back(), 1e-30f, 1e30f, 0.0f, -1.0f, std::numeric_limits<float>::infinity(),
+            std::numeric_limits<float>::quiet_NaN()}) {
+        ASSERT_EQ(SelectKth(values, k, scratch, guess), answer)
+            << "n " << n << " k " << k << " guess " << guess;
+      }
     }
   }
 }
 
 TEST(SelectKth, HandlesAllEqualAndSortedInputs) {
+  std::vector<float> scratch;
   std::vector<float> zeros(126, 0.0f);
-  EXPECT_EQ(SelectKth(zeros, 31), 0.0f);
+  EXPECT_EQ(SelectKth(zeros, 31, scratch), 0.0f);
   std::vector<float> rising(126), falling(126);
   for (std::size_t i = 0; i < 126; ++i) {
     rising[i] = static_cast<float>(i);
     falling[i] = static_cast<float>(125 - i);
   }
-  EXPECT_EQ(SelectKth(rising, 31), 31.0f);
-  EXPECT_EQ(SelectKth(falling, 31), 31.0f);
+  EXPECT_EQ(SelectKth(rising, 31, scratch), 31.0f);
+  EXPECT_EQ(SelectKth(falling, 31, scratch), 31.0f);
 }
 
 }  // namespace
