@@ -24,6 +24,25 @@ constexpr double kLoudnessBandDb = 6.0;
 // covers).
 constexpr double kWeakOnsetTypicalErrorS = 2e-4;
 
+std::string Format(const char* format, double a, double b = 0, double c = 0) {
+  char text[256];
+  std::snprintf(text, sizeof text, format, a, b, c);
+  return text;
+}
+
+// Why a chain ended, formatted only when the chain becomes a sequence: the search tracks
+// several chains from every impact and keeps few, and formatting every one of them took more
+// time than the search itself.
+struct EndReason {
+  EndReason() = default;
+  EndReason(const char* format_text, double first, double second = 0, double third = 0)
+      : format(format_text), a(first), b(second), c(third) {}
+  const char* format = nullptr;  // with a, b, c; nullptr: `text` as it is
+  double a = 0, b = 0, c = 0;
+  std::string text;
+  std::string Text() const { return format != nullptr ? Format(format, a, b, c) : text; }
+};
+
 struct Chain {
   std::vector<int> members;
   // Highest impact index the tracking looked at, and how many sequences were assigned when it
@@ -31,16 +50,10 @@ struct Chain {
   // member up to `reach` has been assigned since.
   int reach = -1;
   int epoch = 0;
-  std::string end_reason;
+  EndReason end_reason;
   double loudness = 0;  // sum of peak levels, breaks ties between equally long chains
   bool short_sequence = false;
 };
-
-std::string Format(const char* format, double a, double b = 0, double c = 0) {
-  char text[256];
-  std::snprintf(text, sizeof text, format, a, b, c);
-  return text;
-}
 
 class ChainFinder {
  public:
@@ -109,22 +122,20 @@ class ChainFinder {
                             Onset(last) + predicted * dt, chain.reach);
       if (next < 0) {
         chain.end_reason = dt < 2e-3 * options_.chatter_interval_ms
-                               ? Format(
-                                     "fades into chatter/rolling: no clear impact after a "
-                                     "%.1f ms flight",
-                                     dt * 1e3)
-                               : Format(
-                                     "no further impact where the next bounce was due "
-                                     "(%.3f-%.3f s)",
-                                     Onset(last) + low * dt, Onset(last) + high * dt);
+                               ? EndReason{"fades into chatter/rolling: no clear impact after a "
+                                           "%.1f ms flight",
+                                           dt * 1e3}
+                               : EndReason{"no further impact where the next bounce was due "
+                                           "(%.3f-%.3f s)",
+                                           Onset(last) + low * dt, Onset(last) + high * dt};
         break;
       }
       const double next_dt = Onset(next) - Onset(last);
       if (next_dt < 1e-3 * options_.chatter_interval_ms) {
-        chain.end_reason = Format(
+        chain.end_reason = EndReason{
             "chatter: the next flight (%.1f ms) is below --chatter-interval-ms %.3g; impacts "
             "merge and e is no longer measurable",
-            next_dt * 1e3, options_.chatter_interval_ms);
+            next_dt * 1e3, options_.chatter_interval_ms};
         break;
       }
       ratio = next_dt / dt;
@@ -419,7 +430,7 @@ std::optional<Chain> ShortSequence(const std::vector<Impact>& impacts,
                   "short sequence: only %d impacts stand out, the loudest sounds left in the "
                   "file%s; two or three sounds can time like a bounce by chance",
                   count, options.release_flight_s ? ", the first timed against the drop" : "");
-    chain.end_reason = text;
+    chain.end_reason.text = text;
     return chain;
   }
   return std::nullopt;
@@ -546,7 +557,7 @@ SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
   for (size_t s = 0; s < chains.size(); ++s) {
     BounceSequence sequence;
     sequence.impact_indices = chains[s].members;
-    sequence.end_reason = chains[s].end_reason;
+    sequence.end_reason = chains[s].end_reason.Text();
     sequence.short_sequence = chains[s].short_sequence;
     for (int member : chains[s].members) {
       result.sequence_of_impact[static_cast<size_t>(member)] = static_cast<int>(s);
