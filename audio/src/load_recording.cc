@@ -1,7 +1,8 @@
 #include "bouncecal/audio/load_recording.h"
 
+#include <bit>
 #include <cmath>
-#include <limits>
+#include <cstdint>
 #include <string>
 
 #include "audio_source.h"
@@ -46,14 +47,19 @@ bool RecordingReader::ReadBlock(std::vector<std::vector<float>>& channels, std::
   interleaved_.resize(max_frames * channel_count);
   const std::int64_t got = finished_ ? 0 : source_->ReadFrames(interleaved_);
   const auto frames = static_cast<std::size_t>(got);
-  // One branch-free pass over the block (it vectorises; NaN fails the comparison), and the
-  // sample-by-sample search only when it found something: checking each sample with a branch
-  // cost as much as the band filter.
-  bool finite = true;
+  // One branch-free pass over the block, and the sample-by-sample search only when it found
+  // something: checking each sample with a branch cost as much as the band filter. On the bits,
+  // as a signed comparison of the magnitude with the largest finite float's, so it vectorises
+  // with the baseline instruction set (the float comparison did not): NaN and infinity are
+  // the magnitudes above it.
+  constexpr auto kMaxFiniteBits = static_cast<std::int32_t>(0x7f7fffff);
+  std::int32_t non_finite = 0;
   for (std::size_t i = 0; i < frames * channel_count; ++i) {
-    finite &= std::fabs(interleaved_[i]) <= std::numeric_limits<float>::max();
+    const auto magnitude =
+        static_cast<std::int32_t>(std::bit_cast<std::uint32_t>(interleaved_[i]) & 0x7fffffffU);
+    non_finite |= magnitude > kMaxFiniteBits ? 1 : 0;
   }
-  if (!finite) {
+  if (non_finite != 0) {
     for (std::size_t i = 0; i < frames * channel_count; ++i) {
       if (!std::isfinite(interleaved_[i])) {
         throw InputError(
