@@ -8,6 +8,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace bouncecal::audio {
 
@@ -60,6 +61,7 @@ class SoundFile {
   SNDFILE* handle_ = nullptr;
   SF_INFO info_{};
   std::filesystem::path path_;
+  std::vector<short> pcm16_;  // ReadFrames' integer block for 16-bit PCM
 };
 
 }  // namespace bouncecal::audio
