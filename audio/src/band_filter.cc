@@ -45,6 +45,23 @@ Biquad MakeBiquad(bool high_pass, double cutoff_hz, double q, int sample_rate_hz
   return biquad;
 }
 
+// out = x h, bin by bin. Written out: std::complex's operator* checks for NaN/inf (C99 Annex
+// G), which costs about as much as the FFT itself here; the inputs are finite by construction.
+// Also compiled for AVX, picked when the library loads where the processor has it: eight
+// floats per instruction instead of four, the same products (AVX has no fused multiply-add,
+// which would round differently; that is FMA, not enabled here).
+#if defined(__x86_64__) && defined(__GNUC__)
+[[gnu::target_clones("avx", "default")]]
+#endif
+void MultiplySpectra(const std::complex<float>* x, const std::complex<float>* h,
+                     std::complex<float>* out, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const float a = x[i].real(), b = x[i].imag();
+    const float c = h[i].real(), d = h[i].imag();
+    out[i] = {a * c - b * d, a * d + b * c};
+  }
+}
+
 // Pole quality factors of a 4th-order Butterworth filter: 1 / (2 cos(pi/8)), 1 / (2 cos(3pi/8)).
 constexpr double kButterworthQ[2] = {0.54119610014619701, 1.3065629648763766};
 
@@ -133,21 +150,15 @@ void BandFilter::FilterBlock(const Sink& sink, size_t valid) {
   const size_t filled = history_ + valid;
   std::fill(real.begin() + static_cast<std::ptrdiff_t>(filled), real.end(), 0.0f);
   fft_->Forward();
-  auto spectrum = fft_->spectrum();
-  input_spectrum_.assign(spectrum.begin(), spectrum.end());
+  const auto spectrum = fft_->spectrum();
+  const auto product = fft_->product();
   const auto output = fft_->output();
   for (size_t band = 0; band < kernel_spectra_.size(); ++band) {
-    const auto& kernel_spectrum = kernel_spectra_[band];
-    // Written out: std::complex's operator* checks for NaN/inf (C99 Annex G), which costs
-    // about as much as the FFT itself here; the inputs are finite by construction.
-    for (size_t i = 0; i < spectrum.size(); ++i) {
-      const float a = input_spectrum_[i].real(), b = input_spectrum_[i].imag();
-      const float c = kernel_spectrum[i].real(), d = kernel_spectrum[i].imag();
-      spectrum[i] = {a * c - b * d, a * d + b * c};
-    }
+    // Into the product buffer, so the input spectrum serves every band without a copy.
+    MultiplySpectra(spectrum.data(), kernel_spectra_[band].data(), product.data(), spectrum.size());
     // Into the separate output buffer: the real buffer keeps the input, whose newest history_
     // samples start the next block without another copy of the whole block.
-    fft_->InverseToOutput();
+    fft_->InverseProductToOutput();
     // Overlap-save: the first history_ outputs are circularly aliased; the rest are exact.
     sink(band, output.subspan(history_, valid));
   }

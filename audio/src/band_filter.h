@@ -60,7 +60,6 @@ class BandFilter {
   std::vector<float> kernel_;
   std::unique_ptr<RealFft> fft_;
   std::vector<std::vector<std::complex<float>>> kernel_spectra_;
-  std::vector<std::complex<float>> input_spectrum_;
   std::vector<std::vector<float>> single_;  // scratch for the one-output overloads
   // The input is kept in fft_->real(): history_ samples of history + pending_ new samples.
   size_t history_ = 0;     // the longest kernel's size - 1

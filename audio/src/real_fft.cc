@@ -71,17 +71,22 @@ BasicRealFft<Real>::BasicRealFft(int size) : size_(size) {
   real_ = F::AllocReal(static_cast<size_t>(size));
   output_ = F::AllocReal(static_cast<size_t>(size));
   spectrum_ = F::AllocComplex(static_cast<size_t>(size / 2 + 1));
-  if (real_ != nullptr && output_ != nullptr && spectrum_ != nullptr) {
+  product_ = F::AllocComplex(static_cast<size_t>(size / 2 + 1));
+  if (real_ != nullptr && output_ != nullptr && spectrum_ != nullptr && product_ != nullptr) {
     forward_ = F::PlanR2c(size, real_, spectrum_);
     inverse_ = F::PlanC2r(size, spectrum_, real_);
   }
-  if (real_ == nullptr || output_ == nullptr || spectrum_ == nullptr || forward_ == nullptr ||
-      inverse_ == nullptr || F::AlignmentOf(real_) != F::AlignmentOf(output_)) {
+  if (real_ == nullptr || output_ == nullptr || spectrum_ == nullptr || product_ == nullptr ||
+      forward_ == nullptr || inverse_ == nullptr ||
+      F::AlignmentOf(real_) != F::AlignmentOf(output_) ||
+      F::AlignmentOf(reinterpret_cast<Real*>(spectrum_)) !=
+          F::AlignmentOf(reinterpret_cast<Real*>(product_))) {
     if (forward_ != nullptr) F::Destroy(forward_);
     if (inverse_ != nullptr) F::Destroy(inverse_);
     F::Free(real_);
     F::Free(output_);
     F::Free(spectrum_);
+    F::Free(product_);
     throw std::bad_alloc();
   }
 }
@@ -95,6 +100,7 @@ BasicRealFft<Real>::~BasicRealFft() {
   F::Free(real_);
   F::Free(output_);
   F::Free(spectrum_);
+  F::Free(product_);
 }
 
 template <typename Real>
@@ -112,6 +118,13 @@ void BasicRealFft<Real>::Inverse() {
 template <typename Real>
 void BasicRealFft<Real>::InverseToOutput() {
   Fftw<Real>::ExecuteC2r(inverse_, spectrum_, output_);
+}
+
+// The same plan on the product buffer (aligned like spectrum_, checked in the constructor):
+// the same result as InverseToOutput() on the same values.
+template <typename Real>
+void BasicRealFft<Real>::InverseProductToOutput() {
+  Fftw<Real>::ExecuteC2r(inverse_, product_, output_);
 }
 
 template class BasicRealFft<float>;

@@ -58,12 +58,20 @@ class BasicRealFft {
   // The same into output() instead, so real() keeps the forward transform's input.
   void InverseToOutput();
   std::span<Real> output() { return {output_, static_cast<size_t>(size_)}; }
+  // A second spectrum buffer, allocated like spectrum(), and the inverse from it into
+  // output(): spectrum() then keeps the forward transform's result, so a filter that applies
+  // several kernels to one input spectrum need not copy it first. Destroys product().
+  std::span<std::complex<Real>> product() {
+    return {reinterpret_cast<std::complex<Real>*>(product_), static_cast<size_t>(size_ / 2 + 1)};
+  }
+  void InverseProductToOutput();
 
  private:
   int size_ = 0;
   Real* real_ = nullptr;
   Real* output_ = nullptr;  // allocated like real_, so the inverse plan runs on it unchanged
   Complex* spectrum_ = nullptr;
+  Complex* product_ = nullptr;  // allocated like spectrum_, for the same reason as output_
   Plan forward_ = nullptr;
   Plan inverse_ = nullptr;
 };
