@@ -11,8 +11,8 @@
 namespace bouncecal::audio {
 
 // The k-th smallest of values (k < values.size(), no NaN): the same value std::nth_element
-// finds, several times faster on the ~100 bin powers the ringing residual takes a quartile of
-// every 5 ms. values is left unchanged; scratch is resized to twice its size and reused, so
+// finds, in a fraction of its time on the ~100 bin powers the ringing residual takes a quartile
+// of every 5 ms. values is left unchanged; scratch is resized to twice its size and reused, so
 // repeated calls allocate nothing.
 //
 // guess (optional, > 0) is a value expected near the answer, such as the previous frame's: one
