@@ -12,7 +12,7 @@ machine's load) and wall time per run. A user picks the cheapest row whose answe
         [--stiffness 100,1000] [--fractions 0.05,0.1,0.2,0.4,0.8] [--seeds 5]
         [--threads 1] [--work /tmp/packing_step_map] [--nice 5]
 
-Standard library only. Runs are cached in --work by their scene: delete it to rerun.
+Standard library only. Runs are cached in --work and reused while their scene text is the same.
 """
 import argparse
 import json
@@ -28,10 +28,13 @@ def run_pack(args, scene, folder, duration=None):
     scene = json.loads(json.dumps(scene))
     scene["outputs"]["directory"] = "out"
     scene["outputs"]["snapshot_interval_s"] = 0
-    with open(scene_path, "w") as f:
-        json.dump(scene, f, indent=1)
+    text = json.dumps(scene, indent=1)
     summary_path = os.path.join(folder, "out", "summary.json")
-    if not os.path.exists(summary_path):
+    # A cached run counts only for the same scene text (a changed scene file runs again).
+    same_scene = os.path.exists(scene_path) and open(scene_path).read() == text
+    with open(scene_path, "w") as f:
+        f.write(text)
+    if not same_scene or not os.path.exists(summary_path):
         command = ["nice", "-n", str(args.nice), args.bouncecal, "pack", scene_path,
                    "--threads", str(args.threads)]
         if duration is not None:

@@ -122,10 +122,14 @@ def run_one(args, base, change, seed):
     folder = os.path.join(args.work, key)
     os.makedirs(folder, exist_ok=True)
     scene_path = os.path.join(folder, "scene.json")
-    with open(scene_path, "w") as f:
-        json.dump(make_scene(base, change, seed, change.get("duration", args.duration), "out"), f, indent=1)
+    text = json.dumps(make_scene(base, change, seed, change.get("duration", args.duration), "out"),
+                      indent=1)
     summary_path = os.path.join(folder, "out", "summary.json")
-    if not os.path.exists(summary_path):
+    # A cached run counts only for the same scene text (a changed base scene runs again).
+    same_scene = os.path.exists(scene_path) and open(scene_path).read() == text
+    with open(scene_path, "w") as f:
+        f.write(text)
+    if not same_scene or not os.path.exists(summary_path):
         command = ["nice", "-n", str(args.nice), args.bouncecal, "pack", scene_path]
         done = subprocess.run(command, capture_output=True, text=True)
         if done.returncode != 0:
