@@ -2,8 +2,8 @@
 # (find_package(bouncecal CONFIG)), a pkg-config file and the bouncecal command. docs/install.md
 # says how a project consumes them; tests/consumer/ checks that one can.
 #
-# The libraries are static, so their private dependencies (libsndfile, FFmpeg, FFTW, NLopt, fmt,
-# threads) are part of a consumer's link: bouncecalConfig.cmake finds them and bouncecal.pc lists
+# The libraries are static, so their private dependencies (libsndfile, FFTW, NLopt, fmt, threads,
+# libdl; FFmpeg is loaded at run time) are part of a consumer's link: bouncecalConfig.cmake finds them and bouncecal.pc lists
 # them.
 include(CMakePackageConfigHelpers)
 

@@ -1,14 +1,8 @@
 #include "ffmpeg_decoder.h"
 
 extern "C" {
-#include <libavcodec/avcodec.h>
-#include <libavformat/avformat.h>
 #include <libavutil/channel_layout.h>
-#include <libavutil/dict.h>
-#include <libavutil/error.h>
 #include <libavutil/intreadwrite.h>
-#include <libavutil/log.h>
-#include <libswresample/swresample.h>
 }
 
 #include <algorithm>
@@ -18,6 +12,7 @@ extern "C" {
 #include <string_view>
 
 #include "bouncecal/error.h"
+#include "ffmpeg_library.h"
 
 namespace bouncecal::audio {
 namespace {
@@ -36,9 +31,9 @@ constexpr std::string_view kPrimingCodecs[] = {"aac",   "aac_latm", "mp1",    "m
                                                "mp3",   "opus",     "ac3",    "eac3",
                                                "wmav1", "wmav2",    "wmapro", "speex"};
 
-std::string AvError(int error) {
+std::string AvError(const FfmpegLibrary& av, int error) {
   char text[AV_ERROR_MAX_STRING_SIZE] = {};
-  av_strerror(error, text, sizeof(text));
+  av.av_strerror(error, text, sizeof(text));
   return text;
 }
 
@@ -59,41 +54,48 @@ std::string ContainerName(std::string_view names, const std::filesystem::path& p
   return first;
 }
 
-void SilenceFfmpegLog() {
+void SilenceFfmpegLog(const FfmpegLibrary& av) {
   static std::once_flag once;
-  std::call_once(once, [] {
-    if (av_log_get_level() == AV_LOG_INFO) av_log_set_level(AV_LOG_QUIET);
+  std::call_once(once, [&av] {
+    if (av.av_log_get_level() == AV_LOG_INFO) av.av_log_set_level(AV_LOG_QUIET);
   });
 }
 
 }  // namespace
 
 struct FfmpegDecoder::Handles {
+  explicit Handles(const FfmpegLibrary& av) : library(&av) {}
+  const FfmpegLibrary* library;
   struct FormatDeleter {
-    void operator()(AVFormatContext* context) const { avformat_close_input(&context); }
+    const FfmpegLibrary* av;
+    void operator()(AVFormatContext* context) const { av->avformat_close_input(&context); }
   };
   struct CodecDeleter {
-    void operator()(AVCodecContext* context) const { avcodec_free_context(&context); }
+    const FfmpegLibrary* av;
+    void operator()(AVCodecContext* context) const { av->avcodec_free_context(&context); }
   };
   struct ResamplerDeleter {
-    void operator()(SwrContext* context) const { swr_free(&context); }
+    const FfmpegLibrary* av;
+    void operator()(SwrContext* context) const { av->swr_free(&context); }
   };
   struct PacketDeleter {
-    void operator()(AVPacket* packet) const { av_packet_free(&packet); }
+    const FfmpegLibrary* av;
+    void operator()(AVPacket* packet) const { av->av_packet_free(&packet); }
   };
   struct FrameDeleter {
-    void operator()(AVFrame* frame) const { av_frame_free(&frame); }
+    const FfmpegLibrary* av;
+    void operator()(AVFrame* frame) const { av->av_frame_free(&frame); }
   };
-  std::unique_ptr<AVFormatContext, FormatDeleter> format;
-  std::unique_ptr<AVCodecContext, CodecDeleter> codec;
-  std::unique_ptr<SwrContext, ResamplerDeleter> converter;
-  std::unique_ptr<AVPacket, PacketDeleter> packet{av_packet_alloc()};
-  std::unique_ptr<AVFrame, FrameDeleter> frame{av_frame_alloc()};
+  std::unique_ptr<AVFormatContext, FormatDeleter> format{nullptr, {library}};
+  std::unique_ptr<AVCodecContext, CodecDeleter> codec{nullptr, {library}};
+  std::unique_ptr<SwrContext, ResamplerDeleter> converter{nullptr, {library}};
+  std::unique_ptr<AVPacket, PacketDeleter> packet{library->av_packet_alloc(), {library}};
+  std::unique_ptr<AVFrame, FrameDeleter> frame{library->av_frame_alloc(), {library}};
   int converter_format = -1;  // the AVSampleFormat the converter was made for
 };
 
-FfmpegDecoder::FfmpegDecoder(const std::filesystem::path& path)
-    : path_(path), handles_(std::make_unique<Handles>()) {}
+FfmpegDecoder::FfmpegDecoder(const std::filesystem::path& path, const FfmpegLibrary& av)
+    : path_(path), av_(&av), handles_(std::make_unique<Handles>(av)) {}
 
 FfmpegDecoder::~FfmpegDecoder() = default;
 
@@ -102,38 +104,41 @@ void FfmpegDecoder::Damaged(const std::string& what, int av_error) const {
   if (sample_rate_hz_ > 0) {
     std::snprintf(at, sizeof(at), "%.3f s", static_cast<double>(frames_decoded_) / sample_rate_hz_);
   }
-  throw InputError(path_.string() + ": " + what + " near " + at + " (" + AvError(av_error) +
+  throw InputError(path_.string() + ": " + what + " near " + at + " (" + AvError(*av_, av_error) +
                    "); the file is damaged or truncated, copy or export it again");
 }
 
 std::unique_ptr<FfmpegDecoder> FfmpegDecoder::Open(const std::filesystem::path& path,
                                                    std::string* why_not) {
-  SilenceFfmpegLog();
-  std::unique_ptr<FfmpegDecoder> decoder(new FfmpegDecoder(path));
+  const FfmpegLibrary* library = LoadFfmpeg(why_not);
+  if (library == nullptr) return nullptr;
+  const FfmpegLibrary& av = *library;
+  SilenceFfmpegLog(av);
+  std::unique_ptr<FfmpegDecoder> decoder(new FfmpegDecoder(path, av));
   Handles& h = *decoder->handles_;
   if (!h.packet || !h.frame) throw InputError(path.string() + ": out of memory opening it");
 
   AVDictionary* options = nullptr;
-  av_dict_set(&options, "protocol_whitelist", "file", 0);
-  av_dict_set(&options, "format_whitelist", kContainers, 0);
+  av.av_dict_set(&options, "protocol_whitelist", "file", 0);
+  av.av_dict_set(&options, "format_whitelist", kContainers, 0);
   AVFormatContext* format = nullptr;
   // "file:" keeps a colon in the user's path from being read as a protocol name.
   const std::string url = "file:" + path.string();
-  const int opened = avformat_open_input(&format, url.c_str(), nullptr, &options);
-  av_dict_free(&options);
+  const int opened = av.avformat_open_input(&format, url.c_str(), nullptr, &options);
+  av.av_dict_free(&options);
   if (opened < 0) {
     // EINVAL: the probe found a format outside kContainers.
     if (why_not) {
       *why_not = opened == AVERROR(EINVAL)
                      ? std::string("a playlist, script or other format that holds no recording")
-                     : AvError(opened);
+                     : AvError(av, opened);
     }
     return nullptr;
   }
   h.format.reset(format);
-  const int found = avformat_find_stream_info(format, nullptr);
+  const int found = av.avformat_find_stream_info(format, nullptr);
   if (found < 0) {
-    if (why_not) *why_not = AvError(found);
+    if (why_not) *why_not = AvError(av, found);
     return nullptr;
   }
   const std::string container = ContainerName(format->iformat->name, path);
@@ -154,14 +159,14 @@ std::unique_ptr<FfmpegDecoder> FfmpegDecoder::Open(const std::filesystem::path& 
                      " audio streams and which one is the drop is unclear; extract it, e.g. "
                      "ffmpeg -i FILE -map 0:a:0 drop.wav");
   }
-  const int stream = av_find_best_stream(format, AVMEDIA_TYPE_AUDIO, -1, -1, nullptr, 0);
+  const int stream = av.av_find_best_stream(format, AVMEDIA_TYPE_AUDIO, -1, -1, nullptr, 0);
   if (stream < 0) {
     throw InputError(path.string() + ": its audio stream cannot be decoded by this FFmpeg (" +
-                     AvError(stream) + "); convert it to WAV or FLAC");
+                     AvError(av, stream) + "); convert it to WAV or FLAC");
   }
   const AVStream* audio = format->streams[stream];
-  const std::string codec_name = avcodec_get_name(audio->codecpar->codec_id);
-  const AVCodec* codec = avcodec_find_decoder(audio->codecpar->codec_id);
+  const std::string codec_name = av.avcodec_get_name(audio->codecpar->codec_id);
+  const AVCodec* codec = av.avcodec_find_decoder(audio->codecpar->codec_id);
   if (codec == nullptr) {
     throw InputError(path.string() + ": its " + codec_name +
                      " audio cannot be decoded by this FFmpeg; convert it to WAV or FLAC");
@@ -172,7 +177,7 @@ std::unique_ptr<FfmpegDecoder> FfmpegDecoder::Open(const std::filesystem::path& 
   }
   decoder->container_ = container;
   decoder->codec_ = codec_name;
-  const AVCodecDescriptor* descriptor = avcodec_descriptor_get(audio->codecpar->codec_id);
+  const AVCodecDescriptor* descriptor = av.avcodec_descriptor_get(audio->codecpar->codec_id);
   // A codec FFmpeg does not call lossless is treated as lossy: wider uncertainties are the safe
   // side.
   decoder->lossy_ = descriptor == nullptr || (descriptor->props & AV_CODEC_PROP_LOSSLESS) == 0;
@@ -187,18 +192,18 @@ std::unique_ptr<FfmpegDecoder> FfmpegDecoder::Open(const std::filesystem::path& 
   // also states it as the codec delay).
   decoder->delay_stated_ = codec_name == "opus" || audio->codecpar->initial_padding > 0;
 
-  h.codec.reset(avcodec_alloc_context3(codec));
+  h.codec.reset(av.avcodec_alloc_context3(codec));
   if (!h.codec) throw InputError(path.string() + ": out of memory opening its decoder");
-  int status = avcodec_parameters_to_context(h.codec.get(), audio->codecpar);
+  int status = av.avcodec_parameters_to_context(h.codec.get(), audio->codecpar);
   if (status >= 0) {
     h.codec->pkt_timebase = audio->time_base;
     // One thread: decoding stays deterministic and the shared cores stay free.
     h.codec->thread_count = 1;
-    status = avcodec_open2(h.codec.get(), codec, nullptr);
+    status = av.avcodec_open2(h.codec.get(), codec, nullptr);
   }
   if (status < 0) {
     throw InputError(path.string() + ": cannot open its " + codec_name + " decoder (" +
-                     AvError(status) + "); convert it to WAV or FLAC");
+                     AvError(av, status) + "); convert it to WAV or FLAC");
   }
   // The first frame fixes the output: HE-AAC, for one, decodes at twice the rate its stream
   // header gives.
@@ -214,7 +219,7 @@ std::unique_ptr<FfmpegDecoder> FfmpegDecoder::Open(const std::filesystem::path& 
       audio->duration != AV_NOPTS_VALUE && audio->duration > 0 &&
       std::string_view(format->iformat->name) != "ogg") {
     decoder->promised_frames_ =
-        av_rescale_q(audio->duration, audio->time_base, AVRational{1, decoder->sample_rate_hz_});
+        av.av_rescale_q(audio->duration, audio->time_base, AVRational{1, decoder->sample_rate_hz_});
   }
   decoder->encoder_delay_ = !decoder->codec_primes_  ? EncoderDelay::kNone
                             : decoder->delay_stated_ ? EncoderDelay::kRemoved
@@ -223,42 +228,43 @@ std::unique_ptr<FfmpegDecoder> FfmpegDecoder::Open(const std::filesystem::path& 
 }
 
 bool FfmpegDecoder::DecodeNextFrame() {
+  const FfmpegLibrary& av = *av_;
   Handles& h = *handles_;
   while (true) {
-    int status = avcodec_receive_frame(h.codec.get(), h.frame.get());
+    int status = av.avcodec_receive_frame(h.codec.get(), h.frame.get());
     if (status == 0) {
       const bool corrupt = (h.frame->flags & AV_FRAME_FLAG_CORRUPT) != 0;
       if (corrupt) Damaged("a corrupt frame", AVERROR_INVALIDDATA);
       ConvertFrame();
-      av_frame_unref(h.frame.get());
+      av.av_frame_unref(h.frame.get());
       if (pending_.empty()) continue;  // a frame that was all priming
       return true;
     }
     if (status == AVERROR_EOF) return false;
     if (status != AVERROR(EAGAIN)) Damaged("a frame that cannot be decoded", status);
     if (flushed_) return false;
-    status = av_read_frame(h.format.get(), h.packet.get());
+    status = av.av_read_frame(h.format.get(), h.packet.get());
     if (status == AVERROR_EOF) {
       flushed_ = true;
-      status = avcodec_send_packet(h.codec.get(), nullptr);
+      status = av.avcodec_send_packet(h.codec.get(), nullptr);
       if (status < 0 && status != AVERROR_EOF) Damaged("the end of the stream", status);
       continue;
     }
     if (status < 0) Damaged("a packet that cannot be read", status);
     if (h.packet->stream_index != stream_index_) {
-      av_packet_unref(h.packet.get());
+      av.av_packet_unref(h.packet.get());
       continue;
     }
     if ((h.packet->flags & AV_PKT_FLAG_CORRUPT) != 0) {
-      av_packet_unref(h.packet.get());
+      av.av_packet_unref(h.packet.get());
       Damaged("a corrupt packet (audio lost in recording or transfer)", AVERROR_INVALIDDATA);
     }
     std::size_t side_size = 0;
     const std::uint8_t* skip =
-        av_packet_get_side_data(h.packet.get(), AV_PKT_DATA_SKIP_SAMPLES, &side_size);
+        av.av_packet_get_side_data(h.packet.get(), AV_PKT_DATA_SKIP_SAMPLES, &side_size);
     if (skip != nullptr && side_size >= 4 && AV_RL32(skip) > 0) delay_stated_ = true;
-    status = avcodec_send_packet(h.codec.get(), h.packet.get());
-    av_packet_unref(h.packet.get());
+    status = av.avcodec_send_packet(h.codec.get(), h.packet.get());
+    av.av_packet_unref(h.packet.get());
     if (status < 0 && status != AVERROR(EAGAIN)) {
       Damaged("a packet that cannot be decoded", status);
     }
@@ -266,6 +272,7 @@ bool FfmpegDecoder::DecodeNextFrame() {
 }
 
 void FfmpegDecoder::ConvertFrame() {
+  const FfmpegLibrary& av = *av_;
   Handles& h = *handles_;
   // Not const: FFmpeg 5.1's swr_alloc_set_opts2 takes the layouts by non-const pointer.
   AVFrame& frame = *h.frame;
@@ -288,11 +295,11 @@ void FfmpegDecoder::ConvertFrame() {
   if (!h.converter || h.converter_format != frame.format) {
     SwrContext* converter = nullptr;
     // Same layout and rate in and out: only the sample format changes, nothing is resampled.
-    int status = swr_alloc_set_opts2(
+    int status = av.swr_alloc_set_opts2(
         &converter, &frame.ch_layout, AV_SAMPLE_FMT_FLT, frame.sample_rate, &frame.ch_layout,
         static_cast<AVSampleFormat>(frame.format), frame.sample_rate, 0, nullptr);
     h.converter.reset(converter);
-    if (status >= 0) status = swr_init(converter);
+    if (status >= 0) status = av.swr_init(converter);
     if (status < 0) Damaged("samples in an unsupported format", status);
     h.converter_format = frame.format;
   }
@@ -300,7 +307,7 @@ void FfmpegDecoder::ConvertFrame() {
   pending_offset_ = 0;
   std::uint8_t* out[] = {reinterpret_cast<std::uint8_t*>(pending_.data())};
   const int converted =
-      swr_convert(h.converter.get(), out, frame.nb_samples,
+      av.swr_convert(h.converter.get(), out, frame.nb_samples,
                   const_cast<const std::uint8_t**>(frame.extended_data), frame.nb_samples);
   if (converted < 0) Damaged("samples that cannot be converted", converted);
   pending_.resize(static_cast<std::size_t>(converted) * static_cast<std::size_t>(channels));

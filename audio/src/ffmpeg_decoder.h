@@ -13,8 +13,11 @@
 
 namespace bouncecal::audio {
 
+struct FfmpegLibrary;  // ffmpeg_library.h
+
 // RAII owner of FFmpeg's demuxer, decoder and sample-format converter for one file: the only
-// place that talks to libavformat/libavcodec/libswresample, for what libsndfile cannot read
+// place that talks to libavformat/libavcodec/libswresample (loaded when the first file needs
+// them, ffmpeg_library.h), for what libsndfile cannot read
 // (M4A/AAC as phones record voice memos, WebM/Matroska, CAF, AMR, ...). It decodes the file's
 // best audio stream at the stream's own rate and channel count, converting only the sample
 // format to float, and lets libavcodec drop the encoder's priming samples the container states
@@ -29,7 +32,7 @@ class FfmpegDecoder {
  public:
   // Opens the file and decodes up to its first audio frame (which fixes the output rate and
   // channel count). Returns nullptr, with the reason in *why_not, when FFmpeg does not recognise
-  // the file as media; throws InputError when it does but holds no audio stream (a silent
+  // the file as media or its libraries cannot be loaded; throws InputError when it does but holds no audio stream (a silent
   // video), more than one (which is the drop cannot be guessed), or a stream that cannot be
   // decoded (a damaged file, an unsupported codec).
   static std::unique_ptr<FfmpegDecoder> Open(const std::filesystem::path& path,
@@ -59,7 +62,7 @@ class FfmpegDecoder {
 
  private:
   struct Handles;
-  explicit FfmpegDecoder(const std::filesystem::path& path);
+  FfmpegDecoder(const std::filesystem::path& path, const FfmpegLibrary& av);
   // Decodes the next frame of the stream into pending_; false at the end of the stream.
   bool DecodeNextFrame();
   void ConvertFrame();
@@ -68,6 +71,7 @@ class FfmpegDecoder {
   [[noreturn]] void Damaged(const std::string& what, int av_error) const;
 
   std::filesystem::path path_;
+  const FfmpegLibrary* av_;
   std::unique_ptr<Handles> handles_;
   int stream_index_ = -1;
   int sample_rate_hz_ = 0;

@@ -10,7 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "bouncecal/audio/load_recording.h"
 #include "bouncecal/error.h"
+#include "ffmpeg_library.h"
 #include "sound_file.h"
 
 namespace bouncecal::audio {
@@ -71,6 +73,45 @@ TEST_F(FfmpegDecoderTest, AWavDecodesToLibsndfilesSamplesWhateverTheBlockSize) {
   expected.resize(2 * static_cast<std::size_t>(reference.ReadFrames(expected)));
   // Bit for bit: both scale 16-bit integers by 1/32768.
   EXPECT_EQ(decoded, expected);
+}
+
+// Whether this process has any of FFmpeg's libraries mapped.
+bool FfmpegIsMapped() {
+  std::ifstream maps("/proc/self/maps");
+  std::string line;
+  while (std::getline(maps, line)) {
+    if (line.find("libavformat") != std::string::npos ||
+        line.find("libavcodec") != std::string::npos) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// FFmpeg is loaded by the first file that needs it, not by the program: a WAV or FLAC analysis
+// never maps its ~130 libraries (56 ms of every process start when they were linked). Each half
+// runs in a fresh process (a death-test child), since an earlier test may have loaded it here.
+TEST_F(FfmpegDecoderTest, FfmpegIsLoadedByTheFirstFileThatNeedsItAndOnlyThen) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  const auto wav = WriteStereoWav("tone.wav", 4000);
+  EXPECT_EXIT(
+      {
+        const bool before = FfmpegIsMapped();
+        LoadRecording(wav);
+        std::exit(!before && !FfmpegIsMapped() ? 0 : 1);
+      },
+      ::testing::ExitedWithCode(0), "");
+  EXPECT_EXIT(
+      {
+        std::string why_not;
+        const bool opened = FfmpegDecoder::Open(wav, &why_not) != nullptr;
+        std::exit(opened && FfmpegIsMapped() ? 0 : 1);
+      },
+      ::testing::ExitedWithCode(0), "");
+  std::string why_not;
+  const FfmpegLibrary* first = LoadFfmpeg(&why_not);
+  ASSERT_NE(first, nullptr) << why_not;
+  EXPECT_EQ(LoadFfmpeg(nullptr), first);
 }
 
 TEST_F(FfmpegDecoderTest, PlaylistsAndScriptsThatWouldOpenOtherFilesAreNotFollowed) {
