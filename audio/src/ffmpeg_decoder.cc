@@ -308,7 +308,7 @@ void FfmpegDecoder::ConvertFrame() {
   std::uint8_t* out[] = {reinterpret_cast<std::uint8_t*>(pending_.data())};
   const int converted =
       av.swr_convert(h.converter.get(), out, frame.nb_samples,
-                  const_cast<const std::uint8_t**>(frame.extended_data), frame.nb_samples);
+                     const_cast<const std::uint8_t**>(frame.extended_data), frame.nb_samples);
   if (converted < 0) Damaged("samples that cannot be converted", converted);
   pending_.resize(static_cast<std::size_t>(converted) * static_cast<std::size_t>(channels));
 }

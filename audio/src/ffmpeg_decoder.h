@@ -32,9 +32,9 @@ class FfmpegDecoder {
  public:
   // Opens the file and decodes up to its first audio frame (which fixes the output rate and
   // channel count). Returns nullptr, with the reason in *why_not, when FFmpeg does not recognise
-  // the file as media or its libraries cannot be loaded; throws InputError when it does but holds no audio stream (a silent
-  // video), more than one (which is the drop cannot be guessed), or a stream that cannot be
-  // decoded (a damaged file, an unsupported codec).
+  // the file as media or its libraries cannot be loaded; throws InputError when it does but holds
+  // no audio stream (a silent video), more than one (which is the drop cannot be guessed), or a
+  // stream that cannot be decoded (a damaged file, an unsupported codec).
   static std::unique_ptr<FfmpegDecoder> Open(const std::filesystem::path& path,
                                              std::string* why_not);
 

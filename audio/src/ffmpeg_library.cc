@@ -13,16 +13,14 @@ namespace {
 
 // The sonames of the libraries this build was compiled against: another major version has
 // another ABI.
-constexpr const char* kLibraries[] = {
-    "libavutil.so." AV_STRINGIFY(LIBAVUTIL_VERSION_MAJOR),
-    "libswresample.so." AV_STRINGIFY(LIBSWRESAMPLE_VERSION_MAJOR),
-    "libavcodec.so." AV_STRINGIFY(LIBAVCODEC_VERSION_MAJOR),
-    "libavformat.so." AV_STRINGIFY(LIBAVFORMAT_VERSION_MAJOR)};
+constexpr const char* kLibraries[] = {"libavutil.so." AV_STRINGIFY(LIBAVUTIL_VERSION_MAJOR),
+                                      "libswresample.so." AV_STRINGIFY(LIBSWRESAMPLE_VERSION_MAJOR),
+                                      "libavcodec.so." AV_STRINGIFY(LIBAVCODEC_VERSION_MAJOR),
+                                      "libavformat.so." AV_STRINGIFY(LIBAVFORMAT_VERSION_MAJOR)};
 
 // Debian's runtime packages of those sonames (libavformat's brings libavcodec and libavutil).
-constexpr const char* kRuntimePackages =
-    "libavformat" AV_STRINGIFY(LIBAVFORMAT_VERSION_MAJOR) " libswresample" AV_STRINGIFY(
-        LIBSWRESAMPLE_VERSION_MAJOR);
+constexpr const char* kRuntimePackages = "libavformat" AV_STRINGIFY(
+    LIBAVFORMAT_VERSION_MAJOR) " libswresample" AV_STRINGIFY(LIBSWRESAMPLE_VERSION_MAJOR);
 
 // The loaded library, or why it could not be loaded.
 struct Loaded {
