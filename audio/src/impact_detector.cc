@@ -57,7 +57,7 @@ class ImpactDetector::Impl {
                std::max(OnsetLocator::HistorySamples(sample_rate_hz),
                         RingingResidual::HistorySamples(sample_rate_hz))),
         raw_(OnsetLocator::HistorySamples(sample_rate_hz) + 2 * bands_.max_latency_samples()),
-        band_rise_(bands_),
+        band_rise_(bands_, options.ringing_residual ? &residual_ : nullptr),
         residual_(frames_, options, bands_, FrameRing(frames_, bands_)),
         tracker_(frames_, options, bands_),
         locator_(frames_, options, bands_, residual_, raw_),

@@ -17,10 +17,23 @@ constexpr double kSecondaryRiseFraction = 0.5;
 
 }  // namespace
 
+std::size_t UsableBands(const BandEnvelopes& bands, double content_edge_hz) {
+  // 2^-1/2: a band's low edge must lie half an octave under the content edge.
+  constexpr double kMinContentOctaveRatio = 0.70710678118654752;
+  std::size_t usable = 1;
+  while (usable < bands.size() &&
+         bands.low_hz(usable) <= content_edge_hz * kMinContentOctaveRatio) {
+    ++usable;
+  }
+  return usable;
+}
+
 NoveltyRise BandRiseNovelty::Rise(std::int64_t, std::ptrdiff_t k, bool wanted) {
   NoveltyRise rise;
   if (!wanted && !bands_.AnyBandMayRise(k)) return rise;
-  for (std::size_t b = 0; b < bands_.size(); ++b) {
+  const std::size_t usable =
+      residual_ ? UsableBands(bands_, residual_->content_edge_hz()) : bands_.size();
+  for (std::size_t b = 0; b < usable; ++b) {
     const double db = bands_.Rise(b, k);
     if (db > rise.rise_db) {
       rise.rise_db = db;

@@ -41,6 +41,12 @@ OnsetLocator::OnsetLocator(const DetectorFrames& frames, const DetectorOptions& 
       residual_(residual),
       raw_(raw) {}
 
+std::size_t OnsetLocator::PickBand(std::size_t rising_band) const {
+  // A band that holds too little of the recording's content (UsableBands, novelty_sources.h)
+  // hands the pick to the highest one that holds enough.
+  return std::min(rising_band, UsableBands(bands_, residual_.content_edge_hz()) - 1);
+}
+
 std::optional<LocatedImpact> OnsetLocator::Locate(const Candidate& candidate) {
   const EnvelopeBand& band = bands_.band(candidate.band);
   const std::int64_t hop = frames_.hop;
@@ -63,8 +69,9 @@ std::optional<LocatedImpact> OnsetLocator::Locate(const Candidate& candidate) {
     if (residual_.SnrDb(peak_db) < min_snr_db_) return std::nullopt;
   }
   // The onset is picked in the same band, where the impact stands out most from what was there
-  // before; the window ends at the impact's largest sample.
-  const SampleHistory<float>& samples = band.samples;
+  // before (unless the recording holds too little of that band, below); the window ends at the
+  // impact's largest sample.
+  const SampleHistory<float>& samples = bands_.band(PickBand(candidate.band)).samples;
   // Where no band rose by the full threshold the impact sits in a tail louder than itself, so
   // the band's largest sample and its AIC edge are the tail's: the onset is picked on the
   // prediction innovation instead (measured on the free plate: 61.9 us median against 68.6 us

@@ -61,6 +61,8 @@ class OnsetLocator {
   static std::size_t HistorySamples(int sample_rate_hz);
 
  private:
+  // The band the onset of a candidate that rose most in rising_band is picked in.
+  std::size_t PickBand(std::size_t rising_band) const;
   const DetectorFrames frames_;
   double rise_threshold_db_;
   double min_snr_db_;

@@ -26,6 +26,14 @@ constexpr double kLookbackS = 0.02;
 // Floor of a bin's reference power, far below any sound (-300 dB): digital silence must not
 // divide by zero.
 constexpr float kTinyPower = 1e-30f;
+// A bin holds content when its loudest power is within this range of the median bin's: a codec's
+// or a phone path's stop band lies 60-100 dB under its pass band (noise included), while noise
+// fills every bin of the pass band to within a few dB of the median (pink noise falls 19 dB over
+// 300 Hz-24 kHz, at most ~10 dB below the median bin) and modes only rise above it. The median,
+// not the loudest bin: over a quiet recording a plate's loudest mode lies 70 dB above the noise
+// in the bins beside it. A cut below half the band hides the median in the stop band and is not
+// seen (then nothing changes).
+constexpr double kContentRangeDb = 30.0;
 // Lower quartile of an exponential distribution (the power of a noise bin): ln(4/3) of its mean.
 constexpr double kQuartileOfMean = 0.28768207245178085;
 // A frame whose window overlaps the current one by more than half shares the onset's samples,
@@ -76,6 +84,10 @@ RingingResidual::RingingResidual(int sample_rate_hz, double band_low_hz, double 
           ? std::min(all_bins, static_cast<std::size_t>(std::floor(band_high_hz / bin_hz)) + 1)
           : all_bins - 1;  // the Nyquist bin is real-only: half the statistics of the others
   bins_ = end_bin > first_bin_ ? end_bin - first_bin_ : 0;
+  bin_hz_ = bin_hz;
+  loudest_.assign(bins_, 0.0f);
+  content_edge_hz_ = static_cast<double>(first_bin_ + bins_) * bin_hz_;
+  content_bins_ = bins_;
   skip_frames_ = kSkipFrames;
   lookback_frames_ = LookbackFramesOf(sample_rate_hz, hop_);
   slots_.resize(SlotsOf(lookback_frames_));
@@ -104,14 +116,36 @@ void RingingResidual::CompleteFrame() {
   // inside a tail: elsewhere two FFTs in three are skipped.
   if (bins_ > 0 && t % kHopsPerWindow == 0) {
     // The last estimate as the guess: the noise changes little from one window to the next.
+    const float* powers = Powers(t);
+    for (std::size_t k = 0; k < bins_; ++k) loudest_[k] = std::max(loudest_[k], powers[k]);
+    content_edge_hz_ = ContentEdgeHz();
+    // The noise is read only where the recording holds content: a cut spectrum's stop band (a
+    // third of the bins of a 22.05 kHz file band-limited at 6.4 kHz) put the lower quartile 70
+    // dB under the noise, and every sound in a tail then passed the gate against it.
     const float quartile =
-        SelectKth({Powers(t), bins_}, bins_ / 4, select_scratch_, last_quartile_);
+        SelectKth({powers, content_bins_}, content_bins_ / 4, select_scratch_, last_quartile_);
     last_quartile_ = quartile;
     // Parseval with the Hann window's mean square 3/8: a bin of white noise of variance s^2
     // has mean power 3/8 N s^2.
     noise_power_ = quartile / kQuartileOfMean / (0.375 * window_);
   }
   fill_ = window_ - hop_;
+}
+
+double RingingResidual::ContentEdgeHz() {
+  std::vector<float>& sorted = edge_scratch_;
+  sorted.assign(loudest_.begin(), loudest_.end());
+  const auto middle = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
+  std::size_t top = bins_;
+  if (middle != sorted.end()) {
+    std::nth_element(sorted.begin(), middle, sorted.end());
+    const double level = *middle * std::pow(10.0, -0.1 * kContentRangeDb);
+    if (level > 0) {
+      while (top > 0 && !(loudest_[top - 1] >= level)) --top;
+    }
+  }
+  content_bins_ = std::max<std::size_t>(top, 1);
+  return static_cast<double>(first_bin_ + top) * bin_hz_;
 }
 
 bool RingingResidual::Valid(std::int64_t frame) const {

@@ -87,6 +87,12 @@ class RingingResidual {
   // Noise power per sample under the ringing: the lower quartile of the band's bin powers
   // (a ringing tail fills a few bins, the noise all of them), scaled to a mean square.
   double noise_power() const { return noise_power_; }
+  // The highest frequency at which the recording has held content so far: the top of the highest
+  // bin whose loudest power over every window seen (one in three frames, which together cover
+  // every sample) is within kContentRangeDb of the median bin's. Below the band's upper edge
+  // when a codec or a phone path has cut the top of the spectrum (less than half of it); the
+  // band's upper edge (or Nyquist) before any window or in silence.
+  double content_edge_hz() const { return content_edge_hz_; }
   // False until the lookback holds enough frames for a reference; novelty_db() is 0 until then.
   bool valid() const { return Valid(latest_frame()); }
 
@@ -103,6 +109,7 @@ class RingingResidual {
   };
   void CompleteFrame();
   bool Valid(std::int64_t frame) const;
+  double ContentEdgeHz();
   std::size_t SlotOf(std::int64_t frame) const {
     return static_cast<std::size_t>(frame) & (slots_.size() - 1);
   }
@@ -132,6 +139,11 @@ class RingingResidual {
   float last_quartile_ = 0;            // of the last noise estimate's bin powers, SelectKth's guess
   std::int64_t frames_ = 0;
   double noise_power_ = 0;
+  double bin_hz_ = 0;
+  std::vector<float> loudest_;  // per bin, over the windows of the noise estimates
+  std::vector<float> edge_scratch_;
+  double content_edge_hz_ = 0;    // content_edge_hz(), updated with loudest_
+  std::size_t content_bins_ = 0;  // the bins below it
   RealFft fft_;
 };
 

@@ -8,6 +8,8 @@
 #include <random>
 #include <vector>
 
+#include "band_limit.h"
+
 namespace bouncecal::audio {
 namespace {
 
@@ -98,6 +100,32 @@ TEST(RingingResidual, NoisePowerIsReadUnderTheRinging) {
     EXPECT_GT(error_db, -2.0) << frame.end_s;
     EXPECT_LT(error_db, 4.0) << frame.end_s;
   }
+}
+
+// The content edge is where a codec or phone path cut the recording's spectrum: white noise 54 dB
+// under the plate's loudest mode fills the band to Nyquist; the same at 22.05 kHz through a
+// low-pass at 6.3 kHz (a 630 Hz transition band and a -74 dB stop band, BandLimit, as the
+// random-impairment sweep's files that timed impacts early in the 6 kHz band) ends between the
+// transition band's middle and three bins (172 Hz each: the window's main lobe and the noise's
+// own maxima) past its end (measured 7.06 kHz); and silence leaves the band's edge. (With the
+// noise 74 dB under the modes, their Hann side lobes reach past the cut to within 30 dB of the
+// noise and the edge reads 9.1 kHz: too high, the side that changes nothing.)
+TEST(RingingResidual, ContentEdgeIsWhereTheRecordingsSpectrumWasCut) {
+  constexpr int kLowRate = 22050;
+  const auto edge_of = [](const std::vector<float>& x, int rate) {
+    RingingResidual residual(rate, 300.0, 0.0);
+    for (float sample : x) residual.Push(sample);
+    return residual.content_edge_hz();
+  };
+  auto x = RingingWithNoise(1e-3);
+  EXPECT_GE(edge_of(x, kRate), 0.97 * kRate / 2);
+  // The same samples read at 22.05 kHz: modes at 574, 611 and 1898 Hz.
+  EXPECT_GE(edge_of(x, kLowRate), 0.97 * kLowRate / 2);
+  BandLimit(6300.0, 630.0, kLowRate, x);
+  const double edge_hz = edge_of(x, kLowRate);
+  EXPECT_GT(edge_hz, 6300.0);
+  EXPECT_LT(edge_hz, 6300.0 + 315.0 + 3 * 172.0);
+  EXPECT_GE(edge_of(std::vector<float>(kRate / 10, 0.0f), kRate), 0.97 * kRate / 2);
 }
 
 TEST(RingingResidual, SilenceGivesNoNoveltyAndNoNaN) {
