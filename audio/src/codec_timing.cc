@@ -26,9 +26,9 @@ struct FamilyTiming {
 };
 
 constexpr std::array<FamilyTiming, 6> kMeasured = {{
-    {"aac", 96000, 1413e-6, 967e-6},
-    {"mp3", 96000, 719e-6, 96e-6},
-    {"vorbis", 90000, 598e-6, 361e-6},
+    {"aac", 96000, 1408e-6, 967e-6},
+    {"mp3", 96000, 722e-6, 96e-6},
+    {"vorbis", 90000, 568e-6, 327e-6},
     {"opus", 48000, 1410e-6, 248e-6},
     {"g711", 0, 41e-6, 41e-6},
     {"adpcm", 0, 220e-6, 220e-6},
