@@ -117,8 +117,15 @@ void RingingResidual::CompleteFrame() {
   if (bins_ > 0 && t % kHopsPerWindow == 0) {
     // The last estimate as the guess: the noise changes little from one window to the next.
     const float* powers = Powers(t);
-    for (std::size_t k = 0; k < bins_; ++k) loudest_[k] = std::max(loudest_[k], powers[k]);
-    content_edge_hz_ = ContentEdgeHz();
+    // The maxima grow at loud sounds only: the edge is found again only then.
+    bool grew = false;
+    for (std::size_t k = 0; k < bins_; ++k) {
+      if (powers[k] > loudest_[k]) {
+        loudest_[k] = powers[k];
+        grew = true;
+      }
+    }
+    if (grew) content_edge_hz_ = ContentEdgeHz();
     // The noise is read only where the recording holds content: a cut spectrum's stop band (a
     // third of the bins of a 22.05 kHz file band-limited at 6.4 kHz) put the lower quartile 70
     // dB under the noise, and every sound in a tail then passed the gate against it.
