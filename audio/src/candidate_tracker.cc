@@ -126,7 +126,7 @@ void CandidateTracker::NoteLaterSound(const NoveltyRise& band, std::int64_t n, s
   if (start <= candidate_.frame + frames_.attack) return;
   const std::int64_t earlier_peak = LoudestFrame(0, candidate_.frame, start - 1);
   if (earlier_peak >= start - frames_.skip) return;
-  // Louder in the band that rose, than all of the candidate's sound before it there: a counter's
+  // Louder in the band that rose than the candidate's sound was there up to its peak: a counter's
   // precursor 13 dB under its impact (the random-impairment sweep's seed 35 #26) rang in band 0
   // to within 10 dB of it, was not recorded, and was timed as the impact, 7 ms early at a stated
   // 0.2 ms.

@@ -31,8 +31,8 @@ constexpr float kTinyPower = 1e-30f;
 // fills every bin of the pass band to within a few dB of the median (pink noise falls 19 dB over
 // 300 Hz-24 kHz, at most ~10 dB below the median bin) and modes only rise above it. The median,
 // not the loudest bin: over a quiet recording a plate's loudest mode lies 70 dB above the noise
-// in the bins beside it. A cut below half the band hides the median in the stop band and is not
-// seen (then nothing changes).
+// in the bins beside it. A cut that removes more than half of the band's bins puts the median in
+// the stop band and is not seen (then nothing changes).
 constexpr double kContentRangeDb = 30.0;
 // Lower quartile of an exponential distribution (the power of a noise bin): ln(4/3) of its mean.
 constexpr double kQuartileOfMean = 0.28768207245178085;
@@ -115,9 +115,9 @@ void RingingResidual::CompleteFrame() {
   // more); the other spectra only when a novelty is asked for, which the detector does only
   // inside a tail: elsewhere two FFTs in three are skipped.
   if (bins_ > 0 && t % kHopsPerWindow == 0) {
-    // The last estimate as the guess: the noise changes little from one window to the next.
     const float* powers = Powers(t);
-    // The maxima grow at loud sounds only: the edge is found again only then.
+    // The maxima rarely grow once the first loud sounds are in: the edge is found again only when
+    // one does.
     bool grew = false;
     for (std::size_t k = 0; k < bins_; ++k) {
       if (powers[k] > loudest_[k]) {
@@ -128,7 +128,8 @@ void RingingResidual::CompleteFrame() {
     if (grew) content_edge_hz_ = ContentEdgeHz();
     // The noise is read only where the recording holds content: a cut spectrum's stop band (a
     // third of the bins of a 22.05 kHz file band-limited at 6.4 kHz) put the lower quartile 70
-    // dB under the noise, and every sound in a tail then passed the gate against it.
+    // dB under the noise, and every sound in a tail then passed the gate against it. The last
+    // estimate is the guess: the noise changes little from one window to the next.
     const float quartile =
         SelectKth({powers, content_bins_}, content_bins_ / 4, select_scratch_, last_quartile_);
     last_quartile_ = quartile;
