@@ -3,8 +3,8 @@
 # says how a project consumes them; tests/consumer/ checks that one can.
 #
 # The libraries are static, so their private dependencies (libsndfile, FFTW, NLopt, fmt, threads,
-# libdl; FFmpeg is loaded at run time) are part of a consumer's link: bouncecalConfig.cmake finds them and bouncecal.pc lists
-# them.
+# libdl; FFmpeg is loaded at run time) are part of a consumer's link: bouncecalConfig.cmake finds
+# them and bouncecal.pc lists them.
 include(CMakePackageConfigHelpers)
 
 set(BOUNCECAL_LIBRARIES

@@ -6,7 +6,9 @@ extern "C" {
 
 #include <dlfcn.h>
 
+#include <iterator>
 #include <optional>
+#include <string>
 
 namespace bouncecal::audio {
 namespace {
