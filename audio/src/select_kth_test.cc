@@ -10,21 +10,25 @@
 namespace bouncecal::audio {
 namespace {
 
+// 1-140 values (by trial) like a spectrum's noise bin powers: exponential, or, in a third of the
+// trials, quantised to a few levels (many ties).
+std::vector<float> BinPowers(std::mt19937& random, int trial) {
+  std::exponential_distribution<float> power(1.0f);
+  std::uniform_int_distribution<int> level(0, 5);
+  std::vector<float> values(1 + static_cast<std::size_t>(trial % 140));
+  for (auto& v : values) v = trial % 3 == 0 ? static_cast<float>(level(random)) : power(random);
+  return values;
+}
+
 // Exact selection: every rank of many random inputs (exponential like noise bin powers, with
 // and without ties) must equal std::nth_element's answer bit for bit; no tolerance. One
 // scratch buffer serves inputs of every size, and the input itself is left as it was.
 TEST(SelectKth, FindsTheSameValueAsNthElementForEveryRank) {
   std::mt19937 random(7);
-  std::exponential_distribution<float> power(1.0f);
-  std::uniform_int_distribution<int> level(0, 5);
   std::vector<float> scratch;
   for (int trial = 0; trial < 300; ++trial) {
-    const std::size_t n = 1 + static_cast<std::size_t>(trial % 140);
-    std::vector<float> values(n);
-    for (auto& v : values) {
-      // A third of the trials quantised to a few levels: many ties.
-      v = trial % 3 == 0 ? static_cast<float>(level(random)) : power(random);
-    }
+    const std::vector<float> values = BinPowers(random, trial);
+    const std::size_t n = values.size();
     for (std::size_t k = 0; k < n; ++k) {
       auto expected = values;
       std::nth_element(expected.begin(), expected.begin() + static_cast<std::ptrdiff_t>(k),
@@ -41,13 +45,10 @@ TEST(SelectKth, FindsTheSameValueAsNthElementForEveryRank) {
 // negative, infinite, NaN) gives std::nth_element's value bit for bit; no tolerance.
 TEST(SelectKth, FindsTheSameValueWhateverTheGuess) {
   std::mt19937 random(11);
-  std::exponential_distribution<float> power(1.0f);
-  std::uniform_int_distribution<int> level(0, 5);
   std::vector<float> scratch;
   for (int trial = 0; trial < 200; ++trial) {
-    const std::size_t n = 1 + static_cast<std::size_t>(trial % 140);
-    std::vector<float> values(n);
-    for (auto& v : values) v = trial % 3 == 0 ? static_cast<float>(level(random)) : power(random);
+    const std::vector<float> values = BinPowers(random, trial);
+    const std::size_t n = values.size();
     for (std::size_t k = 0; k < n; ++k) {
       auto sorted = values;
       std::sort(sorted.begin(), sorted.end());
