@@ -4,9 +4,11 @@
 #include <string>
 
 #include "bouncecal/error.h"
+#include "bouncecal/option_error.h"
 #include "bouncecal/version.h"
 #include "commands.h"
 #include "exit_codes.h"
+#include "option_names.h"
 #include "stop_signals.h"
 
 namespace {
@@ -49,6 +51,9 @@ int main(int argc, char** argv) {
     return apps::kExitBadOption;
   } catch (const bouncecal::InputError& error) {
     return ReportError(error.what(), apps::kExitInputFile);
+  } catch (const bouncecal::OptionError& error) {
+    // The library names its fields; the command line speaks in flags.
+    return ReportError(apps::WithFlags(error.what(), error.fields()).c_str(), apps::kExitBadOption);
   } catch (const bouncecal::ConfigError& error) {
     return ReportError(error.what(), apps::kExitBadOption);
   } catch (const bouncecal::OutputError& error) {

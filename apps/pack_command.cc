@@ -20,6 +20,7 @@
 
 #include "bouncecal/atomic_file.h"
 #include "bouncecal/dem/packing.h"
+#include "bouncecal/dem/packing_json.h"
 #include "bouncecal/dem/scene.h"
 #include "bouncecal/error.h"
 #include "commands.h"
@@ -61,54 +62,6 @@ void DrawProgress(const dem::PackProgress& p) {
 }
 
 bool Unstable(const dem::PackSummary& s) { return s.stop_reason == dem::PackStopReason::kUnstable; }
-
-// nlohmann writes a non-finite double as null, which readers take for a measured "nothing" (or
-// choke on); a value that is not a number is left out instead, and stop_reason says why.
-void PutFinite(nlohmann::json& j, const char* key, double value) {
-  if (std::isfinite(value)) j[key] = value;
-}
-
-nlohmann::json SummaryJson(const dem::Scene& scene, const dem::PackSummary& s) {
-  nlohmann::json j;
-  j["format"] = "bouncecal-pack/1";  // docs/json.md
-  j["scene"] = scene.source.string();
-  j["physics"] = s.physics;
-  j["stop_reason"] = std::string(dem::ToString(s.stop_reason));
-  j["message"] = s.message;
-  j["state_digest"] = fmt::format("{:016x}", s.state_digest);
-  j["boiling"] = s.boiling;
-  // An unstable run is never measured (RunPacking leaves these at 0): a 0 here would read as an
-  // empty container, so the fields are absent.
-  if (!Unstable(s)) {
-    PutFinite(j, "packing_density", s.packing_density);
-    PutFinite(j, "packing_density_by_count", s.packing_density_by_count);
-    PutFinite(j, "mean_coordination", s.coordination.mean);
-    j["coordination_histogram"] = s.coordination.histogram;
-    j["coordination_particles"] = s.coordination.particles;
-  }
-  j["particles"] = s.particles;
-  j["particles_not_inserted"] = s.particles_not_inserted;
-  j["steps"] = s.steps;
-  PutFinite(j, "time_step_s", s.time_step_s);
-  PutFinite(j, "time_step_limit_s", s.time_step_limit_s);
-  PutFinite(j, "tangential_time_step_limit_s", s.tangential_time_step_limit_s);
-  j["warnings"] = s.warnings;
-  PutFinite(j, "simulated_s", s.simulated_s);
-  // The energy of a blown-up state measures the failure, not the packing.
-  if (!Unstable(s)) PutFinite(j, "kinetic_energy_j", s.kinetic_energy_j);
-  j["neighbor_rebuilds"] = s.neighbor_rebuilds;
-  j["threads"] = s.threads;
-  PutFinite(j, "wall_s", s.wall_s);
-  PutFinite(j, "total_wall_s", s.total_wall_s);
-  PutFinite(j, "particle_steps_per_s", s.particle_steps_per_s);
-  if (scene.dimension == 3) {
-    j["band_m"] = {scene.measurement.band_min_m, scene.measurement.band_max_m};
-  } else {
-    j["window_m"] = {{scene.measurement.window_min_m[0], scene.measurement.window_min_m[1]},
-                     {scene.measurement.window_max_m[0], scene.measurement.window_max_m[1]}};
-  }
-  return j;
-}
 
 bool Finite(const dem::HistoryPoint& h) {
   return std::isfinite(h.time_s) && std::isfinite(h.packing_density) &&
@@ -368,17 +321,8 @@ void RunPack(const PackArgs& args) {
   options.skin_diameters = args.skin_diameters;
   options.min_skin_diameters = args.min_skin_diameters;
   options.allow_unstable_step = args.allow_unstable_step;
-  if (args.duration_s) {
-    // A positive duration under one step would run no step at all and report the start state
-    // as if it were the result; 0 asks for exactly that, so it stays allowed.
-    if (*args.duration_s > 0 && *args.duration_s < scene.time_step_s) {
-      throw ConfigError(fmt::format(
-          "--duration-s {:g} s is below the scene's time_step_s ({:g} s in {}), so no step would "
-          "run; give at least {:g} s, or 0 to measure the start state",
-          *args.duration_s, scene.time_step_s, scene.source.string(), scene.time_step_s));
-    }
-    options.duration_s = *args.duration_s;
-  }
+  dem::CheckDurationOverride(scene, args.duration_s);
+  options.duration_s = args.duration_s;
   if (!args.resume.empty()) options.resume_checkpoint = ReadCheckpoint(args.resume);
   options.resume_name = args.resume;
   options.checkpoint_every_s = args.checkpoint_every_s;
@@ -432,7 +376,7 @@ void RunPack(const PackArgs& args) {
     fmt::print(stderr, "bouncecal: warning: {}: {}\n", scene.source.string(), warning);
   }
   WriteCsvs(dir, scene, summary);
-  const std::string json = SummaryJson(scene, summary).dump(2) + "\n";
+  const std::string json = dem::ToJson(scene, summary).dump(2) + "\n";
   WriteFileAtomically(dir / "summary.json", json);
   if (!args.json.empty()) WriteTextOutput(args.json, json);
   const bool interrupted = summary.stop_reason == dem::PackStopReason::kInterrupted;

@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "bouncecal/dem/contact_law.h"
-#include "bouncecal/dem/contact_law_json.h"
 #include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/dem/drop.h"
+#include "bouncecal/dem/drop_json.h"
 #include "bouncecal/error.h"
 #include "commands.h"
 #include "drop_cli_options.h"
@@ -21,9 +21,6 @@
 
 namespace bouncecal::apps {
 namespace {
-
-// The format of --json (docs/json.md, docs/schema/drop.schema.json).
-constexpr const char* kDropFormat = "bouncecal-drop/1";
 
 // What the user typed; converted into dem::DropOptions once parsing is done.
 struct DropArguments {
@@ -63,43 +60,6 @@ dem::DropOptions MakeDropOptions(const DropArguments& args) {
   return options;
 }
 
-nlohmann::json ToJson(const dem::DropResult& result, const dem::DropOptions& options) {
-  nlohmann::json impacts = nlohmann::json::array();
-  for (const dem::DropImpact& impact : result.impacts) {
-    impacts.push_back({{"time_s", impact.time_s},
-                       {"restitution", impact.restitution},
-                       {"energy_loss", impact.energy_loss},
-                       {"contact_duration_s", impact.contact_duration_s},
-                       {"max_overlap_m", impact.max_overlap_m},
-                       {"speed_in_mps", impact.speed_in_mps},
-                       {"speed_out_mps", impact.speed_out_mps},
-                       {"released", impact.released}});
-  }
-  return {{"format", kDropFormat},
-          {"impacts", impacts},
-          {"stop_reason", std::string(dem::ToString(result.stop_reason))},
-          {"stop_detail", result.stop_detail},
-          {"steps", result.steps},
-          {"time_step_s", result.time_step_s},
-          {"stability_limit_s", result.stability_limit_s},
-          {"integrator", std::string(dem::ToString(options.integrator))},
-          {"contact_law", dem::ToJson(options.law)},
-          {"ball",
-           {{"diameter_m", options.ball.diameter_m},
-            {"density_kg_per_m3", options.ball.density_kg_per_m3},
-            {"mass_kg", options.ball.MassKg()}}},
-          {"drop_height_m", options.drop_height_m},
-          {"gravity_mps2", options.gravity_mps2}};
-}
-
-std::string TrajectoryCsv(const dem::DropResult& result) {
-  std::string csv = "time_s,height_m,velocity_mps\n";
-  for (const dem::TrajectoryPoint& point : result.trajectory) {
-    csv += fmt::format("{:.9g},{:.9g},{:.9g}\n", point.time_s, point.height_m, point.velocity_mps);
-  }
-  return csv;
-}
-
 void PrintSummary(std::FILE* out, const dem::DropResult& result) {
   fmt::print(out, "{:>6} {:>12} {:>11} {:>11} {:>12} {:>14}\n", "impact", "time_s", "restitution",
              "energy_loss", "contact_us", "max_overlap_um");
@@ -126,10 +86,10 @@ void Run(DropArguments& args) {
   const dem::DropOptions options = MakeDropOptions(args);
   const dem::DropResult result = dem::SimulateDrop(options);
   if (!args.json_path.empty()) {
-    WriteTextOutput(args.json_path, ToJson(result, options).dump(2) + "\n");
+    WriteTextOutput(args.json_path, dem::ToJson(result, options).dump(2) + "\n");
   }
   if (!args.trajectory_path.empty()) {
-    WriteTextOutput(args.trajectory_path, TrajectoryCsv(result));
+    WriteTextOutput(args.trajectory_path, dem::TrajectoryCsv(result));
   }
   if (!args.quiet) PrintSummary(text.human(), result);
   if (!args.plot_path.empty()) {

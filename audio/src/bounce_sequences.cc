@@ -8,6 +8,7 @@
 #include <string>
 
 #include "bouncecal/error.h"
+#include "bouncecal/option_error.h"
 
 namespace bouncecal::audio {
 namespace {
@@ -133,7 +134,7 @@ class ChainFinder {
       const double next_dt = Onset(next) - Onset(last);
       if (next_dt < 1e-3 * options_.chatter_interval_ms) {
         chain.end_reason = EndReason{
-            "chatter: the next flight (%.1f ms) is below --chatter-interval-ms %.3g; impacts "
+            "chatter: the next flight (%.1f ms) is below the chatter interval %.3g ms; impacts "
             "merge and e is no longer measurable",
             next_dt * 1e3, options_.chatter_interval_ms};
         break;
@@ -481,26 +482,29 @@ std::optional<Chain> ShortSequence(const std::vector<Impact>& impacts,
 }  // namespace
 
 void SequenceOptions::Validate() const {
-  auto require = [](bool ok, const std::string& what) {
-    if (!ok) throw ConfigError(what);
+  // Each range names its field (option_error.h): the command line shows it as its flag.
+  auto require = [](bool ok, std::vector<std::string> fields, const std::string& what) {
+    if (!ok) throw OptionError(std::move(fields), what);
   };
-  require(max_interval_s > 0 && max_interval_s <= 60,
-          "--max-interval-s must be in (0, 60] s, got " + std::to_string(max_interval_s));
-  require(min_ratio > 0 && min_ratio < 1,
-          "minimum interval ratio must be in (0, 1), got " + std::to_string(min_ratio));
-  require(max_ratio >= 1 && max_ratio <= 1.5,
-          "maximum interval ratio must be in [1, 1.5], got " + std::to_string(max_ratio));
-  require(ratio_step_tolerance > 0 && ratio_step_tolerance <= 1,
-          "ratio step tolerance must be in (0, 1], got " + std::to_string(ratio_step_tolerance));
+  require(max_interval_s > 0 && max_interval_s <= 60, {"max_interval_s"},
+          "max_interval_s must be in (0, 60] s, got " + std::to_string(max_interval_s));
+  require(min_ratio > 0 && min_ratio < 1, {"min_ratio"},
+          "min_ratio must be in (0, 1), got " + std::to_string(min_ratio));
+  require(max_ratio >= 1 && max_ratio <= 1.5, {"max_ratio"},
+          "max_ratio must be in [1, 1.5], got " + std::to_string(max_ratio));
+  require(ratio_step_tolerance > 0 && ratio_step_tolerance <= 1, {"ratio_step_tolerance"},
+          "ratio_step_tolerance must be in (0, 1], got " + std::to_string(ratio_step_tolerance));
   require(
-      chatter_interval_ms >= 0 && chatter_interval_ms <= 1000,
-      "--chatter-interval-ms must be in [0, 1000] ms, got " + std::to_string(chatter_interval_ms));
-  require(min_impacts >= 3,
-          "a sequence needs at least 3 impacts, got " + std::to_string(min_impacts));
-  require(max_chance_alignment >= 0 && max_chance_alignment <= 1,
-          "--max-chance-alignment must be in [0, 1], got " + std::to_string(max_chance_alignment));
+      chatter_interval_ms >= 0 && chatter_interval_ms <= 1000, {"chatter_interval_ms"},
+      "chatter_interval_ms must be in [0, 1000] ms, got " + std::to_string(chatter_interval_ms));
+  require(min_impacts >= 3, {"min_impacts"},
+          "min_impacts must be at least 3 (a sequence needs two flights), got " +
+              std::to_string(min_impacts));
+  require(max_chance_alignment >= 0 && max_chance_alignment <= 1, {"max_chance_alignment"},
+          "max_chance_alignment must be in [0, 1], got " + std::to_string(max_chance_alignment));
   require(!release_flight_s || (*release_flight_s > 0 && *release_flight_s <= max_interval_s),
-          "the release flight (from --drop-height-m) must be in (0, --max-interval-s], got " +
+          {"drop_height_m", "max_interval_s"},
+          "the release flight (from drop_height_m) must be in (0, max_interval_s], got " +
               std::to_string(release_flight_s.value_or(0)) + " s");
 }
 

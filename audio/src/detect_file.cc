@@ -3,6 +3,7 @@
 #include <string>
 
 #include "bouncecal/error.h"
+#include "bouncecal/option_error.h"
 
 namespace bouncecal::audio {
 
@@ -11,9 +12,10 @@ FileDetection DetectImpactsInFile(const std::filesystem::path& path,
   RecordingReader reader(path);
   const RecordingInfo& info = reader.info();
   if (options.channel && (*options.channel < 0 || *options.channel >= info.channel_count)) {
-    throw ConfigError("--channel " + std::to_string(*options.channel) + " does not exist in " +
-                      path.string() + ", which has channels 0.." +
-                      std::to_string(info.channel_count - 1));
+    throw OptionError({"channel"}, "`channel` " + std::to_string(*options.channel) +
+                                       " does not exist in " + path.string() +
+                                       ", which has channels 0.." +
+                                       std::to_string(info.channel_count - 1));
   }
   if (options.block_frames == 0) throw ConfigError("block size must be at least one frame");
   std::vector<int> channels;

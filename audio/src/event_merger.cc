@@ -133,18 +133,18 @@ void EventMerger::Report(double reference_to_contact_s, DetectionResult& result)
     if (merge.precursor) {
       std::snprintf(text, sizeof text,
                     "precursor %.1f ms before the impact at %.5f s, whose first %.1f ms are "
-                    "%.1f dB louder in %s (merged; --min-gap-ms %.3g)",
+                    "%.1f dB louder in %s (merged; min gap %.3g ms)",
                     gap_ms, winner_s, merge.span_ms, merge.level_difference_db, where.c_str(),
                     min_gap_ms_);
     } else if (merge.why) {
       std::snprintf(text, sizeof text,
                     "echo or secondary burst %.1f ms after the impact at %.5f s (%s; merged; "
-                    "--min-gap-ms %.3g)",
+                    "min gap %.3g ms)",
                     gap_ms, winner_s, merge.why, min_gap_ms_);
     } else {
       std::snprintf(text, sizeof text,
                     "echo or secondary burst %.1f ms after the impact at %.5f s, %.1f dB "
-                    "quieter over its first %.1f ms in %s (merged; --min-gap-ms %.3g)",
+                    "quieter over its first %.1f ms in %s (merged; min gap %.3g ms)",
                     gap_ms, winner_s, merge.level_difference_db, merge.span_ms, where.c_str(),
                     min_gap_ms_);
     }

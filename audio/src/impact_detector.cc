@@ -7,6 +7,7 @@
 
 #include "band_envelopes.h"
 #include "bouncecal/error.h"
+#include "bouncecal/option_error.h"
 #include "candidate_tracker.h"
 #include "detector_frames.h"
 #include "event_merger.h"
@@ -27,24 +28,28 @@ void Require(bool ok, const std::string& what) {
 void DetectorOptions::Validate(int sample_rate_hz) const {
   Require(sample_rate_hz >= 1000,
           "sample rate must be at least 1000 Hz, got " + std::to_string(sample_rate_hz));
+  // Each range names its field (option_error.h): the command line shows it as its flag.
+  const auto require = [](bool ok, std::vector<std::string> fields, const std::string& what) {
+    if (!ok) throw OptionError(std::move(fields), what);
+  };
   const double nyquist_hz = sample_rate_hz / 2.0;
-  Require(band_low_hz > 0 && band_low_hz < 0.9 * nyquist_hz,
-          "--band-low-hz must be in (0, " + std::to_string(0.9 * nyquist_hz) + ") Hz, got " +
+  require(band_low_hz > 0 && band_low_hz < 0.9 * nyquist_hz, {"band_low_hz"},
+          "band_low_hz must be in (0, " + std::to_string(0.9 * nyquist_hz) + ") Hz, got " +
               std::to_string(band_low_hz));
-  Require(band_high_hz <= 0 || band_high_hz > band_low_hz,
-          "--band-high-hz must be above --band-low-hz (or 0 for no low-pass), got " +
+  require(band_high_hz <= 0 || band_high_hz > band_low_hz, {"band_high_hz", "band_low_hz"},
+          "band_high_hz must be above band_low_hz (or 0 for no low-pass), got " +
               std::to_string(band_high_hz));
-  Require(rise_threshold_db > 0 && rise_threshold_db <= 60,
-          "--rise-threshold-db must be in (0, 60] dB, got " + std::to_string(rise_threshold_db));
-  Require(rise_lookback_ms >= 2 && rise_lookback_ms <= 200,
-          "--rise-lookback-ms must be in [2, 200] ms, got " + std::to_string(rise_lookback_ms));
-  Require(min_snr_db >= 0 && min_snr_db <= 80,
-          "--min-snr-db must be in [0, 80] dB, got " + std::to_string(min_snr_db));
-  Require(min_gap_ms >= 0 && min_gap_ms <= 1000,
-          "--min-gap-ms must be in [0, 1000] ms, got " + std::to_string(min_gap_ms));
-  Require(frame_ms * sample_rate_hz >= 1000.0 && frame_ms <= 5,
-          "frame length must be at least one sample and at most 5 ms, got " +
-              std::to_string(frame_ms) + " ms");
+  require(rise_threshold_db > 0 && rise_threshold_db <= 60, {"rise_threshold_db"},
+          "rise_threshold_db must be in (0, 60] dB, got " + std::to_string(rise_threshold_db));
+  require(rise_lookback_ms >= 2 && rise_lookback_ms <= 200, {"rise_lookback_ms"},
+          "rise_lookback_ms must be in [2, 200] ms, got " + std::to_string(rise_lookback_ms));
+  require(min_snr_db >= 0 && min_snr_db <= 80, {"min_snr_db"},
+          "min_snr_db must be in [0, 80] dB, got " + std::to_string(min_snr_db));
+  require(min_gap_ms >= 0 && min_gap_ms <= 1000, {"min_gap_ms"},
+          "min_gap_ms must be in [0, 1000] ms, got " + std::to_string(min_gap_ms));
+  require(frame_ms * sample_rate_hz >= 1000.0 && frame_ms <= 5, {"frame_ms"},
+          "frame_ms must be at least one sample and at most 5 ms, got " + std::to_string(frame_ms) +
+              " ms");
 }
 
 class ImpactDetector::Impl {

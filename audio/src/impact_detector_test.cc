@@ -35,7 +35,7 @@ TEST(ImpactDetector, BadOptionsNameTheOption) {
     options.Validate(48000);
     FAIL();
   } catch (const ConfigError& error) {
-    EXPECT_NE(std::string(error.what()).find("--min-gap-ms"), std::string::npos);
+    EXPECT_NE(std::string(error.what()).find("min_gap_ms"), std::string::npos);
   }
 }
 

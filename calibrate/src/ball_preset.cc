@@ -3,6 +3,7 @@
 #include <array>
 
 #include "bouncecal/error.h"
+#include "bouncecal/option_error.h"
 
 namespace bouncecal::calibrate {
 namespace {
@@ -52,8 +53,9 @@ const BallPreset& FindBallPreset(std::string_view name) {
   for (const auto& preset : kPresets) {
     if (preset.name == name) return preset;
   }
-  throw ConfigError("unknown ball '" + std::string(name) + "'; use one of " + BallPresetNames() +
-                    ", or give --diameter-m with --density-kg-per-m3 or --mass-kg");
+  throw OptionError({"ball", "diameter_m", "density_kg_per_m3", "mass_kg"},
+                    "unknown ball '" + std::string(name) + "'; use one of " + BallPresetNames() +
+                        ", or give diameter_m with density_kg_per_m3 or mass_kg");
 }
 
 }  // namespace bouncecal::calibrate

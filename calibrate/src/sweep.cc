@@ -7,6 +7,7 @@
 #include "bouncecal/calibrate/restitution.h"
 #include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
+#include "bouncecal/option_error.h"
 
 namespace bouncecal::calibrate {
 namespace {
@@ -54,7 +55,8 @@ std::vector<double> ParseValueList(const std::string& text) {
 SweepSummary Sweep(const SweepOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   if (options.first_n < 1) {
-    throw ConfigError("--first must be at least 1, got " + std::to_string(options.first_n));
+    throw OptionError({"first_n"},
+                      "first_n must be at least 1, got " + std::to_string(options.first_n));
   }
   SweepSummary summary;
   for (double value : options.values) {

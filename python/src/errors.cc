@@ -3,8 +3,11 @@
 #include <Python.h>
 
 #include <exception>
+#include <string>
+#include <string_view>
 
 #include "bouncecal/error.h"
+#include "bouncecal/option_error.h"
 
 namespace bouncecal::python {
 namespace {
@@ -27,6 +30,10 @@ void RegisterErrorTranslation() {
       if (pending) std::rethrow_exception(pending);
     } catch (const InputError& error) {
       Raise("InputError", error.what());
+    } catch (const OptionError& error) {
+      // The library names its fields; Python's keywords are the same names.
+      const auto keyword = [](std::string_view field) { return std::string(field); };
+      Raise("ConfigError", SpellFields(error.what(), error.fields(), keyword).c_str());
     } catch (const ConfigError& error) {
       Raise("ConfigError", error.what());
     } catch (const OutputError& error) {

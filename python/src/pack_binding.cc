@@ -1,5 +1,6 @@
 // bouncecal.pack: dem::RunPacking on a scene file or dict, returning the fields of the summary
-// `bouncecal pack` writes, plus the history, profile and final state it writes as CSV.
+// `bouncecal pack` writes (dem/packing_json.h), plus the history, profile and final state it
+// writes as CSV.
 #include <fmt/format.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -13,6 +14,7 @@
 
 #include "bindings.h"
 #include "bouncecal/dem/packing.h"
+#include "bouncecal/dem/packing_json.h"
 #include "bouncecal/dem/scene.h"
 #include "bouncecal/error.h"
 #include "python_values.h"
@@ -22,12 +24,6 @@ namespace bouncecal::python {
 namespace py = pybind11;
 
 namespace {
-
-// The command line leaves a value that is not a number out of its summary rather than writing
-// null (apps/pack_command.cc, PutFinite); so does this.
-void PutFinite(py::object& result, const char* key, double value) {
-  if (std::isfinite(value)) result[key] = value;
-}
 
 py::array_t<double> Vectors(const std::vector<dem::Vec3>& vectors, int dimension) {
   py::array_t<double> array(
@@ -70,50 +66,11 @@ py::object FinalState(const dem::ParticleSnapshot& state) {
   return result;
 }
 
-// The summary of `bouncecal pack` (apps/pack_command.cc, SummaryJson), in its order, for a run
-// that did not become unstable (those are errors here, as there).
+// The summary `bouncecal pack` writes (dem::ToJson) as Python, for a run that did not become
+// unstable (those are errors here, as there), then what the command writes as CSV.
 py::object ToPython(const dem::Scene& scene, const dem::PackSummary& s) {
-  py::object j = NewResult();
-  j["format"] = "bouncecal-pack/1";  // docs/json.md
-  j["scene"] = scene.source.string();
-  j["physics"] = s.physics;
-  j["stop_reason"] = std::string(dem::ToString(s.stop_reason));
-  j["message"] = s.message;
-  j["state_digest"] = fmt::format("{:016x}", s.state_digest);
-  j["boiling"] = s.boiling;
-  PutFinite(j, "packing_density", s.packing_density);
-  PutFinite(j, "packing_density_by_count", s.packing_density_by_count);
-  PutFinite(j, "mean_coordination", s.coordination.mean);
+  py::object j = FromJson(dem::ToJson(scene, s));
   j["coordination_histogram"] = IntArray(s.coordination.histogram);
-  j["coordination_particles"] = s.coordination.particles;
-  j["particles"] = s.particles;
-  j["particles_not_inserted"] = s.particles_not_inserted;
-  j["steps"] = s.steps;
-  PutFinite(j, "time_step_s", s.time_step_s);
-  PutFinite(j, "time_step_limit_s", s.time_step_limit_s);
-  PutFinite(j, "tangential_time_step_limit_s", s.tangential_time_step_limit_s);
-  j["warnings"] = StringList(s.warnings);
-  PutFinite(j, "simulated_s", s.simulated_s);
-  PutFinite(j, "kinetic_energy_j", s.kinetic_energy_j);
-  j["neighbor_rebuilds"] = s.neighbor_rebuilds;
-  j["threads"] = s.threads;
-  PutFinite(j, "wall_s", s.wall_s);
-  PutFinite(j, "total_wall_s", s.total_wall_s);
-  PutFinite(j, "particle_steps_per_s", s.particle_steps_per_s);
-  if (scene.dimension == 3) {
-    j["band_m"] = FloatArray({scene.measurement.band_min_m, scene.measurement.band_max_m});
-  } else {
-    const auto& lo = scene.measurement.window_min_m;
-    const auto& hi = scene.measurement.window_max_m;
-    py::array_t<double> window({2, 2});
-    auto view = window.mutable_unchecked<2>();
-    view(0, 0) = lo[0];
-    view(0, 1) = lo[1];
-    view(1, 0) = hi[0];
-    view(1, 1) = hi[1];
-    j["window_m"] = window;
-  }
-  // Beyond the summary: what the command writes as history.csv, profile.csv and particles.csv.
   j["history"] = History(s);
   py::object profile = NewResult("Table");
   profile["height_m"] = FloatArray(s.profile.height_m);
@@ -149,22 +106,8 @@ void BindPack(py::module_& module) {
         options.skin_diameters = skin_diameters;
         options.min_skin_diameters = min_skin_diameters;
         options.allow_unstable_step = allow_unstable_step;
-        if (duration_s) {
-          // As `bouncecal pack --duration`: a positive duration under one step would run none
-          // and report the start state as the result; 0 asks for exactly that.
-          if (!(*duration_s >= 0 && *duration_s <= 1e6)) {
-            throw ConfigError("duration_s must be in [0, 1e6] s, got " +
-                              std::to_string(*duration_s));
-          }
-          if (*duration_s > 0 && *duration_s < scene.time_step_s) {
-            throw ConfigError("duration_s " + std::to_string(*duration_s) +
-                              " s is below the scene's time_step_s (" +
-                              std::to_string(scene.time_step_s) + " s in " + scene.source.string() +
-                              "), so no step would run; give at least one step, or 0 to "
-                              "measure the start state");
-          }
-          options.duration_s = *duration_s;
-        }
+        dem::CheckDurationOverride(scene, duration_s);
+        options.duration_s = duration_s;
         // Ctrl-C between progress reports stops the run (KeyboardInterrupt) instead of being
         // ignored until it ends.
         options.progress = [](const dem::PackProgress&) {

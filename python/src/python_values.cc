@@ -115,6 +115,31 @@ py::object FromJson(const nlohmann::json& value) {
   }
 }
 
+py::object TableFromRecords(const nlohmann::json& records, const std::vector<std::string>& columns,
+                            const std::vector<std::string>& text_columns,
+                            const std::vector<std::string>& bool_columns) {
+  py::object table = NewResult("Table");
+  for (const auto& column : columns) {
+    nlohmann::json values = nlohmann::json::array();
+    for (const auto& record : records) values.push_back(record.at(column));
+    table[py::str(column)] = values.empty() ? py::object(FloatArray({})) : FromJson(values);
+  }
+  for (const auto& column : bool_columns) {
+    py::array_t<bool> values(static_cast<py::ssize_t>(records.size()));
+    auto view = values.mutable_unchecked<1>();
+    for (std::size_t i = 0; i < records.size(); ++i) {
+      view(static_cast<py::ssize_t>(i)) = records[i].at(column).get<bool>();
+    }
+    table[py::str(column)] = values;
+  }
+  for (const auto& column : text_columns) {
+    py::list values;
+    for (const auto& record : records) values.append(record.at(column).get<std::string>());
+    table[py::str(column)] = values;
+  }
+  return table;
+}
+
 nlohmann::json ToJson(py::handle value, std::string_view context) {
   const std::string where(context);
   if (value.is_none()) return nullptr;

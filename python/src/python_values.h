@@ -39,6 +39,14 @@ pybind11::list StringList(const std::vector<std::string>& values);
 // number arrays two-dimensional), other arrays (and empty ones) lists, null None.
 pybind11::object FromJson(const nlohmann::json& value);
 
+// A list of per-event JSON records as a Table of columns (numpy arrays: int64 where every entry
+// is an integer, bool for `bool_columns`, float64 with NaN for null; lists of str for
+// `text_columns`). An empty list gives empty float64 columns (empty lists for text).
+pybind11::object TableFromRecords(const nlohmann::json& records,
+                                  const std::vector<std::string>& columns,
+                                  const std::vector<std::string>& text_columns = {},
+                                  const std::vector<std::string>& bool_columns = {});
+
 // A Python value as JSON: dict (string keys), list, tuple, str, bool, int, float, None, numpy
 // arrays and scalars. ConfigError naming `context` for anything else or a non-finite float.
 nlohmann::json ToJson(pybind11::handle value, std::string_view context);

@@ -1,5 +1,5 @@
 // bouncecal.simulate_drop: dem::SimulateDrop, returning what `bouncecal simulate drop --json`
-// writes plus the trajectory its --trajectory CSV holds.
+// writes (dem/drop_json.h) plus the trajectory its --trajectory CSV holds.
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -9,8 +9,8 @@
 
 #include "arguments.h"
 #include "bindings.h"
-#include "bouncecal/dem/contact_law_json.h"
 #include "bouncecal/dem/drop.h"
+#include "bouncecal/dem/drop_json.h"
 #include "python_values.h"
 
 namespace bouncecal::python {
@@ -18,36 +18,6 @@ namespace bouncecal::python {
 namespace py = pybind11;
 
 namespace {
-
-py::object ImpactsTable(const dem::DropResult& result) {
-  std::vector<double> time, restitution, energy_loss, duration, overlap, speed_in, speed_out;
-  std::vector<bool> released;
-  for (const dem::DropImpact& impact : result.impacts) {
-    time.push_back(impact.time_s);
-    restitution.push_back(impact.restitution);
-    energy_loss.push_back(impact.energy_loss);
-    duration.push_back(impact.contact_duration_s);
-    overlap.push_back(impact.max_overlap_m);
-    speed_in.push_back(impact.speed_in_mps);
-    speed_out.push_back(impact.speed_out_mps);
-    released.push_back(impact.released);
-  }
-  py::array_t<bool> released_array(static_cast<py::ssize_t>(released.size()));
-  auto view = released_array.mutable_unchecked<1>();
-  for (std::size_t i = 0; i < released.size(); ++i) {
-    view(static_cast<py::ssize_t>(i)) = released[i];
-  }
-  py::object table = NewResult("Table");
-  table["time_s"] = FloatArray(time);
-  table["restitution"] = FloatArray(restitution);
-  table["energy_loss"] = FloatArray(energy_loss);
-  table["contact_duration_s"] = FloatArray(duration);
-  table["max_overlap_m"] = FloatArray(overlap);
-  table["speed_in_mps"] = FloatArray(speed_in);
-  table["speed_out_mps"] = FloatArray(speed_out);
-  table["released"] = released_array;
-  return table;
-}
 
 py::object TrajectoryTable(const dem::DropResult& result) {
   std::vector<double> time, height, velocity;
@@ -63,25 +33,15 @@ py::object TrajectoryTable(const dem::DropResult& result) {
   return table;
 }
 
-// The fields of `bouncecal simulate drop --json` (apps/simulate_command.cc), then the trajectory.
+// The drop document (dem::ToJson, what `bouncecal simulate drop --json` writes) as Python, its
+// impacts a Table, then the trajectory its --trajectory CSV holds.
 py::object ToPython(const dem::DropResult& result, const dem::DropOptions& options) {
-  py::object out = NewResult();
-  out["format"] = "bouncecal-drop/1";  // docs/json.md
-  out["impacts"] = ImpactsTable(result);
-  out["stop_reason"] = std::string(dem::ToString(result.stop_reason));
-  out["stop_detail"] = result.stop_detail;
-  out["steps"] = result.steps;
-  out["time_step_s"] = result.time_step_s;
-  out["stability_limit_s"] = result.stability_limit_s;
-  out["integrator"] = std::string(dem::ToString(options.integrator));
-  out["contact_law"] = FromJson(dem::ToJson(options.law));
-  py::object ball = NewResult();
-  ball["diameter_m"] = options.ball.diameter_m;
-  ball["density_kg_per_m3"] = options.ball.density_kg_per_m3;
-  ball["mass_kg"] = options.ball.MassKg();
-  out["ball"] = ball;
-  out["drop_height_m"] = options.drop_height_m;
-  out["gravity_mps2"] = options.gravity_mps2;
+  const nlohmann::json json = dem::ToJson(result, options);
+  py::object out = FromJson(json);
+  out["impacts"] = TableFromRecords(json.at("impacts"),
+                                    {"time_s", "restitution", "energy_loss", "contact_duration_s",
+                                     "max_overlap_m", "speed_in_mps", "speed_out_mps"},
+                                    {}, {"released"});
   out["trajectory"] = TrajectoryTable(result);
   return out;
 }
