@@ -3,204 +3,40 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "analyze_plot.h"
-#include "bouncecal/audio/bounce_analysis.h"
-#include "bouncecal/calibrate/restitution.h"
+#include "bouncecal/calibrate/drop_height_check.h"
+#include "bouncecal/calibrate/recording_analysis.h"
+#include "bouncecal/calibrate/recording_manifest.h"
 #include "bouncecal/error.h"
 #include "commands.h"
 #include "option_alias.h"
+#include "option_names.h"
 #include "output_target.h"
 #include "plot/gnuplot_plot.h"
 
 namespace bouncecal::apps {
 namespace {
 
-// The format of --json (docs/json.md, docs/schema/analysis.schema.json).
-constexpr const char* kAnalysisFormat = "bouncecal-analysis/1";
-
 struct AnalyzeArgs {
-  std::vector<std::string> recordings;
-  std::optional<double> drop_height_m;
-  double gravity_mps2 = 9.81;
-  int first_n = 3;
-  std::optional<int> channel;
+  std::vector<std::filesystem::path> recordings;
+  std::filesystem::path manifest;
+  std::vector<double> drop_heights_m;
+  std::vector<double> drop_height_uncertainties_m;
+  calibrate::RecordingAnalysisOptions analysis;
   std::filesystem::path json_path;
   std::filesystem::path csv_path;
   std::string plot_path;
-  audio::DetectorOptions detector;
-  audio::SequenceOptions sequences;
 };
 
-struct SequenceAnalysis {
-  audio::BounceSequence sequence;
-  std::vector<calibrate::TimedImpact> onsets;
-  calibrate::RestitutionAnalysis physics;
-};
+using calibrate::RecordingAnalysis;
 
-struct FileAnalysis {
-  audio::FileDetection detection;
-  audio::SequenceResult grouping;
-  std::vector<SequenceAnalysis> sequences;
-  std::vector<audio::RejectedEvent> rejected;  // grouping + detector merges, by time
-};
-
-FileAnalysis AnalyzeFile(const std::string& path, const AnalyzeArgs& args) {
-  FileAnalysis analysis;
-  audio::BounceAnalysisOptions options;
-  options.detection.channel = args.channel;
-  options.detection.detector = args.detector;
-  options.sequences = args.sequences;
-  if (args.drop_height_m) {
-    options.sequences.release_flight_s =
-        calibrate::DropFlightTime(*args.drop_height_m, args.gravity_mps2);
-  }
-  auto bounces = audio::AnalyzeBounces(path, options);
-  analysis.detection = std::move(bounces.detection);
-  analysis.grouping = std::move(bounces.grouping);
-  const auto& impacts = analysis.detection.detection.impacts;
-  calibrate::RestitutionOptions physics_options;
-  physics_options.gravity_mps2 = args.gravity_mps2;
-  physics_options.drop_height_m = args.drop_height_m;
-  physics_options.first_n = args.first_n;
-  for (const auto& sequence : analysis.grouping.sequences) {
-    SequenceAnalysis entry;
-    entry.sequence = sequence;
-    for (int index : sequence.impact_indices) {
-      const auto& impact = impacts[static_cast<size_t>(index)];
-      entry.onsets.push_back({impact.onset_s, impact.onset_uncertainty_s});
-    }
-    entry.physics = calibrate::AnalyzeRestitution(entry.onsets, physics_options);
-    analysis.sequences.push_back(std::move(entry));
-  }
-  analysis.rejected = analysis.grouping.rejected;
-  for (const auto& merged : analysis.detection.detection.merged) {
-    analysis.rejected.push_back({merged.time_s, std::nullopt, merged.reason});
-  }
-  std::stable_sort(analysis.rejected.begin(), analysis.rejected.end(),
-                   [](const auto& a, const auto& b) { return a.time_s < b.time_s; });
-  return analysis;
-}
-
-nlohmann::json OptionalNumber(const std::optional<double>& value) {
-  return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
-}
-
-// JSON has no NaN or infinity: a quantity that was not measured is null.
-nlohmann::json FiniteOrNull(double value) {
-  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
-}
-
-nlohmann::json ToJson(const FileAnalysis& analysis, const AnalyzeArgs& args) {
-  const auto& detection = analysis.detection;
-  nlohmann::json file;
-  file["file"] = detection.info.path.string();
-  file["sample_rate_hz"] = detection.info.sample_rate_hz;
-  file["channel"] = detection.channel;
-  file["channel_count"] = detection.info.channel_count;
-  file["channel_chosen_automatically"] = detection.channel_chosen_automatically;
-  nlohmann::json scores = nlohmann::json::array();
-  for (double score : detection.channel_impact_to_noise_db) {
-    scores.push_back(FiniteOrNull(score));
-  }
-  file["channel_impact_to_noise_db"] = scores;
-  file["duration_s"] = detection.duration_s;
-  file["decoder"] = detection.info.decoder;
-  file["container"] = detection.info.container;
-  file["codec"] = detection.info.codec;
-  file["lossy"] = detection.info.lossy;
-  file["bit_rate_bps"] = OptionalNumber(detection.info.bit_rate_bps);
-  file["encoder_delay"] = std::string(audio::ToString(detection.info.encoder_delay));
-  // Already inside every onset_uncertainty_s below (added in quadrature); 0 for lossless input.
-  file["codec_timing_uncertainty_s"] =
-      detection.codec_timing ? detection.codec_timing->onset_uncertainty_s : 0.0;
-  nlohmann::json impacts = nlohmann::json::array();
-  const auto& list = detection.detection.impacts;
-  for (size_t i = 0; i < list.size(); ++i) {
-    const auto& sequence = analysis.grouping.sequence_of_impact[i];
-    impacts.push_back({{"onset_s", list[i].onset_s},
-                       {"onset_uncertainty_s", list[i].onset_uncertainty_s},
-                       {"peak_dbfs", list[i].peak_dbfs},
-                       {"rise_db", FiniteOrNull(list[i].rise_db)},
-                       {"ringing_novelty_db", FiniteOrNull(list[i].ringing_novelty_db)},
-                       {"snr_db", list[i].snr_db},
-                       {"sequence", sequence ? nlohmann::json(*sequence) : nlohmann::json()}});
-  }
-  file["impacts"] = impacts;
-  nlohmann::json rejected = nlohmann::json::array();
-  for (const auto& event : analysis.rejected) {
-    rejected.push_back({{"time_s", event.time_s}, {"reason", event.reason}});
-  }
-  file["rejected_events"] = rejected;
-  nlohmann::json sequences = nlohmann::json::array();
-  for (const auto& entry : analysis.sequences) {
-    const auto& p = entry.physics;
-    nlohmann::json onsets = nlohmann::json::array(), sigmas = nlohmann::json::array();
-    for (const auto& onset : entry.onsets) {
-      onsets.push_back(onset.onset_s);
-      sigmas.push_back(onset.uncertainty_s);
-    }
-    sequences.push_back({
-        {"onsets_s", onsets},
-        {"onset_uncertainty_s", sigmas},
-        {"intervals_s", p.intervals_s},
-        {"interval_uncertainty_s", p.interval_uncertainty_s},
-        {"restitution", p.restitution},
-        {"restitution_uncertainty", p.restitution_uncertainty},
-        {"energy_loss", p.energy_loss},
-        {"energy_loss_uncertainty", p.energy_loss_uncertainty},
-        {"restitution_impact_index", p.impact_index},
-        {"bounce_height_m", p.bounce_height_m},
-        {"bounce_height_uncertainty_m", p.bounce_height_uncertainty_m},
-        {"energy_loss_mean_first_n", OptionalNumber(p.energy_loss_mean_first_n)},
-        {"energy_loss_mean_first_n_uncertainty",
-         OptionalNumber(p.energy_loss_mean_first_n_uncertainty)},
-        {"first_n", args.first_n},
-        {"end_reason", entry.sequence.end_reason},
-        {"short_sequence", entry.sequence.short_sequence},
-    });
-  }
-  file["sequences"] = sequences;
-  file["drop_height_m"] = OptionalNumber(args.drop_height_m);
-  file["gravity_mps2"] = args.gravity_mps2;
-  return file;
-}
-
-// Mean and sample standard deviation of the first sequence's eta-bar across recordings, as the
-// paper averages its five drops.
-nlohmann::json Summary(const std::vector<FileAnalysis>& analyses, int first_n) {
-  std::vector<double> values;
-  for (const auto& analysis : analyses) {
-    if (!analysis.sequences.empty() && analysis.sequences[0].physics.energy_loss_mean_first_n) {
-      values.push_back(*analysis.sequences[0].physics.energy_loss_mean_first_n);
-    }
-  }
-  nlohmann::json summary = {{"recordings", analyses.size()},
-                            {"recordings_with_energy_loss", values.size()},
-                            {"first_n", first_n}};
-  if (values.empty()) {
-    summary["energy_loss_mean"] = nullptr;
-    summary["energy_loss_std"] = nullptr;
-    return summary;
-  }
-  double mean = 0;
-  for (double v : values) mean += v / static_cast<double>(values.size());
-  double variance = 0;
-  for (double v : values) variance += (v - mean) * (v - mean);
-  summary["energy_loss_mean"] = mean;
-  summary["energy_loss_std"] =
-      values.size() > 1
-          ? nlohmann::json(std::sqrt(variance / static_cast<double>(values.size() - 1)))
-          : nlohmann::json(nullptr);
-  return summary;
-}
-
-void PrintTable(std::FILE* out, const FileAnalysis& analysis, const AnalyzeArgs& args) {
+void PrintTable(std::FILE* out, const RecordingAnalysis& analysis) {
   const auto& d = analysis.detection;
   std::string channel_note;
   if (d.channel_chosen_automatically) {
@@ -251,11 +87,11 @@ void PrintTable(std::FILE* out, const FileAnalysis& analysis, const AnalyzeArgs&
     }
     if (p.energy_loss_mean_first_n) {
       fmt::print(out, "    mean energy loss over the first {} impacts: {:.4f} +- {:.2g}\n",
-                 args.first_n, *p.energy_loss_mean_first_n,
+                 analysis.first_n, *p.energy_loss_mean_first_n,
                  *p.energy_loss_mean_first_n_uncertainty);
     } else {
       fmt::print(out, "    mean energy loss over the first {} impacts: n/a (fewer e values)\n",
-                 args.first_n);
+                 analysis.first_n);
     }
   }
   for (const auto& event : analysis.rejected) {
@@ -263,54 +99,7 @@ void PrintTable(std::FILE* out, const FileAnalysis& analysis, const AnalyzeArgs&
   }
 }
 
-std::string Csv(const std::vector<FileAnalysis>& analyses) {
-  std::string csv =
-      "file,channel,sequence,k,onset_s,onset_uncertainty_s,peak_dbfs,interval_s,"
-      "bounce_height_m,restitution,restitution_uncertainty,energy_loss,"
-      "energy_loss_uncertainty\n";
-  for (const auto& analysis : analyses) {
-    const auto& impacts = analysis.detection.detection.impacts;
-    for (size_t i = 0; i < impacts.size(); ++i) {
-      const auto sequence = analysis.grouping.sequence_of_impact[i];
-      std::string tail = ",,,,,,";
-      std::string k;
-      if (sequence) {
-        const auto& entry = analysis.sequences[static_cast<size_t>(*sequence)];
-        const auto& members = entry.sequence.impact_indices;
-        const auto position = static_cast<size_t>(
-            std::find(members.begin(), members.end(), static_cast<int>(i)) - members.begin());
-        k = std::to_string(position + 1);
-        const auto& p = entry.physics;
-        std::string dt, h, e, de, eta, deta;
-        if (position < p.intervals_s.size()) {
-          dt = fmt::format("{:.9f}", p.intervals_s[position]);
-          h = fmt::format("{:.9f}", p.bounce_height_m[position]);
-        }
-        for (size_t j = 0; j < p.impact_index.size(); ++j) {
-          if (p.impact_index[j] == static_cast<int>(position)) {
-            e = fmt::format("{:.6f}", p.restitution[j]);
-            de = fmt::format("{:.6f}", p.restitution_uncertainty[j]);
-            eta = fmt::format("{:.6f}", p.energy_loss[j]);
-            deta = fmt::format("{:.6f}", p.energy_loss_uncertainty[j]);
-          }
-        }
-        tail = fmt::format(",{},{},{},{},{},{}", dt, h, e, de, eta, deta);
-      }
-      std::string file = analysis.detection.info.path.string();
-      if (file.find_first_of(",\"\n") != std::string::npos) {
-        std::string quoted = "\"";
-        for (char c : file) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-        file = quoted + "\"";
-      }
-      csv += fmt::format("{},{},{},{},{:.9f},{:.9f},{:.2f}{}\n", file, analysis.detection.channel,
-                         sequence ? std::to_string(*sequence) : "", k, impacts[i].onset_s,
-                         impacts[i].onset_uncertainty_s, impacts[i].peak_dbfs, tail);
-    }
-  }
-  return csv;
-}
-
-std::vector<AnalyzedRecording> ForPlot(const std::vector<FileAnalysis>& analyses) {
+std::vector<AnalyzedRecording> ForPlot(const std::vector<RecordingAnalysis>& analyses) {
   std::vector<AnalyzedRecording> recordings;
   for (const auto& analysis : analyses) {
     AnalyzedRecording recording;
@@ -358,46 +147,76 @@ void WarnAboutCodec(const std::string& path, const audio::FileDetection& detecti
   }
 }
 
-void Run(const AnalyzeArgs& args) {
-  const TextOutputs text({{"--json", &args.json_path}, {"--csv", &args.csv_path}});
-  std::FILE* out = text.human();
-  if (args.first_n < 1)
-    throw ConfigError("--first must be at least 1, got " + std::to_string(args.first_n));
-  if (!(args.gravity_mps2 > 0)) throw ConfigError("--gravity-mps2 must be positive m/s^2");
-  if (args.drop_height_m && !(*args.drop_height_m > 0)) {
-    throw ConfigError("--drop-height-m must be a positive number of metres");
-  }
-  if (!args.plot_path.empty()) CheckPlotTarget(args.plot_path);
-  // Every file is analysed before any output is written, so a bad file leaves no output.
-  std::vector<FileAnalysis> analyses;
-  for (const auto& path : args.recordings) analyses.push_back(AnalyzeFile(path, args));
-  for (size_t i = 0; i < analyses.size(); ++i) {
-    if (i) fmt::print(out, "\n");
-    PrintTable(out, analyses[i], args);
-    if (analyses[i].detection.detection.impacts.empty()) {
-      std::fprintf(stderr, "bouncecal: note: %s: no impacts found (silence or noise only)\n",
-                   args.recordings[i].c_str());
-    } else if (analyses[i].sequences.empty()) {
-      std::fprintf(stderr, "bouncecal: note: %s: no bounce sequence among %zu impacts\n",
-                   args.recordings[i].c_str(), analyses[i].detection.detection.impacts.size());
-    }
-    WarnAboutCodec(args.recordings[i], analyses[i].detection);
-    for (size_t s = 0; s < analyses[i].sequences.size(); ++s) {
-      const auto& entry = analyses[i].sequences[s];
-      if (!entry.sequence.short_sequence) continue;
+// What the user should act on about one recording's sequences, one line each.
+void WarnAboutSequences(const std::string& path, const RecordingAnalysis& analysis) {
+  for (std::size_t s = 0; s < analysis.sequences.size(); ++s) {
+    const auto& entry = analysis.sequences[s];
+    if (entry.sequence.short_sequence) {
       std::fprintf(stderr,
                    "bouncecal: warning: %s: sequence %zu has only %zu impacts (a lossy ball, or "
                    "two or three sounds that time like bounces by chance); check them in the "
                    "table%s\n",
-                   args.recordings[i].c_str(), s, entry.onsets.size(),
-                   args.drop_height_m ? "" : ", and give --drop-height-m to time the first");
+                   path.c_str(), s, entry.onsets.size(),
+                   analysis.drop_height_m ? "" : ", and give --drop-height-m to time the first");
+    }
+    if (entry.height_check && !entry.height_check->consistent) {
+      const std::string source =
+          analysis.sequences.size() > 1 ? fmt::format("{} sequence {}", path, s) : path;
+      fmt::print(stderr, "bouncecal: warning: {}\n",
+                 WithFlags(calibrate::DescribeInconsistentDropHeight(source, *entry.height_check),
+                           {"drop_height_m"}));
     }
   }
+  // Most sounds rejected: the sequences may rest on a few of many events (a noisy room, another
+  // source of knocks), worth a look at the plot before trusting them.
+  const std::size_t impacts = analysis.detection.detection.impacts.size();
+  const std::size_t rejected = analysis.rejected.size();
+  if (rejected > impacts && rejected >= 4) {
+    fmt::print(stderr,
+               "bouncecal: warning: {}: {} of {} sound events were rejected (listed under the "
+               "table); check the recording with --plot before trusting its sequences\n",
+               path, rejected, rejected + impacts);
+  }
+}
+
+void Run(const AnalyzeArgs& args) {
+  const TextOutputs text({{"--json", &args.json_path}, {"--csv", &args.csv_path}});
+  std::FILE* out = text.human();
+  args.analysis.Validate();
+  const auto plan = calibrate::PlanRecordings(args.recordings, args.drop_heights_m,
+                                              args.drop_height_uncertainties_m, args.manifest);
+  if (!args.plot_path.empty()) CheckPlotTarget(args.plot_path);
+  // Every file is analysed before any output is written, so a bad file leaves no output.
+  std::vector<RecordingAnalysis> analyses;
+  for (const auto& entry : plan) {
+    if (!entry.ball.empty()) {
+      throw ConfigError("manifest: analyze does not use a ball (" + entry.ball +
+                        "); remove the ball column or use the manifest with calibrate");
+    }
+    auto options = args.analysis;
+    options.drop_height_m = entry.drop_height_m;
+    options.drop_height_uncertainty_m = entry.drop_height_uncertainty_m.value_or(0.0);
+    analyses.push_back(calibrate::AnalyzeRecording(entry.recording, options));
+  }
+  for (std::size_t i = 0; i < analyses.size(); ++i) {
+    const std::string path = plan[i].recording.string();
+    if (i) fmt::print(out, "\n");
+    PrintTable(out, analyses[i]);
+    if (analyses[i].detection.detection.impacts.empty()) {
+      std::fprintf(stderr, "bouncecal: note: %s: no impacts found (silence or noise only)\n",
+                   path.c_str());
+    } else if (analyses[i].sequences.empty()) {
+      std::fprintf(stderr, "bouncecal: note: %s: no bounce sequence among %zu impacts\n",
+                   path.c_str(), analyses[i].detection.detection.impacts.size());
+    }
+    WarnAboutCodec(path, analyses[i].detection);
+    WarnAboutSequences(path, analyses[i]);
+  }
   if (analyses.size() > 1) {
-    const auto summary = Summary(analyses, args.first_n);
+    const auto summary = calibrate::AnalysisSummaryJson(analyses);
     if (summary["energy_loss_mean"].is_number()) {
       fmt::print(out, "\nacross {} recordings: mean energy loss (first {}) = {:.4f} +- {}\n",
-                 summary["recordings_with_energy_loss"].get<size_t>(), args.first_n,
+                 summary["recordings_with_energy_loss"].get<size_t>(), args.analysis.first_n,
                  summary["energy_loss_mean"].get<double>(),
                  summary["energy_loss_std"].is_number()
                      ? fmt::format("{:.4f} (sample std)", summary["energy_loss_std"].get<double>())
@@ -405,27 +224,12 @@ void Run(const AnalyzeArgs& args) {
     }
   }
   if (!args.json_path.empty()) {
-    // One shape for any number of recordings (docs/json.md): the format, one entry per recording
-    // in the order given, and the summary across them.
-    nlohmann::json recordings = nlohmann::json::array();
-    for (const auto& analysis : analyses) recordings.push_back(ToJson(analysis, args));
-    nlohmann::json json = {{"format", kAnalysisFormat},
-                           {"recordings", recordings},
-                           {"summary", Summary(analyses, args.first_n)}};
-    // Deprecated, for one release like the old option spellings: a document of one recording
-    // also carries that recording's fields at its top level, the shape written before the
-    // format field, so the scripts and scorers that read `.impacts` / `.sequences` keep working
-    // instead of silently finding nothing (docs/json.md).
-    if (recordings.size() == 1) {
-      for (const auto& [key, value] : recordings.front().items()) {
-        if (!json.contains(key)) json[key] = value;
-      }
-    }
-    WriteTextOutput(args.json_path, json.dump(2) + "\n");
+    WriteTextOutput(args.json_path, calibrate::AnalysisDocument(analyses).dump(2) + "\n");
   }
-  if (!args.csv_path.empty()) WriteTextOutput(args.csv_path, Csv(analyses));
+  if (!args.csv_path.empty()) WriteTextOutput(args.csv_path, calibrate::AnalysisCsv(analyses));
   if (!args.plot_path.empty()) {
-    PlotAnalysis(args.plot_path, ForPlot(analyses), {.high_pass_hz = args.detector.band_low_hz});
+    PlotAnalysis(args.plot_path, ForPlot(analyses),
+                 {.high_pass_hz = args.analysis.detector.band_low_hz});
     fmt::print(out, "plot written to {}\n", args.plot_path);
   }
 }
@@ -446,23 +250,40 @@ void AddAnalyzeCommand(CLI::App& app) {
       "--json writes {\"format\": \"bouncecal-analysis/1\", \"recordings\": [one object per "
       "file], \"summary\": {...}} for any number of recordings (docs/json.md); the summary has "
       "the mean and sample std of the first sequence's eta-bar.");
-  command
-      ->add_option("recordings", args->recordings,
-                   "Recordings (WAV, FLAC, OGG, MP3, M4A/AAC, WebM, ...; lossy ones get wider "
-                   "onset uncertainties)")
-      ->required();
-  auto* height = command->add_option("--drop-height-m", args->drop_height_m,
-                                     "Release height h0 in m; gives e and eta of the first "
-                                     "impact too");
-  AddDeprecatedAlias(*command, height, "--drop-height", args->drop_height_m);
+  auto* recordings = command->add_option(
+      "recordings", args->recordings,
+      "Recordings (WAV, FLAC, OGG, MP3, M4A/AAC, WebM, ...; lossy ones get wider onset "
+      "uncertainties)");
+  auto* manifest = command->add_option(
+      "--manifest", args->manifest,
+      "CSV or JSON listing the recordings with their drop heights (columns recording, "
+      "drop_height_m, drop_height_uncertainty_m; docs/calibration.md)");
+  recordings->excludes(manifest);
+  command->callback([args, recordings, manifest] {
+    if (recordings->count() == 0 && manifest->count() == 0) {
+      throw ConfigError("analyze needs recordings: give their paths or --manifest FILE");
+    }
+    Run(*args);
+  });
+  auto* height = command->add_option(
+      "--drop-height-m", args->drop_heights_m,
+      "Release height h0 in m; gives e and eta of the first impact too, and is checked against "
+      "the later bounces. Once for all recordings, or once per recording in order");
+  height->allow_extra_args(false);
+  AddDeprecatedAlias(*command, height, "--drop-height", args->drop_heights_m);
+  auto* height_sigma = command->add_option(
+      "--drop-height-uncertainty-m", args->drop_height_uncertainties_m,
+      "One-sigma uncertainty of --drop-height-m in m, in e_1's and eta_1's uncertainty; once "
+      "for all or once per recording");
+  height_sigma->allow_extra_args(false);
+  auto& a = args->analysis;
   auto* gravity =
-      command
-          ->add_option("--gravity-mps2", args->gravity_mps2, "Gravitational acceleration in m/s^2")
+      command->add_option("--gravity-mps2", a.gravity_mps2, "Gravitational acceleration in m/s^2")
           ->capture_default_str();
-  AddDeprecatedAlias(*command, gravity, "--gravity", args->gravity_mps2);
-  command->add_option("--first", args->first_n, "Average eta over the first N impacts")
+  AddDeprecatedAlias(*command, gravity, "--gravity", a.gravity_mps2);
+  command->add_option("--first", a.first_n, "Average eta over the first N impacts")
       ->capture_default_str();
-  command->add_option("--channel", args->channel,
+  command->add_option("--channel", a.channel,
                       "0-based channel to analyse (default: the one with the best "
                       "impact-to-noise ratio)");
   command->add_option("--json", args->json_path,
@@ -473,7 +294,7 @@ void AddAnalyzeCommand(CLI::App& app) {
   command->add_option("--plot", args->plot_path,
                       "Plot the waveform with impacts and rejected events marked, and eta_k vs k "
                       "(.png or .svg)");
-  auto& d = args->detector;
+  auto& d = a.detector;
   command->add_option("--band-low-hz", d.band_low_hz, "Pre-filter high-pass edge in Hz")
       ->capture_default_str();
   command->add_option("--band-high-hz", d.band_high_hz, "Pre-filter low-pass edge in Hz (0 = none)")
@@ -495,7 +316,7 @@ void AddAnalyzeCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_flag("!--no-ringing-residual", d.ringing_residual,
                     "Do not look for impacts buried in the ringing of earlier ones (faster)");
-  auto& s = args->sequences;
+  auto& s = a.sequences;
   command
       ->add_option("--max-interval-s", s.max_interval_s,
                    "Longest flight in s that still belongs to one drop")
@@ -510,7 +331,6 @@ void AddAnalyzeCommand(CLI::App& app) {
                    "line up events as well in fewer than this many of the chains searched "
                    "(0 = never)")
       ->capture_default_str();
-  command->callback([args] { Run(*args); });
 }
 
 }  // namespace bouncecal::apps

@@ -2,31 +2,51 @@
 
 #include <fmt/core.h>
 
+#include <cmath>
 #include <filesystem>
 #include <set>
 
+#include "bouncecal/calibrate/ball_preset.h"
+#include "bouncecal/calibrate/recording_manifest.h"
 #include "bouncecal/error.h"
 #include "option_alias.h"
 
 namespace bouncecal::apps {
 
 void CalibrateCliOptions::AddFitOptions(CLI::App& command) {
-  command
-      .add_option("recordings", inputs,
-                  "Recordings (any audio libsndfile reads), impact-time CSV files "
-                  "(onset_s[,onset_uncertainty_s[,sequence]]) or bouncecal analyze --json "
-                  "files; several are fitted jointly")
-      ->required();
+  auto* recordings = command.add_option(
+      "recordings", inputs,
+      "Recordings (any audio libsndfile reads), impact-time CSV files "
+      "(onset_s[,onset_uncertainty_s[,sequence]]) or bouncecal analyze --json files; several "
+      "are fitted jointly");
+  auto* manifest_option = command.add_option(
+      "--manifest", manifest,
+      "CSV or JSON listing the recordings with their drop heights and ball (columns recording, "
+      "drop_height_m, drop_height_uncertainty_m, ball; docs/calibration.md), fitted jointly");
+  recordings->excludes(manifest_option);
   drop.Add(command, DropCliOptions::Geometry::kAsGiven);
+  // One height (or uncertainty) is every recording's: the single-height path of the fit.
+  command.parse_complete_callback([this, recordings, manifest_option] {
+    if (recordings->count() == 0 && manifest_option->count() == 0) {
+      throw ConfigError("give the recordings to fit: their paths, or --manifest FILE");
+    }
+    if (drop.drop_heights_m.size() == 1) drop.drop_height_m = drop.drop_heights_m.front();
+    if (drop_height_uncertainties_m.size() == 1) {
+      drop_height_uncertainty_m = drop_height_uncertainties_m.front();
+    }
+  });
   command
       .add_flag("--unknown-drop-height", unknown_drop_height,
                 "The drop height is not known (the default without --drop-height-m)")
       ->group("");
   auto* height_sigma = command.add_option(
-      "--drop-height-uncertainty-m", drop_height_uncertainty_m,
-      "One-sigma uncertainty of --drop-height-m in m, propagated into the confidence interval "
-      "(default 0)");
-  AddDeprecatedAlias(command, height_sigma, "--drop-height-uncertainty", drop_height_uncertainty_m);
+      "--drop-height-uncertainty-m", drop_height_uncertainties_m,
+      "One-sigma uncertainty of --drop-height-m in m, propagated into e_1 and the confidence "
+      "interval (default 0); once for all recordings or once per recording");
+  height_sigma->allow_extra_args(false);
+  AddDeprecatedAlias(command, height_sigma, "--drop-height-uncertainty",
+                     drop_height_uncertainties_m)
+      ->allow_extra_args(false);
   command.add_option("--objective", objective,
                      "What the drops must reproduce: mean-energy-loss (eta-bar of the first N "
                      "impacts, the paper's method), intervals (every flight time, weighted) or "
@@ -56,37 +76,61 @@ void CalibrateCliOptions::AddFitOptions(CLI::App& command) {
 
 calibrate::FitOptions CalibrateCliOptions::FitOptions(bool validate_law) const {
   const CalibrateCliOptions& cli = *this;
-  // The library checks these too, in one sentence for all; here each names its option.
-  if (first_n < 1) throw ConfigError(fmt::format("--first must be at least 1, got {}", first_n));
-  if (!(confidence > 0 && confidence < 1)) {
-    throw ConfigError(fmt::format("--confidence must be in (0, 1), e.g. 0.95, got {}", confidence));
-  }
-  if (threads < 1) throw ConfigError(fmt::format("--threads must be >= 1, got {}", threads));
-  if (!(drop_height_uncertainty_m >= 0)) {
-    throw ConfigError(fmt::format("--drop-height-uncertainty-m must be >= 0 m, got {}",
-                                  drop_height_uncertainty_m));
-  }
   if (unknown_drop_height && drop.drop_height_m) {
     throw ConfigError(
         "--unknown-drop-height contradicts --drop-height-m; give the height or leave both out");
   }
-  if (drop_height_uncertainty_m > 0 && !drop.drop_height_m) {
+  // Counts and ranges of per-recording heights, checked before any file is read.
+  if (unknown_drop_height && (!drop.drop_heights_m.empty() || !manifest.empty())) {
     throw ConfigError(
-        "--drop-height-uncertainty-m needs --drop-height-m (without a height nothing depends on "
-        "it)");
+        "--unknown-drop-height contradicts the drop heights given; give the heights or leave "
+        "both out");
   }
-  if (drop.drop_height_m && !(*drop.drop_height_m > 0 && *drop.drop_height_m < 1e3)) {
-    throw ConfigError(
-        fmt::format("--drop-height-m must be in (0, 1000) m, got {}", *drop.drop_height_m));
+  for (double height : drop.drop_heights_m) {
+    if (!(height > 0 && height < 1e3)) {
+      throw ConfigError(fmt::format("--drop-height-m must be in (0, 1000) m, got {}", height));
+    }
   }
-  if (max_evaluations < 1) {
-    throw ConfigError(fmt::format("--max-evaluations must be >= 1, got {}", max_evaluations));
+  for (double sigma : drop_height_uncertainties_m) {
+    if (!(sigma >= 0 && std::isfinite(sigma))) {
+      throw ConfigError(fmt::format("--drop-height-uncertainty-m must be >= 0 m, got {}", sigma));
+    }
+  }
+  const auto plan =
+      calibrate::PlanRecordings(inputs, drop.drop_heights_m, drop_height_uncertainties_m, manifest);
+  // The manifest may name the ball; one fit simulates one ball, so it must be one ball.
+  std::string manifest_ball;
+  for (const auto& entry : plan) {
+    if (entry.ball.empty()) continue;
+    if (!manifest_ball.empty() && entry.ball != manifest_ball) {
+      throw ConfigError(fmt::format(
+          "--manifest names two balls ({} and {}); one fit simulates one ball: fit each ball's "
+          "recordings with a manifest of their own",
+          manifest_ball, entry.ball));
+    }
+    manifest_ball = entry.ball;
+  }
+  if (!manifest_ball.empty() && !drop.ball_preset.empty() && manifest_ball != drop.ball_preset) {
+    throw ConfigError(fmt::format("--manifest names the ball {} but --ball is {}; give one of them",
+                                  manifest_ball, drop.ball_preset));
+  }
+  if (!manifest_ball.empty() && drop.ball_preset.empty() &&
+      (drop.diameter_m || drop.density_kg_per_m3 || drop.mass_kg)) {
+    throw ConfigError(fmt::format(
+        "--manifest names the ball {} and the command line gives its size or mass too; give one "
+        "of them",
+        manifest_ball));
   }
   calibrate::FitOptions options;
   options.drop = cli.drop.DropSetUp(validate_law);
   options.ball_given = cli.drop.GivenBall().has_value();
   options.drop_height_given = cli.drop.drop_height_m.has_value();
   options.ball_preset = cli.drop.ball_preset;
+  if (!manifest_ball.empty() && cli.drop.ball_preset.empty()) {
+    options.drop.ball = calibrate::FindBallPreset(manifest_ball).ToBall();
+    options.ball_given = true;
+    options.ball_preset = manifest_ball;
+  }
   options.fitted_parameters = cli.fitted;
   options.objective = calibrate::FitObjectiveFromString(cli.objective);
   options.first_n = cli.first_n;
@@ -97,6 +141,9 @@ calibrate::FitOptions CalibrateCliOptions::FitOptions(bool validate_law) const {
   options.uncertainty.confidence_level = cli.confidence;
   options.uncertainty.threads = cli.threads;
   options.uncertainty.drop_height_uncertainty_m = cli.drop_height_uncertainty_m;
+  // Every setting in range before any input is read (the library names the field, main.cc
+  // shows it as its flag).
+  options.ValidateSettings();
   return options;
 }
 
@@ -111,8 +158,37 @@ calibrate::SequenceInputOptions CalibrateCliOptions::InputOptions() const {
   return input;
 }
 
+bool CalibrateCliOptions::HeightPerRecording() const {
+  return !manifest.empty() || drop.drop_heights_m.size() > 1 ||
+         drop_height_uncertainties_m.size() > 1;
+}
+
+std::vector<std::filesystem::path> CalibrateCliOptions::Recordings() const {
+  if (manifest.empty()) return inputs;
+  std::vector<std::filesystem::path> recordings;
+  for (const auto& entry : calibrate::ReadRecordingManifest(manifest)) {
+    recordings.push_back(entry.recording);
+  }
+  return recordings;
+}
+
 std::vector<calibrate::MeasuredSequence> CalibrateCliOptions::LoadSequences() const {
-  auto sequences = calibrate::LoadSequences(inputs, InputOptions());
+  std::vector<calibrate::MeasuredSequence> sequences;
+  if (!HeightPerRecording()) {
+    sequences = calibrate::LoadSequences(inputs, InputOptions());
+  } else {
+    const auto plan = calibrate::PlanRecordings(inputs, drop.drop_heights_m,
+                                                drop_height_uncertainties_m, manifest);
+    for (const auto& entry : plan) {
+      auto read = calibrate::LoadSequences({entry.recording}, InputOptions());
+      // Every drop in a recording was released from its height.
+      for (auto& sequence : read) {
+        sequence.drop_height_m = entry.drop_height_m;
+        sequence.drop_height_uncertainty_m = entry.drop_height_uncertainty_m.value_or(0.0);
+      }
+      sequences.insert(sequences.end(), read.begin(), read.end());
+    }
+  }
   // Widened, not silent: a lossy file's wider interval is said once per file, as analyze says it.
   std::set<std::filesystem::path> warned;
   for (const auto& sequence : sequences) {

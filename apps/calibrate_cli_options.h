@@ -22,9 +22,13 @@ inline constexpr std::string_view kSourceDateEpochRemedy =
 // command's own), so both run exactly the same calibration from the same command line.
 struct CalibrateCliOptions {
   std::vector<std::filesystem::path> inputs;
+  // --manifest: the recordings with their heights (and ball), instead of `inputs`.
+  std::filesystem::path manifest;
   DropCliOptions drop;
   // Hidden alias of the default (no --drop-height-m), kept so older scripts still run.
   bool unknown_drop_height = false;
+  // Once for every recording, or once per recording; one value is also drop_height_uncertainty_m.
+  std::vector<double> drop_height_uncertainties_m;
   double drop_height_uncertainty_m = 0;
   std::string objective = "mean-energy-loss";
   int first_n = 3;
@@ -45,8 +49,15 @@ struct CalibrateCliOptions {
   // Throws ConfigError naming the option and its valid range. --compare-laws passes
   // validate_law = false: its --param values may belong to another law than the default one.
   calibrate::FitOptions FitOptions(bool validate_law = true) const;
-  // Validates --onset-uncertainty-s and loads every input through calibrate::LoadSequences.
+  // Validates --onset-uncertainty-s and loads every input through calibrate::LoadSequences. With
+  // a height per recording (--drop-height-m repeated, or --manifest) each sequence carries its
+  // recording's height; one height for all stays FitOptions' (drop_height_given).
   std::vector<calibrate::MeasuredSequence> LoadSequences() const;
+  // The recordings (the inputs, or the manifest's) in order.
+  std::vector<std::filesystem::path> Recordings() const;
+  // True when the recordings have heights of their own (--drop-height-m given once per
+  // recording, or --manifest): the fit then has no single drop height.
+  bool HeightPerRecording() const;
   // The options LoadSequences reads the inputs with (ConfigError for a bad
   // --onset-uncertainty-s).
   calibrate::SequenceInputOptions InputOptions() const;

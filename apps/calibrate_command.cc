@@ -43,7 +43,7 @@ void Run(const CalibrateCommandOptions& cli) {
     fmt::print(stderr, "bouncecal: warning: {}\n", warning);
   const auto sequences = cli.LoadSequences();
   const auto write_card = [&](const calibrate::FitSummary& fit) {
-    const auto card = calibrate::MakeMaterialCard(fit, options, cli.inputs, card_created_at);
+    const auto card = calibrate::MakeMaterialCard(fit, options, cli.Recordings(), card_created_at);
     WriteTextOutput(cli.card, calibrate::ToJson(card).dump(2) + "\n");
   };
 
@@ -57,7 +57,7 @@ void Run(const CalibrateCommandOptions& cli) {
     const auto comparison = calibrate::CompareLaws(sequences, kinds, options);
     PrintComparison(out, comparison, sequences.size());
     if (!cli.json.empty()) WriteTextOutput(cli.json, ToJson(comparison).dump(2) + "\n");
-    if (!cli.plot.empty()) PlotFit(cli.plot, comparison.fits.front(), options);
+    if (!cli.plot.empty()) PlotFit(cli.plot, comparison.fits.front());
     if (!cli.card.empty()) {
       write_card(comparison.fits.front());
       fmt::print(out, "material card of the best law written to {}\n", cli.card.string());
@@ -76,7 +76,7 @@ void Run(const CalibrateCommandOptions& cli) {
     fmt::print(out, "material card written to {}\n", cli.card.string());
   }
   if (!cli.plot.empty()) {
-    PlotFit(cli.plot, summary, options);
+    PlotFit(cli.plot, summary);
     fmt::print(out, "plot written to {}\n", cli.plot.string());
   }
 }

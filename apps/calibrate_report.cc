@@ -56,6 +56,16 @@ std::string DropHeightLine(const calibrate::FitSummary& summary,
                            const calibrate::FitOptions& options) {
   if (const auto height = options.GivenDropHeightM())
     return "drop height " + FormatValue(*height) + " m";
+  std::string heights;
+  for (const auto& sequence : summary.sequences) {
+    heights += (heights.empty() ? "" : ", ") + sequence.source + " " +
+               (sequence.drop_height_m ? FormatValue(*sequence.drop_height_m) + " m"
+                                       : std::string("not given"));
+  }
+  const bool any_height =
+      std::any_of(summary.sequences.begin(), summary.sequences.end(),
+                  [](const auto& sequence) { return sequence.drop_height_m.has_value(); });
+  if (any_height) return "drop heights per recording: " + heights;
   std::string apexes;
   for (const auto& sequence : summary.sequences) {
     if (sequence.measured.bounce_height_m.empty()) continue;
@@ -199,8 +209,7 @@ void PrintComparison(std::FILE* out, const calibrate::LawComparison& comparison,
   for (const auto& warning : winner.warnings) fmt::print(out, "WARNING: {}\n", warning);
 }
 
-std::vector<PlotPanel> FitPlotPanels(const calibrate::FitSummary& summary,
-                                     const calibrate::FitOptions& options) {
+std::vector<PlotPanel> FitPlotPanels(const calibrate::FitSummary& summary) {
   PlotPanel energy{
       "Energy loss per impact: measured vs fitted " + std::string(dem::ToString(summary.law.kind)),
       "impact number k",
@@ -226,7 +235,7 @@ std::vector<PlotPanel> FitPlotPanels(const calibrate::FitSummary& summary,
     PlotSeries simulated{sequence.source + " fitted drop", {},  {}, {},
                          SeriesStyle::kLinesPoints,        true};
     // The simulation starts at the measured impact it stands for (1 with an unknown height).
-    const int offset = options.drop_height_given ? 0 : 1;
+    const int offset = sequence.drop_height_m ? 0 : 1;
     for (size_t j = 0; j < sequence.simulated.energy_loss.size(); ++j) {
       simulated.x.push_back(static_cast<double>(j + 1 + offset));
       simulated.y.push_back(sequence.simulated.energy_loss[j]);
@@ -282,9 +291,8 @@ std::vector<PlotPanel> FitPlotPanels(const calibrate::FitSummary& summary,
   return {energy, flights};
 }
 
-void PlotFit(const std::filesystem::path& target, const calibrate::FitSummary& summary,
-             const calibrate::FitOptions& options) {
-  RenderPlot(target, FitPlotPanels(summary, options));
+void PlotFit(const std::filesystem::path& target, const calibrate::FitSummary& summary) {
+  RenderPlot(target, FitPlotPanels(summary));
 }
 
 std::optional<PlotPanel> GammaEtaPanel(const calibrate::FitSummary& summary) {

@@ -20,13 +20,12 @@ void PrintFit(std::FILE* out, const calibrate::FitSummary& summary,
 void PrintComparison(std::FILE* out, const calibrate::LawComparison& comparison,
                      size_t sequence_count);
 // Energy loss per impact and flight times per interval, measured (with 1-sigma bars) vs fitted.
-std::vector<PlotPanel> FitPlotPanels(const calibrate::FitSummary& summary,
-                                     const calibrate::FitOptions& options);
+// Each sequence's simulated impacts are numbered from the measured impact they stand for.
+std::vector<PlotPanel> FitPlotPanels(const calibrate::FitSummary& summary);
 // The gamma-eta curve of the analytic check with the measured and fitted points (walton-braun
 // under the mean-energy-loss objective only; nullopt where the check does not apply).
 std::optional<PlotPanel> GammaEtaPanel(const calibrate::FitSummary& summary);
-void PlotFit(const std::filesystem::path& target, const calibrate::FitSummary& summary,
-             const calibrate::FitOptions& options);
+void PlotFit(const std::filesystem::path& target, const calibrate::FitSummary& summary);
 
 }  // namespace bouncecal::apps
 

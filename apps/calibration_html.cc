@@ -54,10 +54,11 @@ std::string InputsSection(const CalibrationReportContent& content) {
       "{}{}.</p>\n",
       options.ball_preset.empty() ? "" : EscapeHtml(options.ball_preset) + ", ",
       Number(ball.diameter_m), Number(ball.MassKg(), 4),
-      options.drop_height_given
-          ? Number(options.drop.drop_height_m) + " m"
-          : "not given (e_1 and eta_1 not computed; drops start from the first "
-            "measured bounce apex)",
+      options.drop_height_given ? Number(options.drop.drop_height_m) + " m"
+      : content.summary.sequences.empty() || !content.summary.sequences.front().drop_height_m
+          ? std::string("not given (e_1 and eta_1 not computed; drops start from the first "
+                        "measured bounce apex)")
+          : std::string("per recording (below)"),
       Number(options.drop.gravity_mps2), dem::ToString(options.drop.integrator),
       options.drop.drag.enabled ? ", air drag on" : "");
   html += "<p>Command: <code>" + EscapeHtml(content.command_line) + "</code></p>\n";
@@ -112,7 +113,7 @@ std::string ImpactsSection(const CalibrationReportContent& content) {
                 true);
     // Row k describes impact k (1-based) and the flight after it.
     const std::size_t rows = measured.intervals_s.size() + 1;
-    const int offset = content.options.drop_height_given ? 0 : 1;
+    const int offset = sequence.drop_height_m ? 0 : 1;
     for (std::size_t k = 0; k < rows; ++k) {
       std::vector<std::string> cells(9);
       cells[0] = std::to_string(k + 1);

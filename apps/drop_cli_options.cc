@@ -95,13 +95,21 @@ void DropCliOptions::Add(CLI::App& command, Features features, Geometry geometry
   command.add_option("--param", parameters,
                      "Fixed law parameter NAME=VALUE in the SI unit of its name, repeatable "
                      "(e.g. --param unloading_stiffness_n_per_m=3e7)");
-  auto* height = command.add_option(
-      "--drop-height-m", drop_height_m,
-      paper ? "Release height of the ball's lowest point above the plate in m (default 0.2)"
-            : "Release height of the ball's lowest point above the plate in m. Without it e_1 "
-              "and eta_1 are not computed and the simulated drops start from the apex of the "
-              "first measured bounce");
-  AddDeprecatedAlias(command, height, "--drop-height", drop_height_m);
+  if (paper) {
+    auto* height = command.add_option(
+        "--drop-height-m", drop_height_m,
+        "Release height of the ball's lowest point above the plate in m (default 0.2)");
+    AddDeprecatedAlias(command, height, "--drop-height", drop_height_m);
+  } else {
+    auto* height = command.add_option(
+        "--drop-height-m", drop_heights_m,
+        "Release height of the ball's lowest point above the plate in m: once for every "
+        "recording (and every drop in it), or once per recording in order. Checked against the "
+        "later bounces. Without it e_1 and eta_1 are not computed and the simulated drops start "
+        "from the apex of the first measured bounce");
+    height->allow_extra_args(false);
+    AddDeprecatedAlias(command, height, "--drop-height", drop_heights_m)->allow_extra_args(false);
+  }
   auto* gravity = command.add_option("--gravity-mps2", gravity_mps2,
                                      "Gravitational acceleration in m/s^2 (default 9.81)");
   AddDeprecatedAlias(command, gravity, "--gravity", gravity_mps2);

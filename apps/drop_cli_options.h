@@ -39,6 +39,9 @@ struct DropCliOptions {
   std::optional<double> modulus_pa;         // unset: the law's (or the card's) value
   std::vector<std::string> parameters;      // NAME=VALUE
   std::optional<double> drop_height_m;
+  // Geometry::kAsGiven: --drop-height-m as given, once for every recording or once per recording
+  // (calibrate resolves it; one value also sets drop_height_m).
+  std::vector<double> drop_heights_m;
   double gravity_mps2 = 9.81;
   std::string integrator = "verlet";
   std::optional<double> time_step_s;

@@ -60,7 +60,7 @@ void Run(const ReportCommandOptions& cli, const std::string& command_line) {
   // Before the fit: a recording that cannot be drawn should not cost a fit first.
   RecordingViewOptions view_options;
   view_options.input = cli.InputOptions();
-  auto recordings = ViewRecordings(cli.inputs, view_options);
+  auto recordings = ViewRecordings(cli.Recordings(), view_options);
   const auto summary = calibrate::Fit(sequences, options);
 
   CalibrationReportContent content;
@@ -68,13 +68,13 @@ void Run(const ReportCommandOptions& cli, const std::string& command_line) {
   content.summary = summary;
   content.options = options;
   content.recordings = std::move(recordings);
-  content.card = calibrate::MakeMaterialCard(summary, options, cli.inputs, card_created_at);
+  content.card = calibrate::MakeMaterialCard(summary, options, cli.Recordings(), card_created_at);
   content.card_json = calibrate::ToJson(content.card).dump(2);
   content.fit_json = calibrate::ToJson(summary).dump(2);
   content.figures.emplace_back(
       "Measured (1-sigma bars) and fitted energy loss per impact, and flight times between "
       "impacts.",
-      RenderSvgElement(FitPlotPanels(summary, options)));
+      RenderSvgElement(FitPlotPanels(summary)));
   if (const auto gamma_eta = GammaEtaPanel(summary)) {
     PlotOptions square;
     square.width_px = 800;

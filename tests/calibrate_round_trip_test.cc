@@ -11,6 +11,7 @@
 #include "bouncecal/calibrate/fit.h"
 #include "bouncecal/calibrate/sequence_input.h"
 #include "bouncecal/dem/drop.h"
+#include "bouncecal/error.h"
 
 namespace bouncecal {
 namespace {
@@ -105,6 +106,50 @@ TEST(CalibrateRoundTrip, HertzViscoelasticDissipativeTimeComesBackFromTheWholeSe
   // threefold margin for the reverb and noise on the weaker late impacts.
   EXPECT_NEAR(summary.parameters.front().value, dissipative_time_s, 0.03 * dissipative_time_s);
   std::filesystem::remove(trip.wav);
+}
+
+// The standard protocol: drops from several heights fitted jointly, each with its own height.
+// Both recordings come from one walton-braun material (gamma_n = 0.408, eta = 2 gamma / (1 +
+// gamma) = 0.58 at every speed), one dropped from 0.20 m, one from 0.40 m.
+TEST(CalibrateRoundTrip, DropsFromTwoHeightsFitJointlyEachWithItsOwnHeight) {
+  const double gamma = 0.408;
+  const dem::ContactLawConfig law{dem::ContactLawKind::kWaltonBraun, {{"gamma_n", gamma}}};
+  const auto low = RecordSimulatedDrop(law, dem::Integrator::kExact, 10, 0.20, "height_low", 5);
+  const auto high = RecordSimulatedDrop(law, dem::Integrator::kExact, 10, 0.40, "height_high", 6);
+  auto low_sequence = DetectedSequence(low);
+  auto high_sequence = DetectedSequence(high);
+  low_sequence.drop_height_m = 0.20;
+  high_sequence.drop_height_m = 0.40;
+
+  calibrate::FitOptions options;  // no height for all: each sequence carries its own
+  const auto summary = calibrate::Fit({low_sequence, high_sequence}, options);
+  // 3e-3, the bound: the fit's Verlet drops against the exact recording bias gamma by
+  // ~5e-4 (see the single-height test above) and the detector's onset errors add < 1e-4.
+  EXPECT_NEAR(summary.parameters.front().value, gamma, 3e-3);
+  ASSERT_EQ(summary.sequences.size(), 2u);
+  EXPECT_EQ(summary.sequences[0].drop_height_m, 0.20);
+  EXPECT_EQ(summary.sequences[1].drop_height_m, 0.40);
+
+  // One height for both is wrong for the 0.40 m drop: its e_1 would be sqrt(2) too large, far
+  // beyond any material's scatter, and the fit refuses it, naming the height the bounces imply.
+  calibrate::FitOptions one_height;
+  one_height.drop.drop_height_m = 0.20;
+  one_height.drop_height_given = true;
+  low_sequence.drop_height_m.reset();
+  high_sequence.drop_height_m.reset();
+  try {
+    calibrate::Fit({low_sequence, high_sequence}, one_height);
+    ADD_FAILURE() << "a 0.40 m drop fitted with 0.20 m was not refused";
+  } catch (const ConfigError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("first impact was probably missed or the height is wrong"),
+              std::string::npos)
+        << message;
+    // The bounces imply the true release height to the detector's precision.
+    EXPECT_NE(message.find("release from 0.4 m"), std::string::npos) << message;
+  }
+  std::filesystem::remove(low.wav);
+  std::filesystem::remove(high.wav);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 
 #include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
+#include "bouncecal/option_error.h"
 #include "bouncecal/worker_pool.h"
 #include "fit_problem.h"
 #include "fit_uncertainty.h"
@@ -55,40 +56,16 @@ void ValidateOptions(const FitOptions& options) {
         "drop_height_given = true for the release height, or leave drop.drop_height_m at its "
         "default");
   }
-  if (options.drop_height_given && !(drop.drop_height_m > 0 && drop.drop_height_m < 1e3)) {
-    throw ConfigError("drop height must be in (0, 1000) m, got " +
-                      std::to_string(drop.drop_height_m));
-  }
-  if (!(drop.gravity_mps2 > 0) || !std::isfinite(drop.gravity_mps2)) {
-    throw ConfigError("gravity must be a positive number of m/s^2, got " +
-                      std::to_string(drop.gravity_mps2));
-  }
-  if (options.first_n < 1) {
-    throw ConfigError("--first must be at least 1, got " + std::to_string(options.first_n));
-  }
-  if (options.max_intervals < 0) {
-    throw ConfigError("max_intervals must be >= 0 (0: all), got " +
-                      std::to_string(options.max_intervals));
-  }
-  const auto& u = options.uncertainty;
-  if (!(u.confidence_level > 0 && u.confidence_level < 1) || u.threads < 1 ||
-      !(u.drop_height_uncertainty_m >= 0)) {
-    throw ConfigError(
-        "uncertainty options: confidence level in (0, 1), threads >= 1 and drop-height "
-        "uncertainty >= 0 m are required");
-  }
-  if (u.drop_height_uncertainty_m > 0 && !options.drop_height_given) {
-    throw ConfigError(
-        "a drop-height uncertainty needs a drop height; give --drop-height-m or drop "
-        "--drop-height-uncertainty-m");
-  }
+  options.ValidateSettings();
   if (options.ball_given) {
     drop.ball.Validate();
   } else if (const auto why = WhyResultDependsOnBall(options); !why.empty()) {
-    throw ConfigError("the ball is needed: with " + why +
-                      " the fitted damping depends on its size and mass; give --ball NAME (e.g. "
-                      "steel-10mm, pingpong-40mm, tennis) or --diameter-m with --density-kg-per-m3 "
-                      "or --mass-kg");
+    throw OptionError(
+        {"ball", "diameter_m", "density_kg_per_m3", "mass_kg"},
+        "the ball is needed: with " + why +
+            " the fitted damping depends on its size and mass; give `ball` NAME (e.g. "
+            "steel-10mm, pingpong-40mm, tennis) or diameter_m with "
+            "density_kg_per_m3 or mass_kg");
   }
 }
 
@@ -156,12 +133,27 @@ class Problem {
   std::vector<SequencePlan> plans_;
 };
 
+// Each sequence is released from its own height when it has one, else from the fit's. The fit's
+// height is one measurement shared by its sequences (group 0); a sequence's own height is its
+// recording's measurement (one group per recording file).
 std::vector<SequencePlan> MakePlans(const std::vector<MeasuredSequence>& sequences,
-                                    const FitOptions& options,
-                                    std::optional<double> drop_height_m) {
+                                    const FitOptions& options) {
   std::vector<SequencePlan> plans;
-  for (const auto& sequence : sequences)
-    plans.push_back(internal::MakePlan(sequence, options, drop_height_m));
+  std::vector<std::filesystem::path> own_height_files;
+  for (const auto& sequence : sequences) {
+    const auto height =
+        sequence.drop_height_m ? sequence.drop_height_m : options.GivenDropHeightM();
+    auto plan = internal::MakePlan(sequence, options, height);
+    if (sequence.drop_height_m) {
+      plan.drop_height_uncertainty_m = sequence.drop_height_uncertainty_m;
+      const auto file = std::find(own_height_files.begin(), own_height_files.end(), sequence.path);
+      plan.drop_height_group = 1 + static_cast<int>(file - own_height_files.begin());
+      if (file == own_height_files.end()) own_height_files.push_back(sequence.path);
+    } else if (height) {
+      plan.drop_height_uncertainty_m = options.uncertainty.drop_height_uncertainty_m;
+    }
+    plans.push_back(std::move(plan));
+  }
   return plans;
 }
 
@@ -514,6 +506,46 @@ std::optional<dem::Ball> FitOptions::GivenBall() const {
   return drop.ball;
 }
 
+void FitOptions::ValidateSettings() const {
+  if (drop_height_given && !(drop.drop_height_m > 0 && drop.drop_height_m < 1e3)) {
+    throw OptionError({"drop_height_m"}, "drop_height_m must be in (0, 1000) m, got " +
+                                             std::to_string(drop.drop_height_m));
+  }
+  if (!(drop.gravity_mps2 > 0) || !std::isfinite(drop.gravity_mps2)) {
+    throw OptionError({"gravity_mps2"}, "gravity_mps2 must be a positive number of m/s^2, got " +
+                                            std::to_string(drop.gravity_mps2));
+  }
+  if (first_n < 1) {
+    throw OptionError({"first_n"}, "first_n must be at least 1, got " + std::to_string(first_n));
+  }
+  if (max_intervals < 0) {
+    throw OptionError({"max_intervals"},
+                      "max_intervals must be >= 0 (0: all), got " + std::to_string(max_intervals));
+  }
+  if (minimizer.max_evaluations < 1) {
+    throw OptionError({"max_evaluations"}, "max_evaluations must be >= 1, got " +
+                                               std::to_string(minimizer.max_evaluations));
+  }
+  const auto& u = uncertainty;
+  if (!(u.confidence_level > 0 && u.confidence_level < 1)) {
+    throw OptionError({"confidence_level"}, "confidence_level must be in (0, 1), e.g. 0.95, got " +
+                                                std::to_string(u.confidence_level));
+  }
+  if (u.threads < 1) {
+    throw OptionError({"threads"}, "threads must be >= 1, got " + std::to_string(u.threads));
+  }
+  if (!(u.drop_height_uncertainty_m >= 0 && std::isfinite(u.drop_height_uncertainty_m))) {
+    throw OptionError({"drop_height_uncertainty_m"},
+                      "drop_height_uncertainty_m must be >= 0 m, got " +
+                          std::to_string(u.drop_height_uncertainty_m));
+  }
+  if (u.drop_height_uncertainty_m > 0 && !drop_height_given) {
+    throw OptionError({"drop_height_uncertainty_m", "drop_height_m"},
+                      "drop_height_uncertainty_m needs drop_height_m (without a height nothing "
+                      "depends on it)");
+  }
+}
+
 std::optional<double> FitOptions::GivenDropHeightM() const {
   if (!drop_height_given) return std::nullopt;
   return drop.drop_height_m;
@@ -550,7 +582,7 @@ FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOpt
   summary.objective = options.objective;
   const auto sequences = DistinctSequences(input, summary.warnings, summary.uncertainty.duplicates);
   const ParameterMap map(options);
-  const auto plans = MakePlans(sequences, options, options.GivenDropHeightM());
+  const auto plans = MakePlans(sequences, options);
   const Problem problem(options, map, plans);
 
   auto minimized =
@@ -597,6 +629,8 @@ FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOpt
   for (const auto& plan : plans) {
     SequenceFit fit;
     fit.source = plan.source;
+    fit.path = plan.path;
+    if (plan.known_drop_height) fit.drop_height_m = plan.release_height_m;
     fit.measured = plan.measured;
     int points = 0;
     fit.residual = internal::SequenceResidual(

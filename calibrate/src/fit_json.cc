@@ -143,11 +143,14 @@ nlohmann::json ToJson(const FitSummary& summary) {
   }
   nlohmann::json sequences = nlohmann::json::array();
   for (const auto& sequence : summary.sequences) {
-    sequences.push_back({{"source", sequence.source},
-                         {"residual", sequence.residual},
-                         {"measured", ToJson(sequence.measured)},
-                         {"simulated_onsets_s", sequence.simulated_onsets_s},
-                         {"simulated", ToJson(sequence.simulated)}});
+    sequences.push_back(
+        {{"source", sequence.source},
+         {"drop_height_m", sequence.drop_height_m ? nlohmann::json(*sequence.drop_height_m)
+                                                  : nlohmann::json(nullptr)},
+         {"residual", sequence.residual},
+         {"measured", ToJson(sequence.measured)},
+         {"simulated_onsets_s", sequence.simulated_onsets_s},
+         {"simulated", ToJson(sequence.simulated)}});
   }
   return {{"format", kFitFormat},
           {"law", dem::ToString(summary.law.kind)},

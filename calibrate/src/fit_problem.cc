@@ -5,7 +5,9 @@
 #include <cstdio>
 #include <string>
 
+#include "bouncecal/calibrate/drop_height_check.h"
 #include "bouncecal/error.h"
+#include "bouncecal/option_error.h"
 
 namespace bouncecal::calibrate::internal {
 namespace {
@@ -20,6 +22,7 @@ SequencePlan MakePlan(const MeasuredSequence& sequence, const FitOptions& option
                       std::optional<double> drop_height_m) {
   SequencePlan plan;
   plan.source = sequence.source;
+  plan.path = sequence.path;
   plan.impacts = sequence.impacts;
   RestitutionOptions restitution;
   restitution.gravity_mps2 = options.drop.gravity_mps2;
@@ -32,16 +35,12 @@ SequencePlan MakePlan(const MeasuredSequence& sequence, const FitOptions& option
   }
   plan.known_drop_height = drop_height_m.has_value();
   if (plan.known_drop_height) {
-    const double first_rebound_m = plan.measured.bounce_height_m.front();
-    if (first_rebound_m > *drop_height_m) {
-      char text[400];
-      std::snprintf(text, sizeof text,
-                    "recording %s: the first rebound rose to %.4g m (a %.4g s flight), higher than "
-                    "the drop height %.4g m; give the height the ball was released from, or omit "
-                    "--drop-height-m to fit from the measured bounces",
-                    sequence.source.c_str(), first_rebound_m, plan.measured.intervals_s.front(),
-                    *drop_height_m);
-      throw ConfigError(text);
+    RefuseReboundAboveRelease(sequence.source, plan.measured, *drop_height_m);
+    // A height the later bounces contradict would be fitted as a first impact that lost far more
+    // energy than the rest: refused, with the height the bounces imply.
+    const auto check = CheckDropHeight(plan.measured, *drop_height_m, options.drop.gravity_mps2);
+    if (check && !check->consistent) {
+      throw OptionError({"drop_height_m"}, DescribeInconsistentDropHeight(sequence.source, *check));
     }
     plan.release_height_m = *drop_height_m;
     plan.first_matched_impact = 0;
@@ -56,10 +55,17 @@ SequencePlan MakePlan(const MeasuredSequence& sequence, const FitOptions& option
   if (options.max_intervals > 0) intervals = std::min(intervals, options.max_intervals);
   if (options.objective == FitObjective::kMeanEnergyLoss) {
     if (static_cast<int>(plan.measured.energy_loss.size()) < options.first_n) {
-      throw ConfigError("recording " + sequence.source + " gives " +
-                        std::to_string(plan.measured.energy_loss.size()) +
-                        " energy losses but --first " + std::to_string(options.first_n) +
-                        " needs that many; lower --first or give the drop height");
+      const auto available = plan.measured.energy_loss.size();
+      // With the height given, only more audible impacts or a smaller first_n help.
+      const std::string more = plan.known_drop_height
+                                   ? std::string("use a recording with more audible impacts")
+                                   : std::string("give drop_height_m");
+      const std::string fix =
+          available == 0 ? more : "set first_n to " + std::to_string(available) + " or " + more;
+      throw OptionError({"first_n", "drop_height_m"},
+                        "recording " + sequence.source + " gives " + std::to_string(available) +
+                            " energy losses but first_n " + std::to_string(options.first_n) +
+                            " needs that many; " + fix);
     }
     plan.impacts_needed = options.first_n + 1;
   } else {

@@ -1,6 +1,7 @@
 #ifndef BOUNCECAL_CALIBRATE_SRC_FIT_PROBLEM_H_
 #define BOUNCECAL_CALIBRATE_SRC_FIT_PROBLEM_H_
 
+#include <filesystem>
 #include <span>
 #include <string>
 #include <vector>
@@ -14,10 +15,16 @@ namespace bouncecal::calibrate::internal {
 // drop starts from the apex of the first measured flight).
 struct SequencePlan {
   std::string source;
+  std::filesystem::path path;  // the file the sequence came from
   std::vector<TimedImpact> impacts;
   RestitutionAnalysis measured;
   double release_height_m = 0;
   bool known_drop_height = true;
+  // One-sigma uncertainty of a known drop height, m, and which height measurement it is: plans
+  // of one group share one measured height (its error moves them together), different groups
+  // were measured apart (independent errors).
+  double drop_height_uncertainty_m = 0;
+  int drop_height_group = 0;
   int first_matched_impact = 0;
   int impacts_needed = 0;  // simulated impacts the objective compares
   double max_time_s = 0;

@@ -147,7 +147,7 @@ Linearized Linearize(const SequencePlan& plan, const FitOptions& options, const 
     }
   }
 
-  if (plan.known_drop_height && options.uncertainty.drop_height_uncertainty_m > 0) {
+  if (plan.known_drop_height && plan.drop_height_uncertainty_m > 0) {
     // Forward difference: a higher drop can never turn the first rebound into one above it.
     const double step = kRelativeStep * plan.release_height_m;
     MeasuredSequence sequence;
@@ -156,7 +156,9 @@ Linearized Linearize(const SequencePlan& plan, const FitOptions& options, const 
     const SequencePlan higher = MakePlan(sequence, options, plan.release_height_m + step);
     const auto higher_terms = Terms(higher, SimulateSequence(law, higher, options), options);
     const Eigen::VectorXd residual = ToVector(higher_terms.model) - ToVector(higher_terms.data);
-    linear.drop_height = (residual - linear.residual) / step;
+    // Per sigma of this plan's height, so plans whose heights were measured apart combine.
+    linear.drop_height = (residual - linear.residual) / step * plan.drop_height_uncertainty_m;
+    linear.drop_height_group = plan.drop_height_group;
   }
   return result;
 }
@@ -299,8 +301,11 @@ FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
           map.Value(i, x[i] + step[static_cast<Eigen::Index>(i)]));
   }
 
-  const double height_variance =
-      options.drop_height_given ? std::pow(options.uncertainty.drop_height_uncertainty_m, 2) : 0.0;
+  // The drop-height parts are per sigma of each plan's own height (Linearize).
+  const bool height_uncertain = std::any_of(plans.begin(), plans.end(), [](const auto& plan) {
+    return plan.known_drop_height && plan.drop_height_uncertainty_m > 0;
+  });
+  const double height_variance = height_uncertain ? 1.0 : 0.0;
   for (size_t i = 0; i < map.size(); ++i) {
     const auto d = static_cast<Eigen::Index>(i);
     const double timing = parts.timing(d, d);
@@ -364,8 +369,9 @@ FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
              ", " + std::to_string(scatter.between_dof) + " dof)";
   }
   if (height_variance > 0) {
-    model += " + drop height (+- " + Format("%.3g", options.uncertainty.drop_height_uncertainty_m) +
-             " m)";
+    double largest = 0;
+    for (const auto& plan : plans) largest = std::max(largest, plan.drop_height_uncertainty_m);
+    model += " + drop height (+- " + Format("%.3g", largest) + " m)";
   }
   model += "; " + Format("%.0f", 100 * summary.confidence_level) +
            " % Student-t interval, t = " + Format("%.3g", summary.t_quantile) +

@@ -131,7 +131,14 @@ std::vector<MeasuredSequence> ReadCsv(const std::filesystem::path& path, std::is
     // Appended, not "#" + to_string(...): GCC 12 warns falsely (-Wrestrict) on that insert.
     std::string suffix;
     if (by_sequence.size() > 1) suffix.append("#").append(std::to_string(number));
-    sequences.push_back({path.filename().string() + suffix, path, std::move(impacts), {}, {}, 0.0});
+    sequences.push_back({path.filename().string() + suffix,
+                         path,
+                         std::move(impacts),
+                         {},
+                         {},
+                         0.0,
+                         std::nullopt,
+                         0.0});
   }
   return sequences;
 }
@@ -210,7 +217,8 @@ std::vector<MeasuredSequence> ReadJson(const std::filesystem::path& path, std::i
       int number = 0;
       for (const auto& sequence : (*object)["sequences"]) {
         ++number;
-        MeasuredSequence measured{source + "#" + std::to_string(number), path, {}, {}, {}, 0.0};
+        MeasuredSequence measured{
+            source + "#" + std::to_string(number), path, {}, {}, {}, 0.0, std::nullopt, 0.0};
         for (const auto& onset_json : sequence.at("onsets_s")) {
           const double onset = onset_json.get<double>();
           TimedImpact timed{onset, options.default_uncertainty_s};

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <ctime>
 #include <fstream>
+#include <functional>
 #include <initializer_list>
 #include <limits>
 
@@ -12,6 +13,7 @@
 #include "bouncecal/calibrate/content_hash.h"
 #include "bouncecal/dem/contact_law_json.h"
 #include "bouncecal/error.h"
+#include "bouncecal/option_error.h"
 #include "bouncecal/version.h"
 
 namespace bouncecal::calibrate {
@@ -102,10 +104,10 @@ std::string UtcTimestamp(std::time_t seconds_since_epoch) {
 
 void CheckCardOptions(const FitOptions& options) {
   if (!options.ball_given) {
-    throw ConfigError(
+    throw OptionError(
+        {"ball", "diameter_m", "density_kg_per_m3", "mass_kg"},
         "a material card records the ball its damping was calibrated with (exported damping "
-        "scales with its mass); give --ball NAME or --diameter-m with --density-kg-per-m3 or "
-        "--mass-kg");
+        "scales with its mass); give `ball` NAME or diameter_m with density_kg_per_m3 or mass_kg");
   }
 }
 
@@ -154,8 +156,27 @@ MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& optio
     fit.energy_loss_mean_measured = summary.check.energy_loss_mean;
     if (summary.check.parameter == "gamma_n") fit.gamma_n_formula = summary.check.formula_value;
   }
+  // One height for all, or each recording its own (FitOptions' height, or the sequences').
+  std::vector<std::optional<double>> heights;
+  for (const auto& sequence : summary.sequences) heights.push_back(sequence.drop_height_m);
+  const bool one_height =
+      std::adjacent_find(heights.begin(), heights.end(), std::not_equal_to<>()) == heights.end();
+  if (!fit.drop_height_m && !heights.empty() && heights.front()) {
+    if (one_height) {
+      fit.drop_height_m = heights.front();
+    } else {
+      fit.heights_per_recording = true;
+    }
+  }
   for (const auto& path : recordings) {
-    RecordingReference reference{path.filename().string(), FileContentHash(path)};
+    RecordingReference reference{path.filename().string(), FileContentHash(path), std::nullopt};
+    for (const auto& sequence : summary.sequences) {
+      if (sequence.path == path && sequence.drop_height_m) {
+        reference.drop_height_m = sequence.drop_height_m;
+        break;
+      }
+    }
+    if (!reference.drop_height_m) reference.drop_height_m = options.GivenDropHeightM();
     const bool listed = std::any_of(card.recordings.begin(), card.recordings.end(),
                                     [&](const RecordingReference& other) {
                                       return other.content_hash == reference.content_hash;
@@ -177,7 +198,9 @@ nlohmann::json ToJson(const MaterialCard& card) {
     intervals[name] = {interval.first, interval.second};
   nlohmann::json recordings = nlohmann::json::array();
   for (const auto& recording : card.recordings)
-    recordings.push_back({{"file", recording.file}, {"content_hash", recording.content_hash}});
+    recordings.push_back({{"file", recording.file},
+                          {"content_hash", recording.content_hash},
+                          {"drop_height_m", Optional(recording.drop_height_m)}});
   const auto& fit = card.fit;
   nlohmann::json ball = {{"diameter_m", card.ball.diameter_m},
                          {"density_kg_per_m3", card.ball.density_kg_per_m3},
@@ -199,7 +222,9 @@ nlohmann::json ToJson(const MaterialCard& card) {
         {"evaluations", fit.evaluations},
         {"stop_reason", fit.stop_reason},
         {"drop_height_m", Optional(fit.drop_height_m)},
-        {"release", fit.drop_height_m ? "drop-height" : "first-bounce-apex"},
+        {"release", fit.drop_height_m           ? "drop-height"
+                    : fit.heights_per_recording ? "per-recording"
+                                                : "first-bounce-apex"},
         {"integrator", fit.integrator},
         {"time_step_s", Optional(fit.time_step_s)},
         {"steps_per_contact", Optional(fit.steps_per_contact)},
@@ -280,11 +305,14 @@ MaterialCard MaterialCardFromJson(const nlohmann::json& object, std::string_view
     record.stop_reason = StringAt(fit, "stop_reason", at).value_or("");
     record.drop_height_m = NumberAt(fit, "drop_height_m", at);
     if (const auto release = StringAt(fit, "release", at)) {
-      if (*release != "drop-height" && *release != "first-bounce-apex") {
+      if (*release != "drop-height" && *release != "first-bounce-apex" &&
+          *release != "per-recording") {
         throw InputError(at +
-                         ": \"release\" must be \"drop-height\" or \"first-bounce-apex\", not \"" +
+                         ": \"release\" must be \"drop-height\", \"per-recording\" or "
+                         "\"first-bounce-apex\", not \"" +
                          *release + "\"");
       }
+      record.heights_per_recording = *release == "per-recording";
       if ((*release == "drop-height") != record.drop_height_m.has_value()) {
         throw InputError(at + ": \"release\" is \"" + *release + "\" but \"drop_height_m\" is " +
                          (record.drop_height_m ? "given" : "null") + "; make them agree");
@@ -340,9 +368,10 @@ MaterialCard MaterialCardFromJson(const nlohmann::json& object, std::string_view
       if (!recording.is_object()) {
         throw InputError(at + " entries must be objects {\"file\", \"content_hash\"}");
       }
-      RejectUnknownKeys(recording, at, {"file", "content_hash"});
+      RejectUnknownKeys(recording, at, {"file", "content_hash", "drop_height_m"});
       card.recordings.push_back({StringAt(recording, "file", at).value_or(""),
-                                 StringAt(recording, "content_hash", at).value_or("")});
+                                 StringAt(recording, "content_hash", at).value_or(""),
+                                 NumberAt(recording, "drop_height_m", at)});
     }
   }
   card.tool_version = StringAt(object, "tool_version", where).value_or("");

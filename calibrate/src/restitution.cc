@@ -29,6 +29,11 @@ void Validate(const std::vector<TimedImpact>& impacts, const RestitutionOptions&
     throw ConfigError("drop height must be a positive number of metres, got " +
                       std::to_string(*options.drop_height_m));
   }
+  if (!(options.drop_height_uncertainty_m >= 0) ||
+      !std::isfinite(options.drop_height_uncertainty_m)) {
+    throw ConfigError("drop height uncertainty must be >= 0 m, got " +
+                      std::to_string(options.drop_height_uncertainty_m));
+  }
   if (options.first_n < 1) {
     throw ConfigError("first N must be at least 1, got " + std::to_string(options.first_n));
   }
@@ -84,13 +89,26 @@ RestitutionAnalysis AnalyzeRestitution(const std::vector<TimedImpact>& impacts,
     energy_loss_gradients.push_back(std::move(gradient_of_eta));
   };
 
+  // d eta_1 / d h0: e_1 = dt_1 / dt_0 with dt_0 ~ sqrt(h0), so d e_1 / d h0 = -e_1 / (2 h0) and
+  // d eta_1 / d h0 = e_1^2 / h0. Zero without a height uncertainty.
+  double first_energy_loss_height_sigma = 0;
   if (options.drop_height_m && n >= 2) {
     // dt_0 comes from h0, not from a measurement, so only t_1 and t_2 carry timing error.
-    const double incoming = DropFlightTime(*options.drop_height_m, g);
+    const double h0 = *options.drop_height_m;
+    const double incoming = DropFlightTime(h0, g);
     std::vector<double> gradient(n, 0.0);
     gradient[0] = -1.0 / incoming;
     gradient[1] = 1.0 / incoming;
     add_impact(0, incoming, result.intervals_s[0], std::move(gradient));
+    if (options.drop_height_uncertainty_m > 0) {
+      const double e = result.restitution.front();
+      const double height_sigma_e = e / (2.0 * h0) * options.drop_height_uncertainty_m;
+      first_energy_loss_height_sigma = e * e / h0 * options.drop_height_uncertainty_m;
+      result.restitution_uncertainty.front() =
+          std::hypot(result.restitution_uncertainty.front(), height_sigma_e);
+      result.energy_loss_uncertainty.front() =
+          std::hypot(result.energy_loss_uncertainty.front(), first_energy_loss_height_sigma);
+    }
   }
   for (size_t k = 1; k + 1 < n; ++k) {
     const double incoming = result.intervals_s[k - 1];  // t_k - t_{k-1}
@@ -112,7 +130,8 @@ RestitutionAnalysis AnalyzeRestitution(const std::vector<TimedImpact>& impacts,
       for (size_t i = 0; i < n; ++i) gradient[i] += energy_loss_gradients[j][i] / first_n;
     }
     result.energy_loss_mean_first_n = mean;
-    result.energy_loss_mean_first_n_uncertainty = PropagatedSigma(gradient, impacts);
+    result.energy_loss_mean_first_n_uncertainty =
+        std::hypot(PropagatedSigma(gradient, impacts), first_energy_loss_height_sigma / first_n);
   }
   return result;
 }

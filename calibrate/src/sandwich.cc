@@ -1,6 +1,7 @@
 #include "sandwich.h"
 
 #include <cmath>
+#include <map>
 
 namespace bouncecal::calibrate::internal {
 namespace {
@@ -30,7 +31,7 @@ CovarianceParts SandwichCovariance(const std::vector<SequenceLinearization>& seq
   Eigen::MatrixXd timing = Eigen::MatrixXd::Zero(p, p);
   Eigen::MatrixXd within = Eigen::MatrixXd::Zero(p, p);
   Eigen::MatrixXd between = Eigen::MatrixXd::Zero(p, p);
-  Eigen::VectorXd height = Eigen::VectorXd::Zero(p);
+  std::map<int, Eigen::VectorXd> height_by_group;
   for (const auto& sequence : sequences) {
     const Eigen::MatrixXd jw = sequence.parameters.transpose() * sequence.weights.asDiagonal();
     h += jw * sequence.parameters;
@@ -40,7 +41,12 @@ CovarianceParts SandwichCovariance(const std::vector<SequenceLinearization>& seq
     within += ga * ga.transpose();
     const Eigen::VectorXd offset = ga.rowwise().sum();
     between += offset * offset.transpose();
-    if (sequence.drop_height.size() > 0) height += jw * sequence.drop_height;
+    if (sequence.drop_height.size() > 0) {
+      auto& height =
+          height_by_group.try_emplace(sequence.drop_height_group, Eigen::VectorXd::Zero(p))
+              .first->second;
+      height += jw * sequence.drop_height;
+    }
   }
   Eigen::MatrixXd inverse;
   if (!InvertSymmetric(h, inverse, parts.condition)) return parts;
@@ -48,8 +54,11 @@ CovarianceParts SandwichCovariance(const std::vector<SequenceLinearization>& seq
   parts.timing = inverse * timing * inverse;
   parts.within = inverse * within * inverse;
   parts.between = inverse * between * inverse;
-  const Eigen::VectorXd shift = inverse * height;
-  parts.drop_height = shift * shift.transpose();
+  parts.drop_height = Eigen::MatrixXd::Zero(p, p);
+  for (const auto& [group, height] : height_by_group) {
+    const Eigen::VectorXd shift = inverse * height;
+    parts.drop_height += shift * shift.transpose();
+  }
   return parts;
 }
 

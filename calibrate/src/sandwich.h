@@ -16,14 +16,16 @@ struct SequenceLinearization {
   Eigen::MatrixXd onsets;          // d r / d t_m                 (terms x onsets)
   Eigen::VectorXd onset_variance;  // stated sigma_t^2 per onset  (onsets)
   Eigen::MatrixXd jitter;          // d t_m / d eta_k             (onsets x impacts)
-  Eigen::VectorXd drop_height;     // d r / d h0, empty when h0 is not uncertain (terms)
+  Eigen::VectorXd drop_height;     // sigma_h0 d r / d h0, empty when h0 is not uncertain (terms)
+  int drop_height_group = 0;       // sequences of one group share one measured height
 };
 
 // Cov(x) = H^-1 M H^-1 with H = sum J'WJ (Gauss-Newton) and M = sum G C G', G = J'W (dr/dt),
 // C the onsets' covariance, split by where C comes from so that each part can be scaled by its
 // estimated variance: timing (stated onset variances), within (per-impact energy-loss scatter,
 // unit variance, independent impacts), between (one unit offset of every impact of a sequence,
-// independent sequences) and drop height (unit variance, shared by all sequences).
+// independent sequences) and drop height (unit variance per height measurement: shared by the
+// sequences of one drop_height_group, independent between groups).
 struct CovarianceParts {
   bool ok = false;  // H positive definite and not ill-conditioned
   double condition = 0;

@@ -222,30 +222,6 @@ void BindCalibrate(py::module_& module) {
          int first_n, int max_intervals, const std::string& optimizer, int max_evaluations,
          int global_evaluations, double confidence_level, int threads, bool analytic_check,
          double onset_uncertainty_s) {
-        // The checks of `bouncecal calibrate` (apps/calibrate_cli_options.cc), naming keywords.
-        if (first_n < 1)
-          throw ConfigError("first_n must be at least 1, got " + std::to_string(first_n));
-        if (!(confidence_level > 0 && confidence_level < 1)) {
-          throw ConfigError("confidence_level must be in (0, 1), e.g. 0.95, got " +
-                            std::to_string(confidence_level));
-        }
-        if (threads < 1) throw ConfigError("threads must be >= 1, got " + std::to_string(threads));
-        if (!(drop_height_uncertainty_m >= 0)) {
-          throw ConfigError("drop_height_uncertainty_m must be >= 0 m, got " +
-                            std::to_string(drop_height_uncertainty_m));
-        }
-        if (drop_height_uncertainty_m > 0 && !drop_height_m) {
-          throw ConfigError(
-              "drop_height_uncertainty_m needs drop_height_m (without a height nothing depends "
-              "on it)");
-        }
-        if (drop_height_m && !(*drop_height_m > 0 && *drop_height_m < 1e3)) {
-          throw ConfigError("drop_height_m must be in (0, 1000) m, got " +
-                            std::to_string(*drop_height_m));
-        }
-        if (max_evaluations < 1) {
-          throw ConfigError("max_evaluations must be >= 1, got " + std::to_string(max_evaluations));
-        }
         auto source = std::make_shared<CardSource>();
         calibrate::FitOptions& options = source->options;
         dem::DropOptions& drop = options.drop;
@@ -278,6 +254,9 @@ void BindCalibrate(py::module_& module) {
         options.uncertainty.drop_height_uncertainty_m = drop_height_uncertainty_m;
         options.analytic_check = analytic_check;
 
+        // The settings checked before any input is read, as on the command line, naming the
+        // keywords (the library's field names).
+        options.ValidateSettings();
         Inputs loaded = LoadInputs(inputs, onset_uncertainty_s);
         source->recordings = std::move(loaded.recordings);
         {

@@ -143,13 +143,29 @@ def test_a_missing_file_raises_input_error_with_the_commands_message(cli, tmp_pa
     assert isinstance(raised.value, ValueError) and isinstance(raised.value, bouncecal.Error)
 
 
-def test_a_detector_option_out_of_range_raises_config_error_with_the_commands_message(
+def test_a_detector_option_out_of_range_raises_the_commands_message_naming_the_keyword(
         cli, steel_sample):
+    # One library message: the command line spells the field as its flag, Python as its keyword.
     message, status = cli.error("analyze", steel_sample, "--rise-threshold-db", "-3")
+    assert message.startswith("--rise-threshold-db must be in (0, 60] dB")
     with pytest.raises(bouncecal.ConfigError) as raised:
         bouncecal.analyze(steel_sample, rise_threshold_db=-3)
-    assert str(raised.value) == message
+    assert str(raised.value) == message.replace("--rise-threshold-db", "rise_threshold_db")
     assert raised.value.exit_status == status == 3
+
+
+def test_a_height_the_bounces_contradict_is_recorded_and_a_rebound_above_it_refused(
+        steel_sample):
+    # The sample was dropped from 0.20 m; its first rebound rises to 0.084 m.
+    consistent = bouncecal.analyze(steel_sample, drop_height_m=0.2)
+    check = consistent.sequences[0].drop_height_check
+    assert check.consistent and abs(check.implied_drop_height_m - 0.2) < 0.01
+    assert consistent.sequences[0].drop_height_m == 0.2
+    wrong = bouncecal.analyze(steel_sample, drop_height_m=0.5)
+    assert not wrong.sequences[0].drop_height_check.consistent
+    with pytest.raises(bouncecal.ConfigError) as raised:
+        bouncecal.analyze(steel_sample, drop_height_m=0.05)
+    assert "omit drop_height_m" in str(raised.value) and "--" not in str(raised.value)
 
 
 @pytest.mark.parametrize("options, error, words", [

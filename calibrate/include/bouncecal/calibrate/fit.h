@@ -2,6 +2,7 @@
 #define BOUNCECAL_CALIBRATE_FIT_H_
 
 #include <cstdint>
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <string>
@@ -123,6 +124,11 @@ struct FitOptions {
   std::optional<dem::Ball> GivenBall() const;
   // drop.drop_height_m when drop_height_given, else nothing.
   std::optional<double> GivenDropHeightM() const;
+  // The numeric settings (height, gravity, first_n, max_intervals, max_evaluations,
+  // confidence_level, threads, drop_height_uncertainty_m) in range; throws OptionError naming
+  // the field. Fit checks them too, with the law and the ball; a front end calls this before it
+  // reads any input.
+  void ValidateSettings() const;
 };
 
 struct FittedParameter {
@@ -178,6 +184,10 @@ struct AnalyticCheck {
 
 struct SequenceFit {
   std::string source;
+  std::filesystem::path path;  // the file it came from
+  // The release height this sequence's drops started from; unset when unknown (the drops then
+  // started from the apex of its first measured flight).
+  std::optional<double> drop_height_m;
   RestitutionAnalysis measured;
   std::vector<double> simulated_onsets_s;  // at the fit, on the measured time axis
   RestitutionAnalysis simulated;

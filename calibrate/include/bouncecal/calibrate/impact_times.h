@@ -2,6 +2,7 @@
 #define BOUNCECAL_CALIBRATE_IMPACT_TIMES_H_
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,10 @@ struct MeasuredSequence {
   // added in quadrature to every onset uncertainty, so a caller can say why they are wide.
   std::string lossy_codec;
   double codec_timing_uncertainty_s = 0;
+  // This sequence's own release height and its one-sigma uncertainty, m (a protocol of drops from
+  // several heights); unset: FitOptions' height, if any, applies.
+  std::optional<double> drop_height_m;
+  double drop_height_uncertainty_m = 0;
 };
 
 struct ImpactTimesOptions {

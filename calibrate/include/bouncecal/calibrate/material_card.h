@@ -22,6 +22,8 @@ inline constexpr std::string_view kMaterialCardFormat = "bouncecal-material/1";
 struct RecordingReference {
   std::string file;
   std::string content_hash;  // "fnv1a64:<16 hex digits>"
+  // The release height its drops were fitted with; unset when unknown.
+  std::optional<double> drop_height_m;
 };
 
 // What the card's confidence intervals include (uncertainty.h), and how many distinct
@@ -48,6 +50,9 @@ struct FitRecord {
   // The drop height given; unset: unknown, and the drops started from the first measured bounce
   // apex ("release": "first-bounce-apex" in the JSON, else "drop-height").
   std::optional<double> drop_height_m;
+  // The recordings had heights of their own (recordings[].drop_height_m), not one for all:
+  // "release": "per-recording", drop_height_m null.
+  bool heights_per_recording = false;
   std::string integrator;
   std::optional<double> time_step_s;
   // Unset: the drop engine's default (dem::DropOptions::steps_per_contact) at the time of the fit.

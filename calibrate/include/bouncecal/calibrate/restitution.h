@@ -14,6 +14,9 @@ struct RestitutionOptions {
   // When set, the flight that would have preceded impact 1, dt_0 = 2 sqrt(2 h0 / g), gives e and
   // eta of the first impact too (the paper's convention).
   std::optional<double> drop_height_m;
+  // One-sigma uncertainty of drop_height_m, m: e_1 = dt_1 / dt_0 moves by -e_1 / (2 h0) per metre
+  // of h0, independently of the timing, so it widens e_1, eta_1 and the mean that includes them.
+  double drop_height_uncertainty_m = 0;
   // Number of impacts averaged in energy_loss_mean_first_n (the paper uses 3).
   int first_n = 3;
 };
