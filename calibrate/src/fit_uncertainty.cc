@@ -21,6 +21,9 @@ constexpr double kOnsetStepS = 1e-7;
 // height: the simulated drop's step size follows the impact speed, so a tiny change would measure
 // the engine's rounding; 1e-3 is far above it and small against the response's curvature.
 constexpr double kRelativeStep = 1e-3;
+// The level of the speed-trend test (model_adequacy.h), which picks the law the scatter is
+// measured about.
+constexpr double kTrendLevel = 0.99;
 
 Eigen::VectorXd ToVector(const std::vector<double>& values) {
   return Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
@@ -180,14 +183,60 @@ double SampleSd(const std::vector<double>& values) {
   return std::sqrt(squares / static_cast<double>(values.size() - 1));
 }
 
-// The scatter about one speed line per sequence, or about a constant per sequence when there are
-// too few impacts for a slope.
-SpeedTrendFit EveryImpactTrend(const std::vector<SequencePlan>& plans, const FitOptions& options,
-                               const dem::ContactLawConfig& law) {
+// The per-impact scatter of every measured impact about the law the trend test settles on: one
+// speed line per sequence when its slope is claimed (a trend is not scatter), one constant per
+// sequence otherwise (the slope would cost a degree of freedom for nothing), or about a constant
+// when there are too few impacts for a slope.
+ScatterPosterior EveryImpactScatter(const std::vector<SequencePlan>& plans,
+                                    const FitOptions& options, const dem::ContactLawConfig& law) {
   const auto impacts = EveryImpactResiduals(plans, options, law);
-  const auto with_slope = FitSpeedTrend(impacts, /*with_slope=*/true);
-  return with_slope.ok && with_slope.dof >= 2 ? with_slope
-                                              : FitSpeedTrend(impacts, /*with_slope=*/false);
+  auto with_slope = FitScatterPosterior(impacts, /*with_slope=*/true);
+  if (with_slope.ok && with_slope.dof >= 2 && with_slope.SlopeExcludesZero(kTrendLevel))
+    return with_slope;
+  auto constant = FitScatterPosterior(impacts, /*with_slope=*/false);
+  if (!(constant.dof >= 2)) constant.ok = false;  // one dof leaves tau all but unbounded
+  return constant;
+}
+
+// The half-width q of the level interval of a parameter whose error, given tau_w, is Student t
+// with `dof[j]` degrees of freedom and variance `variance[j]`, mixed over tau_w's posterior
+// `weight[j]`: sum_j weight_j P(|T_j| sqrt(variance_j) <= q) = level, by bisection between the
+// smallest and largest of the components' own half-widths.
+double MixtureHalfWidth(const std::vector<double>& weight, const std::vector<double>& variance,
+                        const std::vector<double>& dof, double level) {
+  const double tail = 0.5 + level / 2;
+  double low = std::numeric_limits<double>::infinity(), high = 0;
+  for (size_t j = 0; j < weight.size(); ++j) {
+    const double half = StudentTQuantile(tail, dof[j]) * std::sqrt(variance[j]);
+    low = std::min(low, half);
+    high = std::max(high, half);
+  }
+  const auto inside = [&](double q) {
+    double probability = 0;
+    for (size_t j = 0; j < weight.size(); ++j) {
+      if (weight[j] < 1e-14) continue;
+      const double t = q / std::sqrt(variance[j]);
+      probability += weight[j] * (2 * StudentTCdf(t, dof[j]) - 1);
+    }
+    return probability;
+  };
+  for (int i = 0; i < 60 && high - low > 1e-12 * high; ++i) {
+    const double middle = 0.5 * (low + high);
+    (inside(middle) < level ? low : high) = middle;
+  }
+  return 0.5 * (low + high);
+}
+
+// The degrees of freedom at which Student's t quantile equals t (infinite when t is at or below
+// the normal quantile), for reporting a mixture as an equivalent t interval.
+double EquivalentDof(double t, double tail) {
+  if (!(t > NormalQuantile(tail))) return std::numeric_limits<double>::infinity();
+  double low = std::log(0.05), high = std::log(1e7);
+  for (int i = 0; i < 80; ++i) {
+    const double middle = 0.5 * (low + high);
+    (StudentTQuantile(tail, std::exp(middle)) > t ? low : high) = middle;
+  }
+  return std::exp(0.5 * (low + high));
 }
 
 }  // namespace
@@ -216,8 +265,8 @@ ScatterEstimate ScatterAt(const std::vector<SequencePlan>& plans, const FitOptio
   std::vector<ImpactResiduals> impacts;
   for (const auto& plan : plans)
     impacts.push_back(Linearize(plan, options, map, x, /*full=*/false).impacts);
-  const auto trend = EveryImpactTrend(plans, options, map.Apply(options.drop.law, x));
-  return EstimateScatter(impacts, static_cast<int>(map.size()), &trend);
+  const auto every = EveryImpactScatter(plans, options, map.Apply(options.drop.law, x));
+  return EstimateScatter(impacts, static_cast<int>(map.size()), &every);
 }
 
 FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
@@ -238,8 +287,8 @@ FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
     impacts.push_back(linearized.back().impacts);
     summary.impacts_used += static_cast<int>(linearized.back().used.size());
   }
-  const auto trend = EveryImpactTrend(plans, options, map.Apply(options.drop.law, x));
-  const ScatterEstimate scatter = EstimateScatter(impacts, static_cast<int>(map.size()), &trend);
+  const auto every = EveryImpactScatter(plans, options, map.Apply(options.drop.law, x));
+  const ScatterEstimate scatter = EstimateScatter(impacts, static_cast<int>(map.size()), &every);
   summary.per_impact_estimable = scatter.within_estimable;
   summary.per_impact_scatter = std::sqrt(scatter.within_variance);
   summary.per_impact_dof = scatter.within_dof;
@@ -308,31 +357,62 @@ FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
   const double height_variance = height_uncertain ? 1.0 : 0.0;
   for (size_t i = 0; i < map.size(); ++i) {
     const auto d = static_cast<Eigen::Index>(i);
+    const double c_w = parts.within(d, d), c_b = parts.between(d, d);
     const double timing = parts.timing(d, d);
-    const double within = scatter.within_variance * parts.within(d, d);
-    const double between = scatter.between_variance * parts.between(d, d);
     const double height = height_variance * parts.drop_height(d, d);
-    const double total = timing + within + between + height;
-    // Satterthwaite (1946): the estimated parts carry their degrees of freedom, the stated timing
-    // and drop-height variances are taken as known.
-    double denominator = 0;
-    if (scatter.between_variance > 0) {
-      // tau_b^2 = MS_b - mean(1/n) tau_w^2 - timing: the variance is a combination of the two
-      // estimated mean squares, so Satterthwaite's degrees of freedom are those of that
-      // combination (in a balanced design the within part cancels and MS_b's R - 1 remain).
-      const double c_w = parts.within(d, d), c_b = parts.between(d, d);
-      const double a_w = (c_w - c_b * scatter.mean_inverse_count) * scatter.within_variance;
-      const double a_b = c_b * scatter.between_mean_square;
-      if (scatter.within_dof > 0) denominator += a_w * a_w / scatter.within_dof;
-      denominator += a_b * a_b / scatter.between_dof;
+    // The variance of the parameter and Satterthwaite's (1946) degrees of freedom of its estimated
+    // parts at a per-impact variance tau_w^2 with `within_dof` (0: taken as known). The stated
+    // timing and drop-height variances are known.
+    const auto at = [&](double within_variance, int within_dof) {
+      struct {
+        double within, between, total, dof;
+      } result{};
+      double between_variance = scatter.between_variance;
+      if (scatter.between_dof > 0) {
+        between_variance = std::max(0.0, scatter.between_mean_square -
+                                             within_variance * scatter.mean_inverse_count -
+                                             scatter.mean_timing_variance);
+      }
+      result.within = within_variance * c_w;
+      result.between = between_variance * c_b;
+      result.total = timing + result.within + result.between + height;
+      double denominator = 0;
+      if (between_variance > 0) {
+        // tau_b^2 = MS_b - mean(1/n) tau_w^2 - timing: the variance is a combination of the two
+        // estimated mean squares, so Satterthwaite's degrees of freedom are those of that
+        // combination (in a balanced design the within part cancels and MS_b's R - 1 remain).
+        const double a_w = (c_w - c_b * scatter.mean_inverse_count) * within_variance;
+        const double a_b = c_b * scatter.between_mean_square;
+        if (within_dof > 0) denominator += a_w * a_w / within_dof;
+        denominator += a_b * a_b / scatter.between_dof;
+      } else if (within_dof > 0) {
+        denominator += result.within * result.within / within_dof;
+      }
+      result.dof = denominator > 0 ? result.total * result.total / denominator
+                                   : std::numeric_limits<double>::infinity();
+      return result;
+    };
+    const auto point = at(scatter.within_variance, scatter.within_dof);
+    double half = 0, t = 0, dof = point.dof;
+    if (scatter.within_from_every_impact) {
+      // tau_w integrated over its posterior (scatter_posterior.h) instead of one estimate with
+      // Satterthwaite's dof: given tau_w the within part is known, the between part keeps its
+      // dof.
+      const auto& posterior = scatter.within_posterior;
+      std::vector<double> variance, dofs;
+      for (double tau : posterior.tau) {
+        const auto node = at(tau * tau, 0);
+        variance.push_back(node.total);
+        dofs.push_back(node.dof);
+      }
+      half = MixtureHalfWidth(posterior.weight, variance, dofs, summary.confidence_level);
+      t = point.total > 0 ? half / std::sqrt(point.total) : 0.0;
+      dof = EquivalentDof(t, tail);
     } else {
-      if (scatter.within_dof > 0) denominator += within * within / scatter.within_dof;
-      if (scatter.between_dof > 0) denominator += between * between / scatter.between_dof;
+      t = StudentTQuantile(tail, point.dof);
+      half = t * std::sqrt(point.total);
     }
-    const double dof =
-        denominator > 0 ? total * total / denominator : std::numeric_limits<double>::infinity();
-    const double t = StudentTQuantile(tail, dof);
-    const double half = t * std::sqrt(total);
+    const double total = point.total;
     auto& parameter = result.parameters[i];
     const double low = x[i] - half, high = x[i] + half;
     parameter.clipped = low < map.LowerBounds()[i] || high > map.UpperBounds()[i];
@@ -343,8 +423,8 @@ FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
     if (i == 0) {
       const double share = total > 0 ? 1.0 / total : 0.0;
       summary.timing_share = timing * share;
-      summary.scatter_share = within * share;
-      summary.between_share = between * share;
+      summary.scatter_share = point.within * share;
+      summary.between_share = point.between * share;
       summary.drop_height_share = height * share;
       summary.effective_dof = dof;
       summary.t_quantile = t;
@@ -352,14 +432,21 @@ FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
   }
 
   std::string model = "linearised through the DEM drops at the fit: ";
-  if (scatter.within_estimable) {
+  if (scatter.within_from_every_impact) {
+    const auto& posterior = scatter.within_posterior;
+    model += "per-impact scatter of eta_k about the law" +
+             std::string(posterior.with_slope ? " and a speed trend" : "") + " beyond timing (sd " +
+             Format("%.2g", summary.per_impact_scatter) + ", 90 % between " +
+             Format("%.2g", posterior.TauQuantile(0.05)) + " and " +
+             Format("%.2g", posterior.TauQuantile(0.95)) + ", " +
+             std::to_string(scatter.within_dof) +
+             " dof, from every measured impact; the interval integrates over it)";
+  } else if (scatter.within_estimable) {
     // The scatter beyond what the onsets' timing explains (ScatterEstimate: the excess, 0 when
     // timing explains all of it), not the raw sd the report prints beside eta-bar.
     model += "per-impact scatter of eta_k about the law beyond timing (sd " +
              Format("%.2g", summary.per_impact_scatter) + ", " +
-             std::to_string(scatter.within_dof) + " dof, from " +
-             (scatter.within_from_every_impact ? "every measured impact" : "the fitted impacts") +
-             ")";
+             std::to_string(scatter.within_dof) + " dof, from the fitted impacts)";
   } else {
     model += "per-impact scatter not estimable (one fitted impact per recording)";
   }
@@ -373,14 +460,15 @@ FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
     for (const auto& plan : plans) largest = std::max(largest, plan.drop_height_uncertainty_m);
     model += " + drop height (+- " + Format("%.3g", largest) + " m)";
   }
-  model += "; " + Format("%.0f", 100 * summary.confidence_level) +
-           " % Student-t interval, t = " + Format("%.3g", summary.t_quantile) +
-           (std::isinf(summary.effective_dof)
-                ? std::string(" (known variances only)")
-                : " at " + Format("%.1f", summary.effective_dof) + " effective dof") +
-           "; variance of " + map.names().front() + ": scatter " +
-           Format("%.0f", 100 * summary.scatter_share) + " %, timing " +
-           Format("%.0f", 100 * summary.timing_share) + " %";
+  model +=
+      "; " + Format("%.0f", 100 * summary.confidence_level) +
+      " % interval, t = " + Format("%.3g", summary.t_quantile) +
+      (std::isinf(summary.effective_dof)
+           ? std::string(" (known variances only)")
+           : " (as Student's at " + Format("%.1f", summary.effective_dof) + " effective dof)") +
+      "; variance of " + map.names().front() + ": scatter " +
+      Format("%.0f", 100 * summary.scatter_share) + " %, timing " +
+      Format("%.0f", 100 * summary.timing_share) + " %";
   if (plans.size() >= 2) model += ", between " + Format("%.0f", 100 * summary.between_share) + " %";
   if (height_variance > 0)
     model += ", drop height " + Format("%.0f", 100 * summary.drop_height_share) + " %";

@@ -17,23 +17,6 @@ struct AdequacyImpact {
   double timing_variance = 0;
 };
 
-// Residual_i = a_sequence + b ln(speed_i) + noise_i with Var(noise_i) = tau^2 + timing_variance_i:
-// one intercept per sequence and, with `with_slope`, a common slope, fitted by weighted least
-// squares with tau^2 chosen so the weighted residual sum of squares equals its degrees of freedom
-// (Paule & Mandel 1982; 0 when timing alone explains the scatter).
-struct SpeedTrendFit {
-  bool ok = false;  // enough impacts (dof >= 1) and, with a slope, two speeds in one sequence
-  int impacts = 0;
-  int sequences = 0;
-  int dof = 0;  // impacts - sequences - (1 with a slope)
-  double slope = 0;
-  double slope_variance = 0;
-  double tau_squared = 0;  // per-impact scatter beyond timing noise, about the lines
-  double speed_min_mps = 0;
-  double speed_max_mps = 0;
-};
-SpeedTrendFit FitSpeedTrend(const std::vector<AdequacyImpact>& impacts, bool with_slope);
-
 // How the message names the law and its next step.
 struct AdequacyContext {
   std::string law;               // "walton-braun"
@@ -41,9 +24,10 @@ struct AdequacyContext {
   bool comparing = false;        // the fit is the best of --compare-laws
 };
 
-// The trend test of ModelAdequacy on FitSpeedTrend(impacts, true): the slope is significant when
-// |b| / se(b) exceeds Student's t at 0.995 with its degrees of freedom. Needs 2 of them and two
-// distinct speeds in one sequence, otherwise tested = false.
+// The trend test of ModelAdequacy on the model of scatter_posterior.h with a slope: a trend when
+// b's posterior gives the other sign less than 0.5 % (a two-sided 99 % interval of b excludes 0),
+// tau and its uncertainty integrated out. Its "sigma" is the normal quantile of that tail. Needs
+// 2 degrees of freedom and two distinct speeds in one sequence, otherwise tested = false.
 ModelAdequacy TestSpeedTrend(const std::vector<AdequacyImpact>& impacts,
                              const AdequacyContext& context);
 

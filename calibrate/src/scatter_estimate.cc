@@ -11,7 +11,7 @@ double TimingVarianceOfMean(const ImpactResiduals& sequence) {
 }
 
 ScatterEstimate EstimateScatter(const std::vector<ImpactResiduals>& sequences,
-                                int fitted_parameters, const SpeedTrendFit* every_impact) {
+                                int fitted_parameters, const ScatterPosterior* every_impact) {
   ScatterEstimate estimate;
   double excess = 0;
   int dof = 0;
@@ -32,11 +32,13 @@ ScatterEstimate EstimateScatter(const std::vector<ImpactResiduals>& sequences,
     estimate.within_dof = dof;
     estimate.within_variance = std::max(0.0, excess / dof);
   }
-  if (every_impact && every_impact->ok && every_impact->dof >= 2) {
+  if (every_impact && every_impact->ok) {
     estimate.within_estimable = true;
     estimate.within_from_every_impact = true;
     estimate.within_dof = every_impact->dof;
-    estimate.within_variance = every_impact->tau_squared;
+    const double median = every_impact->TauQuantile(0.5);
+    estimate.within_variance = median * median;
+    estimate.within_posterior = *every_impact;
   }
 
   const int count = static_cast<int>(sequences.size());

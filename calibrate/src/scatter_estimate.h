@@ -4,7 +4,7 @@
 #include <Eigen/Dense>
 #include <vector>
 
-#include "model_adequacy.h"
+#include "scatter_posterior.h"
 
 namespace bouncecal::calibrate::internal {
 
@@ -18,21 +18,21 @@ struct ImpactResiduals {
 
 // Variance components of eta beyond timing noise (method of moments, one-way random effects):
 //  - within: per-impact scatter tau_w^2. From every measured impact when `every_impact` is given
-//    and has at least 2 degrees of freedom: its
-//    Paule-Mandel tau^2 about one line in impact speed per sequence, so a speed dependence the
-//    law misses is not taken for scatter (the adequacy test reports it). Otherwise from the used
-//    impacts, pooled over the sequences from the deviations about each sequence's mean residual,
-//    minus what timing explains: E[sum_k (d_k - dbar)^2] = (n - 1) tau_w^2 + tr(V) - 1'V1/n;
-//    degrees of freedom sum (n_r - 1) - (p - 1), p the fitted parameters (a law with p > 1 can
-//    bend to the impacts, a constant one only shift);
+//    and ok: its posterior (scatter_posterior.h), kept whole for the interval, with the median
+//    tau^2 as the point value and its dof. Otherwise (method of moments) from the used impacts,
+//    pooled over the sequences from the deviations about each sequence's mean residual, minus what
+//    timing explains: E[sum_k (d_k - dbar)^2] = (n - 1) tau_w^2 + tr(V) - 1'V1/n; degrees of
+//    freedom sum (n_r - 1) - (p - 1), p the fitted parameters (a law with p > 1 can bend to the
+//    impacts, a constant one only shift);
 //  - between: the spread of the sequences' mean residuals beyond what tau_w^2 / n_r and timing
 //    give them, tau_b^2, with (sequences - 1) degrees of freedom; needs two sequences.
-// Estimates are truncated at 0 (DerSimonian & Laird 1986 do the same).
+// Moment estimates are truncated at 0 (DerSimonian & Laird 1986 do the same).
 struct ScatterEstimate {
   double within_variance = 0;
   int within_dof = 0;
   bool within_estimable = false;  // some sequence has two used impacts and dof >= 1
   bool within_from_every_impact = false;
+  ScatterPosterior within_posterior;  // ok when within_from_every_impact
   double between_variance = 0;
   int between_dof = 0;
   // What between_variance was computed from: the sample variance of the sequences' mean
@@ -44,7 +44,8 @@ struct ScatterEstimate {
 };
 
 ScatterEstimate EstimateScatter(const std::vector<ImpactResiduals>& sequences,
-                                int fitted_parameters, const SpeedTrendFit* every_impact = nullptr);
+                                int fitted_parameters,
+                                const ScatterPosterior* every_impact = nullptr);
 
 // The timing variance of a sequence's mean residual, 1'V1 / n^2.
 double TimingVarianceOfMean(const ImpactResiduals& sequence);

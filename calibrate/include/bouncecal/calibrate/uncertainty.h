@@ -14,14 +14,15 @@ namespace bouncecal::calibrate {
 // eta_rk the energy loss of impact k of recording r, eta_k(theta) the fitted law's simulated value,
 // eps_rk independent per-impact scatter (sd tau_w: impact point, spin, surface), b_r a recording's
 // common offset (sd tau_b: re-mounting, another spot on the plate), and each onset's stated timing
-// noise. tau_w is estimated from the scatter of the fitted impacts about the law within each
-// recording, tau_b from the spread of the recordings' means, both net of what timing noise
-// explains (method of moments). Each component moves the onsets (a restitution change at impact k
+// noise. tau_w has a posterior from every measured impact (REML likelihood with each eta_k's own
+// timing variance, Jeffreys prior; one intercept per recording and a speed slope when the trend
+// test claims one), tau_b a moment estimate from the spread of the recordings' means net of what
+// tau_w and timing explain. Each component moves the onsets (a restitution change at impact k
 // stretches every later flight), the onsets move the objective's residuals, and the residuals move
 // the fitted parameters: the Jacobians come from DEM drops at the fit, and the parameters'
-// covariance is the Gauss-Newton sandwich H^-1 J^T W C W J H^-1 (Eigen). The interval is a
-// Student-t interval with Satterthwaite's effective degrees of freedom, since tau_w and tau_b are
-// estimated from few impacts and few recordings.
+// covariance is the Gauss-Newton sandwich H^-1 J^T W C W J H^-1 (Eigen). Given tau_w the interval
+// is Student t with Satterthwaite's degrees of freedom of tau_b; it is mixed over tau_w's
+// posterior, since tau_w is estimated from few impacts.
 struct RecordingSpread {
   std::string source;
   int impacts_used = 0;
@@ -44,7 +45,8 @@ struct UncertaintySummary {
   int duplicates = 0;  // sequences dropped as duplicates of another (identical impact times)
   int impacts_used = 0;
 
-  // Per-impact scatter of eta_k beyond timing noise (tau_w) and its degrees of freedom.
+  // Per-impact scatter of eta_k beyond timing noise (tau_w: its posterior median) and its degrees
+  // of freedom.
   double per_impact_scatter = 0;
   int per_impact_dof = 0;
   bool per_impact_estimable = false;  // false when every recording has a single used impact
@@ -58,7 +60,9 @@ struct UncertaintySummary {
   double scatter_share = 0;
   double between_share = 0;
   double drop_height_share = 0;
-  double effective_dof = 0;  // +inf when only known variances contribute
+  // The interval's half-width over the standard error (at the median tau_w), and the Student dof
+  // with that quantile; +inf when only known variances contribute.
+  double effective_dof = 0;
   double t_quantile = 0;
 
   // The paper's protocol across sequences: eta-bar of each, their mean, sd and the interval of the
@@ -73,9 +77,10 @@ struct UncertaintySummary {
 // Does eta_k change with impact speed beyond its uncertainty? A weighted straight line of the
 // residuals (measured minus fitted eta_k) against the logarithm of the speed into each impact
 // (restitution laws are power laws in speed: 1 - e ~ v^(1/5) for viscoelastic Hertz), one
-// intercept per recording, tested at the 99 % level (a 1 % false alarm rate on a law that does
-// describe the data). Every measured impact takes part, not only the fitted ones: the question
-// is whether the law carries over to other impact speeds.
+// intercept per recording, the per-impact scatter integrated over its posterior, tested at the
+// 99 % level (a 1 % false alarm rate on a law that does describe the data). Every measured impact
+// takes part, not only the fitted ones: the question is whether the law carries over to other
+// impact speeds.
 struct ModelAdequacy {
   bool tested = false;
   int impacts = 0;

@@ -1,0 +1,201 @@
+#include "scatter_posterior.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numbers>
+
+namespace bouncecal::calibrate::internal {
+namespace {
+
+// The grid in ln tau: a coarse pass over everything from far below the smallest timing sd (where
+// the prior vanishes as tau^2) to tau = 1 (eta is in [0, 1], so no sd of it can be larger), then
+// a fine one over where the posterior is within e^-30 of its peak: 200 nodes resolve a posterior
+// of relative width 1 / sqrt(2 impacts) up to thousands of impacts.
+constexpr int kCoarseNodes = 160;
+constexpr int kFineNodes = 200;
+constexpr double kBelowSmallestTiming = 1e-3;
+constexpr double kLargestTau = 1.0;
+constexpr double kLogSpan = 30.0;
+
+struct Design {
+  Eigen::MatrixXd x;  // impacts x (sequences + slope)
+  Eigen::VectorXd y;
+  Eigen::VectorXd timing_variance;
+};
+
+struct AtTau {
+  double log_density = -std::numeric_limits<double>::infinity();  // in ln tau, unnormalised
+  double slope = 0;
+  double slope_variance = 0;
+};
+
+AtTau Evaluate(const Design& design, double tau, bool with_slope) {
+  AtTau result;
+  const Eigen::Index p = design.x.cols();
+  const Eigen::VectorXd w = (design.timing_variance.array() + tau * tau).inverse();
+  const Eigen::MatrixXd a = design.x.transpose() * w.asDiagonal() * design.x;
+  const Eigen::LLT<Eigen::MatrixXd> llt(a);
+  if (llt.info() != Eigen::Success) return result;
+  const Eigen::VectorXd beta = llt.solve(design.x.transpose() * w.asDiagonal() * design.y);
+  const Eigen::VectorXd e = design.y - design.x * beta;
+  const double q = (w.array() * e.array().square()).sum();
+  const Eigen::MatrixXd l = llt.matrixL();
+  double log_det_a = 0;
+  for (Eigen::Index i = 0; i < p; ++i) log_det_a += 2 * std::log(l(i, i));
+  // tr(P^2) with P = W^1/2 (I - H) W^1/2, H = C C', C = W^1/2 X L^-T:
+  //   sum w^2 - 2 sum w_i^2 |c_i|^2 + |C' W C|_F^2.
+  const Eigen::MatrixXd c =
+      llt.matrixL()
+          .solve((w.array().sqrt().matrix().asDiagonal() * design.x).transpose())
+          .transpose();
+  const Eigen::MatrixXd m = c.transpose() * w.asDiagonal() * c;
+  const double trace = w.squaredNorm() -
+                       2 * (w.array().square() * c.rowwise().squaredNorm().array()).sum() +
+                       m.squaredNorm();
+  if (!(trace > 0)) return result;
+  result.log_density = 2 * std::log(tau) + 0.5 * std::log(trace) + 0.5 * w.array().log().sum() -
+                       0.5 * log_det_a - 0.5 * q;
+  if (with_slope) {
+    result.slope = beta[p - 1];
+    result.slope_variance = llt.solve(Eigen::VectorXd::Unit(p, p - 1))[p - 1];
+  }
+  return result;
+}
+
+double Sum(const std::vector<double>& values) {
+  double total = 0;
+  for (double v : values) total += v;
+  return total;
+}
+
+}  // namespace
+
+double ScatterPosterior::TauQuantile(double p) const {
+  double cumulative = 0;
+  for (size_t i = 0; i < tau.size(); ++i) {
+    const double next = cumulative + weight[i];
+    if (next >= p) {
+      if (i == 0) return tau.front();
+      const double f = weight[i] > 0 ? (p - cumulative) / weight[i] : 0.0;
+      return std::exp(std::log(tau[i - 1]) + f * (std::log(tau[i]) - std::log(tau[i - 1])));
+    }
+    cumulative = next;
+  }
+  return tau.empty() ? 0.0 : tau.back();
+}
+
+double ScatterPosterior::SlopeAboveZero() const {
+  double above = 0;
+  for (size_t i = 0; i < tau.size(); ++i) {
+    const double sd = std::sqrt(slope_variance[i]);
+    above += weight[i] * 0.5 * std::erfc(-slope[i] / (sd * std::numbers::sqrt2));
+  }
+  return above;
+}
+
+double ScatterPosterior::SlopeMean() const {
+  double mean = 0;
+  for (size_t i = 0; i < tau.size(); ++i) mean += weight[i] * slope[i];
+  return mean;
+}
+
+double ScatterPosterior::SlopeSd() const {
+  const double mean = SlopeMean();
+  double second = 0;
+  for (size_t i = 0; i < tau.size(); ++i)
+    second += weight[i] * (slope_variance[i] + slope[i] * slope[i]);
+  return std::sqrt(std::max(0.0, second - mean * mean));
+}
+
+bool ScatterPosterior::SlopeExcludesZero(double level) const {
+  const double above = SlopeAboveZero();
+  return 2 * std::min(above, 1 - above) < 1 - level;
+}
+
+ScatterPosterior FitScatterPosterior(const std::vector<AdequacyImpact>& impacts, bool with_slope) {
+  ScatterPosterior posterior;
+  posterior.with_slope = with_slope;
+  std::map<int, int> columns;
+  std::map<int, std::pair<double, double>> log_speed_range;
+  for (const auto& impact : impacts) {
+    columns.emplace(impact.sequence, static_cast<int>(columns.size()));
+    // A zero timing variance (hand-made impact times) would make a weight infinite at tau -> 0.
+    const double v = std::log(std::max(impact.speed_mps, 1e-9));  // the slope's regressor
+    auto [it, inserted] = log_speed_range.emplace(impact.sequence, std::make_pair(v, v));
+    it->second.first = std::min(it->second.first, v);
+    it->second.second = std::max(it->second.second, v);
+  }
+  posterior.impacts = static_cast<int>(impacts.size());
+  posterior.sequences = static_cast<int>(columns.size());
+  posterior.dof = posterior.impacts - posterior.sequences - (with_slope ? 1 : 0);
+  if (posterior.dof < 1) return posterior;
+  if (with_slope &&
+      std::none_of(log_speed_range.begin(), log_speed_range.end(),
+                   [](const auto& entry) { return entry.second.second > entry.second.first; }))
+    return posterior;
+
+  Design design;
+  const auto n = static_cast<Eigen::Index>(impacts.size());
+  const Eigen::Index p = posterior.sequences + (with_slope ? 1 : 0);
+  design.x = Eigen::MatrixXd::Zero(n, p);
+  design.y.resize(n);
+  design.timing_variance.resize(n);
+  double smallest_variance = std::numeric_limits<double>::infinity();
+  posterior.speed_min_mps = posterior.speed_max_mps = std::max(impacts.front().speed_mps, 1e-9);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto& impact = impacts[static_cast<size_t>(i)];
+    const double speed = std::max(impact.speed_mps, 1e-9);
+    design.x(i, columns[impact.sequence]) = 1;
+    if (with_slope) design.x(i, p - 1) = std::log(speed);
+    design.y[i] = impact.residual;
+    design.timing_variance[i] = std::max(impact.timing_variance, 1e-14);
+    smallest_variance = std::min(smallest_variance, design.timing_variance[i]);
+    posterior.speed_min_mps = std::min(posterior.speed_min_mps, speed);
+    posterior.speed_max_mps = std::max(posterior.speed_max_mps, speed);
+  }
+
+  // Coarse pass, then the fine grid over the part that carries the posterior.
+  const double low = std::log(kBelowSmallestTiming * std::sqrt(smallest_variance));
+  const double high = std::log(kLargestTau);
+  const auto node = [](double from, double to, int count, int i) {
+    return from + (to - from) * i / (count - 1);
+  };
+  std::vector<double> coarse(kCoarseNodes);
+  double peak = -std::numeric_limits<double>::infinity();
+  for (int i = 0; i < kCoarseNodes; ++i) {
+    coarse[static_cast<size_t>(i)] =
+        Evaluate(design, std::exp(node(low, high, kCoarseNodes, i)), with_slope).log_density;
+    peak = std::max(peak, coarse[static_cast<size_t>(i)]);
+  }
+  if (!std::isfinite(peak)) return posterior;
+  int first = kCoarseNodes - 1, last = 0;
+  for (int i = 0; i < kCoarseNodes; ++i) {
+    if (coarse[static_cast<size_t>(i)] > peak - kLogSpan) {
+      first = std::min(first, i);
+      last = std::max(last, i);
+    }
+  }
+  const double fine_low = node(low, high, kCoarseNodes, std::max(first - 1, 0));
+  const double fine_high = node(low, high, kCoarseNodes, std::min(last + 1, kCoarseNodes - 1));
+  std::vector<double> log_density;
+  for (int i = 0; i < kFineNodes; ++i) {
+    const double tau = std::exp(node(fine_low, fine_high, kFineNodes, i));
+    const AtTau at = Evaluate(design, tau, with_slope);
+    posterior.tau.push_back(tau);
+    log_density.push_back(at.log_density);
+    posterior.slope.push_back(at.slope);
+    posterior.slope_variance.push_back(at.slope_variance);
+  }
+  const double fine_peak = *std::max_element(log_density.begin(), log_density.end());
+  if (!std::isfinite(fine_peak)) return posterior;
+  for (double value : log_density) posterior.weight.push_back(std::exp(value - fine_peak));
+  const double total = Sum(posterior.weight);
+  for (double& value : posterior.weight) value /= total;
+  posterior.ok = true;
+  return posterior;
+}
+
+}  // namespace bouncecal::calibrate::internal

@@ -1,0 +1,54 @@
+#ifndef BOUNCECAL_CALIBRATE_SRC_SCATTER_POSTERIOR_H_
+#define BOUNCECAL_CALIBRATE_SRC_SCATTER_POSTERIOR_H_
+
+#include <vector>
+
+#include "model_adequacy.h"
+
+namespace bouncecal::calibrate::internal {
+
+// The one model of the measured energy losses within recordings (docs/calibration.md,
+// "Uncertainty model"):
+//   residual_i = a_sequence + b ln(speed_i) + eps_i + timing_i,
+// eps_i ~ N(0, tau^2) the per-impact scatter, timing_i ~ N(0, s_i^2) with s_i the stated timing
+// uncertainty of that eta_k, one intercept per sequence and, with a slope, a common b. The
+// intercepts and slope have a flat prior and are integrated out, which leaves the restricted
+// (REML) likelihood of tau (Patterson & Thompson 1971; Harville 1974); tau has the Jeffreys
+// prior of that likelihood, p(tau^2) ~ sqrt(tr(P^2)), P = W - W X (X'WX)^-1 X'W, W = V^-1
+// (Bodnar, Link, Arendacka, Possolo & Elster 2017, Stat Med 36:378, who show its intervals keep
+// their coverage with few studies; for tau >> s_i it is 1/tau, under which b's posterior is
+// exactly Student's t with impacts - columns dof). So an estimate of tau that is near 0 by chance
+// keeps the larger values the data do not exclude, and two or three precise impacts cannot make
+// a trend that scatter would explain.
+//
+// The posterior of tau is tabulated on a grid in ln tau (weights sum to 1); given tau, the
+// intercepts and slope are normal with the weighted least-squares mean and covariance, so every
+// posterior probability below is a finite mixture over the grid.
+struct ScatterPosterior {
+  bool ok = false;  // dof >= 1 and, with a slope, two distinct speeds in one sequence
+  bool with_slope = false;
+  int impacts = 0;
+  int sequences = 0;
+  int dof = 0;  // impacts - sequences - (1 with a slope)
+  std::vector<double> tau;
+  std::vector<double> weight;
+  std::vector<double> slope;           // posterior mean of b given tau (with a slope)
+  std::vector<double> slope_variance;  // posterior variance of b given tau
+  double speed_min_mps = 0;
+  double speed_max_mps = 0;
+
+  // The p-quantile of tau, p in (0, 1), interpolated in the grid's cumulative weights.
+  double TauQuantile(double p) const;
+  // P(b > 0) and b's posterior mean and sd, mixed over tau.
+  double SlopeAboveZero() const;
+  double SlopeMean() const;
+  double SlopeSd() const;
+  // Does b's central `level` posterior interval exclude 0 (a two-sided test at 1 - level)?
+  bool SlopeExcludesZero(double level) const;
+};
+
+ScatterPosterior FitScatterPosterior(const std::vector<AdequacyImpact>& impacts, bool with_slope);
+
+}  // namespace bouncecal::calibrate::internal
+
+#endif  // BOUNCECAL_CALIBRATE_SRC_SCATTER_POSTERIOR_H_

@@ -1,0 +1,116 @@
+// The interval and the speed-trend test on recordings with real scatter, through the whole chain:
+// a steel ball on copper (e = 0.65, 3 % per-impact scatter of e, 0.20 m) rendered by the
+// synthesiser, detected, and calibrated with the true height, as in issue 29's recordings from
+// an independent generator. bench/calibrate_chain_coverage_bench measures the full table
+// (docs/calibration.md); this checks one row on fixed seeds.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bouncecal/audio/synthesize.h"
+#include "bouncecal/audio/write_recording.h"
+#include "bouncecal/calibrate/fit.h"
+#include "bouncecal/calibrate/jittered_drop.h"
+#include "bouncecal/calibrate/sequence_input.h"
+#include "bouncecal/error.h"
+#include "bouncecal/random_stream.h"
+
+namespace bouncecal {
+namespace {
+
+constexpr double kGravity = 9.81;
+constexpr double kRestitution = 0.65;
+constexpr double kJitter = 0.03;
+constexpr double kDropHeightM = 0.20;
+
+// Ballistic flights with e_k = 0.65 (1 + 0.03 z_k), rendered (plate modes, reverb, 35 dB noise),
+// written as WAV and detected as `bouncecal calibrate` does.
+calibrate::MeasuredSequence RecordDrop(std::uint64_t seed) {
+  RandomStream draws(seed, 0, 7);
+  audio::SynthesisOptions synthesis;
+  double onset = 0.3 + std::sqrt(2 * kDropHeightM / kGravity);
+  double speed = std::sqrt(2 * kGravity * kDropHeightM);
+  for (int k = 0; k < 60; ++k) {
+    synthesis.impacts.push_back({onset, speed, 0});
+    speed *= std::min(kRestitution * (1 + kJitter * draws.Gaussian()), 0.999);
+    const double flight = 2 * speed / kGravity;
+    if (flight < 0.004) break;
+    onset += flight;
+  }
+  synthesis.reverb = audio::ReverbOptions{};
+  synthesis.noise = audio::NoiseOptions{};
+  synthesis.seed = seed;
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("bouncecal_chain_coverage_" + std::to_string(seed) + ".wav");
+  audio::WriteRecording(path, audio::SynthesizeBounces(synthesis).channels);
+  auto sequence = calibrate::LoadSequences({path}).front();
+  std::filesystem::remove(path);
+  return sequence;
+}
+
+calibrate::FitOptions WithHeight() {
+  calibrate::FitOptions options;
+  options.analytic_check = false;  // not part of the interval
+  options.drop.drop_height_m = kDropHeightM;
+  options.drop_height_given = true;
+  return options;
+}
+
+// The fit of the scatter-free, noise-free drop whose e has the material's mean energy loss
+// 1 - e^2 (1 + j^2): what averages over ever more impacts converge to.
+double MaterialGamma() {
+  calibrate::JitteredDropOptions ideal;
+  ideal.drop_height_m = kDropHeightM;
+  ideal.restitution = kRestitution * std::sqrt(1 + kJitter * kJitter);
+  ideal.relative_jitter = 0;
+  ideal.timing_sigma_s = 0;
+  return calibrate::Fit({calibrate::JitteredDrop(ideal)}, WithHeight()).parameters[0].value;
+}
+
+// 24 seeds. Coverage: a correct 95 % interval covers at most 19 of 24 with probability 7e-3.
+// Trend claims on these constant-e drops: a 1 % test makes 2 or more of 24 with probability
+// 0.024. Collapse: the timing-only width is ~20 times below the scatter's (0.002 against ~0.04
+// in issue 29, 0.03-0.08 of the median), whereas the posterior's width follows the scatter each
+// recording shows: with the 3-5 degrees of freedom its precise impacts give tau, the smallest of
+// 24 chi-square draws puts the narrowest interval near 0.25-0.45 of the median, so none may be
+// narrower than 0.15 of it. Measured on these seeds: 21 of the 22 usable recordings covered, one
+// trend claimed, the narrowest at 0.24 of the median (2 recordings are split by the audio stage).
+TEST(CalibrateChainCoverage, ScatteredConstantRestitutionIsCoveredWithoutFalseTrends) {
+  const double truth = MaterialGamma();
+  int covered = 0, trends = 0, fits = 0, unusable = 0;
+  std::vector<double> widths;
+  for (std::uint64_t seed = 100; seed < 124; ++seed) {
+    calibrate::FitSummary summary;
+    try {
+      summary = calibrate::Fit({RecordDrop(seed)}, WithHeight());
+    } catch (const Error&) {
+      // The audio stage sometimes splits a drop so that fewer than 4 onsets stay together (it
+      // says so): a question for the detector's tests, not for the interval.
+      ++unusable;
+      continue;
+    }
+    const auto& interval = summary.parameters[0].confidence_interval;
+    ASSERT_TRUE(interval) << summary.uncertainty.message;
+    ++fits;
+    covered += interval->first <= truth && truth <= interval->second ? 1 : 0;
+    trends += summary.adequacy.trend ? 1 : 0;
+    widths.push_back(interval->second - interval->first);
+  }
+  RecordProperty("covered", covered);
+  RecordProperty("unusable", unusable);
+  ASSERT_GE(fits, 20) << unusable << " recordings could not be calibrated";
+  RecordProperty("trends", trends);
+  std::sort(widths.begin(), widths.end());
+  const double median = widths[widths.size() / 2];
+  RecordProperty("narrowest_over_median_percent", static_cast<int>(100 * widths.front() / median));
+  EXPECT_GE(covered, 20) << covered << " of " << fits;
+  EXPECT_LE(trends, 1) << trends << " of " << fits;
+  EXPECT_GE(widths.front(), 0.15 * median) << "median width " << median;
+}
+
+}  // namespace
+}  // namespace bouncecal
