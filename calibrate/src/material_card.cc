@@ -180,7 +180,7 @@ nlohmann::json ToJson(const MaterialCard& card) {
     recordings.push_back({{"file", recording.file}, {"content_hash", recording.content_hash}});
   const auto& fit = card.fit;
   nlohmann::json ball = {{"diameter_m", card.ball.diameter_m},
-                         {"density_kg_per_m3", card.ball.density_kg_per_m3},
+                         {"density_kg_per_m3", card.ball.DensityKgPerM3()},
                          {"mass_kg", card.ball.MassKg()}};
   if (!card.ball_preset.empty()) ball["preset"] = card.ball_preset;
   const auto& uncertainty = fit.uncertainty;
@@ -251,6 +251,11 @@ MaterialCard MaterialCardFromJson(const nlohmann::json& object, std::string_view
         NumberAt(ball, "density_kg_per_m3", at).value_or(card.ball.density_kg_per_m3);
     card.ball.mass_kg = NumberAt(ball, "mass_kg", at);
   }
+  // The mass is what the drops feel. Cards written before the ball reported its own density carry
+  // steel's 7800 kg/m^3 beside a hollow ball's mass; the mass wins (dem::Ball's rule), and the
+  // card read back states the density that mass implies.
+  if (card.ball.mass_kg && *card.ball.mass_kg > 0 && card.ball.diameter_m > 0)
+    card.ball.density_kg_per_m3 = card.ball.DensityKgPerM3();
   if (!(card.ball.diameter_m > 0) || !(card.ball.density_kg_per_m3 > 0) ||
       (card.ball.mass_kg && !(*card.ball.mass_kg > 0))) {
     throw InputError(where + ": ball diameter_m, density_kg_per_m3 and mass_kg must be positive");

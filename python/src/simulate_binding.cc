@@ -77,7 +77,7 @@ py::object ToPython(const dem::DropResult& result, const dem::DropOptions& optio
   out["contact_law"] = FromJson(dem::ToJson(options.law));
   py::object ball = NewResult();
   ball["diameter_m"] = options.ball.diameter_m;
-  ball["density_kg_per_m3"] = options.ball.density_kg_per_m3;
+  ball["density_kg_per_m3"] = options.ball.DensityKgPerM3();
   ball["mass_kg"] = options.ball.MassKg();
   out["ball"] = ball;
   out["drop_height_m"] = options.drop_height_m;
