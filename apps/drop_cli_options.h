@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "bouncecal/calibrate/material_card.h"
@@ -44,7 +45,8 @@ struct DropCliOptions {
   std::optional<double> time_step_s;
   std::optional<double> steps_per_contact;
   bool fixed_step_grid = false;
-  bool drag = false;
+  bool drag = false;     // --drag
+  bool no_drag = false;  // --no-drag (commands with --material): off whatever the card says
   double drag_coefficient = 0.47;
   double air_density_kg_per_m3 = 1.204;
 
@@ -74,7 +76,11 @@ struct DropCliOptions {
   // The law named by --law (or the card's), without parameters applied.
   dem::ContactLawKind LawKind() const;
   dem::Integrator Integrator() const;
+  // --drag on, --no-drag off, else the card's setting, else off.
   dem::AirDrag Drag() const;
+  // Where DropHeightM() and Drag() come from: "command line", "card" or "default".
+  std::string_view DropHeightSource() const;
+  std::string_view DragSource() const;
   // The drop set-up every option above describes, in one place so no subcommand can leave one
   // out (sweep once ignored --drag): ball (Ball()), DropHeightM(), gravity, drag, integrator,
   // time step or steps per contact, step grid, and Law(validate_law). Under kAsGiven an absent
