@@ -23,6 +23,7 @@ namespace {
 
 struct CalibrateCommandOptions : CalibrateCliOptions {
   bool compare_laws = false;
+  bool objective_given = false;  // --objective typed: --compare-laws keeps it even with no dof
   std::vector<std::string> laws;
   std::filesystem::path json;
   std::filesystem::path card;
@@ -54,7 +55,7 @@ void Run(const CalibrateCommandOptions& cli) {
     } else {
       for (const auto& name : cli.laws) kinds.push_back(dem::ContactLawKindFromString(name));
     }
-    const auto comparison = calibrate::CompareLaws(sequences, kinds, options);
+    const auto comparison = calibrate::CompareLaws(sequences, kinds, options, cli.objective_given);
     PrintComparison(out, comparison, sequences.size());
     if (!cli.json.empty()) WriteTextOutput(cli.json, ToJson(comparison).dump(2) + "\n");
     if (!cli.plot.empty()) PlotFit(cli.plot, comparison.fits.front(), options);
@@ -109,7 +110,10 @@ void AddCalibrateCommand(CLI::App& app) {
                       "file, - for stdout");
   command->add_option("--plot", cli->plot,
                       "Plot measured vs fitted energy loss and flight times (.png or .svg)");
-  command->callback([cli] { Run(*cli); });
+  command->callback([cli, command] {
+    cli->objective_given = command->count("--objective") > 0;
+    Run(*cli);
+  });
 }
 
 }  // namespace bouncecal::apps

@@ -173,6 +173,8 @@ void PrintComparison(std::FILE* out, const calibrate::LawComparison& comparison,
              "bouncecal calibrate --compare-laws: {} sequence(s), objective {}; ranked by BIC "
              "(chi^2 + k ln n)\n",
              sequence_count, ToString(comparison.fits.front().objective));
+  if (!comparison.objective_note.empty())
+    fmt::print(out, "  note: {}\n", comparison.objective_note);
   fmt::print(out, "  {:<22} {:>12} {:>5} {:>10} {:>10} {:>10} {:>9}  parameters\n", "law", "chi^2",
              "n", "AIC", "BIC", "dBIC", "dof");
   const double best = comparison.fits.front().bic;
@@ -197,6 +199,7 @@ void PrintComparison(std::FILE* out, const calibrate::LawComparison& comparison,
   fmt::print(out, "  model adequacy of {}: {}\n", dem::ToString(winner.law.kind),
              winner.adequacy.message);
   for (const auto& warning : winner.warnings) fmt::print(out, "WARNING: {}\n", warning);
+  for (const auto& warning : comparison.warnings) fmt::print(out, "WARNING: {}\n", warning);
 }
 
 std::vector<PlotPanel> FitPlotPanels(const calibrate::FitSummary& summary,

@@ -184,7 +184,13 @@ nlohmann::json ToJson(const LawComparison& comparison) {
     entry["delta_bic"] = fit.bic - comparison.fits.front().bic;
     ranking.push_back(std::move(entry));
   }
-  return {{"format", kLawComparisonFormat}, {"ranking", ranking}, {"criterion", "bic"}};
+  return {{"format", kLawComparisonFormat},
+          {"ranking", ranking},
+          {"criterion", "bic"},
+          {"objective_note", comparison.objective_note.empty()
+                                 ? nlohmann::json(nullptr)
+                                 : nlohmann::json(comparison.objective_note)},
+          {"warnings", comparison.warnings}};
 }
 
 }  // namespace bouncecal::calibrate
