@@ -6,6 +6,8 @@
 #include <cmath>
 #include <string>
 
+#include "bouncecal/calibrate/contact_stiffness.h"
+
 namespace bouncecal::apps {
 namespace {
 
@@ -101,6 +103,19 @@ void PrintFit(std::FILE* out, const calibrate::FitSummary& summary,
   fmt::print(out, "{}\n{}; integrator {}{}\n", BallLine(summary, options),
              DropHeightLine(summary, options), dem::ToString(options.drop.integrator),
              options.drop.drag.enabled ? ", air drag on" : "");
+  if (summary.contact_duration_s) {
+    // The stiffness is not fitted; say what it means, since it sets the step of every run.
+    const std::string elastic(calibrate::ElasticParameterName(summary.law.kind));
+    const auto specs = dem::ParameterSpecs(summary.law.kind);
+    const auto spec = std::find_if(specs.begin(), specs.end(),
+                                   [&](const dem::ParameterSpec& c) { return c.name == elastic; });
+    fmt::print(out,
+               "contact: {} = {:.4g} {} ({}) lasts {:.4g} s for this ball at {:.3g} m/s "
+               "(closed form); it sets the DEM time step, not the damping\n",
+               elastic, summary.law.Get(elastic), spec->unit,
+               options.drop.law.parameters.contains(elastic) ? "given" : "the law's default",
+               *summary.contact_duration_s, summary.contact_speed_mps);
+  }
   const double scatter = summary.uncertainty.per_impact_scatter;
   for (size_t r = 0; r < summary.sequences.size(); ++r) {
     const auto& measured = summary.sequences[r].measured;

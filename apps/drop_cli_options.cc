@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "bouncecal/calibrate/ball_preset.h"
+#include "bouncecal/calibrate/contact_stiffness.h"
 #include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
 #include "option_alias.h"
@@ -92,6 +93,13 @@ void DropCliOptions::Add(CLI::App& command, Features features, Geometry geometry
   auto* modulus = command.add_option(
       "--modulus-pa", modulus_pa, "Effective modulus E* in Pa of the Hertz laws (default 1.1e11)");
   AddDeprecatedAlias(command, modulus, "--modulus", modulus_pa);
+  auto* contact = command.add_option(
+      "--contact-duration-s", contact_duration_s,
+      "Contact duration in s of the ball on the plate (measured, or e.g. 0.005 for a tennis "
+      "ball): sets k_n (or E*) so the law's closed-form contact lasts that long for this ball at "
+      "the release speed sqrt(2 g h0) (docs/physics.md)");
+  contact->excludes(stiffness);
+  contact->excludes(modulus);
   command.add_option("--param", parameters,
                      "Fixed law parameter NAME=VALUE in the SI unit of its name, repeatable "
                      "(e.g. --param unloading_stiffness_n_per_m=3e7)");
@@ -221,6 +229,22 @@ dem::ContactLawConfig DropCliOptions::Law(bool validate) const {
                         "gamma_n=0.4");
     }
     config.parameters[assignment.substr(0, equals)] = value;
+  }
+  if (contact_duration_s) {
+    const std::string elastic(calibrate::ElasticParameterName(config.kind));
+    for (const auto& assignment : parameters) {
+      if (assignment.rfind(elastic + "=", 0) == 0) {
+        throw ConfigError("--contact-duration-s and --param " + elastic +
+                          " both set the stiffness; give one of them");
+      }
+    }
+    if (geometry_ == Geometry::kAsGiven && !GivenBall()) {
+      throw ConfigError(
+          "--contact-duration-s needs the ball (its mass sets the stiffness that gives that "
+          "duration); give --ball NAME or --diameter-m with --mass-kg");
+    }
+    config = calibrate::WithContactDuration(
+        config, Ball(), std::sqrt(2 * gravity_mps2 * DropHeightM()), *contact_duration_s);
   }
   if (validate) config.Validate();
   return config;

@@ -38,7 +38,10 @@ struct DropCliOptions {
   std::optional<double> gamma;              // --gamma (simulate drop)
   std::optional<double> stiffness_n_per_m;  // unset: the law's (or the card's) value
   std::optional<double> modulus_pa;         // unset: the law's (or the card's) value
-  std::vector<std::string> parameters;      // NAME=VALUE
+  // Sets the law's elastic parameter instead (calibrate::WithContactDuration), for Ball() at the
+  // release speed sqrt(2 g DropHeightM()).
+  std::optional<double> contact_duration_s;
+  std::vector<std::string> parameters;  // NAME=VALUE
   std::optional<double> drop_height_m;
   double gravity_mps2 = 9.81;
   std::string integrator = "verlet";
@@ -69,9 +72,9 @@ struct DropCliOptions {
   // --drop-height-m, else the height the card was fitted at, else the paper's 0.2 m
   // (kPaperDefaults).
   double DropHeightM() const;
-  // The law (--law or the card's) with --gamma, --stiffness-n-per-m, --modulus-pa and --param
-  // applied and validated (ConfigError otherwise). Unvalidated for --compare-laws, where each
-  // law takes the --param values it has.
+  // The law (--law or the card's) with --gamma, --stiffness-n-per-m, --modulus-pa, --param and
+  // --contact-duration-s applied and validated (ConfigError otherwise). Unvalidated for
+  // --compare-laws, where each law takes the --param values it has.
   dem::ContactLawConfig Law(bool validate = true) const;
   // The law named by --law (or the card's), without parameters applied.
   dem::ContactLawKind LawKind() const;

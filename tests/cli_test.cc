@@ -211,5 +211,22 @@ TEST(Cli, CompareTakesTheHeightBallAndDragOfAMaterialCard) {
   EXPECT_EQ(given["drop_height_source"], "command line");
 }
 
+// --contact-duration-s sets k_n so the simulated contact lasts that long (the law's closed form
+// inverted; contact_stiffness_test.cc checks the formula).
+TEST(Cli, ContactDurationSetsTheStiffnessOfTheSimulatedDrop) {
+  const auto drop = nlohmann::json::parse(
+      StdoutOf("simulate drop --quiet --ball tennis --gamma 0.3 --drop-height-m 1 "
+               "--contact-duration-s 0.005 --integrator exact --json -"));
+  // Gravity during the 5 ms contact lengthens it by about g / (omega v) = 9.81 / (628 x 4.4),
+  // 0.35 %; 1 % allows that and fails a k_n off by 2 % or more.
+  EXPECT_NEAR(drop["impacts"][0]["contact_duration_s"].get<double>(), 0.005, 0.005 * 0.01);
+  // k_n = m (pi/2)^2 (1/sqrt(1.3) + 1/sqrt(0.7))^2 / t_c^2 for 57.7 g (docs/physics.md).
+  EXPECT_NEAR(drop["contact_law"]["parameters"]["stiffness_n_per_m"].get<double>(), 2.4455e4, 1);
+  // It replaces the stiffness: both together are refused.
+  const auto both = RunBouncecal(
+      "simulate drop --ball tennis --contact-duration-s 0.005 --stiffness-n-per-m 1e6");
+  EXPECT_EQ(both.exit_status, 3) << both.output;
+}
+
 }  // namespace
 }  // namespace bouncecal::testing

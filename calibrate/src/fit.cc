@@ -9,6 +9,7 @@
 #include <limits>
 #include <string>
 
+#include "bouncecal/calibrate/contact_stiffness.h"
 #include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
 #include "bouncecal/worker_pool.h"
@@ -651,6 +652,14 @@ FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOpt
         "holds timing noise only and is too narrow; fit three or more impacts (--first 3) or "
         "give several recordings");
   }
+  summary.contact_speed_mps =
+      std::sqrt(2 * options.drop.gravity_mps2 * plans.front().release_height_m);
+  summary.contact_duration_s =
+      ContactDurationS(summary.law, options.drop.ball, summary.contact_speed_mps);
+  if (auto warning = ContactDurationWarning(summary.law, options.drop.ball, options.ball_preset,
+                                            summary.contact_speed_mps);
+      !warning.empty())
+    summary.warnings.push_back(std::move(warning));
   summary.adequacy = TestAdequacy(options, summary.law, plans, comparing);
   if (summary.adequacy.trend) summary.warnings.push_back(summary.adequacy.message);
   for (const auto& parameter : summary.parameters) {

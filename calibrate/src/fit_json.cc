@@ -172,7 +172,11 @@ nlohmann::json ToJson(const FitSummary& summary) {
           {"stop_message", summary.stop_message},
           {"implied",
            {{"restitution", summary.implied_restitution},
-            {"energy_loss", summary.implied_energy_loss}}},
+            {"energy_loss", summary.implied_energy_loss},
+            {"contact_duration_s", summary.contact_duration_s
+                                       ? nlohmann::json(*summary.contact_duration_s)
+                                       : nlohmann::json(nullptr)},
+            {"contact_speed_mps", summary.contact_speed_mps}}},
           {"sequences", sequences}};
 }
 

@@ -119,6 +119,8 @@ MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& optio
   card.ball_preset = options.ball_preset;
   card.implied_restitution = summary.implied_restitution;
   card.implied_energy_loss = summary.implied_energy_loss;
+  card.implied_contact_duration_s = summary.contact_duration_s;
+  if (summary.contact_speed_mps > 0) card.implied_contact_speed_mps = summary.contact_speed_mps;
   auto& fit = card.fit;
   fit.objective = std::string(ToString(summary.objective));
   fit.first_n = options.first_n;
@@ -190,7 +192,10 @@ nlohmann::json ToJson(const MaterialCard& card) {
       {"parameter_units", units},
       {"ball", ball},
       {"implied",
-       {{"restitution", card.implied_restitution}, {"energy_loss", card.implied_energy_loss}}},
+       {{"restitution", card.implied_restitution},
+        {"energy_loss", card.implied_energy_loss},
+        {"contact_duration_s", Optional(card.implied_contact_duration_s)},
+        {"contact_speed_mps", Optional(card.implied_contact_speed_mps)}}},
       {"fit",
        {{"objective", fit.objective},
         {"first_n", fit.first_n},
@@ -263,9 +268,12 @@ MaterialCard MaterialCardFromJson(const nlohmann::json& object, std::string_view
   if (object.contains("implied")) {
     const auto& implied = ObjectAt(object, "implied", where);
     const std::string at = where + ": implied";
-    RejectUnknownKeys(implied, at, {"restitution", "energy_loss"});
+    RejectUnknownKeys(implied, at,
+                      {"restitution", "energy_loss", "contact_duration_s", "contact_speed_mps"});
     card.implied_restitution = NumberAt(implied, "restitution", at).value_or(0.0);
     card.implied_energy_loss = NumberAt(implied, "energy_loss", at).value_or(0.0);
+    card.implied_contact_duration_s = NumberAt(implied, "contact_duration_s", at);
+    card.implied_contact_speed_mps = NumberAt(implied, "contact_speed_mps", at);
   }
   if (object.contains("fit")) {
     const auto& fit = ObjectAt(object, "fit", where);

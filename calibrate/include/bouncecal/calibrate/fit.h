@@ -206,6 +206,12 @@ struct FitSummary {
   // height (speed-dependent laws: at that speed), from the simulated drop.
   double implied_restitution = 0;
   double implied_energy_loss = 0;
+  // What the law's elastic parameter means for the simulated ball: its gravity-free closed-form
+  // contact duration (calibrate::ContactDurationS) at the first simulated impact's speed
+  // sqrt(2 g h) from the release height; unset where the law has no closed form. It sets the DEM
+  // time step of the drops and of every scene built on the card.
+  std::optional<double> contact_duration_s;
+  double contact_speed_mps = 0;
   UncertaintySummary uncertainty;
   ModelAdequacy adequacy;
   // Whether the ball was given; when not, the drops used ReferenceBall().
