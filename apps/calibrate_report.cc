@@ -6,6 +6,8 @@
 #include <cmath>
 #include <string>
 
+#include "bouncecal/calibrate/contact_stiffness.h"
+
 namespace bouncecal::apps {
 namespace {
 
@@ -111,6 +113,19 @@ void PrintFit(std::FILE* out, const calibrate::FitSummary& summary,
   fmt::print(out, "{}\n{}; integrator {}{}\n", BallLine(summary, options),
              DropHeightLine(summary, options), dem::ToString(options.drop.integrator),
              options.drop.drag.enabled ? ", air drag on" : "");
+  if (summary.contact_duration_s) {
+    // The stiffness is not fitted; say what it means, since it sets the step of every run.
+    const std::string elastic(calibrate::ElasticParameterName(summary.law.kind));
+    const auto specs = dem::ParameterSpecs(summary.law.kind);
+    const auto spec = std::find_if(specs.begin(), specs.end(),
+                                   [&](const dem::ParameterSpec& c) { return c.name == elastic; });
+    fmt::print(out,
+               "contact: {} = {:.4g} {} ({}) lasts {:.4g} s for this ball at {:.3g} m/s "
+               "(closed form); it sets the DEM time step, not the damping\n",
+               elastic, summary.law.Get(elastic), spec->unit,
+               options.drop.law.parameters.contains(elastic) ? "given" : "the law's default",
+               *summary.contact_duration_s, summary.contact_speed_mps);
+  }
   const double scatter = summary.uncertainty.per_impact_scatter;
   for (size_t r = 0; r < summary.sequences.size(); ++r) {
     const auto& measured = summary.sequences[r].measured;
@@ -183,6 +198,8 @@ void PrintComparison(std::FILE* out, const calibrate::LawComparison& comparison,
              "bouncecal calibrate --compare-laws: {} sequence(s), objective {}; ranked by BIC "
              "(chi^2 + k ln n)\n",
              sequence_count, ToString(comparison.fits.front().objective));
+  if (!comparison.objective_note.empty())
+    fmt::print(out, "  note: {}\n", comparison.objective_note);
   fmt::print(out, "  {:<22} {:>12} {:>5} {:>10} {:>10} {:>10} {:>9}  parameters\n", "law", "chi^2",
              "n", "AIC", "BIC", "dBIC", "dof");
   const double best = comparison.fits.front().bic;
@@ -207,6 +224,7 @@ void PrintComparison(std::FILE* out, const calibrate::LawComparison& comparison,
   fmt::print(out, "  model adequacy of {}: {}\n", dem::ToString(winner.law.kind),
              winner.adequacy.message);
   for (const auto& warning : winner.warnings) fmt::print(out, "WARNING: {}\n", warning);
+  for (const auto& warning : comparison.warnings) fmt::print(out, "WARNING: {}\n", warning);
 }
 
 std::vector<PlotPanel> FitPlotPanels(const calibrate::FitSummary& summary) {

@@ -52,15 +52,21 @@ void Run(CompareCliOptions& cli) {
   if (cli.gamma_values.empty() == cli.drop.material.empty()) {
     throw ConfigError("give exactly one of --gamma LIST or --material CARD");
   }
-  // The simulated drops start at the release height, and the measured arcs are set against
-  // them: an assumed height (the paper's, or the one a card was fitted at) would be a silent
-  // wrong answer.
-  if (!cli.drop.drop_height_m) {
-    throw ConfigError(
-        "compare needs --drop-height-m (the height the ball was released from, m) to simulate "
-        "the drop the recording shows; without it, fit the recording with bouncecal calibrate");
-  }
   cli.drop.ReadMaterial();
+  // The simulated drops start at the release height, and the measured arcs are set against
+  // them: an assumed height (the paper's) would be a silent wrong answer. A card's height is the
+  // one its recordings were fitted at, and is used.
+  if (cli.drop.DropHeightSource() == "default") {
+    throw ConfigError(
+        cli.drop.card()
+            ? "compare needs a drop height: the card " + cli.drop.material.string() +
+                  " was fitted from the first bounce's apex (no drop height recorded); give "
+                  "--drop-height-m (the height the ball was released from, m)"
+            : std::string("compare needs --drop-height-m (the height the ball was released from, "
+                          "m) to simulate the drop the recording shows, or a --material card "
+                          "fitted with one; without it, fit the recording with bouncecal "
+                          "calibrate"));
+  }
   calibrate::TrajectoryCompareOptions options;
   options.drop = cli.drop.DropSetUp();
   if (!cli.drop.material.empty()) {
@@ -80,14 +86,22 @@ void Run(CompareCliOptions& cli) {
   const auto summary = calibrate::CompareTrajectories(onsets, options);
 
   fmt::print(out,
-             "bouncecal compare: {} ({} impacts), h0 = {:g} m; measured arcs vs simulated drops\n",
-             sequences.front().source, onsets.size(), options.drop.drop_height_m);
+             "bouncecal compare: {} ({} impacts), h0 = {:g} m (from the {}); measured arcs vs "
+             "simulated drops\n",
+             sequences.front().source, onsets.size(), options.drop.drop_height_m,
+             cli.drop.DropHeightSource());
   fmt::print(out, "  ball: d = {:g} m, m = {:.6g} kg{}\n", options.drop.ball.diameter_m,
              options.drop.ball.MassKg(),
-             cli.drop.material.empty() && !cli.drop.GivenBall()
-                 ? " (no --ball given: the paper's 1 cm steel ball; walton-braun's heights do not "
-                   "depend on it)"
-                 : "");
+             cli.drop.card()         ? " (from the card)"
+             : !cli.drop.GivenBall() ? " (no --ball given: the paper's 1 cm steel ball; "
+                                       "walton-braun's heights do not depend on it)"
+                                     : " (from the command line)");
+  const bool drag = options.drop.drag.enabled;
+  const std::string_view drag_source = cli.drop.DragSource();
+  fmt::print(out, "  drag {} ({})\n", drag ? "on" : "off",
+             drag_source == "card"           ? "from the card"
+             : drag_source == "command line" ? (drag ? "--drag" : "--no-drag")
+                                             : "the default; --drag switches it on");
   fmt::print(out, "  {:<40} {:>18}\n", "simulated law", "RMS height error m");
   nlohmann::json curves = nlohmann::json::array();
   for (const auto& curve : summary.simulated) {
@@ -99,6 +113,9 @@ void Run(CompareCliOptions& cli) {
     WriteTextOutput(cli.json, nlohmann::json{{"format", kCompareFormat},
                                              {"source", sequences.front().source},
                                              {"drop_height_m", options.drop.drop_height_m},
+                                             {"drop_height_source", cli.drop.DropHeightSource()},
+                                             {"drag", drag},
+                                             {"drag_source", drag_source},
                                              {"curves", curves}}
                                       .dump(2) +
                                   "\n");

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "bouncecal/calibrate/material_card.h"
@@ -37,7 +38,10 @@ struct DropCliOptions {
   std::optional<double> gamma;              // --gamma (simulate drop)
   std::optional<double> stiffness_n_per_m;  // unset: the law's (or the card's) value
   std::optional<double> modulus_pa;         // unset: the law's (or the card's) value
-  std::vector<std::string> parameters;      // NAME=VALUE
+  // Sets the law's elastic parameter instead (calibrate::WithContactDuration), for Ball() at the
+  // release speed sqrt(2 g DropHeightM()).
+  std::optional<double> contact_duration_s;
+  std::vector<std::string> parameters;  // NAME=VALUE
   std::optional<double> drop_height_m;
   // Geometry::kAsGiven: --drop-height-m as given, once for every recording or once per recording
   // (calibrate resolves it; one value also sets drop_height_m).
@@ -47,7 +51,8 @@ struct DropCliOptions {
   std::optional<double> time_step_s;
   std::optional<double> steps_per_contact;
   bool fixed_step_grid = false;
-  bool drag = false;
+  bool drag = false;     // --drag
+  bool no_drag = false;  // --no-drag (commands with --material): off whatever the card says
   double drag_coefficient = 0.47;
   double air_density_kg_per_m3 = 1.204;
 
@@ -70,14 +75,18 @@ struct DropCliOptions {
   // --drop-height-m, else the height the card was fitted at, else the paper's 0.2 m
   // (kPaperDefaults).
   double DropHeightM() const;
-  // The law (--law or the card's) with --gamma, --stiffness-n-per-m, --modulus-pa and --param
-  // applied and validated (ConfigError otherwise). Unvalidated for --compare-laws, where each
-  // law takes the --param values it has.
+  // The law (--law or the card's) with --gamma, --stiffness-n-per-m, --modulus-pa, --param and
+  // --contact-duration-s applied and validated (ConfigError otherwise). Unvalidated for
+  // --compare-laws, where each law takes the --param values it has.
   dem::ContactLawConfig Law(bool validate = true) const;
   // The law named by --law (or the card's), without parameters applied.
   dem::ContactLawKind LawKind() const;
   dem::Integrator Integrator() const;
+  // --drag on, --no-drag off, else the card's setting, else off.
   dem::AirDrag Drag() const;
+  // Where DropHeightM() and Drag() come from: "command line", "card" or "default".
+  std::string_view DropHeightSource() const;
+  std::string_view DragSource() const;
   // The drop set-up every option above describes, in one place so no subcommand can leave one
   // out (sweep once ignored --drag): ball (Ball()), DropHeightM(), gravity, drag, integrator,
   // time step or steps per contact, step grid, and Law(validate_law). Under kAsGiven an absent

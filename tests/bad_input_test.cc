@@ -385,6 +385,33 @@ TEST_F(BadInput, BadLawParametersInACardAreInputErrorsLikeAnyOtherField) {
                     "hooke");
 }
 
+// Options that cannot be honoured (issue 28): a law ranking with no degree of freedom, a contact
+// duration that sets no stiffness. Usage errors (status 3) in one line with the numbers and what
+// to do, and no output file.
+TEST_F(BadInput, RankingsWithoutDataAndUnusableContactDurationsAreRefusedInOneLine) {
+  const std::string csv = SourceDir().string() + "/samples/steel_ball_h0.2m.csv";
+  const fs::path output = folder_ / "out.json";
+  const auto expect = [&](const std::string& command, const std::string& words) {
+    const auto result = RunBouncecal(command + " --json '" + output.string() + "'");
+    SCOPED_TRACE(command + ": " + result.output);
+    EXPECT_EQ(result.exit_status, 3);
+    EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1);
+    EXPECT_NE(result.output.find(words), std::string::npos) << "expected the words: " << words;
+    EXPECT_FALSE(fs::exists(output));
+  };
+  expect("calibrate " + csv +
+             " --ball steel-10mm --drop-height-m 0.2 --compare-laws --objective mean-energy-loss",
+         "gives 1 datum(s) against 1 fitted parameter(s)");
+  expect("calibrate " + csv + " --ball steel-10mm --drop-height-m 0.2 --contact-duration-s -1",
+         "positive number of seconds");
+  expect("calibrate " + csv + " --drop-height-m 0.2 --contact-duration-s 0.005",
+         "--contact-duration-s needs the ball");
+  expect("simulate drop --ball tennis --law hertz-viscoelastic --contact-duration-s 0.005",
+         "give --modulus-pa instead");
+  expect("simulate drop --ball tennis --contact-duration-s 0.005 --param stiffness_n_per_m=1e5",
+         "both set the stiffness");
+}
+
 // Scene files for `bouncecal pack`. Every problem of the scene file, or of the start-positions
 // file it names, is a bad input file (status 2): one line naming the file (and for a scene the
 // key's path), and neither the output folder nor the --json file appears.

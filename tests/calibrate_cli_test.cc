@@ -1,11 +1,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 #include "cli_runner.h"
 
@@ -60,6 +62,60 @@ TEST(CalibrateCli, ShippedSampleGivesGammaNearTheFormulaWithJsonAndCard) {
 std::string ReadFile(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// The card records the ball that was used, named or given by size and mass (issue 28: a tennis
+// card said 7800 kg/m^3, steel). walton-braun's gamma_n does not depend on the ball, so the steel
+// sample fits with any of them.
+TEST(CalibrateCli, CardRecordsTheDensityOfANamedOrAMassGivenBall) {
+  const auto card = Temp("ball_card.json");
+  const std::string csv = (SourceDir() / "samples" / "steel_ball_h0.2m.csv").string();
+  struct Case {
+    std::string ball;
+    double diameter_m, mass_kg;
+  };
+  for (const Case& c : {Case{"--ball tennis", 0.067, 0.0577},
+                        Case{"--diameter-m 0.04 --mass-kg 0.0027", 0.04, 0.0027}}) {
+    const auto result = RunBouncecal("calibrate " + csv + " " + c.ball +
+                                     " --drop-height-m 0.2 --card " + card.string());
+    ASSERT_EQ(result.exit_status, 0) << c.ball << "\n" << result.output;
+    const auto ball = nlohmann::json::parse(ReadFile(card))["ball"];
+    const double volume = std::numbers::pi * std::pow(c.diameter_m, 3) / 6;
+    EXPECT_DOUBLE_EQ(ball["mass_kg"].get<double>(), c.mass_kg) << c.ball;
+    // The card prints 17 significant digits; the division is the only rounding.
+    EXPECT_NEAR(ball["density_kg_per_m3"].get<double>(), c.mass_kg / volume, 1e-9) << c.ball;
+  }
+  std::filesystem::remove(card);
+}
+
+// The card states k_n and the contact it implies; --contact-duration-s sets k_n so that the
+// fitted law's contact lasts that long (refitted once with the fitted damping), and a named ball
+// whose stiffness is left at a default far from its real contact is warned about.
+TEST(CalibrateCli, CardStatesTheContactDurationItsStiffnessImplies) {
+  const auto card = Temp("contact_card.json");
+  const std::string csv = (SourceDir() / "samples" / "steel_ball_h0.2m.csv").string();
+  const std::string head = "calibrate " + csv + " --ball tennis --drop-height-m 0.2 --card ";
+  const auto plain = RunBouncecal(head + card.string());
+  ASSERT_EQ(plain.exit_status, 0) << plain.output;
+  EXPECT_NE(plain.output.find("WARNING: stiffness_n_per_m = 1e+07 N/m (the walton-braun law's "
+                              "default) makes the tennis ball's contact last"),
+            std::string::npos)
+      << plain.output;
+  EXPECT_NE(plain.output.find("--contact-duration-s 0.005"), std::string::npos) << plain.output;
+  const auto implied = nlohmann::json::parse(ReadFile(card))["implied"];
+  // gamma_n = 0.408 and 57.7 g at k_n = 1e7 N/m: (pi/2) sqrt(m/k) (1/sqrt(1.408) +
+  // 1/sqrt(0.592)) = 0.2556 ms; the fitted gamma_n's +-0.005 moves it by 0.001 ms.
+  EXPECT_NEAR(implied["contact_duration_s"].get<double>(), 2.556e-4, 0.01e-4);
+  EXPECT_NEAR(implied["contact_speed_mps"].get<double>(), std::sqrt(2 * 9.81 * 0.2), 1e-12);
+
+  const auto given = RunBouncecal(head + card.string() + " --contact-duration-s 0.005");
+  ASSERT_EQ(given.exit_status, 0) << given.output;
+  EXPECT_EQ(given.output.find("WARNING: stiffness_n_per_m"), std::string::npos) << given.output;
+  const auto matched = nlohmann::json::parse(ReadFile(card));
+  // One refit with the fitted gamma_n: what is left is gamma_n's change through k_n (< 1e-3).
+  EXPECT_NEAR(matched["implied"]["contact_duration_s"].get<double>(), 0.005, 0.005 * 1e-3);
+  EXPECT_LT(matched["contact_law"]["parameters"]["stiffness_n_per_m"].get<double>(), 1e5);
+  std::filesystem::remove(card);
 }
 
 // The reproducible-builds convention: with SOURCE_DATE_EPOCH set, the card records that time and
@@ -195,14 +251,16 @@ TEST(DropOptionsCli, EveryDropOptionChangesWhatSweepAndCompareSimulate) {
   // Each variation replaces or adds one option of the base set-up.
   const std::map<std::string, std::string> base = {{"--ball", "pingpong-40mm"},
                                                    {"--drop-height-m", "0.2"}};
-  const std::vector<std::pair<std::string, std::string>> variations = {{"--drag", ""},
-                                                                       {"--gravity-mps2", "9.5"},
-                                                                       {"--drop-height-m", "0.3"},
-                                                                       {"--integrator", "euler"},
-                                                                       {"--time-step-s", "2e-6"},
-                                                                       {"--steps-per-contact", "5"},
-                                                                       {"--fixed-step-grid", ""},
-                                                                       {"--ball", "tennis"}};
+  const std::vector<std::pair<std::string, std::string>> variations = {
+      {"--drag", ""},
+      {"--gravity-mps2", "9.5"},
+      {"--drop-height-m", "0.3"},
+      {"--integrator", "euler"},
+      {"--time-step-s", "2e-6"},
+      {"--steps-per-contact", "5"},
+      {"--fixed-step-grid", ""},
+      {"--ball", "tennis"},
+      {"--contact-duration-s", "1e-4"}};
   const auto command = [&](const std::string& head, const std::map<std::string, std::string>& set,
                            const fs::path& json) {
     std::string text = head;
@@ -236,9 +294,9 @@ TEST(DropOptionsCli, EveryDropOptionChangesWhatSimulateRunsAndCalibrateFits) {
   fs::remove_all(folder);
   fs::create_directories(folder);
   const std::vector<std::pair<std::string, std::string>> variations = {
-      {"--gravity-mps2", "9.5"}, {"--drop-height-m", "0.3"},   {"--integrator", "euler"},
-      {"--time-step-s", "2e-6"}, {"--steps-per-contact", "5"}, {"--fixed-step-grid", ""},
-      {"--ball", "tennis"}};
+      {"--gravity-mps2", "9.5"}, {"--drop-height-m", "0.3"},      {"--integrator", "euler"},
+      {"--time-step-s", "2e-6"}, {"--steps-per-contact", "5"},    {"--fixed-step-grid", ""},
+      {"--ball", "tennis"},      {"--contact-duration-s", "1e-4"}};
   struct Subcommand {
     std::string head;
     std::map<std::string, std::string> base;

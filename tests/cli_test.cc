@@ -158,5 +158,75 @@ TEST(Cli, SimulateDropTakesTheLawBallAndHeightOfAMaterialCard) {
   EXPECT_EQ(both.exit_status, 3) << both.output;
 }
 
+// compare --material uses the card's drop height, ball and drag, and says where each came from
+// (issue 28: it refused without --drop-height-m and ignored the card's drag).
+TEST(Cli, CompareTakesTheHeightBallAndDragOfAMaterialCard) {
+  const auto card = Card();  // steel-10mm from 0.2 m, no drag
+  const std::string compare = "compare " + kSteelCsv + " --material ";
+  const auto plain = RunBouncecal(compare + card.string());
+  ASSERT_EQ(plain.exit_status, 0) << plain.output;
+  EXPECT_NE(plain.output.find("h0 = 0.2 m (from the card)"), std::string::npos) << plain.output;
+  EXPECT_NE(plain.output.find("(from the card)\n  drag off (from the card)"), std::string::npos)
+      << plain.output;
+  const auto json = nlohmann::json::parse(StdoutOf(compare + card.string() + " --json -"));
+  EXPECT_EQ(json["drop_height_m"], 0.2);
+  EXPECT_EQ(json["drop_height_source"], "card");
+  EXPECT_EQ(json["drag"], false);
+  EXPECT_EQ(json["drag_source"], "card");
+
+  // A card fitted with drag simulates with drag unless --no-drag says otherwise; drag changes a
+  // light ball's heights, so the RMS error moves.
+  auto dragged = nlohmann::json::parse(ReadText(card));
+  dragged["fit"]["drag"] = true;
+  dragged["ball"] = {{"diameter_m", 0.04}, {"density_kg_per_m3", 80.6}, {"mass_kg", 0.0027}};
+  const auto drag_card = Scratch("drag_card.json");
+  std::ofstream(drag_card) << dragged.dump();
+  const auto on = nlohmann::json::parse(StdoutOf(compare + drag_card.string() + " --json -"));
+  EXPECT_EQ(on["drag"], true);
+  EXPECT_EQ(on["drag_source"], "card");
+  const auto off =
+      nlohmann::json::parse(StdoutOf(compare + drag_card.string() + " --no-drag --json -"));
+  EXPECT_EQ(off["drag"], false);
+  EXPECT_EQ(off["drag_source"], "command line");
+  EXPECT_NE(on["curves"][0]["rms_height_error_m"], off["curves"][0]["rms_height_error_m"]);
+  const auto printed = RunBouncecal(compare + drag_card.string());
+  EXPECT_NE(printed.output.find("drag on (from the card)"), std::string::npos) << printed.output;
+
+  // A card fitted without a drop height cannot supply one: refused in one line naming the card.
+  auto apex = nlohmann::json::parse(ReadText(card));
+  apex["fit"]["drop_height_m"] = nullptr;
+  apex["fit"]["release"] = "first-bounce-apex";
+  const auto apex_card = Scratch("apex_card.json");
+  std::ofstream(apex_card) << apex.dump();
+  const auto refused = RunBouncecal(compare + apex_card.string());
+  EXPECT_EQ(refused.exit_status, 3) << refused.output;
+  EXPECT_NE(refused.output.find("apex_card.json was fitted from the first bounce's apex"),
+            std::string::npos)
+      << refused.output;
+  EXPECT_NE(refused.output.find("--drop-height-m"), std::string::npos) << refused.output;
+  // Given, the height wins over the card's and is reported as the command line's.
+  const auto given =
+      nlohmann::json::parse(StdoutOf(compare + card.string() + " --drop-height-m 0.21 --json -"));
+  EXPECT_EQ(given["drop_height_m"], 0.21);
+  EXPECT_EQ(given["drop_height_source"], "command line");
+}
+
+// --contact-duration-s sets k_n so the simulated contact lasts that long (the law's closed form
+// inverted; contact_stiffness_test.cc checks the formula).
+TEST(Cli, ContactDurationSetsTheStiffnessOfTheSimulatedDrop) {
+  const auto drop = nlohmann::json::parse(
+      StdoutOf("simulate drop --quiet --ball tennis --gamma 0.3 --drop-height-m 1 "
+               "--contact-duration-s 0.005 --integrator exact --json -"));
+  // Gravity during the 5 ms contact lengthens it by about g / (omega v) = 9.81 / (628 x 4.4),
+  // 0.35 %; 1 % allows that and fails a k_n off by 2 % or more.
+  EXPECT_NEAR(drop["impacts"][0]["contact_duration_s"].get<double>(), 0.005, 0.005 * 0.01);
+  // k_n = m (pi/2)^2 (1/sqrt(1.3) + 1/sqrt(0.7))^2 / t_c^2 for 57.7 g (docs/physics.md).
+  EXPECT_NEAR(drop["contact_law"]["parameters"]["stiffness_n_per_m"].get<double>(), 2.4455e4, 1);
+  // It replaces the stiffness: both together are refused.
+  const auto both = RunBouncecal(
+      "simulate drop --ball tennis --contact-duration-s 0.005 --stiffness-n-per-m 1e6");
+  EXPECT_EQ(both.exit_status, 3) << both.output;
+}
+
 }  // namespace
 }  // namespace bouncecal::testing

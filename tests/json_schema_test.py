@@ -70,6 +70,12 @@ with tempfile.TemporaryDirectory(prefix="bouncecal_json_schema_") as folder:
                 "--gamma", "0.4", "--json", "-"])
     if text is not None:
         check("compare --json", json.loads(text), "trajectory-comparison.schema.json")
+    if card.exists():  # the card's height, ball and drag (issue 28)
+        text = run(["compare", str(samples / "steel_ball_h0.2m.csv"), "--material", str(card),
+                    "--json", "-"])
+        if text is not None:
+            check("compare --material --json", json.loads(text),
+                  "trajectory-comparison.schema.json")
     text = run(["pack", str(samples / "scenes" / "paper004_binary_c1.json"), "--duration-s", "0",
                 "-o", str(out / "pack"), "--json", "-"])
     if text is not None:

@@ -9,6 +9,7 @@
 #include <limits>
 #include <string>
 
+#include "bouncecal/calibrate/contact_stiffness.h"
 #include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
 #include "bouncecal/option_error.h"
@@ -16,6 +17,7 @@
 #include "fit_problem.h"
 #include "fit_uncertainty.h"
 #include "model_adequacy.h"
+#include "student_t.h"
 
 namespace bouncecal::calibrate {
 namespace {
@@ -684,6 +686,14 @@ FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOpt
         "holds timing noise only and is too narrow; fit three or more impacts (--first 3) or "
         "give several recordings");
   }
+  summary.contact_speed_mps =
+      std::sqrt(2 * options.drop.gravity_mps2 * plans.front().release_height_m);
+  summary.contact_duration_s =
+      ContactDurationS(summary.law, options.drop.ball, summary.contact_speed_mps);
+  if (auto warning = ContactDurationWarning(summary.law, options.drop.ball, options.ball_preset,
+                                            summary.contact_speed_mps);
+      !warning.empty())
+    summary.warnings.push_back(std::move(warning));
   summary.adequacy = TestAdequacy(options, summary.law, plans, comparing);
   if (summary.adequacy.trend) summary.warnings.push_back(summary.adequacy.message);
   for (const auto& parameter : summary.parameters) {
@@ -711,13 +721,111 @@ FitSummary Fit(const std::vector<MeasuredSequence>& sequences, const FitOptions&
   return FitSequences(sequences, options, /*comparing=*/false);
 }
 
+namespace {
+
+// The data the objective compares over the distinct sequences (FitSummary::data_points before
+// fitting): one eta-bar per recording, or every fitted flight.
+int ObjectiveDataPoints(const std::vector<MeasuredSequence>& input, const FitOptions& options) {
+  std::vector<std::string> ignored;
+  int duplicates = 0;
+  const auto plans = MakePlans(DistinctSequences(input, ignored, duplicates), options);
+  int points = 0;
+  for (const auto& plan : plans)
+    points += options.objective == FitObjective::kMeanEnergyLoss ? 1 : plan.impacts_needed - 1;
+  return points;
+}
+
+// The objective the comparison fits on (see CompareLaws), and the note saying why when it is not
+// the one asked for.
+FitObjective RankableObjective(const std::vector<MeasuredSequence>& sequences,
+                               const std::vector<dem::ContactLawKind>& laws,
+                               const FitOptions& options, bool objective_given, std::string& note) {
+  size_t most = 0, fewest = std::numeric_limits<size_t>::max();
+  dem::ContactLawKind widest = laws.front();
+  for (auto kind : laws) {
+    const size_t count = DefaultFittedParameters(kind).size();
+    fewest = std::min(fewest, count);
+    if (count > most) {
+      most = count;
+      widest = kind;
+    }
+  }
+  const int points = ObjectiveDataPoints(sequences, options);
+  if (points > static_cast<int>(most)) return options.objective;
+  const std::string law(dem::ToString(widest));
+  const std::string counts = std::to_string(points) + " datum(s) against " + std::to_string(most) +
+                             " fitted parameter(s) of " + law;
+  if (options.objective == FitObjective::kMeanEnergyLoss && !objective_given) {
+    FitOptions intervals = options;
+    intervals.objective = FitObjective::kIntervals;
+    int interval_points = 0;
+    try {
+      interval_points = ObjectiveDataPoints(sequences, intervals);
+    } catch (const ConfigError&) {
+      // Too short for intervals as well: refused below with the numbers of the default.
+    }
+    if (interval_points > static_cast<int>(most)) {
+      note = "the default objective mean-energy-loss gives " + counts +
+             ", which leaves no degree of freedom to rank on, so every law is fitted on every "
+             "flight interval instead (--objective intervals, " +
+             std::to_string(interval_points) + " data)";
+      return FitObjective::kIntervals;
+    }
+  }
+  throw ConfigError(
+      "--compare-laws: objective " + std::string(ToString(options.objective)) + " gives " + counts +
+      ", so every law fits exactly and the ranking would count parameters only; " +
+      (options.objective == FitObjective::kMeanEnergyLoss
+           ? "fit every flight interval (--objective intervals) or add recordings"
+           : "use a longer recording (more bounces) or add recordings") +
+      (points > static_cast<int>(fewest)
+           ? ", or leave the laws with " + std::to_string(most) + " parameters out (--laws)"
+           : ""));
+}
+
+}  // namespace
+
+std::string GoodnessOfFitWarning(const FitSummary& fit) {
+  if (fit.degrees_of_freedom < 1) return "";
+  const double dof = fit.degrees_of_freedom;
+  const double tail = (1 - kGoodnessOfFitLevel) / 2;
+  const double low = internal::ChiSquareQuantile(tail, dof);
+  const double high = internal::ChiSquareQuantile(1 - tail, dof);
+  if (fit.residual >= low && fit.residual <= high) return "";
+  const bool above = fit.residual > high;
+  char text[600];
+  std::snprintf(
+      text, sizeof text,
+      "%s: chi^2/dof = %.3g (chi^2 = %.4g over %d dof) lies %s the central %g %% of the "
+      "chi-square distribution for %d dof (%.4g to %.4g): %s",
+      std::string(dem::ToString(fit.law.kind)).c_str(), fit.residual / dof, fit.residual,
+      fit.degrees_of_freedom, above ? "above" : "below", 100 * kGoodnessOfFitLevel,
+      fit.degrees_of_freedom, low, high,
+      above ? "the law misses the data by more than their timing uncertainties, so its dBIC are "
+              "overstated about that many times; look at the residuals (--plot) and trust only "
+              "dBIC well beyond chi^2/dof"
+            : "the data agree better than their stated uncertainties allow (overstated timing "
+              "uncertainties), so dBIC are understated; check the onset uncertainties "
+              "(bouncecal analyze)");
+  return text;
+}
+
 LawComparison CompareLaws(const std::vector<MeasuredSequence>& sequences,
-                          const std::vector<dem::ContactLawKind>& laws, const FitOptions& options) {
+                          const std::vector<dem::ContactLawKind>& laws, const FitOptions& options,
+                          bool objective_given) {
   std::vector<dem::ContactLawKind> fittable;
   for (auto kind : laws) {
     if (!DefaultFittedParameters(kind).empty()) fittable.push_back(kind);
   }
   if (fittable.empty()) throw ConfigError("none of the laws to compare has a damping parameter");
+  if (sequences.empty()) throw ConfigError("no recording to fit; give at least one");
+  FitOptions checked = options;  // the options' own problems first, as Fit would name them
+  checked.drop.law = {fittable.front(), {}};
+  ValidateOptions(checked);
+  LawComparison comparison;
+  FitOptions ranked = options;
+  ranked.objective =
+      RankableObjective(sequences, fittable, options, objective_given, comparison.objective_note);
   std::vector<FitSummary> fits(fittable.size());
   std::vector<std::exception_ptr> errors(fittable.size());
   // One law per item of the project's worker pool; each fit writes only its own slot, so the
@@ -726,7 +834,7 @@ LawComparison CompareLaws(const std::vector<MeasuredSequence>& sequences,
     const auto i = static_cast<size_t>(item);
     {
       try {
-        FitOptions law_options = options;
+        FitOptions law_options = ranked;
         law_options.drop.law = {fittable[i], {}};
         // Keep the parameters this law shares by name (stiffness_n_per_m for the linear laws).
         const auto& given = options.drop.law.parameters;
@@ -751,7 +859,12 @@ LawComparison CompareLaws(const std::vector<MeasuredSequence>& sequences,
   }
   std::stable_sort(fits.begin(), fits.end(),
                    [](const FitSummary& a, const FitSummary& b) { return a.bic < b.bic; });
-  return {std::move(fits)};
+  for (const auto& fit : fits) {
+    if (auto warning = GoodnessOfFitWarning(fit); !warning.empty())
+      comparison.warnings.push_back(std::move(warning));
+  }
+  comparison.fits = std::move(fits);
+  return comparison;
 }
 
 }  // namespace bouncecal::calibrate

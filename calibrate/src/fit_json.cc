@@ -175,7 +175,11 @@ nlohmann::json ToJson(const FitSummary& summary) {
           {"stop_message", summary.stop_message},
           {"implied",
            {{"restitution", summary.implied_restitution},
-            {"energy_loss", summary.implied_energy_loss}}},
+            {"energy_loss", summary.implied_energy_loss},
+            {"contact_duration_s", summary.contact_duration_s
+                                       ? nlohmann::json(*summary.contact_duration_s)
+                                       : nlohmann::json(nullptr)},
+            {"contact_speed_mps", summary.contact_speed_mps}}},
           {"sequences", sequences}};
 }
 
@@ -187,7 +191,13 @@ nlohmann::json ToJson(const LawComparison& comparison) {
     entry["delta_bic"] = fit.bic - comparison.fits.front().bic;
     ranking.push_back(std::move(entry));
   }
-  return {{"format", kLawComparisonFormat}, {"ranking", ranking}, {"criterion", "bic"}};
+  return {{"format", kLawComparisonFormat},
+          {"ranking", ranking},
+          {"criterion", "bic"},
+          {"objective_note", comparison.objective_note.empty()
+                                 ? nlohmann::json(nullptr)
+                                 : nlohmann::json(comparison.objective_note)},
+          {"warnings", comparison.warnings}};
 }
 
 }  // namespace bouncecal::calibrate

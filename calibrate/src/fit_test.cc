@@ -295,6 +295,87 @@ TEST(CompareLaws, PrefersTheLawThatGeneratedTheData) {
   EXPECT_EQ(comparison.fits[0].law.kind, dem::ContactLawKind::kHertzViscoelastic);
   // Kass & Raftery: a BIC gap above 10 is very strong evidence.
   EXPECT_GT(comparison.fits[1].bic - comparison.fits[0].bic, 10);
+  // The wrong law misses the intervals far beyond their 10 us noise, and is flagged.
+  ASSERT_FALSE(comparison.warnings.empty());
+  EXPECT_EQ(comparison.warnings.front().rfind("walton-braun: chi^2/dof", 0), 0u)
+      << comparison.warnings.front();
+}
+
+// Issue 28: under the default objective one recording is one datum, and every one-parameter law
+// fitted it exactly (chi^2 ~ 1e-12, 0 dof), so BIC ranked by parameter count alone.
+TEST(CompareLaws, WithoutADegreeOfFreedomFitsEveryIntervalAndSaysSo) {
+  auto options = QuickOptions();
+  options.ball_given = true;  // drop.ball is the reference
+  const auto recording = SimulatedRecording(WaltonBraun(0.4), 6, 10e-6, 2);
+  const std::vector<dem::ContactLawKind> laws = {dem::ContactLawKind::kWaltonBraun,
+                                                 dem::ContactLawKind::kLinearDashpot};
+  const auto comparison = CompareLaws({recording}, laws, options);
+  EXPECT_NE(comparison.objective_note.find("1 datum(s) against 1 fitted parameter(s)"),
+            std::string::npos)
+      << comparison.objective_note;
+  EXPECT_NE(comparison.objective_note.find("--objective intervals, 5 data"), std::string::npos)
+      << comparison.objective_note;
+  for (const auto& fit : comparison.fits) {
+    EXPECT_EQ(fit.objective, FitObjective::kIntervals);
+    EXPECT_EQ(fit.data_points, 5);  // 6 impacts from a known height: 5 flights
+    EXPECT_EQ(fit.degrees_of_freedom, 4);
+  }
+  // Asked for by name, the objective is kept, and the ranking refused with the numbers.
+  try {
+    CompareLaws({recording}, laws, options, /*objective_given=*/true);
+    FAIL() << "ranked on 0 dof";
+  } catch (const ConfigError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("objective mean-energy-loss gives 1 datum(s) against 1 fitted"),
+              std::string::npos)
+        << message;
+    EXPECT_NE(message.find("--objective intervals"), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos);
+  }
+  // Two recordings give the default objective one degree of freedom: it is kept.
+  const auto other = SimulatedRecording(WaltonBraun(0.4), 6, 10e-6, 3);
+  const auto two = CompareLaws({recording, other}, laws, options);
+  EXPECT_EQ(two.objective_note, "");
+  EXPECT_EQ(two.fits.front().objective, FitObjective::kMeanEnergyLoss);
+  EXPECT_EQ(two.fits.front().degrees_of_freedom, 1);
+}
+
+TEST(CompareLaws, TooFewIntervalsAreRefusedNamingTheNumbers) {
+  auto options = QuickOptions();
+  options.ball_given = true;
+  options.objective = FitObjective::kIntervals;
+  const auto recording = SimulatedRecording(WaltonBraun(0.4), 2, 10e-6, 2);  // one flight
+  try {
+    CompareLaws({recording}, {dem::ContactLawKind::kWaltonBraun}, options, true);
+    FAIL() << "ranked on 0 dof";
+  } catch (const ConfigError& error) {
+    EXPECT_NE(std::string(error.what()).find("objective intervals gives 1 datum(s)"),
+              std::string::npos)
+        << error.what();
+    EXPECT_NE(std::string(error.what()).find("longer recording"), std::string::npos);
+  }
+}
+
+TEST(GoodnessOfFit, FlagsChiSquareOutsideTheCentral99PercentOfItsDistribution) {
+  FitSummary fit;
+  fit.law = WaltonBraun(0.3);
+  fit.degrees_of_freedom = 10;
+  // The issue's case: chi^2/dof = 88 over 10 dof; the 99.5 % point for 10 dof is 25.19.
+  fit.residual = 880;
+  const auto above = GoodnessOfFitWarning(fit);
+  EXPECT_NE(above.find("walton-braun: chi^2/dof = 88"), std::string::npos) << above;
+  EXPECT_NE(above.find("above the central 99 %"), std::string::npos) << above;
+  EXPECT_NE(above.find("(2.156 to 25.19)"), std::string::npos) << above;
+  EXPECT_NE(above.find("--plot"), std::string::npos) << above;
+  fit.residual = 1.5;  // below the 0.5 % point 2.156
+  EXPECT_NE(GoodnessOfFitWarning(fit).find("below"), std::string::npos);
+  for (double inside : {2.2, 10.0, 25.1}) {
+    fit.residual = inside;
+    EXPECT_EQ(GoodnessOfFitWarning(fit), "") << inside;
+  }
+  fit.degrees_of_freedom = 0;  // nothing to test against
+  fit.residual = 1e-12;
+  EXPECT_EQ(GoodnessOfFitWarning(fit), "");
 }
 
 TEST(CompareLaws, EachLawTakesTheParametersItHasByName) {

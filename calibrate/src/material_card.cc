@@ -121,6 +121,8 @@ MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& optio
   card.ball_preset = options.ball_preset;
   card.implied_restitution = summary.implied_restitution;
   card.implied_energy_loss = summary.implied_energy_loss;
+  card.implied_contact_duration_s = summary.contact_duration_s;
+  if (summary.contact_speed_mps > 0) card.implied_contact_speed_mps = summary.contact_speed_mps;
   auto& fit = card.fit;
   fit.objective = std::string(ToString(summary.objective));
   fit.first_n = options.first_n;
@@ -203,7 +205,7 @@ nlohmann::json ToJson(const MaterialCard& card) {
                           {"drop_height_m", Optional(recording.drop_height_m)}});
   const auto& fit = card.fit;
   nlohmann::json ball = {{"diameter_m", card.ball.diameter_m},
-                         {"density_kg_per_m3", card.ball.density_kg_per_m3},
+                         {"density_kg_per_m3", card.ball.DensityKgPerM3()},
                          {"mass_kg", card.ball.MassKg()}};
   if (!card.ball_preset.empty()) ball["preset"] = card.ball_preset;
   const auto& uncertainty = fit.uncertainty;
@@ -213,7 +215,10 @@ nlohmann::json ToJson(const MaterialCard& card) {
       {"parameter_units", units},
       {"ball", ball},
       {"implied",
-       {{"restitution", card.implied_restitution}, {"energy_loss", card.implied_energy_loss}}},
+       {{"restitution", card.implied_restitution},
+        {"energy_loss", card.implied_energy_loss},
+        {"contact_duration_s", Optional(card.implied_contact_duration_s)},
+        {"contact_speed_mps", Optional(card.implied_contact_speed_mps)}}},
       {"fit",
        {{"objective", fit.objective},
         {"first_n", fit.first_n},
@@ -276,6 +281,11 @@ MaterialCard MaterialCardFromJson(const nlohmann::json& object, std::string_view
         NumberAt(ball, "density_kg_per_m3", at).value_or(card.ball.density_kg_per_m3);
     card.ball.mass_kg = NumberAt(ball, "mass_kg", at);
   }
+  // The mass is what the drops feel. Cards written before the ball reported its own density carry
+  // steel's 7800 kg/m^3 beside a hollow ball's mass; the mass wins (dem::Ball's rule), and the
+  // card read back states the density that mass implies.
+  if (card.ball.mass_kg && *card.ball.mass_kg > 0 && card.ball.diameter_m > 0)
+    card.ball.density_kg_per_m3 = card.ball.DensityKgPerM3();
   if (!(card.ball.diameter_m > 0) || !(card.ball.density_kg_per_m3 > 0) ||
       (card.ball.mass_kg && !(*card.ball.mass_kg > 0))) {
     throw InputError(where + ": ball diameter_m, density_kg_per_m3 and mass_kg must be positive");
@@ -283,9 +293,12 @@ MaterialCard MaterialCardFromJson(const nlohmann::json& object, std::string_view
   if (object.contains("implied")) {
     const auto& implied = ObjectAt(object, "implied", where);
     const std::string at = where + ": implied";
-    RejectUnknownKeys(implied, at, {"restitution", "energy_loss"});
+    RejectUnknownKeys(implied, at,
+                      {"restitution", "energy_loss", "contact_duration_s", "contact_speed_mps"});
     card.implied_restitution = NumberAt(implied, "restitution", at).value_or(0.0);
     card.implied_energy_loss = NumberAt(implied, "energy_loss", at).value_or(0.0);
+    card.implied_contact_duration_s = NumberAt(implied, "contact_duration_s", at);
+    card.implied_contact_speed_mps = NumberAt(implied, "contact_speed_mps", at);
   }
   if (object.contains("fit")) {
     const auto& fit = ObjectAt(object, "fit", where);

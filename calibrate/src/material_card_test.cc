@@ -2,9 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 
+#include "bouncecal/calibrate/ball_preset.h"
 #include "bouncecal/dem/contact_law_json.h"
 #include "bouncecal/error.h"
 
@@ -132,6 +135,63 @@ TEST(MakeMaterialCard, NeedsTheBallAndListsARecordingGivenTwiceOnce) {
   EXPECT_FALSE(card.fit.drop_height_m.has_value());
   EXPECT_EQ(ToJson(card)["fit"]["release"], "first-bounce-apex");
   std::filesystem::remove(path);
+}
+
+// A card states the ball the damping belongs to: its density is the one its mass and size give,
+// whichever way the ball was named (issue 28: hollow balls were recorded at steel's 7800 kg/m^3).
+TEST(MakeMaterialCard, RecordsTheDensityOfTheBallThatWasUsed) {
+  FitSummary summary;
+  summary.law = {dem::ContactLawKind::kWaltonBraun, {{"gamma_n", 0.4}}};
+  const auto volume = [](double diameter_m) {
+    return std::numbers::pi * std::pow(diameter_m, 3) / 6;
+  };
+  for (const auto& preset : BallPresets()) {
+    FitOptions options;
+    options.ball_given = true;
+    options.ball_preset = std::string(preset.name);
+    options.drop.ball = preset.ToBall();
+    const auto json = ToJson(MakeMaterialCard(summary, options, {}, 0));
+    const auto& ball = json["ball"];
+    const double mass =
+        preset.mass_kg ? *preset.mass_kg : *preset.density_kg_per_m3 * volume(preset.diameter_m);
+    // Both sides are the same double expressions up to one rounding each.
+    EXPECT_NEAR(ball["mass_kg"].get<double>(), mass, 1e-12 * mass) << preset.name;
+    EXPECT_NEAR(ball["density_kg_per_m3"].get<double>(), mass / volume(preset.diameter_m),
+                1e-9 * mass / volume(preset.diameter_m))
+        << preset.name;
+    EXPECT_DOUBLE_EQ(ball["diameter_m"].get<double>(), preset.diameter_m) << preset.name;
+    // Read back, the ball is the same ball.
+    const auto read = MaterialCardFromJson(json, "test");
+    EXPECT_NEAR(read.ball.MassKg(), mass, 1e-12 * mass) << preset.name;
+    EXPECT_NEAR(read.ball.density_kg_per_m3, read.ball.DensityKgPerM3(), 1e-9 * mass)
+        << preset.name;
+  }
+  // The tennis ball of the issue: 57.7 g in 67 mm is 366 kg/m^3.
+  FitOptions tennis;
+  tennis.ball_given = true;
+  tennis.drop.ball = FindBallPreset("tennis").ToBall();
+  EXPECT_NEAR(ToJson(MakeMaterialCard(summary, tennis, {}, 0))["ball"]["density_kg_per_m3"], 366.4,
+              0.1);
+  // A size with a mass (--diameter-m --mass-kg) and a size with a density agree on the same ball.
+  FitOptions by_mass, by_density;
+  by_mass.ball_given = by_density.ball_given = true;
+  by_mass.drop.ball.diameter_m = by_density.drop.ball.diameter_m = 0.05;
+  by_mass.drop.ball.mass_kg = 0.05;
+  by_density.drop.ball.density_kg_per_m3 = 0.05 / volume(0.05);
+  const auto a = ToJson(MakeMaterialCard(summary, by_mass, {}, 0))["ball"];
+  const auto b = ToJson(MakeMaterialCard(summary, by_density, {}, 0))["ball"];
+  EXPECT_NEAR(a["density_kg_per_m3"].get<double>(), b["density_kg_per_m3"].get<double>(), 1e-9);
+  EXPECT_NEAR(a["mass_kg"].get<double>(), b["mass_kg"].get<double>(), 1e-15);
+}
+
+TEST(MaterialCard, OldCardWithSteelDensityBesideAHollowBallsMassReadsTheMass) {
+  auto json = ToJson(ExampleCard());         // ping-pong sized: 40 mm, 2.7 g
+  json["ball"]["density_kg_per_m3"] = 7800;  // what cards wrote before issue 28
+  const auto card = MaterialCardFromJson(json, "old card");
+  EXPECT_DOUBLE_EQ(card.ball.MassKg(), 0.0027);
+  EXPECT_NEAR(card.ball.density_kg_per_m3, 0.0027 / (std::numbers::pi * 0.04 * 0.04 * 0.04 / 6),
+              1e-9);
+  EXPECT_NEAR(ToJson(card)["ball"]["density_kg_per_m3"].get<double>(), 80.57, 0.01);
 }
 
 TEST(UtcTimestamp, FormatsSecondsSinceTheEpochAsIso8601Utc) {

@@ -87,6 +87,37 @@ double InvertIncreasing(Cdf cdf, double p) {
 
 double NormalCdf(double x) { return 0.5 * std::erfc(-x / std::numbers::sqrt2); }
 
+// P(a, x) by its series for x < a + 1 and by the continued fraction of Q(a, x) (modified Lentz)
+// beyond (Numerical Recipes 3rd ed. section 6.2): both converge fast in their range.
+double RegularizedLowerGamma(double a, double x) {
+  if (x <= 0) return 0;
+  const double log_front = a * std::log(x) - x - LogGamma(a);
+  if (x < a + 1) {
+    double term = 1 / a, sum = term;
+    for (int n = 1; n <= 10000; ++n) {
+      term *= x / (a + n);
+      sum += term;
+      if (std::fabs(term) < 1e-16 * std::fabs(sum)) break;
+    }
+    return sum * std::exp(log_front);
+  }
+  constexpr double kTiny = 1e-300;
+  double b = x + 1 - a, c = 1 / kTiny, d = 1 / b, fraction = d;
+  for (int i = 1; i <= 10000; ++i) {
+    const double an = -i * (i - a);
+    b += 2;
+    d = an * d + b;
+    if (std::fabs(d) < kTiny) d = kTiny;
+    c = b + an / c;
+    if (std::fabs(c) < kTiny) c = kTiny;
+    d = 1 / d;
+    const double step = d * c;
+    fraction *= step;
+    if (std::fabs(step - 1) < 1e-16) break;
+  }
+  return 1 - std::exp(log_front) * fraction;
+}
+
 }  // namespace
 
 double NormalQuantile(double p) {
@@ -107,6 +138,16 @@ double StudentTQuantile(double p, double dof) {
   if (dof > kNormalDof) return NormalQuantile(p);
   if (p < 0.5) return -StudentTQuantile(1 - p, dof);
   return InvertIncreasing([dof](double t) { return StudentTCdf(t, dof); }, p);
+}
+
+double ChiSquareCdf(double x, double dof) {
+  assert(dof > 0);
+  return RegularizedLowerGamma(dof / 2, x / 2);
+}
+
+double ChiSquareQuantile(double p, double dof) {
+  assert(p > 0 && p < 1 && dof > 0);
+  return InvertIncreasing([dof](double x) { return ChiSquareCdf(x, dof); }, p);
 }
 
 }  // namespace bouncecal::calibrate::internal

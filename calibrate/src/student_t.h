@@ -17,6 +17,12 @@ double StudentTQuantile(double p, double dof);
 // P(T <= t) for Student's t with `dof` > 0 degrees of freedom.
 double StudentTCdf(double t, double dof);
 
+// P(X <= x) for the chi-square distribution with `dof` > 0 degrees of freedom: the regularised
+// lower incomplete gamma function P(dof / 2, x / 2). Accurate to about 1e-12 absolute.
+double ChiSquareCdf(double x, double dof);
+// Its quantile, p in (0, 1): the goodness-of-fit bounds of CompareLaws.
+double ChiSquareQuantile(double p, double dof);
+
 }  // namespace bouncecal::calibrate::internal
 
 #endif  // BOUNCECAL_CALIBRATE_SRC_STUDENT_T_H_

@@ -51,5 +51,28 @@ TEST(StudentT, FractionalDegreesOfFreedomLieBetweenTheirNeighbours) {
   EXPECT_NEAR(StudentTCdf(q, 2.5), 0.975, 1e-10);
 }
 
+TEST(ChiSquare, QuantilesMatchTheTables) {
+  // Central 99 % bounds (0.5 % and 99.5 % points; Abramowitz & Stegun table 26.8 / NIST
+  // e-Handbook 1.3.6.7.4), to the 3 decimals printed there.
+  const struct {
+    double dof, low, high;
+  } table[] = {{1, 0.0000393, 7.879}, {2, 0.010, 10.597},   {5, 0.412, 16.750},
+               {10, 2.156, 25.188},   {30, 13.787, 53.672}, {100, 67.328, 140.169}};
+  for (const auto& row : table) {
+    EXPECT_NEAR(ChiSquareQuantile(0.005, row.dof), row.low, 5e-4 + 1e-4 * row.low) << row.dof;
+    EXPECT_NEAR(ChiSquareQuantile(0.995, row.dof), row.high, 5e-4 + 1e-4 * row.high) << row.dof;
+  }
+}
+
+TEST(ChiSquare, TwoDegreesOfFreedomIsTheExponential) {
+  // chi-square with 2 dof: P(X <= x) = 1 - exp(-x / 2), both sides of the series/fraction switch.
+  for (double x : {0.01, 0.5, 1.9, 2.1, 10.0, 60.0})
+    EXPECT_NEAR(ChiSquareCdf(x, 2), -std::expm1(-x / 2), 1e-13) << x;
+  // One dof: P(X <= x) = erf(sqrt(x / 2)).
+  for (double x : {0.1, 1.0, 3.84, 20.0})
+    EXPECT_NEAR(ChiSquareCdf(x, 1), std::erf(std::sqrt(x / 2)), 1e-13) << x;
+  EXPECT_EQ(ChiSquareCdf(0, 3), 0);
+}
+
 }  // namespace
 }  // namespace bouncecal::calibrate::internal

@@ -341,6 +341,11 @@ double Ball::MassKg() const {
   return density_kg_per_m3 * std::numbers::pi * diameter_m * diameter_m * diameter_m / 6;
 }
 
+double Ball::DensityKgPerM3() const {
+  if (!mass_kg) return density_kg_per_m3;
+  return *mass_kg / (std::numbers::pi * diameter_m * diameter_m * diameter_m / 6);
+}
+
 void Ball::Validate() const {
   CheckRange("ball.diameter_m", diameter_m, 1e-6, 10, "m");
   CheckRange("ball.density_kg_per_m3", density_kg_per_m3, 1, 1e5, "kg/m^3");

@@ -29,7 +29,7 @@ nlohmann::json ToJson(const DropResult& result, const DropOptions& options) {
           {"contact_law", ToJson(options.law)},
           {"ball",
            {{"diameter_m", options.ball.diameter_m},
-            {"density_kg_per_m3", options.ball.density_kg_per_m3},
+            {"density_kg_per_m3", options.ball.DensityKgPerM3()},
             {"mass_kg", options.ball.MassKg()}}},
           {"drop_height_m", options.drop_height_m},
           {"gravity_mps2", options.gravity_mps2}};

@@ -19,6 +19,11 @@ struct BallPreset {
   std::optional<double> density_kg_per_m3;
   std::optional<double> mass_kg;
   std::string_view source;  // where the numbers come from
+  // How long the ball touches a rigid plate at drop speeds (a few m/s), where a published
+  // measurement gives it; calibrate warns when the law's stiffness makes it far shorter or
+  // longer (ContactDurationWarning). Unset: not known here, no warning.
+  std::optional<double> contact_duration_s = std::nullopt;
+  std::string_view contact_source = {};
   dem::Ball ToBall() const;
 };
 

@@ -216,6 +216,12 @@ struct FitSummary {
   // height (speed-dependent laws: at that speed), from the simulated drop.
   double implied_restitution = 0;
   double implied_energy_loss = 0;
+  // What the law's elastic parameter means for the simulated ball: its gravity-free closed-form
+  // contact duration (calibrate::ContactDurationS) at the first simulated impact's speed
+  // sqrt(2 g h) from the release height; unset where the law has no closed form. It sets the DEM
+  // time step of the drops and of every scene built on the card.
+  std::optional<double> contact_duration_s;
+  double contact_speed_mps = 0;
   UncertaintySummary uncertainty;
   ModelAdequacy adequacy;
   // Whether the ball was given; when not, the drops used ReferenceBall().
@@ -247,7 +253,22 @@ FitSummary Fit(const std::vector<MeasuredSequence>& sequences, const FitOptions&
 // CompareLaws fits each law with the same options and ranks them.
 struct LawComparison {
   std::vector<FitSummary> fits;  // sorted by BIC, best first
+  // One line when the laws were fitted on another objective than asked, so that every law keeps a
+  // degree of freedom (see CompareLaws); empty otherwise.
+  std::string objective_note;
+  // One line per law whose chi^2 lies outside the central 99 % of the chi-square distribution
+  // for its degrees of freedom, naming the numbers and the next step.
+  std::vector<std::string> warnings;
 };
+
+// How far a ranking can be trusted: a law's chi^2 should be a draw from the chi-square
+// distribution with its dof when its misfit is the stated timing noise. Outside the central
+// `kGoodnessOfFitLevel` of it the uncertainties do not describe the misfit, and BIC differences
+// (which are chi^2 differences) are off by about chi^2/dof.
+inline constexpr double kGoodnessOfFitLevel = 0.99;
+// The warning for one fit, or empty when its chi^2 lies inside the central kGoodnessOfFitLevel
+// (or it has no degree of freedom).
+std::string GoodnessOfFitWarning(const FitSummary& fit);
 // Ranked by BIC (Schwarz 1978) rather than AIC: the question is which law generated the data
 // (is one constant gamma enough?), and BIC is consistent for that as the number of intervals
 // grows, while AIC (also reported) targets prediction and keeps over-parameterised laws. Laws
@@ -255,8 +276,14 @@ struct LawComparison {
 // options.drop.law it has by name (so options.drop.law may carry, e.g., both stiffness_n_per_m and
 // effective_modulus_pa); the rest take their defaults. Runs the laws on
 // options.uncertainty.threads.
+// A ranking needs a degree of freedom for every law (more data than the law's fitted parameters):
+// with fewer, each law fits the data exactly (chi^2 ~ 1e-12) and BIC ranks by parameter count
+// alone. Then, under kMeanEnergyLoss (one datum per recording) when `objective_given` is false,
+// the laws are fitted on every flight interval (kIntervals) and objective_note says so; otherwise
+// ConfigError naming the numbers and what to do.
 LawComparison CompareLaws(const std::vector<MeasuredSequence>& sequences,
-                          const std::vector<dem::ContactLawKind>& laws, const FitOptions& options);
+                          const std::vector<dem::ContactLawKind>& laws, const FitOptions& options,
+                          bool objective_given = false);
 
 }  // namespace bouncecal::calibrate
 

@@ -69,18 +69,24 @@ struct FitRecord {
 
 // The calibrated material (JSON, "format": "bouncecal-material/1"; dem_interfaces.md):
 // {"format", "contact_law": {"law", "parameters"}, "parameter_units": {name: unit},
-//  "ball": {"diameter_m", "density_kg_per_m3", "mass_kg"[, "preset"]}, "implied":
-//  {"restitution", "energy_loss"}, "fit": {..., "drop_height_m" (null: unknown), "release",
-//  "uncertainty": {...}}, "recordings": [{"file", "content_hash"}] (distinct files),
-//  "tool_version", "created_utc"}. Scenes that need only the law read "contact_law" with
+//  "ball": {"diameter_m", "density_kg_per_m3" (mass / volume), "mass_kg"[, "preset"]}, "implied":
+//  {"restitution", "energy_loss", "contact_duration_s", "contact_speed_mps"}, "fit": {...,
+//  "drop_height_m" (null: unknown), "release", "uncertainty": {...}}, "recordings": [{"file",
+//  "content_hash"}] (distinct files), "tool_version", "created_utc"}. Scenes that need only the law
+//  read "contact_law" with
 // dem::ContactLawConfigFromJson. Keys added since the first cards ("preset", "release",
-// "uncertainty") are optional when read.
+// "uncertainty", "contact_duration_s", "contact_speed_mps") are optional when read.
 struct MaterialCard {
   dem::ContactLawConfig law;
   dem::Ball ball;
   std::string ball_preset;         // the preset the ball came from, or empty
   double implied_restitution = 0;  // first impact from the drop height
   double implied_energy_loss = 0;
+  // The law's closed-form contact duration for the card's ball at implied_contact_speed_mps
+  // (FitSummary::contact_duration_s): what its stiffness means, and what sets the DEM step of
+  // scenes built on the card. Unset where the law has no closed form (or an older card).
+  std::optional<double> implied_contact_duration_s;
+  std::optional<double> implied_contact_speed_mps;
   FitRecord fit;
   std::vector<RecordingReference> recordings;
   std::string tool_version;

@@ -37,11 +37,17 @@ enum class DropStopReason {
 };
 std::string_view ToString(DropStopReason reason);
 
+// A ball is given by its size and either its density (solid) or its mass (hollow balls, whose
+// shell density says nothing about their mass). Whoever reports the ball reads MassKg() and
+// DensityKgPerM3(), never the density field alone: with a mass set, that field is a leftover
+// default (a tennis-ball card once recorded steel's 7800 kg/m^3 beside its 57.7 g).
 struct Ball {
   double diameter_m = 0.01;         // [1e-6, 10]
-  double density_kg_per_m3 = 7800;  // [1, 1e5]
+  double density_kg_per_m3 = 7800;  // [1, 1e5]; ignored when mass_kg is set
   std::optional<double> mass_kg;    // overrides density when set, (0, 1e6]
   double MassKg() const;
+  // The mean density of the ball: mass_kg / (pi d^3 / 6) when the mass is set, else the density.
+  double DensityKgPerM3() const;
   double RadiusM() const { return diameter_m / 2; }
   void Validate() const;  // ConfigError naming the field and its range
 };
