@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -71,10 +72,23 @@ TEST_F(ExportCli, SceneAddsThePackingDeckForMpirun) {
   std::ifstream script(deck / "in.pack");
   std::stringstream text;
   text << script.rdbuf();
-  // The paper's pour: 2000 spheres into R = 10 cm at 10 us for 3 s.
-  EXPECT_NE(text.str().find("fix             pour all pour 2000 1"), std::string::npos);
+  // The paper's pour: 2000 spheres into R = 10 cm at 10 us for 3 s. The deck starts from the
+  // first batch bouncecal's engine places and pours the rest: 2000 in all.
+  EXPECT_NE(text.str().find("read_data       start.data"), std::string::npos) << text.str();
+  std::stringstream data;
+  data << std::ifstream(deck / "start.data").rdbuf();
+  long started = 0, poured = 0;
+  ASSERT_EQ(std::sscanf(data.str().c_str() + data.str().find('\n'), "%ld atoms", &started), 1)
+      << data.str().substr(0, 300);
+  const std::string pour = "fix             pour all pour ";
+  const auto at = text.str().find(pour);
+  if (at != std::string::npos) poured = std::stol(text.str().substr(at + pour.size()));
+  EXPECT_GT(started, 0);
+  EXPECT_EQ(started + poured, 2000) << started << " read + " << poured << " poured";
   EXPECT_NE(text.str().find("zcylinder 0.1"), std::string::npos);
-  EXPECT_NE(text.str().find("run             300000"), std::string::npos);
+  // The rest are poured after the scene's 0.1 s batch interval: 3 s in two runs.
+  EXPECT_NE(text.str().find("run             10000\n"), std::string::npos) << text.str();
+  EXPECT_NE(text.str().find("run             290000\n"), std::string::npos) << text.str();
 }
 
 TEST_F(ExportCli, TwoDimensionalSceneWithLocalDampingIsABadOptionNamingTheKey) {

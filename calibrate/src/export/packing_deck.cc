@@ -45,6 +45,44 @@ void RequireNonNegative(double value, std::string_view name) {
   }
 }
 
+// The scene's insertion region: as given, or the container's section less one diameter.
+struct InsertionRegion {
+  double radius_m = 0;  // kCylinder
+  double half_x_m = 0;  // kBox
+  double half_y_m = 0;
+};
+
+InsertionRegion ScenesInsertionRegion(const PackingDeckSpec& spec) {
+  const double d = LargestDiameter(spec);
+  InsertionRegion region;
+  region.radius_m = spec.insert_radius_m.value_or(spec.container_radius_m - d);
+  region.half_x_m = spec.insert_half_x_m.value_or(spec.box_half_x_m - d);
+  region.half_y_m = spec.insert_half_y_m.value_or(spec.box_half_y_m - d);
+  return region;
+}
+
+// A start sphere must lie inside the container as bouncecal's engine places it: its centre at
+// least a radius from every wall (a tolerance of 1e-9 m for the digits of a round trip).
+void CheckStartSphere(const PackingDeckSpec& spec, const StartSphere& sphere) {
+  const double r = 0.5 * sphere.diameter_m;
+  constexpr double kSlackM = 1e-9;
+  const bool finite = std::isfinite(sphere.x_m) && std::isfinite(sphere.y_m) &&
+                      std::isfinite(sphere.z_m) && std::isfinite(sphere.diameter_m);
+  bool inside = finite && sphere.diameter_m > 0 && sphere.z_m >= r - kSlackM;
+  if (spec.container == PackingContainer::kCylinder) {
+    inside = inside && std::hypot(sphere.x_m, sphere.y_m) <= spec.container_radius_m - r + kSlackM;
+  } else {
+    inside = inside && std::abs(sphere.x_m) <= spec.box_half_x_m - r + kSlackM &&
+             std::abs(sphere.y_m) <= spec.box_half_y_m - r + kSlackM;
+  }
+  if (!inside) {
+    throw ConfigError(fmt::format(
+        "start sphere at ({}, {}, {}) m of diameter {} m is not a radius inside the container; "
+        "place every centre at least a radius from the floor and the walls",
+        sphere.x_m, sphere.y_m, sphere.z_m, sphere.diameter_m));
+  }
+}
+
 void Validate(const PackingDeckSpec& spec, const PackingDeckOptions& options) {
   if (options.processes < 1 || options.processes > 4096) {
     throw ConfigError(
@@ -108,9 +146,30 @@ void Validate(const PackingDeckSpec& spec, const PackingDeckOptions& options) {
   check_inside(spec.insert_radius_m, spec.container_radius_m, "scene insertion radius");
   check_inside(spec.insert_half_x_m, spec.box_half_x_m, "scene insertion half-width x");
   check_inside(spec.insert_half_y_m, spec.box_half_y_m, "scene insertion half-width y");
-  if (spec.dimension == 3 && spec.start_data) {
-    throw ConfigError("3D packing decks pour their particles; start positions are for 2D decks");
+  if (!spec.start_data) {
+    // Poured centres keep a largest radius inside the region: there must be room for them.
+    const InsertionRegion region = ScenesInsertionRegion(spec);
+    const double r = 0.5 * largest;
+    if (spec.container == PackingContainer::kCylinder) {
+      RequirePositive(region.radius_m - r, "scene insertion radius minus a radius", "metres");
+    } else {
+      RequirePositive(region.half_x_m - r, "scene insertion half-width x minus a radius", "metres");
+      RequirePositive(region.half_y_m - r, "scene insertion half-width y minus a radius", "metres");
+    }
   }
+  if (spec.dimension == 3 && spec.start_data) {
+    throw ConfigError(
+        "3D packing decks take their start as start_spheres; start_data is for 2D decks");
+  }
+  if (static_cast<std::int64_t>(spec.start_spheres.size()) > spec.particle_count) {
+    throw ConfigError(fmt::format("{} start spheres for a scene of {} particles; give at most {}",
+                                  spec.start_spheres.size(), spec.particle_count,
+                                  spec.particle_count));
+  }
+  if (spec.dimension == 2 && !spec.start_spheres.empty()) {
+    throw ConfigError("2D packing decks take their start as start_data, not start_spheres");
+  }
+  for (const auto& sphere : spec.start_spheres) CheckStartSphere(spec, sphere);
   if (spec.batch_interval_s) {
     RequirePositive(*spec.batch_interval_s, "scene batch interval", "seconds");
   }
@@ -137,63 +196,126 @@ std::uint32_t PrimeSeed(std::uint32_t seed) {
   return candidate;
 }
 
-// LIGGGHTS' insert/rate/region pours in batches like LAMMPS' fix pour: a batch fills the band to
-// a quarter of its volume, and the next one comes once it has fallen through the band.
-struct LiggghtsBatches {
-  std::int64_t every_steps;
-  std::int64_t per_batch;
-  double rate_per_s;
+// The particles the deck pours (those not in the start): how many, from which step, in batches
+// of what size how often. A batch is as large as bouncecal's first one (its engine fills the
+// region at t = 0), or a quarter of the band's volume without a start; batches come every
+// batch_interval_s of the scene, or every fall time through the band.
+struct PourPlan {
+  std::int64_t count = 0;
+  std::int64_t first_step = 0;  // the pour begins after this many steps
+  std::int64_t every_steps = 1;
+  std::int64_t per_batch = 1;
 };
 
-LiggghtsBatches PlanBatches(const PackingDeckSpec& spec) {
+double SectionArea(const PackingDeckSpec& spec, const InsertionRegion& region) {
+  return spec.container == PackingContainer::kCylinder
+             ? std::numbers::pi * region.radius_m * region.radius_m
+             : 4 * region.half_x_m * region.half_y_m;
+}
+
+PourPlan PlanPour(const PackingDeckSpec& spec) {
+  PourPlan plan;
+  const auto started = static_cast<std::int64_t>(spec.start_spheres.size());
+  plan.count = spec.particle_count - started;
   const double band = spec.insert_z_max_m - spec.insert_z_min_m;
-  const double d = LargestDiameter(spec);
-  const double section =
-      spec.container == PackingContainer::kCylinder
-          ? std::numbers::pi *
-                std::pow(spec.insert_radius_m.value_or(spec.container_radius_m - d), 2)
-          : 4 * spec.insert_half_x_m.value_or(spec.box_half_x_m - d) *
-                spec.insert_half_y_m.value_or(spec.box_half_y_m - d);
   const double particle_volume = std::numbers::pi * MeanCubedDiameter(spec) / 6;
-  LiggghtsBatches batches;
   const double interval_s = spec.batch_interval_s.value_or(std::sqrt(2 * band / spec.gravity_mps2));
-  batches.every_steps = std::max<std::int64_t>(1, std::llround(interval_s / spec.time_step_s));
-  batches.per_batch = std::clamp<std::int64_t>(
-      static_cast<std::int64_t>(0.25 * section * band / particle_volume), 1, spec.particle_count);
-  batches.rate_per_s =
-      static_cast<double>(batches.per_batch) / (batches.every_steps * spec.time_step_s);
-  return batches;
+  plan.every_steps = std::max<std::int64_t>(1, std::llround(interval_s / spec.time_step_s));
+  plan.first_step = started > 0 ? plan.every_steps : 0;
+  const auto quarter = static_cast<std::int64_t>(
+      0.25 * SectionArea(spec, ScenesInsertionRegion(spec)) * band / particle_volume);
+  plan.per_batch = std::clamp<std::int64_t>(started > 0 ? started : quarter, 1,
+                                            std::max<std::int64_t>(1, plan.count));
+  return plan;
 }
 
 // The simulation box (the container plus one diameter of margin, up to the top of the pour) and
-// the insertion region, in LAMMPS/LIGGGHTS region syntax (both accept the same).
+// the insertion regions, in LAMMPS/LIGGGHTS region syntax (both accept the same): the scene's
+// (LIGGGHTS' all_in keeps whole particles inside it) and the one its centres may take, a largest
+// radius inside it (LAMMPS' fix pour draws centres anywhere in its region).
 struct Regions {
   std::string box;
   std::string insert;
+  std::string centres;
+  double box_lo[3] = {0, 0, 0};
+  double box_hi[3] = {0, 0, 0};
+  double centres_volume_m3 = 0;  // as fix pour counts it (a block thinner than 1 in y: 1)
+  double centres_band_m = 0;     // fix pour's fall through it sets its batch interval
 };
 
 Regions MakeRegions(const PackingDeckSpec& spec) {
   const double d = LargestDiameter(spec);
+  const double r = 0.5 * d;
   const double top = std::max(spec.container_height_m, spec.insert_z_max_m) + d;
+  const InsertionRegion region = ScenesInsertionRegion(spec);
   const std::string z_band =
       fmt::format("{} {}", Number(spec.insert_z_min_m), Number(spec.insert_z_max_m));
+  const std::string z_centres =
+      fmt::format("{} {}", Number(spec.insert_z_min_m + r), Number(spec.insert_z_max_m - r));
   Regions regions;
+  regions.centres_band_m = spec.insert_z_max_m - spec.insert_z_min_m - d;
+  const double half_x =
+      spec.container == PackingContainer::kCylinder ? spec.container_radius_m : spec.box_half_x_m;
+  const double half_y =
+      spec.container == PackingContainer::kCylinder ? spec.container_radius_m : spec.box_half_y_m;
+  regions.box_lo[0] = -half_x - d;
+  regions.box_hi[0] = half_x + d;
+  regions.box_lo[1] = -half_y - d;
+  regions.box_hi[1] = half_y + d;
+  regions.box_lo[2] = -d;
+  regions.box_hi[2] = top;
+  regions.box =
+      fmt::format("block {} {} {} {} {} {}", Number(regions.box_lo[0]), Number(regions.box_hi[0]),
+                  Number(regions.box_lo[1]), Number(regions.box_hi[1]), Number(regions.box_lo[2]),
+                  Number(regions.box_hi[2]));
   if (spec.container == PackingContainer::kCylinder) {
-    const double r = spec.container_radius_m;
-    regions.box = fmt::format("block {0} {1} {0} {1} {2} {3}", Number(-r - d), Number(r + d),
-                              Number(-d), Number(top));
-    regions.insert =
-        fmt::format("cylinder z 0 0 {} {}", Number(spec.insert_radius_m.value_or(r - d)), z_band);
+    regions.insert = fmt::format("cylinder z 0 0 {} {}", Number(region.radius_m), z_band);
+    regions.centres = fmt::format("cylinder z 0 0 {} {}", Number(region.radius_m - r), z_centres);
+    regions.centres_volume_m3 =
+        std::numbers::pi * std::pow(region.radius_m - r, 2) * regions.centres_band_m;
   } else {
-    const double x = spec.box_half_x_m, y = spec.box_half_y_m;
-    const double ix = spec.insert_half_x_m.value_or(x - d);
-    const double iy = spec.insert_half_y_m.value_or(y - d);
-    regions.box = fmt::format("block {} {} {} {} {} {}", Number(-x - d), Number(x + d),
-                              Number(-y - d), Number(y + d), Number(-d), Number(top));
+    const double ix = region.half_x_m, iy = region.half_y_m;
     regions.insert = fmt::format("block {} {} {} {} {}", Number(-ix), Number(ix), Number(-iy),
                                  Number(iy), z_band);
+    regions.centres = fmt::format("block {} {} {} {} {}", Number(-(ix - r)), Number(ix - r),
+                                  Number(-(iy - r)), Number(iy - r), z_centres);
+    regions.centres_volume_m3 = 2 * (ix - r) * std::max(1.0, 2 * (iy - r)) * regions.centres_band_m;
   }
   return regions;
+}
+
+// The start spheres as a LAMMPS data file (atom_style sphere; LIGGGHTS' granular reads the same
+// columns) whose box is the simulation box. LIGGGHTS declares the wall type too.
+std::string StartDataFile(const PackingDeckSpec& spec, const Regions& regions, bool lammps) {
+  std::string text = fmt::format(
+      "bouncecal start: the spheres bouncecal's engine places at t = 0 for scene '{}'\n\n"
+      "{} atoms\n{} atom types\n\n",
+      spec.name, spec.start_spheres.size(), lammps ? 1 : 2);
+  const char* axes[3] = {"x", "y", "z"};
+  for (int a = 0; a < 3; ++a) {
+    text += fmt::format("{} {} {}lo {}hi\n", Number(regions.box_lo[a]), Number(regions.box_hi[a]),
+                        axes[a], axes[a]);
+  }
+  text += lammps ? "\nAtoms # sphere\n\n" : "\nAtoms\n\n";
+  std::int64_t id = 0;
+  for (const auto& sphere : spec.start_spheres) {
+    text += fmt::format("{} 1 {} {} {} {} {}\n", ++id, Number(sphere.diameter_m),
+                        Number(spec.density_kg_per_m3), Number(sphere.x_m), Number(sphere.y_m),
+                        Number(sphere.z_m));
+  }
+  return text;
+}
+
+// Kinetic energies summed from the particles' own velocities and spins: thermo's `ke` keyword
+// derives it from a temperature whose degrees of freedom are counted once, before any particle
+// is poured, and prints -0.
+std::string ThermoCommands(const Deck& deck) {
+  return fmt::format(
+      "compute         translation all ke\n"
+      "compute         rotation all erotate/sphere\n"
+      "thermo_style    custom step time atoms c_translation c_rotation\n"
+      "thermo          {}\n",
+      std::max<std::int64_t>(1, deck.steps / 20));
 }
 
 // Snapshots of every particle in LAMMPS' text dump format (both engines take the same command),
@@ -204,9 +326,25 @@ std::string DumpCommand(const Deck& deck) {
       deck.output_every_steps);
 }
 
+// The run: the pour is defined when its first batch is due (at once without a start, after the
+// scene's batch interval after one), so that both engines follow bouncecal's schedule.
+std::string RunCommands(const PourPlan& plan, const std::string& pour, const Deck& deck) {
+  std::string text = DumpCommand(deck);
+  if (plan.count == 0 || plan.first_step >= deck.steps) {
+    return text + fmt::format("run             {}\nwrite_data      final.data\n", deck.steps);
+  }
+  if (plan.first_step == 0) {
+    return pour + text +
+           fmt::format("run             {}\nwrite_data      final.data\n", deck.steps);
+  }
+  return text + fmt::format("run             {}\n", plan.first_step) + pour +
+         fmt::format("run             {}\nwrite_data      final.data\n",
+                     deck.steps - plan.first_step);
+}
+
 // Type 1 is the particle, type 2 the walls; property/global matrices are ordered 11 12 21 22.
 std::string LiggghtsPackingScript(const PackingDeckSpec& spec, const LawMapping& mapping,
-                                  const LiggghtsBatches& batches, const Deck& deck) {
+                                  const PourPlan& plan, const Deck& deck) {
   const double d = LargestDiameter(spec);
   // A uniform diameter distribution becomes kSizeClasses equally likely sizes at the centres of
   // equal-width bins (number-based weights), the closest LIGGGHTS' discrete templates come.
@@ -243,12 +381,29 @@ std::string LiggghtsPackingScript(const PackingDeckSpec& spec, const LawMapping&
         "fix             side_yhi all {0} yplane {4}\n",
         wall_model, Number(-x), Number(x), Number(-y), Number(y));
   }
+  const std::string box = spec.start_spheres.empty() ? fmt::format(
+                                                           "region          box {} units box\n"
+                                                           "create_box      2 box\n",
+                                                           regions.box)
+                                                     : "read_data       start.data\n";
+  // all_in yes keeps each whole particle inside the region, as bouncecal places it.
+  const double rate_per_s =
+      static_cast<double>(plan.per_batch) / (plan.every_steps * spec.time_step_s);
+  const std::string pour = fmt::format(
+      "{templates}fix             distribution all particledistribution/discrete/numberbased "
+      "67867967 {classes}{weights}\n"
+      "region          insert {insert} units box\n"
+      "fix             pour all insert/rate/region seed {seed} distributiontemplate distribution "
+      "nparticles {count} particlerate {rate} insert_every {every} overlapcheck yes all_in yes "
+      "vel constant 0 0 0 region insert\n",
+      fmt::arg("templates", templates), fmt::arg("classes", classes), fmt::arg("weights", weights),
+      fmt::arg("insert", regions.insert), fmt::arg("seed", PrimeSeed(spec.seed)),
+      fmt::arg("count", plan.count), fmt::arg("rate", Number(rate_per_s)),
+      fmt::arg("every", plan.every_steps));
   return fmt::format(
       R"(
 {preamble}
-region          box {box} units box
-create_box      2 box
-neighbor        {skin} bin
+{box}neighbor        {skin} bin
 neigh_modify    delay 0
 
 # model hooke/stiffness (absolute_damping off): F = kn xi + m_eff gamman dxi/dt; tangential
@@ -266,18 +421,9 @@ timestep        {dt}
 fix             gravity all gravity {g} vector 0.0 0.0 -1.0
 fix             floor all {wall_model} zplane 0.0
 {walls}
-{templates}fix             distribution all particledistribution/discrete/numberbased 67867967 {classes}{weights}
-region          insert {insert} units box
-fix             pour all insert/rate/region seed {seed} distributiontemplate distribution nparticles {count} particlerate {rate} insert_every {every} overlapcheck yes all_in yes vel constant 0 0 0 region insert
-
 fix             integrate all nve/sphere
-compute         rotation all erotate/sphere
-thermo_style    custom step time atoms ke c_rotation
-thermo          {thermo}
-{dump}run             {steps}
-write_data      final.data
-)",
-      fmt::arg("preamble", LiggghtsPreamble()), fmt::arg("box", regions.box),
+{thermo}{run})",
+      fmt::arg("preamble", LiggghtsPreamble()), fmt::arg("box", box),
       fmt::arg("skin", Number(0.2 * d)),
       fmt::arg("kn", per_type_pair(mapping.pair.stiffness_n_per_m, mapping.wall.stiffness_n_per_m)),
       fmt::arg("kt",
@@ -287,12 +433,7 @@ write_data      final.data
       fmt::arg("mu", per_type_pair(spec.friction, spec.wall_friction)),
       fmt::arg("dt", Number(spec.time_step_s)), fmt::arg("g", Number(spec.gravity_mps2)),
       fmt::arg("wall_model", wall_model), fmt::arg("walls", walls),
-      fmt::arg("templates", templates), fmt::arg("classes", classes), fmt::arg("weights", weights),
-      fmt::arg("insert", regions.insert), fmt::arg("seed", PrimeSeed(spec.seed)),
-      fmt::arg("count", spec.particle_count), fmt::arg("rate", Number(batches.rate_per_s)),
-      fmt::arg("every", batches.every_steps),
-      fmt::arg("thermo", std::max<std::int64_t>(1, deck.steps / 20)),
-      fmt::arg("dump", DumpCommand(deck)), fmt::arg("steps", deck.steps));
+      fmt::arg("thermo", ThermoCommands(deck)), fmt::arg("run", RunCommands(plan, pour, deck)));
 }
 
 // Disks in a box from start.data: LAMMPS needs a periodic z in 2D, and enforce2d after the
@@ -325,10 +466,7 @@ fix             floor all wall/gran {wall} yplane {floor} {top}
 fix             sides all wall/gran {wall} xplane {left} {right}
 fix             plane all enforce2d
 
-compute         rotation all erotate/sphere
-thermo_style    custom step time atoms ke c_rotation
-thermo          {thermo}
-{dump}run             {steps}
+{thermo}{dump}run             {steps}
 write_data      final.data
 )",
       fmt::arg("preamble", LammpsPreamble(2, /*atom_map=*/false)),
@@ -340,8 +478,89 @@ write_data      final.data
       fmt::arg("wall", wall_law), fmt::arg("floor", Number(y0)),
       fmt::arg("top", spec.closed_top ? Number(y0 + spec.container_height_m) : "NULL"),
       fmt::arg("left", Number(x0 - x)), fmt::arg("right", Number(x0 + x)),
-      fmt::arg("thermo", std::max<std::int64_t>(1, deck.steps / 20)),
-      fmt::arg("dump", DumpCommand(deck)), fmt::arg("steps", deck.steps));
+      fmt::arg("thermo", ThermoCommands(deck)), fmt::arg("dump", DumpCommand(deck)),
+      fmt::arg("steps", deck.steps));
+}
+
+// fix pour's tries per particle of a batch (its default, 50, gives up long before bouncecal's
+// random placement, which tries 20000 times in a row).
+constexpr int kLammpsPourAttempts = 500;
+
+// fix pour sizes its batches by a volume fraction of its region and spaces them by the fall
+// time through it (neither can be given directly): the fraction that asks for the planned batch.
+struct LammpsPour {
+  double volume_fraction = 0.25;
+  std::int64_t per_batch = 1;
+  std::int64_t every_steps = 1;
+};
+
+LammpsPour PlanLammpsPour(const PackingDeckSpec& spec, const PourPlan& plan,
+                          const Regions& regions) {
+  LammpsPour pour;
+  const double largest_volume = std::numbers::pi * std::pow(LargestDiameter(spec), 3) / 6;
+  pour.volume_fraction = std::min(1.0, (static_cast<double>(plan.per_batch) + 0.5) *
+                                           largest_volume / regions.centres_volume_m3);
+  pour.per_batch = std::max<std::int64_t>(
+      1,
+      static_cast<std::int64_t>(pour.volume_fraction * regions.centres_volume_m3 / largest_volume));
+  pour.every_steps = std::max<std::int64_t>(
+      1,
+      std::llround(std::sqrt(2 * regions.centres_band_m / spec.gravity_mps2) / spec.time_step_s));
+  return pour;
+}
+
+std::int64_t CeilDiv(std::int64_t a, std::int64_t b) { return (a + b - 1) / b; }
+
+// How the deck inserts its particles, and a warning when its pour cannot finish in the run.
+void AddInsertionNotes(const PackingDeckSpec& spec, const PourPlan& plan, const LammpsPour* lammps,
+                       Deck& deck) {
+  const auto started = static_cast<std::int64_t>(spec.start_spheres.size());
+  if (started > 0) {
+    deck.notes.push_back(fmt::format(
+        "Start: read_data start.data, the {} spheres bouncecal's engine places at t = 0 by the "
+        "scene's seed ({}), at rest, every centre at least a radius inside the insertion region "
+        "and so inside the container.",
+        started, plan.count == 0 ? "all of them" : "its first pour batch"));
+  }
+  if (plan.count == 0) return;
+  const double dt = spec.time_step_s;
+  if (plan.first_step >= deck.steps) {
+    deck.notes.push_back(fmt::format(
+        "The other {} particles are due after the run ({} s batch interval, {} s run): they are "
+        "never poured, as in bouncecal pack.",
+        plan.count, Number(plan.every_steps * dt), Number(spec.duration_s)));
+    return;
+  }
+  const std::int64_t per_batch = lammps ? lammps->per_batch : plan.per_batch;
+  const std::int64_t every = lammps ? lammps->every_steps : plan.every_steps;
+  const std::int64_t last_step = plan.first_step + (CeilDiv(plan.count, per_batch) - 1) * every;
+  const std::string poured =
+      started > 0 ? fmt::format("The other {}", plan.count) : fmt::format("All {}", plan.count);
+  if (lammps) {
+    deck.notes.push_back(fmt::format(
+        "{} particles are poured by fix pour from t = {} s, their centres drawn a largest radius "
+        "inside the scene's insertion region (region insert), as bouncecal places them: batches "
+        "of up to {} (vol {:.4g}, {} tries per particle) every {} steps, fix pour's fall time "
+        "through the band, so the last is due at t = {} s (later if a crowded batch falls short; "
+        "thermo prints the atom count).",
+        poured, Number(plan.first_step * dt), per_batch, lammps->volume_fraction,
+        kLammpsPourAttempts, every, Number(last_step * dt)));
+  } else {
+    deck.notes.push_back(fmt::format(
+        "{} particles are poured by insert/rate/region (all_in yes: whole particles inside the "
+        "scene's insertion region, as bouncecal places them) from t = {} s: up to {} every {} "
+        "steps, so the last batch is due at t = {} s (later if a crowded batch falls short; "
+        "thermo prints the atom count).",
+        poured, Number(plan.first_step * dt), per_batch, every, Number(last_step * dt)));
+  }
+  if (last_step >= deck.steps) {
+    deck.notes.push_back(fmt::format(
+        "WARNING: the deck's last batch of {} poured particles is due at t = {} s, after the "
+        "scene's {} s run, so the run ends with fewer than {} particles; raise duration_s above "
+        "{} s plus the settling time, or enlarge the insertion region so that batches hold more.",
+        plan.count, Number(last_step * dt), Number(spec.duration_s), spec.particle_count,
+        Number(last_step * dt)));
+  }
 }
 
 }  // namespace
@@ -421,7 +640,9 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
       Number(spec.tangential_stiffness_n_per_m), Number(spec.friction),
       Number(spec.wall_friction)));
   const bool lammps = options.engine == Engine::kLammps;
-  const LiggghtsBatches batches = PlanBatches(spec);
+  const PourPlan plan = PlanPour(spec);
+  const Regions regions = MakeRegions(spec);
+  const LammpsPour lammps_pour = PlanLammpsPour(spec, plan, regions);
   if (spec.start_data) {
     deck.notes.push_back(fmt::format(
         "Start: read_data start.data, the scene's own start positions, at rest{}.",
@@ -429,20 +650,13 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
             ? "; 2D: dimension 2 with enforce2d, each particle a sphere (mass and inertia) whose "
               "centre moves in the x-y plane, gravity along -y"
             : ""));
-  } else if (lammps) {
-    deck.notes.push_back(
-        "Insertion uses fix pour (LAMMPS 29Sep2021's create_atoms cannot avoid overlaps): "
-        "particles appear without overlap in the insertion band and fall; later batches follow "
-        "when the band has emptied, so a large count may need a longer run than the scene's "
-        "duration to be fully inserted (thermo prints the atom count).");
   } else {
-    deck.notes.push_back(fmt::format(
-        "Insertion uses insert/rate/region: up to {} particles (a quarter of the band's volume) "
-        "every {} steps, the time they take to fall through the band, until all {} are in; a "
-        "large count may need a longer run than the scene's duration (thermo prints the atom "
-        "count). The wall is atom type 2, so wall (1-2) and pair (1-1) contacts keep their own "
-        "coefficients.",
-        batches.per_batch, batches.every_steps, spec.particle_count));
+    AddInsertionNotes(spec, plan, lammps ? &lammps_pour : nullptr, deck);
+  }
+  if (!lammps) {
+    deck.notes.push_back(
+        "The wall is atom type 2, so wall (1-2) and pair (1-1) contacts keep their own "
+        "coefficients.");
   }
 
   const std::string executable(EngineExecutable(options.engine));
@@ -485,12 +699,14 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
     deck.files.push_back({"start.data", *spec.start_data});
     return deck;
   }
+  if (!spec.start_spheres.empty()) {
+    deck.files.push_back({"start.data", StartDataFile(spec, regions, lammps)});
+  }
   if (!lammps) {
-    script += LiggghtsPackingScript(spec, mapping, batches, deck);
-    deck.files.push_back({deck.input_file_name, script});
+    script += LiggghtsPackingScript(spec, mapping, plan, deck);
+    deck.files.insert(deck.files.begin(), {deck.input_file_name, script});
     return deck;
   }
-  const Regions regions = MakeRegions(spec);
   const std::string wall_law =
       fmt::format("hooke/history {} {} {} 0 {} 0", Number(mapping.wall.stiffness_n_per_m),
                   Number(spec.tangential_stiffness_n_per_m),
@@ -507,12 +723,27 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
         Number(spec.box_half_y_m));
   }
 
+  const std::string box = spec.start_spheres.empty() ? fmt::format(
+                                                           "region          box {} units box\n"
+                                                           "create_box      1 box\n",
+                                                           regions.box)
+                                                     : "read_data       start.data\n";
+  const std::string pour = fmt::format(
+      "region          insert {insert} units box\n"
+      "fix             pour all pour {count} 1 {seed} region insert diam {diam} dens {rho} {rho} "
+      "vol {fraction} {attempts}\n",
+      fmt::arg("insert", regions.centres), fmt::arg("count", plan.count),
+      fmt::arg("seed", spec.seed),
+      fmt::arg("diam", spec.max_diameter_m ? fmt::format("range {} {}", Number(spec.diameter_m),
+                                                         Number(*spec.max_diameter_m))
+                                           : fmt::format("one {}", Number(spec.diameter_m))),
+      fmt::arg("rho", Number(spec.density_kg_per_m3)),
+      fmt::arg("fraction", Number(lammps_pour.volume_fraction)),
+      fmt::arg("attempts", kLammpsPourAttempts));
   script += fmt::format(
       R"(
 {preamble}
-region          box {box} units box
-create_box      1 box
-
+{box}
 # Pair contacts (equal spheres, m_eff = m/2): Kn Kt gamma_n gamma_t xmu dampflag.
 pair_style      gran/hooke/history {kn} {kt} {gn} 0 {mu} 0
 pair_coeff      * *
@@ -525,30 +756,16 @@ fix             gravity all gravity {g} vector 0 0 -1
 # Wall contacts (sphere on wall, m_eff = m): the contact the drop calibration measured.
 fix             floor all wall/gran {wall} zplane 0.0 NULL
 {sides}
-region          insert {insert} units box
-fix             pour all pour {count} 1 {seed} region insert diam {diam} dens {rho} {rho}
-
-compute         rotation all erotate/sphere
-thermo_style    custom step time atoms ke c_rotation
-thermo          {thermo}
-{dump}run             {steps}
-write_data      final.data
-)",
-      fmt::arg("preamble", LammpsPreamble(3, /*atom_map=*/false)), fmt::arg("box", regions.box),
+{thermo}{run})",
+      fmt::arg("preamble", LammpsPreamble(3, /*atom_map=*/false)), fmt::arg("box", box),
       fmt::arg("kn", Number(pair.stiffness_n_per_m)),
       fmt::arg("kt", Number(spec.tangential_stiffness_n_per_m)),
       fmt::arg("gn", Number(pair.damping_rate_per_s)), fmt::arg("mu", Number(spec.friction)),
       fmt::arg("skin", Number(0.2 * LargestDiameter(spec))),
       fmt::arg("dt", Number(spec.time_step_s)), fmt::arg("g", Number(spec.gravity_mps2)),
-      fmt::arg("wall", wall_law), fmt::arg("sides", wall_sides), fmt::arg("insert", regions.insert),
-      fmt::arg("count", spec.particle_count), fmt::arg("seed", spec.seed),
-      fmt::arg("diam", spec.max_diameter_m ? fmt::format("range {} {}", Number(spec.diameter_m),
-                                                         Number(*spec.max_diameter_m))
-                                           : fmt::format("one {}", Number(spec.diameter_m))),
-      fmt::arg("rho", Number(spec.density_kg_per_m3)),
-      fmt::arg("thermo", std::max<std::int64_t>(1, deck.steps / 20)),
-      fmt::arg("dump", DumpCommand(deck)), fmt::arg("steps", deck.steps));
-  deck.files.push_back({deck.input_file_name, script});
+      fmt::arg("wall", wall_law), fmt::arg("sides", wall_sides),
+      fmt::arg("thermo", ThermoCommands(deck)), fmt::arg("run", RunCommands(plan, pour, deck)));
+  deck.files.insert(deck.files.begin(), {deck.input_file_name, script});
   return deck;
 }
 

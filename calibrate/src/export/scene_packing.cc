@@ -123,8 +123,19 @@ PackingDeckSpec PackingDeckSpecFromScene(const dem::Scene& scene) {
     spec.insert_z_min_m = region.min_m[2] - origin[2];
     spec.insert_z_max_m = region.max_m[2] - origin[2];
   }
-  // A random start becomes a pour too (LAMMPS 29Sep2021 cannot place non-overlapping particles
-  // otherwise); its first batch fills the region like the random placement would.
+  if (scene.dimension == 3) {
+    // The spheres bouncecal's engine places at t = 0 (all of a random start, the first batch of
+    // a pour), so that the deck starts where `bouncecal pack` does; any rest is poured.
+    dem::PackOptions start_only;
+    start_only.duration_s = 0;
+    const dem::ParticleSnapshot start = dem::RunPacking(scene, start_only).final_state;
+    spec.start_spheres.reserve(start.size());
+    for (std::size_t i = 0; i < start.size(); ++i) {
+      const auto& x = start.position_m[i];
+      spec.start_spheres.push_back(
+          {x[0] - origin[0], x[1] - origin[1], x[2] - origin[2], 2 * start.radius_m[i]});
+    }
+  }
   if (scene.insertion.kind == dem::InsertionKind::kPour) {
     spec.batch_interval_s = scene.insertion.batch_interval_s;
   }

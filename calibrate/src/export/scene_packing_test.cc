@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 #include "bouncecal/error.h"
@@ -48,6 +49,34 @@ TEST(PackingDeckSpecFromScene, PaperPourKeepsEveryFigureRelativeToTheFloorCentre
   EXPECT_EQ(spec.friction, 0.3);
   EXPECT_EQ(spec.gravity_mps2, 9.8);
   EXPECT_EQ(spec.snapshot_interval_s, 0.5);
+}
+
+// The deck starts where `bouncecal pack` does: the first batch its engine places at t = 0, every
+// centre a radius inside the region (0.2-0.3 m over the floor, r < 0.095 m), shifted to a floor
+// centre at the origin; a batch takes fewer than all 2000 here, so the rest are poured.
+TEST(PackingDeckSpecFromScene, APourStartsFromTheFirstBatchBouncecalPlaces) {
+  const auto spec = PackingDeckSpecFromScene(dem::SceneFromJson(PaperPour(), "pour.json"));
+  ASSERT_FALSE(spec.start_spheres.empty());
+  EXPECT_LE(spec.start_spheres.size(), 2000u);
+  for (const auto& sphere : spec.start_spheres) {
+    EXPECT_EQ(sphere.diameter_m, 0.01);
+    EXPECT_LE(std::hypot(sphere.x_m, sphere.y_m), 0.095 - 0.005 + 1e-12);
+    EXPECT_GE(sphere.z_m, 0.2 + 0.005 - 1e-12);
+    EXPECT_LE(sphere.z_m, 0.3 - 0.005 + 1e-12);
+  }
+  // The same seed places the same spheres.
+  const auto again = PackingDeckSpecFromScene(dem::SceneFromJson(PaperPour(), "pour.json"));
+  ASSERT_EQ(again.start_spheres.size(), spec.start_spheres.size());
+  EXPECT_EQ(again.start_spheres.back().x_m, spec.start_spheres.back().x_m);
+}
+
+TEST(PackingDeckSpecFromScene, ARandomStartIsReadWhole) {
+  auto json = PaperPour();
+  json["particles"]["count"] = 200;
+  json["insertion"]["type"] = "random";
+  json["insertion"].erase("batch_interval_s");
+  const auto spec = PackingDeckSpecFromScene(dem::SceneFromJson(json, "pour.json"));
+  EXPECT_EQ(spec.start_spheres.size(), 200u);
 }
 
 TEST(PackingDeckSpecFromScene, UniformDiametersBecomeARange) {

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "bouncecal/calibrate/export/drop_deck.h"
 #include "bouncecal/calibrate/export/export_material.h"
@@ -17,6 +18,14 @@ namespace bouncecal::calibrate {
 enum class PackingContainer {
   kCylinder,  // floor z = 0 and the inside of a vertical cylinder about the z axis
   kBox,       // floor z = 0 and four side walls at x = +-half_x, y = +-half_y
+};
+
+// One sphere at rest at the start of a 3D deck, relative to the container's floor centre.
+struct StartSphere {
+  double x_m = 0;
+  double y_m = 0;
+  double z_m = 0;
+  double diameter_m = 0;
 };
 
 struct PackingDeckSpec {
@@ -65,6 +74,12 @@ struct PackingDeckSpec {
   // origin_m (x, y, z; in 2D x and y).
   std::optional<std::string> start_data;
   double origin_m[3] = {0, 0, 0};
+  // 3D: the spheres bouncecal's own engine places at t = 0 (its random placement by the scene's
+  // seed: all of a random start, the first batch of a pour), written beside the input as
+  // start.data and read with read_data, so that the deck starts where `bouncecal pack` does.
+  // When fewer than particle_count, the rest are poured from the insertion band, the first of
+  // them batch_interval_s later (the scene's schedule); empty: all are poured from t = 0.
+  std::vector<StartSphere> start_spheres;
 };
 
 struct PackingDeckOptions {
@@ -75,8 +90,10 @@ struct PackingDeckOptions {
 
 // The packing scene deck. LAMMPS: gran/hooke/history between particles with the card law's pair
 // coefficients (m_eff = m/2), fix wall/gran with its wall coefficients (m_eff = m), insertion by
-// fix pour. LIGGGHTS: model hooke/stiffness with per-type-pair coefficients (the walls are atom
-// type 2), insertion by insert/rate/region in batches. Both: Cundall-Strack tangential history
+// read_data of the start spheres, then fix pour for any rest. LIGGGHTS: model hooke/stiffness
+// with per-type-pair coefficients (the walls are atom type 2), read_data of the start spheres,
+// then insert/rate/region in batches for any rest. Poured centres keep a largest radius inside
+// the insertion region, as bouncecal's engine places them. Both: Cundall-Strack tangential history
 // with Coulomb friction, nve/sphere with rotation, thermo (atoms, kinetic energies), dump
 // snapshots (dump.pack), write_data of the final packing (final.data). A 2D spec (LAMMPS only)
 // reads its start.data and runs with enforce2d between wall/gran planes. The header states the
