@@ -175,6 +175,8 @@ std::uint64_t StateDigest(const dem::ParticleSnapshot& snap) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Line by line: a bench stopped during the reference engines' runs keeps bouncecal's figures.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   std::filesystem::path scene_path =
       std::filesystem::path(BOUNCECAL_SOURCE_DIR) / "samples/scenes/paper000_cylinder_pour.json";
   double duration = -1;
