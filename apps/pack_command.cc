@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "bouncecal/atomic_file.h"
+#include "bouncecal/dem/pack_projection.h"
 #include "bouncecal/dem/packing.h"
 #include "bouncecal/dem/packing_json.h"
 #include "bouncecal/dem/scene.h"
@@ -53,7 +54,7 @@ void DrawProgress(const dem::PackProgress& p) {
   const double fraction = p.duration_s > 0 ? p.time_s / p.duration_s : 1.0;
   const int width = 30;
   const int filled = static_cast<int>(fraction * width);
-  const double eta = fraction > 0 ? p.wall_s * (1 - fraction) / fraction : 0.0;
+  const double eta = p.remaining_wall_s;
   std::fprintf(stderr, "\r[%s%s] t = %.3f / %.3f s, %lld particles, %.0f s elapsed, ETA %.0f s ",
                std::string(static_cast<std::size_t>(filled), '#').c_str(),
                std::string(static_cast<std::size_t>(width - filled), ' ').c_str(), p.time_s,
@@ -347,6 +348,7 @@ void RunPack(const PackArgs& args) {
   // run's outputs as they were. A resumed run continues the outputs of the run it resumes (its
   // dumps up to the checkpoint); a killed run's temporaries go either way.
   options.started = [&] {
+    std::fprintf(stderr, "%s\n", dem::DescribeProjection(scene, options).c_str());
     RemoveStaleTemporaries(dir);
     if (args.resume.empty()) RemoveEarlierOutputs(dir);
   };

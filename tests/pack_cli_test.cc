@@ -105,6 +105,10 @@ TEST(PackCli, WritesSummaryJsonCsvAndDumps) {
   }
   // Not a terminal: no progress bar in the captured output.
   EXPECT_EQ(result.output.find("ETA"), std::string::npos) << result.output;
+  // But the projection before the first step, for the scene's own particles and steps.
+  EXPECT_NE(result.output.find("projected wall time: about"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("40 particles x 5000 steps on 1 thread"), std::string::npos)
+      << result.output;
   std::filesystem::remove_all(dir);
 }
 

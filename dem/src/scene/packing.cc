@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "bouncecal/dem/pack_projection.h"
 #include "bouncecal/error.h"
 #include "scene/checkpoint_bytes.h"
 #include "scene/contact_limits.h"
@@ -451,6 +452,8 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
                                             ? StepsFor(options.checkpoint_every_s, dt)
                                             : std::numeric_limits<std::int64_t>::max();
   std::int64_t next_checkpoint = next_multiple(step, checkpoint_every);
+  WallTimeProjection projection(engine->state().size() + static_cast<std::int64_t>(pending.size()),
+                                total_steps, options.threads, step, SecondsSince(start));
   while (step < total_steps) {
     const std::int64_t target = std::min(
         {total_steps, next_multiple(step, history_every), next_multiple(step, snapshot_every),
@@ -507,8 +510,8 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
     }
     if (options.progress) {
       const double wall = SecondsSince(start);
-      options.progress(
-          PackProgress{engine->time_s(), duration, step, engine->state().size(), wall});
+      options.progress(PackProgress{engine->time_s(), duration, step, engine->state().size(), wall,
+                                    projection.Update(step, engine->state().size(), wall)});
     }
     if (step < total_steps && options.stop_requested && options.stop_requested()) {
       save_checkpoint();

@@ -19,6 +19,9 @@ struct PackProgress {
   std::int64_t steps = 0;
   std::int64_t particles = 0;
   double wall_s = 0;
+  // Projected wall time still to go: this run's measured speed over the remaining steps at the
+  // final particle count (WallTimeProjection, pack_projection.h).
+  double remaining_wall_s = 0;
 };
 
 struct PackOptions {
