@@ -9,7 +9,11 @@
 // prints figures and asserts nothing.
 //
 //   build/bench/codec_timing_bench                      # every setting, 3 rates, 8 seeds
-//   build/bench/codec_timing_bench --seeds 4 --only Opus
+//   build/bench/codec_timing_bench --seeds 4 --only Opus --rate 48000
+//
+// Columns after sigma_us: the median stated onset sigma (detector, response timing and the
+// codec table together) and the share of onsets whose error against the truth, less the drop's
+// median error, lies within 1.96 stated sigmas.
 #include <unistd.h>
 
 #include <algorithm>
@@ -23,6 +27,7 @@
 #include <vector>
 
 #include "bouncecal/audio/bounce_analysis.h"
+#include "bouncecal/audio/detect_file.h"
 #include "bouncecal/audio/impact_detector.h"
 #include "bouncecal/audio/load_recording.h"
 #include "bouncecal/audio/synthesize.h"
@@ -70,23 +75,29 @@ audio::SynthesisOptions Scene(const std::string& scene, int seed, int rate_hz) {
 
 struct Detected {
   std::vector<std::optional<double>> onsets;  // per true impact: the matched onset, if any
+  std::vector<std::optional<double>> sigmas;  // and its stated uncertainty
   int extra = 0;
   bool sequence = false;
   std::optional<double> bit_rate_bps;
   int sample_rate_hz = 0;
+  double table_sigma_s = 0;  // the codec table's share of every stated sigma
+  int replaced = 0;          // onsets the response timing replaced (response_timing.h)
 };
 
 constexpr double kMatchS = 5e-3;
 
 Detected Analyse(const fs::path& path, const std::vector<double>& truth) {
-  const auto recording = audio::LoadRecording(path);
-  const audio::RecordingReader reader(path);
-  auto detection = audio::DetectImpacts(recording);
+  // The file path analyze takes: for a lossy file or a low rate the response timing stage and
+  // the codec's tabulated error are in the onsets and their uncertainties.
+  auto file = audio::DetectImpactsInFile(path);
+  auto& detection = file.detection;
   const auto grouping = audio::GroupBounces(detection);
   Detected result;
-  result.bit_rate_bps = reader.info().bit_rate_bps;
-  result.sample_rate_hz = recording.sample_rate_hz;
+  result.bit_rate_bps = file.info.bit_rate_bps;
+  result.sample_rate_hz = file.info.sample_rate_hz;
   result.sequence = !grouping.sequences.empty();
+  if (file.codec_timing) result.table_sigma_s = file.codec_timing->onset_uncertainty_s;
+  if (file.response_timing) result.replaced = file.response_timing->replaced;
   const auto& impacts = detection.impacts;
   std::vector<bool> used(impacts.size(), false);
   for (double t : truth) {
@@ -101,8 +112,10 @@ Detected Analyse(const fs::path& path, const std::vector<double>& truth) {
     if (best >= 0) {
       used[static_cast<std::size_t>(best)] = true;
       result.onsets.push_back(impacts[static_cast<std::size_t>(best)].onset_s);
+      result.sigmas.push_back(impacts[static_cast<std::size_t>(best)].onset_uncertainty_s);
     } else {
       result.onsets.push_back(std::nullopt);
+      result.sigmas.push_back(std::nullopt);
     }
   }
   for (bool u : used) result.extra += u ? 0 : 1;
@@ -136,6 +149,12 @@ struct Tally {
   std::vector<double> eta_vs_wav;         // |eta-bar codec - eta-bar WAV|
   std::vector<double> eta_vs_truth;       // |eta-bar codec - exact eta-bar|
   std::vector<double> bit_rates_bps;
+  std::vector<double> stated_s;  // stated onset sigma of every found impact
+  std::vector<double> errors_s;  // |onset - truth| less the drop's median error
+  std::vector<double> own_s;     // stated sigma without the codec table's share
+  int replaced = 0;
+  int covered = 0;  // |error less the drop's median error| <= 1.96 stated sigma
+  int judged = 0;
   int decoded_rate_hz = 0;
 };
 
@@ -153,6 +172,7 @@ std::vector<double> Abs(std::vector<double> values) {
 void Score(const Detected& codec, const Detected& wav, const std::vector<double>& truth,
            Tally& tally) {
   ++tally.drops;
+  tally.replaced += codec.replaced;
   tally.sequences += codec.sequence ? 1 : 0;
   tally.truth += static_cast<int>(truth.size());
   tally.extra += codec.extra;
@@ -165,6 +185,24 @@ void Score(const Detected& codec, const Detected& wav, const std::vector<double>
     if (k > 0 && codec.onsets[k] && codec.onsets[k - 1]) {
       tally.interval_errors_s.push_back(
           std::fabs(*codec.onsets[k] - *codec.onsets[k - 1] - (truth[k] - truth[k - 1])));
+    }
+  }
+  // Coverage against the truth (each drop's median error removed: it cancels in intervals).
+  std::vector<double> errors;
+  for (std::size_t k = 0; k < truth.size(); ++k) {
+    if (codec.onsets[k]) errors.push_back(*codec.onsets[k] - truth[k]);
+  }
+  if (!errors.empty()) {
+    const double median = Quantile(errors, 0.5);
+    for (std::size_t k = 0; k < truth.size(); ++k) {
+      if (!codec.onsets[k]) continue;
+      const double sigma = *codec.sigmas[k];
+      tally.stated_s.push_back(sigma);
+      tally.errors_s.push_back(std::fabs(*codec.onsets[k] - truth[k] - median));
+      tally.own_s.push_back(
+          std::sqrt(std::max(0.0, sigma * sigma - codec.table_sigma_s * codec.table_sigma_s)));
+      ++tally.judged;
+      if (std::fabs(*codec.onsets[k] - truth[k] - median) <= 1.96 * sigma) ++tally.covered;
     }
   }
   if (!shifts.empty()) {
@@ -180,6 +218,26 @@ void Score(const Detected& codec, const Detected& wav, const std::vector<double>
   const auto eta_exact = EtaBar(exact);
   if (eta && eta_wav) tally.eta_vs_wav.push_back(std::fabs(*eta - *eta_wav));
   if (eta && eta_exact) tally.eta_vs_truth.push_back(std::fabs(*eta - *eta_exact));
+}
+
+// The smallest codec table sigma with which 95 % of the errors against the truth lie within
+// 1.96 stated sigmas (each onset's own sigma and the table's in quadrature).
+double NeededTableSigma(const Tally& t) {
+  const auto covered = [&](double table) {
+    std::size_t within = 0;
+    for (std::size_t i = 0; i < t.errors_s.size(); ++i) {
+      within += t.errors_s[i] <= 1.96 * std::hypot(t.own_s[i], table) ? 1 : 0;
+    }
+    return within >= 0.95 * static_cast<double>(t.errors_s.size());
+  };
+  double lo = 0;
+  double hi = 5e-3;
+  if (covered(lo)) return 0;
+  for (int i = 0; i < 40; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (covered(mid) ? hi : lo) = mid;
+  }
+  return hi;
 }
 
 void PrintRow(const std::string& label, int rate_hz, const Tally& t, bool reference) {
@@ -201,10 +259,49 @@ void PrintRow(const std::string& label, int rate_hz, const Tally& t, bool refere
               Quantile(t.interval_errors_s, 0.95) * 1e6,
               reference ? 0.0 : Quantile(t.eta_vs_wav, 0.95), Quantile(t.eta_vs_truth, 0.95));
   if (reference) {
-    std::printf(" %8s\n", "-");
+    std::printf(" %8s", "-");
   } else {
-    std::printf(" %8.1f\n", Quantile(abs_centred, 0.95) / 1.96 * 1e6);
+    std::printf(" %8.1f", Quantile(abs_centred, 0.95) / 1.96 * 1e6);
   }
+  std::printf(" %8.1f %5.1f%% %8.1f %8.1f %5d\n", Quantile(t.stated_s, 0.5) * 1e6,
+              t.judged > 0 ? 100.0 * t.covered / t.judged : 0.0, Quantile(t.errors_s, 0.95) * 1e6,
+              NeededTableSigma(t) * 1e6, t.replaced);
+}
+
+// --verbose: the onsets of a drop whose error against the truth (less the drop's median) exceeds
+// 150 us, with their stated sigmas, to see what the codec did to them.
+void PrintOutliers(const std::string& label, const std::string& scene, int seed, int rate,
+                   const Detected& codec, const Detected& wav, const std::vector<double>& truth) {
+  std::vector<double> errors;
+  for (std::size_t k = 0; k < truth.size(); ++k) {
+    if (codec.onsets[k]) errors.push_back(*codec.onsets[k] - truth[k]);
+  }
+  if (errors.empty()) return;
+  const double median = Quantile(errors, 0.5);
+  for (std::size_t k = 0; k < truth.size(); ++k) {
+    if (!codec.onsets[k]) continue;
+    const double error = *codec.onsets[k] - truth[k] - median;
+    if (std::fabs(error) <= 150e-6) continue;
+    std::printf(
+        "  %s %d Hz %s seed %d impact %zu at %.4f s: error %+.0f us (WAV %+.0f), stated "
+        "%.0f us\n",
+        label.c_str(), rate, scene.c_str(), seed, k, truth[k], error * 1e6,
+        wav.onsets[k] ? (*wav.onsets[k] - truth[k]) * 1e6 : 0.0, *codec.sigmas[k] * 1e6);
+  }
+}
+
+// --only takes comma-separated substrings of the labels ("AAC 128k,Opus 64k").
+bool Selected(const std::string& label, const std::string& only) {
+  if (only.empty()) return true;
+  std::size_t begin = 0;
+  while (begin <= only.size()) {
+    const std::size_t end = std::min(only.find(',', begin), only.size());
+    if (end > begin && label.find(only.substr(begin, end - begin)) != std::string::npos) {
+      return true;
+    }
+    begin = end + 1;
+  }
+  return false;
 }
 
 }  // namespace
@@ -212,13 +309,20 @@ void PrintRow(const std::string& label, int rate_hz, const Tally& t, bool refere
 int main(int argc, char** argv) {
   int seeds = 8;
   std::string only;
+  std::vector<int> rates = {48000, 44100, 16000};
+  bool verbose = false;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc) {
       seeds = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
       only = argv[++i];
+    } else if (!std::strcmp(argv[i], "--verbose")) {
+      verbose = true;
+    } else if (!std::strcmp(argv[i], "--rate") && i + 1 < argc) {
+      rates = {std::atoi(argv[++i])};
     } else {
-      std::fprintf(stderr, "usage: %s [--seeds N] [--only SUBSTRING]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--seeds N] [--only SUBSTRING] [--rate HZ] [--verbose]\n",
+                   argv[0]);
       return 2;
     }
   }
@@ -230,7 +334,6 @@ int main(int argc, char** argv) {
   const fs::path folder =
       fs::temp_directory_path() / ("bouncecal_codec_bench_" + std::to_string(::getpid()));
   fs::create_directories(folder);
-  const std::vector<int> rates = {48000, 44100, 16000};
   const std::vector<std::string> scenes = {"steel", "pingpong"};
   const auto encodings = bouncecal::testing::CommonLossyEncodings();
   std::map<std::pair<std::string, int>, Tally> tallies;  // (label, rate)
@@ -245,13 +348,15 @@ int main(int argc, char** argv) {
         const auto wav = Analyse(wav_path, truth);
         Score(wav, wav, truth, wav_tallies[rate]);
         for (const auto& encoding : encodings) {
-          if (!only.empty() && encoding.label.find(only) == std::string::npos) continue;
+          if (!Selected(encoding.label, only)) continue;
           const fs::path encoded = folder / ("encoded." + encoding.extension);
           fs::remove(encoded);
           if (!bouncecal::testing::EncodeWithFfmpeg(wav_path, encoded, encoding.ffmpeg_options)) {
             continue;  // a bit rate the rate does not allow (MP3 192k at 16 kHz)
           }
-          Score(Analyse(encoded, truth), wav, truth, tallies[{encoding.label, rate}]);
+          const auto codec = Analyse(encoded, truth);
+          Score(codec, wav, truth, tallies[{encoding.label, rate}]);
+          if (verbose) PrintOutliers(encoding.label, scene, seed, rate, codec, wav, truth);
         }
       }
     }
@@ -259,12 +364,15 @@ int main(int argc, char** argv) {
   fs::remove_all(folder);
   std::printf("%d seeds x %zu scenes per row; shifts are codec onset - WAV onset\n", seeds,
               scenes.size());
-  std::printf("%-10s %6s %6s %5s %5s %9s %5s %8s %8s %8s %8s %8s %8s %8s %8s %8s\n", "codec",
-              "rate", "dec_hz", "kbps", "seq", "found", "extra", "bias_us", "c50_us", "c95_us",
-              "cmax_us", "int50_us", "int95_us", "deta_wav", "deta_tru", "sigma_us");
+  std::printf(
+      "%-10s %6s %6s %5s %5s %9s %5s %8s %8s %8s %8s %8s %8s %8s %8s %8s %8s %6s %8s %8s %5s\n",
+      "codec", "rate", "dec_hz", "kbps", "seq", "found", "extra", "bias_us", "c50_us", "c95_us",
+      "cmax_us", "int50_us", "int95_us", "deta_wav", "deta_tru", "sigma_us", "stat50us", "cover",
+      "e95_us", "need_us", "repl");
   for (int rate : rates) PrintRow("WAV", rate, wav_tallies[rate], true);
   for (const auto& encoding : encodings) {
     for (int rate : rates) {
+      if (!Selected(encoding.label, only)) continue;
       const auto found = tallies.find({encoding.label, rate});
       if (found != tallies.end()) PrintRow(encoding.label, rate, found->second, false);
     }

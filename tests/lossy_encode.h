@@ -31,6 +31,7 @@ inline std::vector<LossyEncoding> CommonLossyEncodings() {
       {"mp3", "MP3 128k", "mp3", {"-c:a", "libmp3lame", "-b:a", "128k"}},
       {"mp3", "MP3 192k", "mp3", {"-c:a", "libmp3lame", "-b:a", "192k"}},
       {"vorbis", "Vorbis q2", "ogg", {"-c:a", "libvorbis", "-q:a", "2"}},
+      {"vorbis", "Vorbis q4", "ogg", {"-c:a", "libvorbis", "-q:a", "4"}},
       {"vorbis", "Vorbis q5", "ogg", {"-c:a", "libvorbis", "-q:a", "5"}},
       {"opus", "Opus 24k", "opus", {"-c:a", "libopus", "-b:a", "24k"}},
       {"opus", "Opus 64k", "opus", {"-c:a", "libopus", "-b:a", "64k"}},

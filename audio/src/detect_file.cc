@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "bouncecal/audio/response_timing.h"
 #include "bouncecal/error.h"
 #include "bouncecal/option_error.h"
 
@@ -48,6 +49,17 @@ FileDetection DetectImpactsInFile(const std::filesystem::path& path,
   }
   result.channel = channels[best];
   result.detection = std::move(detections[best]);
+  if (FirstLobeUnreliable(info)) {
+    // A second pass, only where the first lobe cannot be trusted: the samples around each onset
+    // were not kept during the first (memory stays bounded by the impacts, not the file).
+    ResponseTimer timer(result.detection);
+    RecordingReader again(path);
+    const auto channel = static_cast<std::size_t>(result.channel);
+    while (!timer.Done() && again.ReadBlock(block, options.block_frames)) {
+      timer.Process(block[channel]);
+    }
+    result.response_timing = timer.Apply(result.detection);
+  }
   // Here, not in a caller, so every path from a file to onsets (analyze, the calibration input,
   // AnalyzeBounces' other callers) carries it once, and the sequence search's tolerances see it.
   result.codec_timing = CodecTimingOf(info);

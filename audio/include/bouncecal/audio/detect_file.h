@@ -8,6 +8,7 @@
 #include "bouncecal/audio/codec_timing.h"
 #include "bouncecal/audio/impact_detector.h"
 #include "bouncecal/audio/load_recording.h"
+#include "bouncecal/audio/response_timing.h"
 
 namespace bouncecal::audio {
 
@@ -31,6 +32,10 @@ struct FileDetection {
   // Set for a lossy file: the codec's timing error, already added in quadrature to every onset
   // uncertainty of `detection` (codec_timing.h).
   std::optional<CodecTiming> codec_timing;
+  // Set where the first lobe is unreliable (FirstLobeUnreliable: a transform codec, a rate below
+  // 20 kHz): the impacts were retimed from their whole response (response_timing.h) before the
+  // codec's remaining timing error was added.
+  std::optional<ResponseTimingSummary> response_timing;
   DetectionResult detection;
 };
 

@@ -1,0 +1,89 @@
+#ifndef BOUNCECAL_AUDIO_RESPONSE_TIMING_H_
+#define BOUNCECAL_AUDIO_RESPONSE_TIMING_H_
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "bouncecal/audio/impact_detector.h"
+#include "bouncecal/audio/load_recording.h"
+
+namespace bouncecal::audio {
+
+// Timing of impacts from their whole response, for recordings whose first lobe is unreliable.
+//
+// A transform codec (AAC, MP3, Vorbis, Opus) spreads quantisation noise over a short block before
+// a click (pre-echo, up to 2.7-4 ms), and at 8-16 kHz a click's first lobe is a sample or two
+// wide and often buried in the previous impact's ringing: the detector's onset, which times the
+// first lobe, then jumps by up to milliseconds on a few percent of the impacts. The response
+// after each impact (the plate's and the ball's ringing) survives both, and the impacts of one
+// recording excite nearly the same modes, so each impact's response is aligned to a template
+// response of the same recording (normalised cross-correlation of the first differences over the
+// first 12 ms, at lags up to 5 ms). Only relative times enter intervals: the alignment's
+// median shift over the recording is removed, so a template whose own onset is off costs
+// nothing.
+//
+// An impact whose alignment is unambiguous (one correlation peak clearly above every other lag)
+// gets a second measurement of its onset with an uncertainty from the alignment's own quality
+// (the residual 1 - rho^2 over the template's bandwidth). Where the detector's onset agrees with
+// it within 3 combined sigmas the two are combined by their variances; where it does not, the
+// detector's onset jumped (pre-echo, a hop in ringing) and the alignment's replaces it.
+struct ResponseTimingOptions {
+  double search_s = 5e-3;        // largest lag tried either side of the detector's onset
+  double response_s = 12e-3;     // length of response compared
+  double min_response_s = 2e-3;  // shorter (the next impact follows) is not aligned
+  double min_correlation = 0.6;  // weaker peaks are not used
+  // A peak must stand this far (in correlation) above the best lag outside its own lobe: a
+  // response dominated by one mode correlates almost as well one period away.
+  double min_peak_margin = 0.15;
+};
+
+// Whether a recording's first lobes are unreliable enough for the stage: a transform codec
+// (every lossy codec but G.711 and ADPCM, which code sample by sample and keep the lobe) or a
+// sample rate below 20 kHz.
+bool FirstLobeUnreliable(const RecordingInfo& info);
+
+struct ResponseTimingSummary {
+  int considered = 0;  // impacts and tentative impacts
+  int aligned = 0;     // with an unambiguous alignment
+  int combined = 0;    // detector and alignment agreed and were combined
+  int replaced = 0;    // the detector's onset jumped; the alignment's replaced it
+  std::int64_t template_onset_sample = -1;
+};
+
+// Collects the samples around each onset of a detection while the recording streams past a
+// second time (memory: ~2 x (search + response) per impact), then retimes the detection.
+class ResponseTimer {
+ public:
+  ResponseTimer(const DetectionResult& detection, const ResponseTimingOptions& options = {});
+
+  // Consecutive samples of the analysed channel, from sample 0 on.
+  void Process(std::span<const float> samples);
+  // Whether every window is complete (the rest of the recording need not be read).
+  bool Done() const;
+  ResponseTimingSummary Apply(DetectionResult& detection) const;
+
+ private:
+  struct Window {
+    bool tentative = false;
+    std::size_t index = 0;
+    std::int64_t begin = 0;  // first sample
+    std::vector<float> samples;
+  };
+  ResponseTimingOptions options_;
+  int sample_rate_hz_ = 0;
+  std::int64_t length_ = 0;      // samples per window
+  std::int64_t lead_ = 0;        // samples of a window before its onset sample
+  std::vector<Window> windows_;  // by begin
+  std::int64_t position_ = 0;
+  std::size_t first_open_ = 0;
+};
+
+// Convenience for a recording in memory.
+ResponseTimingSummary RetimeFromResponses(DetectionResult& detection,
+                                          std::span<const float> samples,
+                                          const ResponseTimingOptions& options = {});
+
+}  // namespace bouncecal::audio
+
+#endif  // BOUNCECAL_AUDIO_RESPONSE_TIMING_H_

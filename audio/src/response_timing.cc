@@ -1,0 +1,292 @@
+#include "bouncecal/audio/response_timing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <utility>
+
+namespace bouncecal::audio {
+namespace {
+
+// Below this rate a click's first lobe spans one or two samples (docs/codecs.md: the steel
+// sample at 8 kHz is found only inside ringing, with one residual hop of uncertainty).
+constexpr int kLowRateHz = 20000;
+
+// Floor of an alignment's uncertainty: the contact lasts longer the slower the impact (v^-1/5), so
+// a late bounce's response is a slightly different waveform from the loudest impact's, and its
+// alignment is biased by a fraction of a sample (0.54 sample at the 8th bounce of the test's
+// steel drop, response_timing_test.cc); the parabola adds up to a tenth of a sample.
+constexpr double kMinSigmaSamples = 0.5;
+
+// Correlation above which an impact found only inside ringing counts as band-detected.
+constexpr double kConfirmingCorrelation = 0.8;
+
+// Agreement between the detector's onset and the alignment's, in combined sigmas, beyond which
+// the detector's onset is taken to have jumped.
+constexpr double kAgreementSigmas = 3.0;
+
+struct Alignment {
+  bool usable = false;
+  double response_sample = 0;  // the impact's response starts here, in the template's timing
+  double sigma_samples = 0;
+  double correlation = 0;
+};
+
+std::vector<float> FirstDifference(const std::vector<float>& samples) {
+  std::vector<float> out(samples.size() > 0 ? samples.size() - 1 : 0);
+  for (std::size_t i = 0; i + 1 < samples.size(); ++i) out[i] = samples[i + 1] - samples[i];
+  return out;
+}
+
+// Normalised cross-correlation of templ[lead, lead + n) with target[lead + lag, lead + lag + n)
+// for lags -search..search (lead: the onset's index in both).
+Alignment Align(const std::vector<float>& templ, const std::vector<float>& target,
+                std::int64_t lead, std::int64_t search, std::int64_t n, std::int64_t onset_sample,
+                const ResponseTimingOptions& options) {
+  Alignment result;
+  double templ_energy = 0;
+  double templ_energy_squares = 0;
+  double templ_slope = 0;
+  for (std::int64_t t = 0; t < n; ++t) {
+    const double a = templ[static_cast<std::size_t>(lead + t)];
+    templ_energy += a * a;
+    templ_energy_squares += a * a * a * a;
+    if (t + 1 < n) {
+      const double da = templ[static_cast<std::size_t>(lead + t + 1)] - a;
+      templ_slope += da * da;
+    }
+  }
+  if (templ_energy <= 0 || templ_slope <= 0) return result;
+  const std::int64_t lags = 2 * search + 1;
+  std::vector<double> correlation(static_cast<std::size_t>(lags), 0.0);
+  // Prefix sums of the target's energy give each lag's window energy in O(1).
+  std::vector<double> prefix(target.size() + 1, 0.0);
+  for (std::size_t i = 0; i < target.size(); ++i) {
+    prefix[i + 1] = prefix[i] + static_cast<double>(target[i]) * target[i];
+  }
+  const float* a = templ.data() + lead;
+  for (std::int64_t k = 0; k < lags; ++k) {
+    const std::int64_t start = lead + k - search;
+    const float* x = target.data() + start;
+    float dot = 0;
+    for (std::int64_t t = 0; t < n; ++t) dot += a[t] * x[t];
+    const double energy =
+        prefix[static_cast<std::size_t>(start + n)] - prefix[static_cast<std::size_t>(start)];
+    correlation[static_cast<std::size_t>(k)] =
+        energy > 0 ? dot / std::sqrt(templ_energy * energy) : 0.0;
+  }
+  const auto best_it = std::max_element(correlation.begin(), correlation.end());
+  const std::int64_t best = best_it - correlation.begin();
+  const double rho = *best_it;
+  // The peak's own lobe: where the correlation keeps falling away from it.
+  std::int64_t lo = best;
+  while (lo > 0 && correlation[static_cast<std::size_t>(lo - 1)] <
+                       correlation[static_cast<std::size_t>(lo)]) {
+    --lo;
+  }
+  std::int64_t hi = best;
+  while (hi + 1 < lags && correlation[static_cast<std::size_t>(hi + 1)] <
+                              correlation[static_cast<std::size_t>(hi)]) {
+    ++hi;
+  }
+  double rival = -1;
+  for (std::int64_t k = 0; k < lags; ++k) {
+    if (k < lo || k > hi) rival = std::max(rival, correlation[static_cast<std::size_t>(k)]);
+  }
+  // A peak at the edge of the search may lie beyond it.
+  if (best == 0 || best == lags - 1) return result;
+  const double left = correlation[static_cast<std::size_t>(best - 1)];
+  const double right = correlation[static_cast<std::size_t>(best + 1)];
+  const double curvature = left - 2 * rho + right;
+  const double fraction = curvature < 0 ? 0.5 * (left - right) / curvature : 0.0;
+  result.correlation = rho;
+  result.response_sample = static_cast<double>(onset_sample + best - search) + fraction;
+  // Time-delay estimation (template and target equally noisy): var = 2 (1 - rho^2) /
+  // (rho^2 n beta^2), beta^2 the template's mean squared slope per energy, with the residual
+  // (the part of the target the template does not explain, 1 - rho^2 of its energy) spread over
+  // the samples that hold the template's energy (their participation number), not over all n:
+  // what the template does not explain is mostly a different mix of the same modes, the earlier
+  // impacts' ringing and the codec's noise shaped like the response, not white noise.
+  const double beta2 = templ_slope / templ_energy;
+  const double r2 = std::clamp(rho * rho, 1e-6, 1.0);
+  const double participation = templ_energy * templ_energy / templ_energy_squares;
+  const double variance = 2.0 * (1.0 - r2) / (r2 * participation * beta2);
+  result.sigma_samples = std::max(kMinSigmaSamples, std::sqrt(variance));
+  result.usable = rho >= options.min_correlation && rho - rival >= options.min_peak_margin;
+  return result;
+}
+
+// Median of values weighted by weights (both non-empty, same size).
+double WeightedMedian(std::vector<std::pair<double, double>> values) {
+  std::sort(values.begin(), values.end());
+  double total = 0;
+  for (const auto& v : values) total += v.second;
+  double running = 0;
+  for (const auto& v : values) {
+    running += v.second;
+    if (running >= 0.5 * total) return v.first;
+  }
+  return values.back().first;
+}
+
+}  // namespace
+
+bool FirstLobeUnreliable(const RecordingInfo& info) {
+  if (info.sample_rate_hz < kLowRateHz) return true;
+  if (!info.lossy) return false;
+  const std::string& codec = info.codec;
+  const bool sample_by_sample = codec == "pcm_mulaw" || codec == "pcm_alaw" ||
+                                codec == "adpcm_ima" || codec == "adpcm_ima_wav" ||
+                                codec == "adpcm_ms";
+  return !sample_by_sample;
+}
+
+ResponseTimer::ResponseTimer(const DetectionResult& detection, const ResponseTimingOptions& options)
+    : options_(options), sample_rate_hz_(detection.sample_rate_hz) {
+  const double rate = sample_rate_hz_;
+  const auto search = static_cast<std::int64_t>(std::ceil(options_.search_s * rate));
+  const auto response = static_cast<std::int64_t>(std::ceil(options_.response_s * rate));
+  // One sample more before (the first difference) and after (the parabola's neighbour).
+  lead_ = search + 2;
+  length_ = lead_ + search + response + 2;
+  for (bool tentative : {false, true}) {
+    const auto& impacts = tentative ? detection.tentative : detection.impacts;
+    for (std::size_t i = 0; i < impacts.size(); ++i) {
+      Window window;
+      window.tentative = tentative;
+      window.index = i;
+      window.begin = static_cast<std::int64_t>(std::llround(impacts[i].onset_s * rate)) - lead_;
+      window.samples.assign(static_cast<std::size_t>(length_), 0.0f);
+      windows_.push_back(std::move(window));
+    }
+  }
+  std::stable_sort(windows_.begin(), windows_.end(),
+                   [](const Window& a, const Window& b) { return a.begin < b.begin; });
+}
+
+void ResponseTimer::Process(std::span<const float> samples) {
+  const std::int64_t block_begin = position_;
+  const std::int64_t block_end = position_ + static_cast<std::int64_t>(samples.size());
+  for (std::size_t w = first_open_; w < windows_.size(); ++w) {
+    Window& window = windows_[w];
+    if (window.begin >= block_end) break;
+    const std::int64_t from = std::max(window.begin, block_begin);
+    const std::int64_t to = std::min(window.begin + length_, block_end);
+    for (std::int64_t s = from; s < to; ++s) {
+      window.samples[static_cast<std::size_t>(s - window.begin)] =
+          samples[static_cast<std::size_t>(s - block_begin)];
+    }
+  }
+  // Windows have one length, so they close in the order they open.
+  while (first_open_ < windows_.size() && windows_[first_open_].begin + length_ <= block_end) {
+    ++first_open_;
+  }
+  position_ = block_end;
+}
+
+bool ResponseTimer::Done() const { return first_open_ >= windows_.size(); }
+
+ResponseTimingSummary ResponseTimer::Apply(DetectionResult& detection) const {
+  ResponseTimingSummary summary;
+  summary.considered = static_cast<int>(windows_.size());
+  if (windows_.size() < 2) return summary;
+  const double rate = sample_rate_hz_;
+  const std::int64_t search = lead_ - 2;
+  const auto full = static_cast<std::int64_t>(std::ceil(options_.response_s * rate));
+  const auto shortest = static_cast<std::int64_t>(std::ceil(options_.min_response_s * rate));
+  const auto impact_of = [&](const Window& w) -> Impact& {
+    return w.tentative ? detection.tentative[w.index] : detection.impacts[w.index];
+  };
+  // The response compared ends where the next impact could begin at the largest lag.
+  std::vector<std::int64_t> impact_starts;
+  for (const auto& w : windows_) {
+    if (!w.tentative) impact_starts.push_back(w.begin + lead_);
+  }
+  std::sort(impact_starts.begin(), impact_starts.end());
+  std::vector<std::int64_t> lengths;
+  std::vector<std::vector<float>> differences;
+  for (const auto& w : windows_) {
+    const std::int64_t onset = w.begin + lead_;
+    const auto next = std::upper_bound(impact_starts.begin(), impact_starts.end(), onset);
+    std::int64_t n = full;
+    if (next != impact_starts.end()) n = std::min(n, *next - onset - search);
+    lengths.push_back(n);
+    differences.push_back(FirstDifference(w.samples));
+  }
+  // The template: the loudest impact with its full response, then the loudest at all.
+  std::size_t templ = windows_.size();
+  for (int pass = 0; pass < 2 && templ == windows_.size(); ++pass) {
+    for (std::size_t w = 0; w < windows_.size(); ++w) {
+      if (windows_[w].tentative || (pass == 0 && lengths[w] < full) || lengths[w] < shortest) {
+        continue;
+      }
+      const Impact& impact = impact_of(windows_[w]);
+      if (impact.residual_only) continue;
+      if (templ == windows_.size() || impact.peak_dbfs > impact_of(windows_[templ]).peak_dbfs) {
+        templ = w;
+      }
+    }
+  }
+  if (templ == windows_.size()) return summary;
+  summary.template_onset_sample = windows_[templ].begin + lead_;
+  std::vector<Alignment> alignments(windows_.size());
+  for (std::size_t w = 0; w < windows_.size(); ++w) {
+    const std::int64_t n = std::min(lengths[w], lengths[templ]);
+    if (n < shortest) continue;
+    // Difference signals start one sample later than the windows: lead - 1 samples before
+    // the onset sample, so the parabola's neighbour at the largest lag stays inside.
+    alignments[w] = Align(differences[templ], differences[w], lead_ - 1, search, n,
+                          windows_[w].begin + lead_, options_);
+  }
+  // Only relative times matter: the response start and the onset differ by one constant for the
+  // recording, taken as the median over the impacts weighted by their detector precision.
+  std::vector<std::pair<double, double>> offsets;
+  for (std::size_t w = 0; w < windows_.size(); ++w) {
+    if (!alignments[w].usable || windows_[w].tentative) continue;
+    const Impact& impact = impact_of(windows_[w]);
+    const double sigma = std::max(impact.onset_uncertainty_s, 1.0 / rate);
+    offsets.emplace_back(impact.onset_s - alignments[w].response_sample / rate,
+                         1.0 / (sigma * sigma));
+  }
+  if (offsets.size() < 2) return summary;
+  const double offset = WeightedMedian(std::move(offsets));
+  for (std::size_t w = 0; w < windows_.size(); ++w) {
+    const Alignment& alignment = alignments[w];
+    if (!alignment.usable) continue;
+    ++summary.aligned;
+    Impact& impact = impact_of(windows_[w]);
+    // A response this much like the recording's loudest impact's, with the ringing before it
+    // removed, is an impact of the same ball on the same surface, not speech or handling
+    // noise: the evidence that residual_only stands for is no longer weak.
+    if (alignment.correlation >= kConfirmingCorrelation) impact.residual_only = false;
+    const double aligned_onset = alignment.response_sample / rate + offset;
+    const double sigma_a = alignment.sigma_samples / rate;
+    const double sigma_d = impact.onset_uncertainty_s;
+    if (std::fabs(aligned_onset - impact.onset_s) <=
+        kAgreementSigmas * std::hypot(sigma_a, sigma_d)) {
+      const double wa = 1.0 / (sigma_a * sigma_a);
+      const double wd = sigma_d > 0 ? 1.0 / (sigma_d * sigma_d) : 0.0;
+      impact.onset_s = (wa * aligned_onset + wd * impact.onset_s) / (wa + wd);
+      impact.onset_uncertainty_s = 1.0 / std::sqrt(wa + wd);
+      ++summary.combined;
+    } else {
+      impact.onset_s = aligned_onset;
+      impact.onset_uncertainty_s = sigma_a;
+      ++summary.replaced;
+    }
+  }
+  const auto by_onset = [](const Impact& a, const Impact& b) { return a.onset_s < b.onset_s; };
+  std::stable_sort(detection.impacts.begin(), detection.impacts.end(), by_onset);
+  std::stable_sort(detection.tentative.begin(), detection.tentative.end(), by_onset);
+  return summary;
+}
+
+ResponseTimingSummary RetimeFromResponses(DetectionResult& detection,
+                                          std::span<const float> samples,
+                                          const ResponseTimingOptions& options) {
+  ResponseTimer timer(detection, options);
+  timer.Process(samples);
+  return timer.Apply(detection);
+}
+
+}  // namespace bouncecal::audio
