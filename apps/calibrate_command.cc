@@ -1,5 +1,6 @@
 #include <fmt/core.h>
 
+#include <CLI/CLI.hpp>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -14,6 +15,7 @@
 #include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
 #include "calibrate_cli_options.h"
+#include "calibrate_next_steps.h"
 #include "calibrate_report.h"
 #include "commands.h"
 #include "output_target.h"
@@ -31,7 +33,7 @@ struct CalibrateCommandOptions : CalibrateCliOptions {
   std::filesystem::path plot;
 };
 
-void Run(const CalibrateCommandOptions& cli) {
+void Run(const CalibrateCommandOptions& cli, const CLI::App& command) {
   const TextOutputs text({{"--json", &cli.json}, {"--card", &cli.card}});
   std::FILE* out = text.human();
   if (!cli.plot.empty()) CheckPlotTarget(cli.plot);
@@ -47,6 +49,13 @@ void Run(const CalibrateCommandOptions& cli) {
   const auto write_card = [&](const calibrate::FitSummary& fit) {
     const auto card = calibrate::MakeMaterialCard(fit, options, cli.Recordings(), card_created_at);
     WriteTextOutput(cli.card, calibrate::ToJson(card).dump(2) + "\n");
+  };
+  const auto print_next_steps = [&] {
+    const CalibrationRun run{GivenArguments(command, {"--json", "--card", "--plot"}),
+                             cli.Recordings().front(),
+                             IsStdout(cli.card) ? std::filesystem::path() : cli.card,
+                             options.ball_given, options.GivenDropHeightM()};
+    fmt::print(out, "{}", NextSteps(run));
   };
 
   if (cli.compare_laws) {
@@ -64,6 +73,7 @@ void Run(const CalibrateCommandOptions& cli) {
       write_card(comparison.fits.front());
       fmt::print(out, "material card of the best law written to {}\n", cli.card.string());
     }
+    print_next_steps();
     return;
   }
 
@@ -90,6 +100,7 @@ void Run(const CalibrateCommandOptions& cli) {
     PlotFit(cli.plot, summary);
     fmt::print(out, "plot written to {}\n", cli.plot.string());
   }
+  print_next_steps();
 }
 
 }  // namespace
@@ -122,7 +133,7 @@ void AddCalibrateCommand(CLI::App& app) {
                       "Plot measured vs fitted energy loss and flight times (.png or .svg)");
   command->callback([cli, command] {
     cli->objective_given = command->count("--objective") > 0;
-    Run(*cli);
+    Run(*cli, *command);
   });
 }
 

@@ -27,6 +27,7 @@
 #include "commands.h"
 #include "option_alias.h"
 #include "output_target.h"
+#include "scene_template_option.h"
 #include "stop_signals.h"
 
 namespace bouncecal::apps {
@@ -44,6 +45,7 @@ struct PackArgs {
   bool plot = false;
   double checkpoint_every_s = 0;  // simulated seconds; 0: no periodic checkpoint
   std::string resume;             // a checkpoint file to continue from
+  std::string scene_template;     // --template: write this template instead of running
 };
 
 // Where periodic and interruption checkpoints go, overwritten (atomically) by each.
@@ -377,6 +379,9 @@ void RunPack(const PackArgs& args) {
   for (const auto& warning : summary.warnings) {
     fmt::print(stderr, "bouncecal: warning: {}: {}\n", scene.source.string(), warning);
   }
+  for (const auto& note : summary.notes) {
+    fmt::print(stderr, "bouncecal: note: {}: {}\n", scene.source.string(), note);
+  }
   WriteCsvs(dir, scene, summary);
   const std::string json = dem::ToJson(scene, summary).dump(2) + "\n";
   WriteFileAtomically(dir / "summary.json", json);
@@ -441,7 +446,8 @@ void AddPackCommand(CLI::App& app) {
       "--json result.json --plot\n"
       "summary.json and --json carry \"format\": \"bouncecal-pack/1\" (docs/json.md).");
   // No ExistingFile check: a missing scene is an input-file error (status 2), not a usage one.
-  command->add_option("scene", args->scene, "Scene file (JSON)")->required();
+  auto* scene = command->add_option("scene", args->scene, "Scene file (JSON)");
+  AddSceneTemplateOption(*command, args->scene_template)->excludes(scene);
   command
       ->add_option("--threads", args->threads,
                    "Worker threads (count, >= 1); results are bit-identical for any count")
@@ -490,7 +496,15 @@ void AddPackCommand(CLI::App& app) {
   command->add_option("--resume", args->resume,
                       "Continue the run saved in this checkpoint file (same scene and options); "
                       "the result is bit-identical to an uninterrupted run");
-  command->callback([args] { RunPack(*args); });
+  command->callback([args] {
+    if (!args->scene_template.empty()) return WriteSceneTemplate(args->scene_template);
+    if (args->scene.empty()) {
+      throw ConfigError(
+          "pack needs a SCENE file (JSON); bouncecal pack --template 3d-cylinder > "
+          "scene.json writes a commented one to start from");
+    }
+    RunPack(*args);
+  });
 }
 
 }  // namespace bouncecal::apps

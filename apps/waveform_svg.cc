@@ -26,6 +26,16 @@ double NiceStep(double span, int target) {
   return 10 * power;
 }
 
+// The largest 1, 2 or 5 times a power of ten that is at most `peak` (> 0): at least 0.4 of it.
+double NiceTickWithin(double peak) {
+  const double power = std::pow(10.0, std::floor(std::log10(peak)));
+  for (double factor : {5.0, 2.0, 1.0}) {
+    // The relative slack keeps a peak of exactly 0.5 (rounded from below) its own tick.
+    if (factor * power <= peak * (1 + 1e-9)) return factor * power;
+  }
+  return power;
+}
+
 // The last time anything happens, for an axis without a known duration.
 double LastEventS(const RecordingView& view) {
   double last = 0;
@@ -99,12 +109,23 @@ std::string WaveformSvg(const RecordingView& view, const WaveformSvgLayout& layo
     svg += fmt::format(
         "<path class=\"waveform\" d=\"{}\" stroke=\"#4a5a70\" stroke-width=\"1\" fill=\"none\"/>\n",
         path);
+    // Amplitude ticks at 0 and at plus and minus the largest 1-2-5 value within the peak, drawn
+    // at their true heights: labels that are values of the scale, not the peak's digits at the
+    // band's edges. The trace is in the recording's own units (full scale 1), high-passed.
+    const double tick = NiceTickWithin(peak);
+    svg += "<g class=\"amplitude-axis\" text-anchor=\"end\" fill=\"#222\" stroke=\"#444\">";
+    for (const double value : {tick, 0.0, -tick}) {
+      const double y = centre - half * value / peak;
+      svg += fmt::format(
+          "<line x1=\"{0:.1f}\" y1=\"{1:.1f}\" x2=\"{2:.1f}\" y2=\"{1:.1f}\"/><text "
+          "class=\"amplitude-tick\" data-value=\"{3:g}\" x=\"{4:.1f}\" y=\"{1:.1f}\" "
+          "dominant-baseline=\"middle\" stroke=\"none\">{3:g}</text>",
+          x0 - 5, y, x0, value == 0 ? 0.0 : value, x0 - 8);
+    }
     svg += fmt::format(
-        "<g class=\"amplitude-axis\" text-anchor=\"end\" fill=\"#222\"><text x=\"{0:.1f}\" "
-        "y=\"{1:.1f}\">{2:.2g}</text><text x=\"{0:.1f}\" y=\"{3:.1f}\">0</text><text "
-        "x=\"{0:.1f}\" y=\"{4:.1f}\">{5:.2g}</text><text transform=\"translate(14 {3:.1f}) "
-        "rotate(-90)\" text-anchor=\"middle\">amplitude</text></g>\n",
-        x0 - 6, layout.wave_top + 4, centre + 4, layout.wave_bottom + 4, peak, -peak);
+        "<text transform=\"translate(14 {:.1f}) rotate(-90)\" text-anchor=\"middle\" "
+        "stroke=\"none\">amplitude</text></g>\n",
+        centre);
   }
 
   // Sequences: a bracket with the name, and a marker over every impact.

@@ -62,7 +62,7 @@ option(BOUNCECAL_BUILD_PYTHON
 if(BOUNCECAL_BUILD_PYTHON AND NOT bouncecal_python_found)
   list(JOIN bouncecal_python_missing ", " missing)
   message(FATAL_ERROR "BOUNCECAL_BUILD_PYTHON is ON but bouncecal could not find ${missing}; "
-    "install it (scripts/install_deps.sh), name the interpreter with -DPython3_EXECUTABLE=..., "
+    "install it (scripts/install_deps.sh --tests), name the interpreter with -DPython3_EXECUTABLE=..., "
     "or configure with -DBOUNCECAL_BUILD_PYTHON=OFF")
 elseif(NOT BOUNCECAL_BUILD_PYTHON AND bouncecal_python_wanted AND bouncecal_python_missing)
   list(JOIN bouncecal_python_missing ", " missing)

@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
-# Configures and builds into build/ (Release). Extra arguments go to cmake's configure step.
+# Configures and builds into build/ (Release). Extra arguments go to cmake's configure step;
+# BOUNCECAL_BUILD_TARGETS="a b" builds only those targets (default: all).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
-cmake --build build -j"$(nproc)"
+targets=()
+for target in ${BOUNCECAL_BUILD_TARGETS:-}; do targets+=(--target "${target}"); done
+cmake --build build -j"$(nproc)" "${targets[@]}"

@@ -1,22 +1,46 @@
 #!/usr/bin/env bash
-# Installs every Debian package the toolkit builds and tests with. Works as root (CI) and through
-# sudo; pass extra package names as arguments.
+# Installs the Debian packages bouncecal needs. Works as root (CI) and through sudo.
+#
+#   scripts/install_deps.sh            what building and running the `bouncecal` command needs
+#                                      (set-up command 1, scripts/run_sample.sh)
+#   scripts/install_deps.sh --tests    that, plus what the test suite, the benchmarks, the Python
+#                                      module and the format check need (set-up command 2,
+#                                      scripts/run_tests.sh, and CI)
+#
+# Extra arguments are more package names (scripts/run_fuzz.sh adds clang).
 set -euo pipefail
 
+# The compiler, CMake and the libraries of the top-level CMakeLists.txt: libsndfile, FFTW,
+# NLopt, Eigen (build only), the FFmpeg headers (the libraries are loaded at run time for
+# M4A/AAC, WebM, ...), nlohmann-json, fmt and CLI11 (header-only, the command line).
 packages=(
-  build-essential cmake pkg-config git clang-format
+  build-essential cmake pkg-config
   libsndfile1-dev libfftw3-dev libnlopt-cxx-dev libeigen3-dev
   libavformat-dev libavcodec-dev libswresample-dev libavutil-dev
-  libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libfmt-dev
+  nlohmann-json3-dev libfmt-dev libcli11-dev
+)
+
+test_packages=(
+  # GoogleTest and Google Benchmark (tests/, bench/); git and clang-format for
+  # scripts/check_format.sh.
+  libgtest-dev libgmock-dev libbenchmark-dev git clang-format
+  # The Python module and its tests (docs/python.md).
   python3-dev python3-numpy python3-pybind11 python3-pytest
+  # --plot and pack's density curves (gnuplot); the HTML report's headless-browser test.
   gnuplot-nox chromium
   # The ffmpeg command encodes the lossy recordings of the codec tests and bench/codec_timing_bench.
   ffmpeg
   # tests/json_schema_test.py validates every command's JSON against docs/schema/.
   python3 python3-jsonschema
+  # The exported decks are verified by running them (export-check tests).
   lammps liggghts mpi-default-bin
-  "$@"
 )
+
+if [ "${1:-}" = "--tests" ]; then
+  shift
+  packages+=("${test_packages[@]}")
+fi
+packages+=("$@")
 
 if [ "$(id -u)" -eq 0 ]; then
   as_root=()

@@ -14,7 +14,8 @@
 # campaigns: BOUNCECAL_FUZZ_SECONDS=3600 scripts/run_fuzz.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-# clang and its libFuzzer/sanitizer runtimes are needed only here.
+# The build's packages, and clang with its libFuzzer/sanitizer runtimes, needed only here (the
+# fuzz build has no tests, benchmarks or Python module).
 scripts/install_deps.sh clang libclang-rt-14-dev
 seconds="${BOUNCECAL_FUZZ_SECONDS:-30}"
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo \

@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
-# Set-up command 1: install, build in Release, and run the main job on a shipped sample.
+# Set-up command 1: install what building and running `bouncecal` needs, build the command in
+# Release (only the command: no tests, benchmarks or Python module), and run the main job on a
+# shipped sample. scripts/run_tests.sh installs and builds the rest.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install_deps.sh
-scripts/build.sh -DBOUNCECAL_BUILD_BENCH=OFF -DBOUNCECAL_BUILD_TESTS=OFF
+BOUNCECAL_BUILD_TARGETS=bouncecal scripts/build.sh -DBOUNCECAL_BUILD_BENCH=OFF \
+  -DBOUNCECAL_BUILD_TESTS=OFF
 build/apps/bouncecal version
 # The main job: the paper's experiment (1 cm steel ball, 0.20 m drop, eta-bar = 0.58), printing
 # the fitted gamma_n with its analytic check, confidence interval and optimiser summary. The ball

@@ -6,7 +6,7 @@
 # BOUNCECAL_SANITIZE_LONG=1 runs them here too. Any sanitizer report fails the run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install_deps.sh
+scripts/install_deps.sh --tests
 # -O0 -g1: unoptimised, and line tables only (enough for file:line in every report) instead of
 # full debug info. The sanitizers' documentation suggests -O1 for speed, but here the build is
 # the cost and the tests are not: on 2 cores -O1 took 459 s to build and 39.5 s to test, -O0

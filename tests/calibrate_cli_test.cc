@@ -8,6 +8,9 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "cli_runner.h"
 
@@ -345,6 +348,60 @@ TEST(CompareCli, RefusesToAssumeADropHeight) {
   const auto result = RunBouncecal("compare " + Sample() + " --gamma 0.3,0.5");
   EXPECT_EQ(result.exit_status, 3) << result.output;
   EXPECT_NE(result.output.find("--drop-height-m"), std::string::npos) << result.output;
+}
+
+// The summary ends with what a researcher does next: the material card, compare and export, as
+// commands with the real file names. Each suggested command is run as printed, from the folder
+// the first run was in, and must succeed: the card first, then compare and export read it.
+TEST(CalibrateCli, SummaryEndsWithNextCommandsThatRunAsPrinted) {
+  const auto dir = Temp("next_steps");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string in_dir = "cd " + dir.string() + " &&";
+  const auto first = RunBouncecal("calibrate " + Sample() + kPaperSetUp, in_dir);
+  ASSERT_EQ(first.exit_status, 0) << first.output;
+  const auto next = first.output.find("next steps:\n");
+  ASSERT_NE(next, std::string::npos) << first.output;
+  std::vector<std::string> commands;
+  std::istringstream lines(first.output.substr(next));
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("  bouncecal ", 0) == 0) commands.push_back(line.substr(12));
+  }
+  ASSERT_EQ(commands.size(), 3u) << first.output;
+  EXPECT_EQ(commands[0], "calibrate " + Sample() +
+                             " --ball steel-10mm --drop-height-m 0.2 --card "
+                             "steel_ball_h0.2m_material.json");
+  EXPECT_EQ(commands[1].rfind("compare " + Sample() +
+                                  " --material steel_ball_h0.2m_material.json --drop-height-m 0.2",
+                              0),
+            0u)
+      << commands[1];
+  EXPECT_EQ(
+      commands[2].rfind("export --material steel_ball_h0.2m_material.json --engine lammps", 0), 0u)
+      << commands[2];
+  for (const auto& command : commands) {
+    const auto run = RunBouncecal(command, in_dir);
+    EXPECT_EQ(run.exit_status, 0) << command << "\n" << run.output;
+  }
+  EXPECT_TRUE(fs::exists(dir / "steel_ball_h0.2m_material.json"));
+  EXPECT_TRUE(fs::exists(dir / "steel_ball_h0.2m_compare.png"));
+  EXPECT_TRUE(fs::exists(dir / "steel_ball_h0.2m_material_lammps" / "in.drop"));
+  // With the card written, the rerun's own suggestions start from it: compare and export only.
+  const auto second = RunBouncecal(commands[0], in_dir);
+  ASSERT_EQ(second.exit_status, 0) << second.output;
+  EXPECT_NE(second.output.find("next steps:"), std::string::npos) << second.output;
+  EXPECT_EQ(second.output.find("--card"), std::string::npos) << second.output;
+  fs::remove_all(dir);
+}
+
+// Without the drop height or the ball, the commands that need them say so with a placeholder.
+TEST(CalibrateCli, NextCommandsNameWhatThisFitLacked) {
+  const auto result = RunBouncecal("calibrate " + Sample());
+  ASSERT_EQ(result.exit_status, 0) << result.output;
+  EXPECT_NE(result.output.find("--ball BALL --card steel_ball_h0.2m_material.json"),
+            std::string::npos)
+      << result.output;
+  EXPECT_NE(result.output.find("--drop-height-m HEIGHT_M"), std::string::npos) << result.output;
 }
 
 }  // namespace

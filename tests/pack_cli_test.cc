@@ -473,5 +473,43 @@ TEST(PackCli, NextRunRemovesTheTemporariesOfAKilledRunOnly) {
   std::filesystem::remove_all(dir);
 }
 
+// `pack --template NAME` writes a commented scene that loads and whose set-up draws no warning
+// (the time step, the region); run for 0 s, which measures the start state after every check.
+TEST(PackCli, TemplatesLoadAndRunWithoutAWarning) {
+  for (const std::string name : {"3d-cylinder", "2d-box"}) {
+    const auto dir = EmptyTempDir("bouncecal_pack_cli_template_" + name);
+    std::filesystem::create_directories(dir);
+    const auto written = RunBouncecal("pack --template " + name);
+    ASSERT_EQ(written.exit_status, 0) << written.output;
+    const auto scene = nlohmann::json::parse(written.output);  // stdout holds the JSON alone
+    EXPECT_TRUE(scene.contains("_comment")) << name;
+    std::ofstream(dir / "scene.json") << written.output;
+    const auto run = RunBouncecal("pack " + (dir / "scene.json").string() + " --duration-s 0 -o " +
+                                  (dir / "out").string());
+    EXPECT_EQ(run.exit_status, 0) << name << ": " << run.output;
+    EXPECT_EQ(Lowercase(run.output).find("warning"), std::string::npos) << name << run.output;
+    std::filesystem::remove_all(dir);
+  }
+  const auto unknown = RunBouncecal("pack --template 4d-hypercube");
+  EXPECT_EQ(unknown.exit_status, 3) << unknown.output;
+  EXPECT_NE(unknown.output.find("3d-cylinder"), std::string::npos) << unknown.output;
+  const auto nothing = RunBouncecal("pack");
+  EXPECT_EQ(nothing.exit_status, 3) << nothing.output;
+  EXPECT_NE(nothing.output.find("--template"), std::string::npos) << nothing.output;
+}
+
+// The paper 000 scene keeps the paper's 10 us step, 0.65 of the tangential limit: it says why
+// (time_step_reason), so every run prints that as a note, not as a warning about itself.
+TEST(PackCli, ShippedPaper000SceneExplainsItsStepInsteadOfWarning) {
+  const auto dir = EmptyTempDir("bouncecal_pack_cli_paper000_note");
+  const auto scene = SourceDir() / "samples/scenes/paper000_cylinder_pour.json";
+  const auto run = RunBouncecal("pack " + scene.string() + " --duration-s 0 -o " + dir.string());
+  ASSERT_EQ(run.exit_status, 0) << run.output;
+  EXPECT_EQ(Lowercase(run.output).find("warning"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("bouncecal: note: "), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("the paper's own 10 us"), std::string::npos) << run.output;
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace bouncecal::testing

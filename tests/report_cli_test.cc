@@ -121,7 +121,8 @@ TEST_F(ReportCli, RendersInHeadlessChromium) {
   }
   if (chromium.empty()) {
     GTEST_SKIP() << "chromium is not installed (Debian package chromium; "
-                    "scripts/install_deps.sh installs it): the browser rendering check is skipped";
+                    "scripts/install_deps.sh --tests installs it): the browser rendering check is "
+                    "skipped";
   }
   std::string profile = (*folder_ / "profile-XXXXXX").string();
   ASSERT_NE(mkdtemp(profile.data()), nullptr);
@@ -152,6 +153,96 @@ TEST_F(ReportCli, RendersInHeadlessChromium) {
   if (const char* keep = std::getenv("BOUNCECAL_KEEP_REPORT_SCREENSHOT")) {
     std::filesystem::copy_file(screenshot, keep, std::filesystem::copy_options::overwrite_existing);
   }
+}
+
+// The waveform's amplitude axis as the browser lays it out: 0 at the centre of the trace's band
+// and plus and minus one 1-2-5 value (no "1.7e+02" peak digits), every label inside the figure
+// and clear of the other labels and of the plot area. A script added to a copy of the page
+// measures the rendered boxes; --dump-dom returns what it wrote into the page.
+TEST_F(ReportCli, WaveformAmplitudeAxisIsReadableInHeadlessChromium) {
+  ASSERT_EQ(run_->exit_status, 0) << run_->output;
+  std::string chromium;
+  for (const char* candidate : {"/usr/bin/chromium", "/usr/bin/chromium-browser"}) {
+    if (std::filesystem::exists(candidate)) chromium = candidate;
+  }
+  if (chromium.empty()) {
+    GTEST_SKIP() << "chromium is not installed (Debian package chromium; "
+                    "scripts/install_deps.sh --tests installs it)";
+  }
+  std::string html = ReadText(*folder_ / "report.html");
+  const auto body_end = html.rfind("</body>");
+  ASSERT_NE(body_end, std::string::npos);
+  // Boxes in CSS pixels (the figure is drawn at 100 %): inside the <svg>, left of the plot area
+  // and apart from each other, with half a pixel for rounding.
+  html.insert(body_end, R"(<script>
+const problems = [];
+const labels = [];
+for (const svg of document.querySelectorAll("svg.waveform-figure")) {
+  const figure = svg.getBoundingClientRect();
+  const plot = svg.querySelector(".plot-area").getBoundingClientRect();
+  const boxes = [];
+  for (const text of svg.querySelectorAll(".amplitude-axis text")) {
+    const box = text.getBoundingClientRect();
+    if (text.classList.contains("amplitude-tick")) labels.push(text.textContent);
+    if (box.left < figure.left - 0.5 || box.right > figure.right + 0.5 ||
+        box.top < figure.top - 0.5 || box.bottom > figure.bottom + 0.5) {
+      problems.push("outside-the-figure:" + text.textContent);
+    }
+    if (box.right > plot.left + 0.5) problems.push("over-the-plot:" + text.textContent);
+    for (const other of boxes) {
+      if (box.left < other.right && other.left < box.right && box.top < other.bottom &&
+          other.top < box.bottom) {
+        problems.push("overlap:" + text.textContent);
+      }
+    }
+    boxes.push(box);
+  }
+}
+document.body.setAttribute("data-axis-check",
+    "labels=" + labels.join(",") + ";problems=" + (problems.join(",") || "none"));
+</script>
+)");
+  const auto page = *folder_ / "axis_check.html";
+  std::ofstream(page) << html;
+  std::string profile = (*folder_ / "profile-XXXXXX").string();
+  ASSERT_NE(mkdtemp(profile.data()), nullptr);
+  const auto dom = *folder_ / "axis_dom.html";
+  const std::string dump = chromium +
+                           " --headless --no-sandbox --disable-gpu --no-first-run "
+                           "--disable-background-networking --disable-component-update "
+                           "--window-size=1200,2400 --user-data-dir=" +
+                           profile + " --dump-dom file://" + page.string() + " > " + dom.string() +
+                           " 2>/dev/null";
+  ASSERT_EQ(std::system(dump.c_str()), 0);
+  const std::string rendered = ReadText(dom);
+  const auto at = rendered.find("data-axis-check=\"");
+  ASSERT_NE(at, std::string::npos) << "the check script did not run";
+  const std::string check = rendered.substr(at + 17, rendered.find('"', at + 17) - at - 17);
+  EXPECT_NE(check.find(";problems=none"), std::string::npos) << check;
+  // Three ticks: +a, 0, -a, with a = 1, 2 or 5 times a power of ten, written plainly.
+  const auto labels = check.substr(7, check.find(';') - 7);
+  const auto first_comma = labels.find(',');
+  ASSERT_NE(first_comma, std::string::npos) << check;
+  const std::string top = labels.substr(0, first_comma);
+  EXPECT_EQ(labels, top + ",0,-" + top) << check;
+  EXPECT_EQ(top.find('e'), std::string::npos) << check;
+  const double value = std::stod(top);
+  const double mantissa = value / std::pow(10.0, std::floor(std::log10(value) + 1e-9));
+  EXPECT_TRUE(std::abs(mantissa - 1) < 1e-6 || std::abs(mantissa - 2) < 1e-6 ||
+              std::abs(mantissa - 5) < 1e-6)
+      << top;
+  // Drawn at its value: +a lies above the band's centre (y = 165) by half the band (75 px) times
+  // a / peak, and a is at least 0.4 of the peak; 0 lies on the centre.
+  const auto tick_at = [&](const std::string& text) {
+    const auto mark = html.find("data-value=\"" + text + "\"");
+    const auto y_at = html.find("y=\"", mark);
+    return std::stod(html.substr(y_at + 3));
+  };
+  EXPECT_NEAR(tick_at("0"), 165, 0.05);
+  const double above = 165 - tick_at(top);
+  EXPECT_GE(above, 0.4 * 75 - 0.05);
+  EXPECT_LE(above, 75 + 0.05);
+  EXPECT_NEAR(tick_at("-" + top) - 165, above, 0.1);
 }
 
 // The waveform section draws every impact the analysis put in a sequence and every event it

@@ -66,8 +66,17 @@ TimeStepLimits SceneTimeStepLimits(const Scene& scene, const BodyExtremes& bodie
 }
 
 TimeStepLimits CheckTimeStep(const Scene& scene, const BodyExtremes& bodies, bool allow_unstable,
-                             std::vector<std::string>& warnings) {
+                             std::vector<std::string>& warnings, std::vector<std::string>& notes) {
   const TimeStepLimits limits = SceneTimeStepLimits(scene, bodies);
+  // Above half a limit is a choice a scene may make knowingly, and then says why.
+  const bool explained = !scene.time_step_reason.empty();
+  const auto above_half = [&](std::string text) {
+    if (explained) {
+      notes.push_back(std::move(text) + "; kept, as the scene says: " + scene.time_step_reason);
+    } else {
+      warnings.push_back(std::move(text));
+    }
+  };
   const double dt = scene.time_step_s;
   const TimeStepLimit& normal = limits.normal;
   if (dt > normal.limit_s && !allow_unstable) {
@@ -79,7 +88,7 @@ TimeStepLimits CheckTimeStep(const Scene& scene, const BodyExtremes& bodies, boo
         kSafeFractionOfLimit * normal.limit_s));
   }
   if (dt > kSafeFractionOfLimit * normal.limit_s) {
-    warnings.push_back(fmt::format(
+    above_half(fmt::format(
         "time_step_s = {:.3g} s is {:.2f} of {:.3g} s, the stability limit of one {}: a particle "
         "held by several contacts is stiffer than one, and packs have blown up from about 0.8 of "
         "it; at most {:.3g} s is safe",
@@ -94,7 +103,7 @@ TimeStepLimits CheckTimeStep(const Scene& scene, const BodyExtremes& bodies, boo
         "at most {:.3g} s, or a softer tangential_stiffness_n_per_m, to resolve them",
         dt, tangential.limit_s, tangential.stiffest, kSafeFractionOfLimit * tangential.limit_s));
   } else if (dt > kSafeFractionOfLimit * tangential.limit_s) {
-    warnings.push_back(fmt::format(
+    above_half(fmt::format(
         "time_step_s = {:.3g} s is {:.2f} of {:.3g} s, the stability limit of the {}: sticking "
         "contacts are resolved by too few steps and slip, so packs settle denser than with a "
         "finer step (measured 0.004-0.03 denser, mean coordination up by 0.1-1, at 0.65-0.8 of "

@@ -47,10 +47,11 @@ TimeStepLimits SceneTimeStepLimits(const Scene& scene, const BodyExtremes& bodie
 // boiling at 0.8) and one beyond kSafeFractionOfLimit of the tangential limit (beyond it sticking
 // contacts chatter; from about 0.65 of it they slip: paper 000's pour and paper 004's box settle
 // 0.004-0.03 denser than at a finer step, while up to 0.4 of it they do not move beyond the seed
-// spread, docs/packing.md).
+// spread, docs/packing.md). A scene with a time_step_reason gets those two as notes ending with its
+// reason instead (beyond the tangential limit itself it is still warned).
 inline constexpr double kSafeFractionOfLimit = 0.5;
 TimeStepLimits CheckTimeStep(const Scene& scene, const BodyExtremes& bodies, bool allow_unstable,
-                             std::vector<std::string>& warnings);
+                             std::vector<std::string>& warnings, std::vector<std::string>& notes);
 
 // Why, with van der Waals on, the attraction at vdw_min_gap_m would pull two touching particles
 // deeper into each other than the contact law holds them apart: an equilibrium overlap beyond

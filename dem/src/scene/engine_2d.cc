@@ -1,5 +1,4 @@
-// The 2D force loops: one instantiation per contact law and physics combination. Split by
-// dimension so the two halves compile in parallel.
+// The 2D engine factory; the force loops it picks from are compiled in engine_2d_part*.cc.
 #include "scene/engine_impl.h"
 
 namespace bouncecal::dem::scene {

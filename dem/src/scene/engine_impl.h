@@ -3,7 +3,8 @@
 
 // The packing engine: Engine<Dim, Law, Phys> owns the stepping loop and ties its parts together,
 // templated on dimension, normal contact law and physics so that each scene runs one loop
-// specialised for it. Only the engine factories (engine_2d.cc, engine_3d.cc) include this file;
+// specialised for it. Only the engine factories (engine_2d.cc, engine_3d.cc and their parts,
+// engine_2d_part0.cc, ...) include this file;
 // the parts are headers of the same translation unit, so the compiler sees every hot loop whole
 // (no virtual call or std::function inside a step):
 //   particle_records.h   the per-particle record the stepping loop works on
@@ -21,6 +22,8 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <type_traits>
 #include <variant>
 
 #include "scene/contact_stages.h"
@@ -315,17 +318,69 @@ std::unique_ptr<EngineBase<Dim>> MakeEngineForLaw(const EngineSettings& settings
   return physics.rotation ? with_vdw(T{}, T{}) : with_vdw(T{}, F{});
 }
 
+// The force loops of every law take minutes to compile, so they are split over translation units
+// by law: part P (engine_2d_part<P>.cc, engine_3d_part<P>.cc) builds the laws whose position in
+// ContactLaw is P modulo kEngineParts, and the parts compile in parallel. A new law lands in a
+// part by its position; no list names the laws.
+inline constexpr std::size_t kEngineParts = 3;
+
+template <int Dim, std::size_t Part>
+std::unique_ptr<EngineBase<Dim>> MakeEnginePart(const EngineSettings& settings,
+                                                std::vector<Wall<Dim>> walls, const ContactLaw& law,
+                                                const PhysicsSpec& physics) {
+  return std::visit(
+      [&](const auto& typed_law) -> std::unique_ptr<EngineBase<Dim>> {
+        using Law = std::decay_t<decltype(typed_law)>;
+        if constexpr (static_cast<std::size_t>(kKindOf<Law>) % kEngineParts == Part) {
+          return MakeEngineForLaw<Dim>(settings, std::move(walls), typed_law, physics);
+        } else {
+          return nullptr;  // another part's law: MakeEngine never asks this part for it
+        }
+      },
+      law);
+}
+
+// Each part is compiled once, in its own file.
+extern template std::unique_ptr<EngineBase<2>> MakeEnginePart<2, 0>(const EngineSettings&,
+                                                                    std::vector<Wall<2>>,
+                                                                    const ContactLaw&,
+                                                                    const PhysicsSpec&);
+extern template std::unique_ptr<EngineBase<2>> MakeEnginePart<2, 1>(const EngineSettings&,
+                                                                    std::vector<Wall<2>>,
+                                                                    const ContactLaw&,
+                                                                    const PhysicsSpec&);
+extern template std::unique_ptr<EngineBase<2>> MakeEnginePart<2, 2>(const EngineSettings&,
+                                                                    std::vector<Wall<2>>,
+                                                                    const ContactLaw&,
+                                                                    const PhysicsSpec&);
+extern template std::unique_ptr<EngineBase<3>> MakeEnginePart<3, 0>(const EngineSettings&,
+                                                                    std::vector<Wall<3>>,
+                                                                    const ContactLaw&,
+                                                                    const PhysicsSpec&);
+extern template std::unique_ptr<EngineBase<3>> MakeEnginePart<3, 1>(const EngineSettings&,
+                                                                    std::vector<Wall<3>>,
+                                                                    const ContactLaw&,
+                                                                    const PhysicsSpec&);
+extern template std::unique_ptr<EngineBase<3>> MakeEnginePart<3, 2>(const EngineSettings&,
+                                                                    std::vector<Wall<3>>,
+                                                                    const ContactLaw&,
+                                                                    const PhysicsSpec&);
+static_assert(kEngineParts == 3, "declare and define (engine_*_part*.cc) each part");
+
 template <int Dim>
 std::unique_ptr<EngineBase<Dim>> MakeEngine(const EngineSettings& settings,
                                             std::vector<Wall<Dim>> walls,
                                             const ContactLawConfig& law,
                                             const PhysicsSpec& physics) {
   const auto evaluator = MakeContactLaw(law);
-  return std::visit(
-      [&](const auto& typed_law) {
-        return MakeEngineForLaw<Dim>(settings, std::move(walls), typed_law, physics);
-      },
-      evaluator);
+  switch (evaluator.index() % kEngineParts) {
+    case 0:
+      return MakeEnginePart<Dim, 0>(settings, std::move(walls), evaluator, physics);
+    case 1:
+      return MakeEnginePart<Dim, 1>(settings, std::move(walls), evaluator, physics);
+    default:
+      return MakeEnginePart<Dim, 2>(settings, std::move(walls), evaluator, physics);
+  }
 }
 
 }  // namespace bouncecal::dem::scene

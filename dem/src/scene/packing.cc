@@ -364,8 +364,8 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
     throw ConfigError(scene.source.string() + ": " + *problem);
   }
   PackSummary summary;
-  const scene::TimeStepLimits limits =
-      scene::CheckTimeStep(scene, bodies, options.allow_unstable_step, summary.warnings);
+  const scene::TimeStepLimits limits = scene::CheckTimeStep(
+      scene, bodies, options.allow_unstable_step, summary.warnings, summary.notes);
   const scene::TimeStepLimit& limit = limits.normal;
   scene::EnergyBudget budget(scene, *engine,
                              engine->state().size() + static_cast<std::int64_t>(pending.size()));

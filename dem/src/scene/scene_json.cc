@@ -48,6 +48,18 @@ nlohmann::json ReadJsonFile(const std::filesystem::path& path, const std::string
   }
 }
 
+// Reads one part of the scene. A problem in it is recorded (JsonReader::Fail, or an InputError
+// of the contact-law or material-card parser) and the caller goes on with the next part.
+template <class Read>
+void ReadSection(const JsonReader& root, Read&& read) {
+  try {
+    read();
+  } catch (const scene::SectionAbandoned&) {
+  } catch (const InputError& error) {
+    root.Record(error.what());
+  }
+}
+
 void ReadParticles(JsonReader r, Scene& scene) {
   auto& p = scene.particles;
   // Read as a double so that any count, however absurd (1e12, 2^64), is refused by the memory it
@@ -83,12 +95,13 @@ void ReadParticles(JsonReader r, Scene& scene) {
   if (!list.is_array() || list.empty()) r.Fail("species", "must be a non-empty array of objects");
   double sum = 0;
   for (std::size_t k = 0; k < list.size(); ++k) {
-    JsonReader s(list[k], r.file(), r.Key("species") + fmt::format("[{}]", k));
+    JsonReader s = r.Element(list, "species", k);
     Species species;
     species.name = s.String("name", fmt::format("species{}", k + 1));
     species.density_kg_per_m3 = s.Number("density_kg_per_m3", 1e-3, 1e6);
-    species.volume_fraction = s.Number("volume_fraction", 0, 1, list.size() == 1 ? 1.0 : -1.0);
-    if (species.volume_fraction < 0) s.Fail("volume_fraction", "is missing");
+    // With one species the fraction is 1 and may be left out; with several it is required.
+    species.volume_fraction = list.size() == 1 ? s.Number("volume_fraction", 0, 1, 1.0)
+                                               : s.Number("volume_fraction", 0, 1);
     s.Finish();
     sum += species.volume_fraction;
     p.species.push_back(species);
@@ -99,7 +112,8 @@ void ReadParticles(JsonReader r, Scene& scene) {
   r.Finish();
 }
 
-void ReadContainer(JsonReader r, Scene& scene) {
+// True when every key the container needs was there (the insertion region is checked against it).
+bool ReadContainer(JsonReader r, Scene& scene) {
   auto& c = scene.container;
   const int dim = scene.dimension;
   const std::string type = r.String("type");
@@ -130,6 +144,7 @@ void ReadContainer(JsonReader r, Scene& scene) {
     r.Fail("type", "'" + type + "' is not one of: cylinder, box, plane");
   }
   r.Finish();
+  return !r.Incomplete();
 }
 
 // Particles are placed wholly inside the region (their centres a radius in from its faces), so
@@ -236,7 +251,7 @@ void CheckRegionInContainer(const JsonReader& r, const RegionSpec& region, const
   }
 }
 
-RegionSpec ReadRegion(JsonReader r, const Scene& scene) {
+RegionSpec ReadRegion(JsonReader r, const Scene& scene, bool container_complete) {
   const int dim = scene.dimension;
   RegionSpec region;
   const std::string type = r.String("type");
@@ -260,16 +275,17 @@ RegionSpec ReadRegion(JsonReader r, const Scene& scene) {
     r.Fail("type", "'" + type + "' is not one of: box, cylinder");
   }
   r.Finish();
-  CheckRegionInContainer(r, region, scene);
+  // Against a container or region with a key missing, the check would judge stand-in values.
+  if (container_complete && !r.Incomplete()) CheckRegionInContainer(r, region, scene);
   return region;
 }
 
-void ReadInsertion(JsonReader r, Scene& scene) {
+void ReadInsertion(JsonReader r, Scene& scene, bool container_complete) {
   auto& in = scene.insertion;
   const std::string type = r.String("type");
   if (type == "random" || type == "pour") {
     in.kind = type == "random" ? InsertionKind::kRandom : InsertionKind::kPour;
-    in.region = ReadRegion(r.Object("region"), scene);
+    in.region = ReadRegion(r.Object("region"), scene, container_complete);
     in.max_attempts = r.Integer("max_attempts", 1, std::int64_t{1} << 40, in.max_attempts);
     if (in.kind == InsertionKind::kPour) {
       in.batch_interval_s = r.Number("batch_interval_s", 1e-9, 1e6);
@@ -435,38 +451,48 @@ Scene SceneFromJson(const nlohmann::json& root, const std::filesystem::path& sou
   JsonReader r(root, file, "");
   Scene scene;
   scene.source = source;
-  const std::string format = r.String("format");
-  if (format != "bouncecal-scene/1") {
-    r.Fail("format", "'" + format + "' is not a known scene format; expected bouncecal-scene/1");
-  }
-  const bool named = r.Has("name");
-  scene.name = r.String("name", source.empty() ? std::string("scene") : source.stem().string());
-  // The name becomes the default output folder (NAME_out) and plot titles: one path component.
-  if (named && (scene.name.empty() || scene.name == "." || scene.name == ".." ||
-                scene.name.find_first_of("/\\\"'`") != std::string::npos ||
-                std::any_of(scene.name.begin(), scene.name.end(),
-                            [](unsigned char c) { return c < 0x20 || c == 0x7f; }))) {
-    r.Fail("name",
-           "must be a non-empty file-name-like word (no slashes, quotes or control "
-           "characters): it names the output folder");
-  }
-  r.String("description", "");
-  scene.dimension = static_cast<int>(r.Integer("dimension", 2, 3, 3));
-  ReadParticles(r.Object("particles"), scene);
-  ReadContainer(r.Object("container"), scene);
-  ReadInsertion(r.Object("insertion"), scene);
-  ReadMaterial(r.Object("material"), scene);
-  ReadPhysics(r.Has("physics") ? r.Object("physics")
-                               : JsonReader(nlohmann::json::object(), file, "physics"),
-              scene);
-  scene.time_step_s = r.Number("time_step_s", 1e-12, 1);
-  scene.duration_s = r.Number("duration_s", 0, 1e6);
-  scene.gravity_mps2 = r.Number("gravity_mps2", 0, 1e4, scene.gravity_mps2);
-  ReadMeasurement(r.Object("measurement"), scene);
-  ReadOutputs(r.Has("outputs") ? r.Object("outputs")
-                               : JsonReader(nlohmann::json::object(), file, "outputs"),
-              scene);
+  ReadSection(r, [&] {
+    const std::string format = r.String("format");
+    if (format != "bouncecal-scene/1") {
+      r.Fail("format", "'" + format + "' is not a known scene format; expected bouncecal-scene/1");
+    }
+  });
+  // Not a scene of this format: its other keys would be reported against the wrong list.
+  r.ThrowProblems();
+  ReadSection(r, [&] {
+    const bool named = r.Has("name");
+    scene.name = r.String("name", source.empty() ? std::string("scene") : source.stem().string());
+    // The name becomes the default output folder (NAME_out) and plot titles: one path component.
+    if (named && (scene.name.empty() || scene.name == "." || scene.name == ".." ||
+                  scene.name.find_first_of("/\\\"'`") != std::string::npos ||
+                  std::any_of(scene.name.begin(), scene.name.end(),
+                              [](unsigned char c) { return c < 0x20 || c == 0x7f; }))) {
+      r.Fail("name",
+             "must be a non-empty file-name-like word (no slashes, quotes or control "
+             "characters): it names the output folder");
+    }
+  });
+  ReadSection(r, [&] { r.String("description", ""); });
+  ReadSection(r, [&] { scene.dimension = static_cast<int>(r.Integer("dimension", 2, 3, 3)); });
+  // Every other part depends on the dimension (vector sizes, which keys exist).
+  r.ThrowProblems();
+  // Each part is read even when an earlier one has a problem, so that one error names every
+  // missing and unknown key (JsonReader).
+  ReadSection(r, [&] { ReadParticles(r.Object("particles"), scene); });
+  bool container_complete = false;
+  ReadSection(r, [&] { container_complete = ReadContainer(r.Object("container"), scene); });
+  ReadSection(r, [&] { ReadInsertion(r.Object("insertion"), scene, container_complete); });
+  ReadSection(r, [&] { ReadMaterial(r.Object("material"), scene); });
+  ReadSection(r, [&] { ReadPhysics(r.OptionalObject("physics"), scene); });
+  ReadSection(r, [&] { scene.time_step_s = r.Number("time_step_s", 1e-12, 1); });
+  ReadSection(r, [&] { scene.time_step_reason = r.String("time_step_reason", ""); });
+  ReadSection(r, [&] { scene.duration_s = r.Number("duration_s", 0, 1e6); });
+  ReadSection(r,
+              [&] { scene.gravity_mps2 = r.Number("gravity_mps2", 0, 1e4, scene.gravity_mps2); });
+  ReadSection(r, [&] { ReadMeasurement(r.Object("measurement"), scene); });
+  ReadSection(r, [&] { ReadOutputs(r.OptionalObject("outputs"), scene); });
   r.Finish();
+  r.ThrowProblems();
   // The start-positions file is part of the scene: checked now (against the container, the
   // species and particles.count), so a bad one is refused before any output is written.
   if (scene.insertion.kind == InsertionKind::kFile) {

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "bouncecal/dem/scene.h"
+#include "bouncecal/dem/scene_templates.h"
 #include "bouncecal/error.h"
 
 namespace bouncecal::dem {
@@ -108,6 +109,88 @@ TEST(SceneJson, MissingWrongTypeAndOutOfRangeValuesNameTheKey) {
   json["material"]["contact_law"]["parameters"] = {{"gamma_n", 1.5}};
   message = ErrorOf(json);
   EXPECT_TRUE(Mentions(message, "gamma_n")) << message;
+}
+
+// Writing a scene by hand: every missing and unknown key in one error, not one per run.
+TEST(SceneJson, EveryMissingAndUnknownKeyIsNamedInOneError) {
+  auto json = Minimal();
+  json["particles"].erase("count");
+  json["container"].erase("radius_m");
+  json.erase("time_step_s");
+  auto message = ErrorOf(json);
+  EXPECT_TRUE(Mentions(message,
+                       "scene.json: missing keys particles.count, container.radius_m, "
+                       "time_step_s"))
+      << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+
+  // Missing keys in several parts, a misspelt one (unknown and missing at once) and a whole
+  // missing part: each named once; the keys of a missing part are not listed one by one.
+  json = Minimal();
+  json["insertion"]["region"].erase("z_max_m");
+  json["material"]["frictoin"] = 0.3;
+  json["container"]["radius"] = json["container"]["radius_m"];
+  json["container"].erase("radius_m");
+  json.erase("measurement");
+  message = ErrorOf(json);
+  for (const char* named : {"container.radius_m", "insertion.region.z_max_m", "measurement",
+                            "'container.radius'", "'material.frictoin'"}) {
+    EXPECT_TRUE(Mentions(message, named)) << named << " in " << message;
+  }
+  EXPECT_FALSE(Mentions(message, "measurement.band_m")) << message;
+  EXPECT_TRUE(Mentions(message, "5 problems")) << message;
+
+  // A wrong value and a missing key in different parts: both, in one error.
+  json = Minimal();
+  json["time_step_s"] = "fast";
+  json["particles"]["species"][0].erase("density_kg_per_m3");
+  message = ErrorOf(json);
+  EXPECT_TRUE(Mentions(message, "particles.species[0].density_kg_per_m3: is missing")) << message;
+  EXPECT_TRUE(Mentions(message, "time_step_s: must be a number")) << message;
+}
+
+// A check between values is not made on the stand-in of a missing key: no invented problem.
+TEST(SceneJson, MissingKeysInventNoOtherProblems) {
+  auto json = Minimal();
+  json["container"].erase("radius_m");  // the region's check against the radius cannot be made
+  EXPECT_EQ(ErrorOf(json), "scene.json: container.radius_m: is missing");
+  json = Minimal();
+  json["insertion"]["region"].erase("z_min_m");  // z_max_m >= z_min_m cannot be checked
+  EXPECT_EQ(ErrorOf(json), "scene.json: insertion.region.z_min_m: is missing");
+  json = Minimal();
+  json["particles"]["species"] = {{{"density_kg_per_m3", 7800}}, {{"density_kg_per_m3", 2500}}};
+  json["particles"]["species"][0]["volume_fraction"] = 0.5;  // the second's fraction is missing
+  EXPECT_EQ(ErrorOf(json), "scene.json: particles.species[1].volume_fraction: is missing");
+}
+
+// Keys starting with '_' are comments (the scene templates use "_comment").
+TEST(SceneJson, UnderscoreKeysAreComments) {
+  auto json = Minimal();
+  json["_comment"] = "a note";
+  json["particles"]["_comment"] = {"notes", "in lines"};
+  json["particles"]["species"][0]["_why"] = 1;
+  EXPECT_EQ(ErrorOf(json), "");
+}
+
+// `bouncecal pack --template NAME`: each template is a complete scene, and each part of it says
+// what its keys mean in a "_comment" (whether it also runs without a warning about its own set-up
+// is checked through the command, tests/pack_cli_test.cc).
+TEST(SceneJson, TemplatesLoadAndCommentEveryPart) {
+  ASSERT_GE(SceneTemplates().size(), 2u);
+  for (const auto& scene_template : SceneTemplates()) {
+    const auto json = nlohmann::json::parse(scene_template.text);
+    EXPECT_EQ(ErrorOf(json), "") << scene_template.name;
+    EXPECT_TRUE(json.contains("_comment")) << scene_template.name;
+    for (const char* part :
+         {"particles", "container", "insertion", "material", "physics", "measurement", "outputs"}) {
+      EXPECT_TRUE(json[part].contains("_comment")) << scene_template.name << " " << part;
+    }
+    EXPECT_EQ(FindSceneTemplate(scene_template.name)->text, scene_template.text);
+  }
+  EXPECT_EQ(
+      SceneFromJson(nlohmann::json::parse(FindSceneTemplate("2d-box")->text), "t.json").dimension,
+      2);
+  EXPECT_FALSE(FindSceneTemplate("4d-hypercube").has_value());
 }
 
 TEST(SceneJson, EveryMessageIsOneLine) {

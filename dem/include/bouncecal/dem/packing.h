@@ -97,6 +97,8 @@ struct PackSummary {
   double time_step_limit_s = 0;
   double tangential_time_step_limit_s = 0;
   std::vector<std::string> warnings;  // one sentence each: the run went on, but read these
+  // Choices the scene made knowingly and explains (time_step_reason): one sentence each.
+  std::vector<std::string> notes;
   double simulated_s = 0;
   double wall_s = 0;  // of this call
   // wall_s plus the wall time recorded in the resumed checkpoint: the runs that led to this
