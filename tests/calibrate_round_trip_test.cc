@@ -145,8 +145,11 @@ TEST(CalibrateRoundTrip, DropsFromTwoHeightsFitJointlyEachWithItsOwnHeight) {
     EXPECT_NE(message.find("first impact was probably missed or the height is wrong"),
               std::string::npos)
         << message;
-    // The bounces imply the true release height to the detector's precision.
-    EXPECT_NE(message.find("release from 0.4 m"), std::string::npos) << message;
+    // The bounces imply the true release height, 0.40 m, to within the detector's timing and the
+    // contact time the flights include (0.399 m measured): printed to three digits.
+    const auto implied = message.find("imply a release from 0.");
+    ASSERT_NE(implied, std::string::npos) << message;
+    EXPECT_NEAR(std::stod(message.substr(implied + 21)), 0.40, 0.003) << message;
   }
   std::filesystem::remove(low.wav);
   std::filesystem::remove(high.wav);

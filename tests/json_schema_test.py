@@ -46,8 +46,11 @@ with tempfile.TemporaryDirectory(prefix="bouncecal_json_schema_") as folder:
     steel = str(samples / "steel_ball_h0.2m.wav")
     pingpong = str(samples / "pingpong_hard.wav")
     # analyze: one shape for one recording and for several, both through "-".
-    for name, inputs in (("analyze (one)", [steel]), ("analyze (two)", [steel, pingpong])):
-        text = run(["analyze"] + inputs + ["--drop-height-m", "0.2", "--json", "-"])
+    # Each recording with its own release height (the ping-pong sample fell from 0.25 m).
+    for name, inputs, heights in (("analyze (one)", [steel], ["0.2"]),
+                                  ("analyze (two)", [steel, pingpong], ["0.2", "0.25"])):
+        height_options = [option for height in heights for option in ("--drop-height-m", height)]
+        text = run(["analyze"] + inputs + height_options + ["--json", "-"])
         if text is not None:
             check(name, json.loads(text), "analysis.schema.json")
     fit, card = out / "fit.json", out / "card.json"

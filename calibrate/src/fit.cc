@@ -534,7 +534,7 @@ void FitOptions::ValidateSettings() const {
                                                 std::to_string(u.confidence_level));
   }
   if (u.threads < 1) {
-    throw OptionError({"threads"}, "threads must be >= 1, got " + std::to_string(u.threads));
+    throw OptionError({"threads"}, "`threads` must be >= 1, got " + std::to_string(u.threads));
   }
   if (!(u.drop_height_uncertainty_m >= 0 && std::isfinite(u.drop_height_uncertainty_m))) {
     throw OptionError({"drop_height_uncertainty_m"},

@@ -72,6 +72,14 @@ py::object ToPython(const calibrate::RecordingAnalysis& analysis) {
   result["impacts"] =
       TableFromRecords(json.at("impacts"), {"onset_s", "onset_uncertainty_s", "peak_dbfs",
                                             "rise_db", "ringing_novelty_db", "snr_db", "sequence"});
+  // An impact outside every sequence is NaN, so the column stays float64 even when none is.
+  std::vector<double> sequence_of_impact;
+  for (const auto& impact : json.at("impacts")) {
+    const auto& sequence = impact.at("sequence");
+    sequence_of_impact.push_back(sequence.is_null() ? std::numeric_limits<double>::quiet_NaN()
+                                                    : sequence.get<double>());
+  }
+  result["impacts"]["sequence"] = FloatArray(sequence_of_impact);
   result["rejected_events"] = TableFromRecords(json.at("rejected_events"), {"time_s"}, {"reason"});
   py::list sequences = result["sequences"];
   const auto& sequence_json = json.at("sequences");
