@@ -167,15 +167,18 @@ void WarnAboutSequences(const std::string& path, const RecordingAnalysis& analys
                            {"drop_height_m"}));
     }
   }
-  // Most sounds rejected: the sequences may rest on a few of many events (a noisy room, another
-  // source of knocks), worth a look at the plot before trusting them.
-  const std::size_t impacts = analysis.detection.detection.impacts.size();
-  const std::size_t rejected = analysis.rejected.size();
-  if (rejected > impacts && rejected >= 4) {
+  // Most impacts left out of every sequence: the sequences may rest on a few of many knocks (a
+  // noisy room, another source), worth a look before trusting them. Echoes and precursors merged
+  // into an impact are part of it, not rejected knocks, so they do not count.
+  std::size_t in_sequences = 0;
+  for (const auto& entry : analysis.sequences) in_sequences += entry.onsets.size();
+  const std::size_t left_out = analysis.grouping.rejected.size();
+  if (left_out > in_sequences && left_out >= 4) {
     fmt::print(stderr,
-               "bouncecal: warning: {}: {} of {} sound events were rejected (listed under the "
-               "table); check the recording with --plot before trusting its sequences\n",
-               path, rejected, rejected + impacts);
+               "bouncecal: warning: {}: {} of {} impacts fit no bounce sequence (listed under the "
+               "table as rejected); check the recording with --plot before trusting its "
+               "sequences\n",
+               path, left_out, left_out + in_sequences);
   }
 }
 
