@@ -192,10 +192,7 @@ void Run(const AnalyzeArgs& args) {
   // Every file is analysed before any output is written, so a bad file leaves no output.
   std::vector<RecordingAnalysis> analyses;
   for (const auto& entry : plan) {
-    if (!entry.ball.empty()) {
-      throw ConfigError("manifest: analyze does not use a ball (" + entry.ball +
-                        "); remove the ball column or use the manifest with calibrate");
-    }
+    // A manifest's ball column is calibrate's: intervals, e and eta do not depend on the ball.
     auto options = args.analysis;
     options.drop_height_m = entry.drop_height_m;
     options.drop_height_uncertainty_m = entry.drop_height_uncertainty_m.value_or(0.0);
