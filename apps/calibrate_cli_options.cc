@@ -76,16 +76,13 @@ void CalibrateCliOptions::AddFitOptions(CLI::App& command) {
 
 calibrate::FitOptions CalibrateCliOptions::FitOptions(bool validate_law) const {
   const CalibrateCliOptions& cli = *this;
-  if (unknown_drop_height && drop.drop_height_m) {
-    throw ConfigError(
-        "--unknown-drop-height contradicts --drop-height-m; give the height or leave both out");
-  }
-  // Counts and ranges of per-recording heights, checked before any file is read.
+  // One check for a height given once, per recording or in a manifest.
   if (unknown_drop_height && (!drop.drop_heights_m.empty() || !manifest.empty())) {
     throw ConfigError(
-        "--unknown-drop-height contradicts the drop heights given; give the heights or leave "
-        "both out");
+        "--unknown-drop-height contradicts the drop heights given (--drop-height-m or "
+        "--manifest); give the heights or leave both out");
   }
+  // Counts and ranges of per-recording heights, checked before any file is read.
   for (double height : drop.drop_heights_m) {
     if (!(height > 0 && height < 1e3)) {
       throw ConfigError(fmt::format("--drop-height-m must be in (0, 1000) m, got {}", height));
