@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdio>
@@ -29,8 +30,12 @@ std::string StdoutOf(const std::string& arguments) {
   return text;
 }
 
+// One folder per test process: ctest runs each test in its own process, in parallel, and Card()
+// is written by every test that needs it, so a shared folder let one test's calibrate truncate
+// the card another test was reading.
 fs::path Scratch(const std::string& name) {
-  const fs::path folder = fs::temp_directory_path() / "bouncecal_cli_test";
+  const fs::path folder =
+      fs::temp_directory_path() / ("bouncecal_cli_test_" + std::to_string(::getpid()));
   fs::create_directories(folder);
   fs::remove_all(folder / name);
   return folder / name;
