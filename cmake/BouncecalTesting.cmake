@@ -2,7 +2,7 @@
 # tests alike, so they all get the same flags, the shared-data path and CTest discovery.
 #
 #   bouncecal_add_tests(NAME audio_tests SOURCES src/a_test.cc ... LIBRARIES bouncecal::audio
-#                       LONG_TESTS Suite.Name ...)
+#                       LONG_TESTS Suite.Name ... EXTERNAL_TESTS Suite.Name ...)
 #
 # LONG_TESTS (gtest names, wildcards allowed) get the CTest label `long`: tests that are slow
 # because they simulate long (paper reproductions, full packings, calibration fits, sweeps). The
@@ -10,7 +10,16 @@
 # scripts/run_sanitized_tests.sh) because its job is to run the code paths under ASan+UBSan, and
 # each module names, beside its list, the shorter test that drives every path of each long one.
 # They are also given a high COST so that `ctest -j` starts them first instead of leaving one of
-# them running alone at the end.
+# them running alone at the end. Statistical tests that repeat a short path over hundreds of
+# seeds (coverage, false-alarm rates) are long in this sense too.
+#
+# EXTERNAL_TESTS get the label `external`: tests whose subject is another program run on our
+# output (LAMMPS and LIGGGHTS on an exported deck, headless Chromium on the HTML report). They run
+# in the Release stage; the sanitized stage skips them, as the time goes to the other program,
+# and the deck or page they read is written by shorter tests that do run there (ExportCli.*,
+# ReportCli.Page*).
+#
+# Tiers: `ctest -LE 'long|external'` is the fast tier a developer runs after a change (CONTRIBUTING.md).
 if(BOUNCECAL_BUILD_TESTS)
   enable_testing()
   find_package(GTest REQUIRED)
@@ -21,25 +30,34 @@ function(bouncecal_add_tests)
   if(NOT BOUNCECAL_BUILD_TESTS)
     return()
   endif()
-  cmake_parse_arguments(ARG "" "NAME" "SOURCES;LIBRARIES;LONG_TESTS" ${ARGN})
+  cmake_parse_arguments(ARG "" "NAME" "SOURCES;LIBRARIES;LONG_TESTS;EXTERNAL_TESTS" ${ARGN})
   add_executable(${ARG_NAME} ${ARG_SOURCES})
   target_link_libraries(${ARG_NAME} PRIVATE ${ARG_LIBRARIES} GTest::gtest GTest::gtest_main)
   target_compile_definitions(${ARG_NAME} PRIVATE
     BOUNCECAL_SHARED_DIR="${BOUNCECAL_SHARED_DIR}"
     BOUNCECAL_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     BOUNCECAL_BINARY_DIR="${PROJECT_BINARY_DIR}")
-  if(NOT ARG_LONG_TESTS)
-    gtest_discover_tests(${ARG_NAME} DISCOVERY_MODE PRE_TEST DISCOVERY_TIMEOUT 60
-      PROPERTIES TIMEOUT 600)
-    return()
+  # One discovery per tier of the executable: gtest's filter splits its tests into the ordinary
+  # ones and each labelled tier, so every test is registered exactly once.
+  set(labelled ${ARG_LONG_TESTS} ${ARG_EXTERNAL_TESTS})
+  set(ordinary_filter "")
+  if(labelled)
+    list(JOIN labelled ":" labelled_filter)
+    set(ordinary_filter TEST_FILTER "-${labelled_filter}")
   endif()
-  # Two discoveries of one executable: gtest's filter splits its tests into the ordinary ones
-  # and the long ones, so every test is registered exactly once.
-  list(JOIN ARG_LONG_TESTS ":" long_filter)
   gtest_discover_tests(${ARG_NAME} DISCOVERY_MODE PRE_TEST DISCOVERY_TIMEOUT 60
-    TEST_FILTER "-${long_filter}"
+    ${ordinary_filter}
     PROPERTIES TIMEOUT 600)
-  gtest_discover_tests(${ARG_NAME} DISCOVERY_MODE PRE_TEST DISCOVERY_TIMEOUT 60
-    TEST_FILTER "${long_filter}"
-    PROPERTIES TIMEOUT 600 LABELS long COST 1000)
+  if(ARG_LONG_TESTS)
+    list(JOIN ARG_LONG_TESTS ":" long_filter)
+    gtest_discover_tests(${ARG_NAME} DISCOVERY_MODE PRE_TEST DISCOVERY_TIMEOUT 60
+      TEST_FILTER "${long_filter}"
+      PROPERTIES TIMEOUT 600 LABELS long COST 1000)
+  endif()
+  if(ARG_EXTERNAL_TESTS)
+    list(JOIN ARG_EXTERNAL_TESTS ":" external_filter)
+    gtest_discover_tests(${ARG_NAME} DISCOVERY_MODE PRE_TEST DISCOVERY_TIMEOUT 60
+      TEST_FILTER "${external_filter}"
+      PROPERTIES TIMEOUT 600 LABELS external COST 100)
+  endif()
 endfunction()
