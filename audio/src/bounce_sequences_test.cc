@@ -148,6 +148,35 @@ TEST(BounceSequences, ResidualOnlyImpactsContinueASequenceButNeverMakeOne) {
 
 // Three impacts that rose in a band and then only residual-only ones: fewer than min_impacts
 // strong ones, so the chain counts only if its timing cannot be chance (max_chance_alignment).
+// A restitution that scatters from impact to impact (5 % of e = 0.8: steel on an anvil, a ball
+// hitting off-centre) makes consecutive ratios step by more than ratio_step_tolerance (0.74
+// after 0.87, 0.91 after 0.74) while each stays within it of the mean of the three before. The
+// whole drop is one sequence; against the last ratio alone it split at 0.74 and the calibration
+// lost the first impacts ("knock before the drop"), and with them the drop height's e_1.
+TEST(BounceSequences, ARestitutionThatScattersFromImpactToImpactStaysOneSequence) {
+  std::vector<double> times = {0.567, 0.991};
+  for (double ratio : {0.79, 0.87, 0.74, 0.91, 0.80, 0.79, 0.72, 0.83}) {
+    const double flight = times[times.size() - 1] - times[times.size() - 2];
+    times.push_back(times.back() + ratio * flight);
+  }
+  const auto result = FindBounceSequences(ToImpacts(times));
+  ASSERT_EQ(result.sequences.size(), 1u);
+  EXPECT_EQ(result.sequences[0].impact_indices.size(), times.size());
+  EXPECT_TRUE(result.rejected.empty());
+}
+
+// Nothing predicts a chain's first ratio, and for a lossy ball (e = 0.5: steel on lead) the
+// bounce after next (ratio 0.49 + 0.24 = 0.73 of the flight) lies as near the middle of the
+// ratio window as the next bounce (0.49). The drop is one sequence from its first impact:
+// tracked from the one nearest the middle, the first impact's chain ended at three and the
+// sequence began at the second impact, the first rejected as a knock before the drop.
+TEST(BounceSequences, ALossyBallsSequenceStartsAtItsFirstImpact) {
+  const std::vector<double> times = {0.866265, 1.105727, 1.221960, 1.279385, 1.308448};
+  const auto result = FindBounceSequences(ToImpacts(times));
+  ASSERT_EQ(result.sequences.size(), 1u);
+  EXPECT_EQ(result.sequences[0].impact_indices, (std::vector<int>{0, 1, 2, 3, 4}));
+}
+
 TEST(BounceSequences, WeakImpactsMakeUpASequenceOnlyWhereTheyLandOnTheBounceTimes) {
   const auto times = Drop(0.5, 0.4, 0.8, 8);
   // On the drop's times (20 us onset sigma): the five weak impacts land within microseconds of
@@ -157,10 +186,11 @@ TEST(BounceSequences, WeakImpactsMakeUpASequenceOnlyWhereTheyLandOnTheBounceTime
   const auto result = FindBounceSequences(on_time);
   ASSERT_EQ(result.sequences.size(), 1u);
   EXPECT_EQ(result.sequences[0].impact_indices.size(), times.size());
-  // Weak events that still fit the ratio window (+-0.12 per step) but land 15-26 ms from where
-  // each bounce was due: as likely as chance for events at their rate, so no sequence.
+  // Weak events that still fit the ratio window (each ratio 0.1 above or below the mean of the
+  // three before it, inside +-0.12) but land 15-32 ms from where each bounce was due: as likely
+  // as chance for events at their rate (3 per second: chance 0.065 > 0.01), so no sequence.
   std::vector<double> off_times(times.begin(), times.begin() + 3);  // 0.5, 0.9, 1.22
-  for (double t : {1.45, 1.63, 1.75, 1.84, 1.905}) off_times.push_back(t);
+  for (double t : {1.508, 1.724, 1.922, 2.0716, 2.2073}) off_times.push_back(t);
   auto off = ToImpacts(off_times);
   for (std::size_t i = 3; i < off.size(); ++i) off[i].residual_only = true;
   // What is left is the three band-detected impacts alone: a short sequence without them.

@@ -20,8 +20,8 @@ struct SequenceOptions {
   // short intervals is 0.4 ms of error on 20 ms), and the lowest e of a ball worth calibrating.
   double min_ratio = 0.2;
   double max_ratio = 1.02;
-  // How much r may change from one impact to the next, on top of the change the onset
-  // uncertainties allow (3 sigma).
+  // How far r may lie from the mean of the chain's last three ratios, on top of the change the
+  // onset uncertainties allow (3 sigma).
   double ratio_step_tolerance = 0.12;
   // Flights shorter than this are chatter: impacts merge and per-interval e is noise (the
   // sources see it below 20-25 ms); a sequence stops there and says so.
@@ -73,12 +73,12 @@ struct SequenceResult {
 
 // Groups impacts into bounce sequences: repeatedly takes the longest chain of unassigned
 // impacts whose interval ratios behave like a bouncing ball (each next impact is searched in
-// the window the previous ratio predicts, the loudest one there is taken), then rejects
-// what lies inside it (stray sounds), before it (knocks, handling) and after it (chatter,
+// the window the mean of the last three ratios predicts, the loudest one there is taken), then
+// rejects what lies inside it (stray sounds), before it (knocks, handling) and after it (chatter,
 // rolling, noise), each with a reason. A chain counts when min_impacts of its impacts rose in
 // a band, or when it starts with two that did and its timing passes max_chance_alignment:
-// impact k >= 4 lands |t_k - t_pred| from t_pred = t_{k-1} + r_{k-1} dt_{k-1}, which a random
-// event of its kind (band or residual-only, at the rate the file has them) beats with
+// impact k >= 4 lands |t_k - t_pred| from t_pred = t_{k-1} + r dt_{k-1} (r that mean), which a
+// random event of its kind (band or residual-only, at the rate the file has them) beats with
 // probability p_k = 1 - exp(-2 rate |t_k - t_pred|) whatever its timing precision; the chain's
 // -sum ln p_k, whose tail for random events is that of a Gamma(m, 1) sum, times the number of
 // chains tried, must stay below max_chance_alignment. Deterministic. Throws ConfigError for bad
