@@ -137,3 +137,30 @@ def test_bad_arguments_raise_one_line_errors(steel_sample, arguments, error, wor
     with pytest.raises(error) as raised:
         bouncecal.calibrate(**arguments)
     assert words in str(raised.value) and "\n" not in str(raised.value)
+
+
+@pytest.mark.parametrize("drop_height_m, first", [(None, 1), (0.2, 0)])
+def test_measured_and_simulated_impacts_are_numbered_alike(cli, steel_sample, tmp_path,
+                                                           drop_height_m, first):
+    # impact_index is the impact's 0-based place in its measured sequence, for the measurement
+    # and for the fitted drop alike, so entry j of both is one impact and a plot of both against
+    # impact_index lines up. Without a height e_1 is not measured and the drop starts from the
+    # first measured apex: both start at impact 1. The command's JSON is the same serializer's.
+    keywords = {} if drop_height_m is None else {"drop_height_m": drop_height_m}
+    fit = bouncecal.calibrate(steel_sample, analytic_check=False, **keywords)
+    sequence = fit.sequences[0]
+    measured, simulated = sequence.measured.impact_index, sequence.simulated.impact_index
+    assert measured[0] == first and simulated[0] == first
+    assert len(simulated) >= len(measured)
+    numpy.testing.assert_array_equal(simulated[:len(measured)], measured)
+    # Entry j of the fitted drop is its impact j, which lands where the measured impact of the
+    # same impact_index was heard: the drop follows the sample's onsets to 0.2 ms over these
+    # flights, while one impact off would be 50 ms or more (the last flights are 0.05-0.11 s).
+    onsets = bouncecal.analyze(steel_sample, **keywords).sequences[0].onsets_s
+    for j, index in enumerate(simulated):
+        assert abs(sequence.simulated_onsets_s[j] - onsets[index]) < 2e-3, (j, index)
+    arguments = [] if drop_height_m is None else ["--drop-height-m", drop_height_m]
+    document = cli.json("calibrate", steel_sample, *arguments,
+                        output=tmp_path / "fit.json")
+    assert document["sequences"][0]["simulated"]["impact_index"] == simulated.tolist()
+
