@@ -164,3 +164,17 @@ def test_measured_and_simulated_impacts_are_numbered_alike(cli, steel_sample, tm
                         output=tmp_path / "fit.json")
     assert document["sequences"][0]["simulated"]["impact_index"] == simulated.tolist()
 
+
+@pytest.mark.parametrize("command", ["analyze", "calibrate"])
+def test_a_rebound_above_the_drop_height_names_the_keyword_in_python_and_the_flag_on_the_cli(
+        cli, steel_sample, command):
+    # The sample's first rebound rises to 0.084 m, above a 0.05 m release. One library message
+    # (calibrate::RefuseReboundAboveRelease) naming the field: each front end spells it its way.
+    message, status = cli.error(command, steel_sample, "--drop-height-m", "0.05")
+    assert "first rebound rose to 0.08" in message and "omit --drop-height-m" in message
+    with pytest.raises(bouncecal.ConfigError) as raised:
+        getattr(bouncecal, command)(steel_sample, drop_height_m=0.05)
+    text = str(raised.value)
+    assert "omit drop_height_m" in text and "--" not in text
+    assert text == message.replace("--drop-height-m", "drop_height_m")
+    assert raised.value.exit_status == status == 3
