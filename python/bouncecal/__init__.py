@@ -10,8 +10,9 @@ Thin bindings over the C++ libraries, one function per command of the ``bounceca
     export_check(folder)          check an engine's run of the drop deck    (bouncecal export-check)
 
 Each returns a Result, a dict with the keys of the command's JSON that also reads them as
-attributes, numbers in sequence as numpy arrays (see bouncecal._result). Problems raise the
-exceptions below with the library's one-line message. docs/python.md has a worked example.
+attributes, numbers in sequence as numpy arrays (see bouncecal._result); analyze's Analysis and
+every Table also give rows (records(), to_dataframe()). Problems raise the exceptions below with
+the library's one-line message. docs/python.md has a worked example.
 """
 
 from ._bouncecal import (
@@ -24,7 +25,7 @@ from ._bouncecal import (
     simulate_drop,
 )
 from ._errors import CheckFailedError, ConfigError, Error, InputError, OutputError
-from ._result import Calibration, Result, Table
+from ._result import Analysis, Calibration, Result, Table
 
 __all__ = [
     "__version__",
@@ -34,6 +35,7 @@ __all__ = [
     "export_check",
     "pack",
     "simulate_drop",
+    "Analysis",
     "Calibration",
     "Result",
     "Table",
