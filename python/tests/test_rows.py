@@ -2,7 +2,9 @@
 writes it, and Tables as DataFrames. pandas is optional: the tests that need it skip without it,
 the rows themselves are checked without it."""
 
+import contextlib
 import csv
+import io
 import math
 import subprocess
 import sys
@@ -127,3 +129,20 @@ def test_a_tables_dataframe_has_its_columns_and_splits_vectors(steel_sample):
     assert list(split.columns) == ["position_m_0", "position_m_1", "species"]
     assert split["position_m_1"].tolist() == [1.0, 3.0, 5.0]
 
+
+def test_the_notebook_session_of_the_docs_prints_what_the_page_shows(steel_sample, tmp_path,
+                                                                      monkeypatch):
+    # docs/python.md's DataFrame block is skipped by test_docs_example.py (pandas is optional);
+    # here it runs, where pandas is, on the worked example's `recording`, and prints its table.
+    pytest.importorskip("pandas")
+    from test_docs_example import PAGE, blocks
+    found = [(code, output) for code, output, skipped in blocks(PAGE.read_text())
+             if skipped and "to_dataframe()" in code]
+    assert len(found) == 1
+    code, expected = found[0]
+    monkeypatch.chdir(tmp_path)  # where the plot goes, when matplotlib is installed
+    namespace = {"recording": bouncecal.analyze(steel_sample, drop_height_m=0.2)}
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        exec(compile(code, "docs/python.md, the DataFrame block", "exec"), namespace)
+    assert printed.getvalue() == expected
