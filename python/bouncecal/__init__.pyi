@@ -12,11 +12,9 @@ import pandas
 
 __version__: str
 
-PathLike = Union[str, os.PathLike[str]]
-FloatArray = numpy.typing.NDArray[numpy.float64]
-IntArray = numpy.typing.NDArray[numpy.int64]
-# A law by name ("walton-braun") or as a material card's contact_law {"law": ..., "parameters": ...}.
-Law = Union[str, Mapping[str, Any]]
+_PathLike = Union[str, os.PathLike[str]]
+# A law by name ("walton-braun") or as a card's contact_law {"law": ..., "parameters": ...}.
+_Law = Union[str, Mapping[str, Any]]
 
 class Error(Exception):
     exit_status: int
@@ -43,7 +41,9 @@ class Analysis(Result):
     sample_rate_hz: int
     channel: int
     duration_s: float
-    impacts: Table  # onset_s, onset_uncertainty_s, peak_dbfs, rise_db, ringing_novelty_db, snr_db, sequence
+    # Columns: onset_s, onset_uncertainty_s, peak_dbfs, rise_db, ringing_novelty_db, snr_db,
+    # sequence.
+    impacts: Table
     rejected_events: Table  # time_s, reason
     sequences: List[Result]  # onsets_s, intervals_s, restitution, energy_loss, ... (numpy arrays)
     drop_height_m: Optional[float]
@@ -63,10 +63,10 @@ class Calibration(Result):
     sequences: List[Result]  # source, drop_height_m, measured, simulated_onsets_s, simulated
     warnings: List[str]
     def card(self, created_at: Optional[int] = None) -> Result: ...
-    def write_card(self, path: PathLike, created_at: Optional[int] = None) -> Result: ...
+    def write_card(self, path: _PathLike, created_at: Optional[int] = None) -> Result: ...
 
 def analyze(
-    recording: Union[PathLike, numpy.typing.ArrayLike],
+    recording: Union[_PathLike, numpy.typing.ArrayLike],
     *,
     drop_height_m: Optional[float] = ...,
     drop_height_uncertainty_m: float = ...,
@@ -92,7 +92,7 @@ def analyze(
 ) -> Analysis: ...
 
 def simulate_drop(
-    law: Law = ...,
+    law: _Law = ...,
     parameters: Optional[Mapping[str, float]] = ...,
     *,
     ball: Optional[str] = ...,
@@ -118,12 +118,12 @@ def simulate_drop(
 ) -> Result: ...
 
 # One input, or a list of them, fitted jointly.
-CalibrationInput = Union[PathLike, Analysis, numpy.typing.ArrayLike]
+_CalibrationInput = Union[_PathLike, Analysis, numpy.typing.ArrayLike]
 
 def calibrate(
-    inputs: Union[CalibrationInput, Sequence[CalibrationInput]],
+    inputs: Union[_CalibrationInput, Sequence[_CalibrationInput]],
     *,
-    law: Law = ...,
+    law: _Law = ...,
     parameters: Optional[Mapping[str, float]] = ...,
     fitted_parameters: List[str] = ...,
     ranges: Optional[Mapping[str, Union[Tuple[float, float], Tuple[float, float, bool]]]] = ...,
@@ -154,7 +154,7 @@ def calibrate(
 ) -> Calibration: ...
 
 def pack(
-    scene: Union[PathLike, Mapping[str, Any]],
+    scene: Union[_PathLike, Mapping[str, Any]],
     *,
     threads: int = ...,
     duration_s: Optional[float] = ...,
@@ -164,17 +164,17 @@ def pack(
 ) -> Result: ...
 
 def export(
-    material: Union[PathLike, Mapping[str, Any]],
+    material: Union[_PathLike, Mapping[str, Any]],
     engine: str = ...,
-    output_dir: Optional[PathLike] = ...,
+    output_dir: Optional[_PathLike] = ...,
     *,
     drop_height_m: Optional[float] = ...,
     gravity_mps2: float = ...,
     time_step_s: Optional[float] = ...,
     max_step_error: float = ...,
     bounces: int = ...,
-    scene: Union[PathLike, Mapping[str, Any], None] = ...,
+    scene: Union[_PathLike, Mapping[str, Any], None] = ...,
     processes: int = ...,
 ) -> Result: ...
 
-def export_check(folder: PathLike, *, max_gravity_effect: float = ...) -> Result: ...
+def export_check(folder: _PathLike, *, max_gravity_effect: float = ...) -> Result: ...

@@ -161,7 +161,8 @@ def _contact_law(result):
 
 
 def _table_sections(table):
-    title = f"bouncecal.Table of {_plural(len(table), 'row')} × {_plural(len(table.keys()), 'column')}"
+    size = f"{_plural(len(table), 'row')} × {_plural(len(table.keys()), 'column')}"
+    title = f"bouncecal.Table of {size}"
     columns = []
     for key, column in table.items():
         dtype = column.dtype if isinstance(column, numpy.ndarray) else "str"

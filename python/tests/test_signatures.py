@@ -1,9 +1,13 @@
 """What a notebook and a type checker read of the package: signatures, stubs and the version."""
 
 import ast
+import importlib.util
 import inspect
+import os
 import pathlib
 import re
+import subprocess
+import sys
 
 import pytest
 
@@ -91,6 +95,20 @@ def test_the_stubs_are_shipped_and_name_every_public_name():
         elif isinstance(node, ast.AnnAssign):
             declared.add(node.target.id)
     assert set(bouncecal.__all__) <= declared
+
+
+def test_mypys_stubtest_finds_the_stubs_true_to_the_module(tmp_path):
+    # stubtest imports the module and compares every name, signature and default-or-not with
+    # __init__.pyi. pandas has no stubs of its own: its import is not this package's to check.
+    if importlib.util.find_spec("mypy") is None:
+        pytest.skip("mypy is not installed (Debian: python3-mypy)")
+    config = tmp_path / "mypy.ini"
+    config.write_text(f"[mypy]\nignore_missing_imports = True\ncache_dir = {tmp_path / 'cache'}\n")
+    checked = subprocess.run(
+        [sys.executable, "-m", "mypy.stubtest", "bouncecal", "--mypy-config-file", str(config)],
+        capture_output=True, text=True, cwd=tmp_path, timeout=300,
+        env={**os.environ, "PYTHONPATH": str(PACKAGE.parent)})  # the package these tests import
+    assert checked.returncode == 0, checked.stdout[-3000:] + checked.stderr[-1000:]
 
 
 def test_the_version_is_the_projects():
