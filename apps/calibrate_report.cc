@@ -252,10 +252,8 @@ std::vector<PlotPanel> FitPlotPanels(const calibrate::FitSummary& summary) {
     }
     PlotSeries simulated{sequence.source + " fitted drop", {},  {}, {},
                          SeriesStyle::kLinesPoints,        true};
-    // The simulation starts at the measured impact it stands for (1 with an unknown height).
-    const int offset = sequence.drop_height_m ? 0 : 1;
     for (size_t j = 0; j < sequence.simulated.energy_loss.size(); ++j) {
-      simulated.x.push_back(static_cast<double>(j + 1 + offset));
+      simulated.x.push_back(sequence.simulated.impact_index[j] + 1);
       simulated.y.push_back(sequence.simulated.energy_loss[j]);
     }
     if (!measured.x.empty()) energy.series.push_back(measured);
@@ -270,6 +268,8 @@ std::vector<PlotPanel> FitPlotPanels(const calibrate::FitSummary& summary) {
     }
     PlotSeries simulated_flights{sequence.source + " fitted drop", {},  {}, {},
                                  SeriesStyle::kLinesPoints,        true};
+    // The simulation starts at the measured impact it stands for (1 with an unknown height).
+    const int offset = sequence.drop_height_m ? 0 : 1;
     for (size_t j = 0; j + 1 < sequence.simulated_onsets_s.size(); ++j) {
       simulated_flights.x.push_back(static_cast<double>(j + 1 + offset));
       simulated_flights.y.push_back(sequence.simulated_onsets_s[j + 1] -

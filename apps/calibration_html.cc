@@ -113,7 +113,6 @@ std::string ImpactsSection(const CalibrationReportContent& content) {
                 true);
     // Row k describes impact k (1-based) and the flight after it.
     const std::size_t rows = measured.intervals_s.size() + 1;
-    const int offset = sequence.drop_height_m ? 0 : 1;
     for (std::size_t k = 0; k < rows; ++k) {
       std::vector<std::string> cells(9);
       cells[0] = std::to_string(k + 1);
@@ -129,10 +128,9 @@ std::string ImpactsSection(const CalibrationReportContent& content) {
         cells[6] = Number(measured.energy_loss[j], 4);
         cells[7] = Number(measured.energy_loss_uncertainty[j], 2);
       }
-      const auto simulated = static_cast<long>(k) - offset;
-      if (simulated >= 0 &&
-          static_cast<std::size_t>(simulated) < sequence.simulated.energy_loss.size()) {
-        cells[8] = Number(sequence.simulated.energy_loss[static_cast<std::size_t>(simulated)], 4);
+      for (std::size_t j = 0; j < sequence.simulated.impact_index.size(); ++j) {
+        if (sequence.simulated.impact_index[j] != static_cast<int>(k)) continue;
+        cells[8] = Number(sequence.simulated.energy_loss[j], 4);
       }
       html += Row(cells);
     }

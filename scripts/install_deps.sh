@@ -24,8 +24,9 @@ test_packages=(
   # GoogleTest and Google Benchmark (tests/, bench/); git and clang-format for
   # scripts/check_format.sh.
   libgtest-dev libgmock-dev libbenchmark-dev git clang-format
-  # The Python module and its tests (docs/python.md).
-  python3-dev python3-numpy python3-pybind11 python3-pytest
+  # The Python module and its tests (docs/python.md): pandas for to_dataframe(), venv and pip for
+  # the `pip install --no-build-isolation .` test.
+  python3-dev python3-numpy python3-pybind11 python3-pytest python3-pandas python3-venv python3-pip
   # --plot and pack's density curves (gnuplot); the HTML report's headless-browser test.
   gnuplot-nox chromium
   # The ffmpeg command encodes the lossy recordings of the codec tests and bench/codec_timing_bench.

@@ -655,6 +655,10 @@ FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOpt
       std::vector<TimedImpact> timed;
       for (double onset : simulated.onsets_s) timed.push_back({onset, 0.0});
       fit.simulated = AnalyzeRestitution(timed, restitution);
+      // Numbered as the measured impacts, so that measured and simulated entries of one impact
+      // share an index: the simulation's first impact stands for measured impact
+      // first_matched_impact (1 when it starts from the apex of the first measured flight).
+      for (int& index : fit.simulated.impact_index) index += plan.first_matched_impact;
     }
     if (&plan == &plans.front()) {
       summary.implied_restitution = simulated.first_restitution;

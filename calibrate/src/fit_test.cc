@@ -491,6 +491,11 @@ TEST(Fit, WithoutADropHeightTheFitUsesOnlyTheMeasuredBounces) {
   // Three energy losses from impacts 2, 3 and 4 (0-based 1..3).
   EXPECT_EQ(summary.sequences[0].measured.impact_index.front(), 1);
   EXPECT_EQ(summary.uncertainty.impacts_used, 3);
+  // The fitted drop numbers its impacts as the measurement does: entry j of both is one impact.
+  const auto& sequence = summary.sequences[0];
+  ASSERT_GE(sequence.simulated.impact_index.size(), sequence.measured.impact_index.size());
+  for (std::size_t j = 0; j < sequence.measured.impact_index.size(); ++j)
+    EXPECT_EQ(sequence.simulated.impact_index[j], sequence.measured.impact_index[j]) << j;
 }
 
 TEST(Fit, BallIsNeededWhereTheResultDependsOnIt) {

@@ -10,21 +10,25 @@ Thin bindings over the C++ libraries, one function per command of the ``bounceca
     export_check(folder)          check an engine's run of the drop deck    (bouncecal export-check)
 
 Each returns a Result, a dict with the keys of the command's JSON that also reads them as
-attributes, numbers in sequence as numpy arrays (see bouncecal._result). Problems raise the
-exceptions below with the library's one-line message. docs/python.md has a worked example.
+attributes, numbers in sequence as numpy arrays (see bouncecal._result); analyze's Analysis and
+every Table also give rows (records(), to_dataframe()). Problems raise the exceptions below with
+the library's one-line message. docs/python.md has a worked example.
 """
 
-from ._bouncecal import (
-    __version__,
-    analyze,
-    calibrate,
-    export,
-    export_check,
-    pack,
-    simulate_drop,
-)
+from . import _bouncecal
+from ._bouncecal import __version__
 from ._errors import CheckFailedError, ConfigError, Error, InputError, OutputError
-from ._result import Calibration, Result, Table
+from ._result import Analysis, Calibration, Result, Table
+from ._signatures import with_signature
+
+# The extension's functions with signatures inspect.signature() reads (bouncecal._signatures).
+analyze = with_signature(_bouncecal.analyze, returns=Analysis)
+simulate_drop = with_signature(_bouncecal.simulate_drop, returns=Result)
+calibrate = with_signature(_bouncecal.calibrate, returns=Calibration)
+pack = with_signature(_bouncecal.pack, returns=Result)
+export = with_signature(_bouncecal.export, returns=Result)
+export_check = with_signature(_bouncecal.export_check, returns=Result)
+del with_signature
 
 __all__ = [
     "__version__",
@@ -34,6 +38,7 @@ __all__ = [
     "export_check",
     "pack",
     "simulate_drop",
+    "Analysis",
     "Calibration",
     "Result",
     "Table",

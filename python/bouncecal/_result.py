@@ -6,13 +6,16 @@ A Result is a dict with the keys of the JSON the matching command writes (``boun
 records (an analysis' impacts and rejected events, a drop's impacts and trajectory) are Tables:
 Results whose every key is a column, a numpy array (or a list of strings) with one entry per
 event. ``to_dict()`` and ``to_json()`` give back the JSON's shape: lists for arrays, a list of
-records for a Table, None for what is not a finite number.
+records for a Table, None for what is not a finite number. ``repr()`` and a notebook show a
+summary (bouncecal._summary), not the whole JSON.
 """
 
 import json
 import math
 
 import numpy
+
+from . import _frames, _summary
 
 
 class Result(dict):
@@ -40,6 +43,15 @@ class Result(dict):
         """The JSON text of to_dict()."""
         return json.dumps(self.to_dict(), indent=indent, allow_nan=False)
 
+    def __repr__(self):
+        """A summary: the kind of result, its key figures, the sizes of what it holds and its
+        fields, within 2000 characters. to_json() shows everything."""
+        return _summary.text(self)
+
+    def _repr_html_(self):
+        """The summary as HTML, for notebooks."""
+        return _summary.html_text(self)
+
 
 class Table(Result):
     """Per-event records as columns of equal length (numpy arrays, or lists of strings)."""
@@ -61,6 +73,32 @@ class Table(Result):
     def to_dict(self):
         """The JSON value: a list of records (see records())."""
         return [{key: _plain(value) for key, value in row.items()} for row in self.records()]
+
+    def to_dataframe(self):
+        """The records as a pandas DataFrame, one row per event (pandas is imported here, and
+        only here). A 2-D column (n, d) becomes d columns NAME_0 ... NAME_{d-1}."""
+        return _frames.table_frame(self)
+
+
+class Analysis(Result):
+    """The result of analyze(): one recording's impacts, bounce sequences, e_k and eta_k."""
+
+    __slots__ = ()
+
+    def records(self):
+        """One Result per detected impact, in time order, with the columns of `bouncecal
+        analyze --csv`: file, channel, sequence, k, onset_s, onset_uncertainty_s, peak_dbfs,
+        interval_s, bounce_height_m, restitution, restitution_uncertainty, energy_loss,
+        energy_loss_uncertainty. k is the impact's 1-based place in its sequence (eta_k's k,
+        restitution_impact_index + 1); sequence and k are None for an impact in no sequence,
+        and what the sequence does not give (e_k of its first impact without a drop height, the
+        flight after its last) is None."""
+        return [Result(row) for row in _frames.impact_rows(self)]
+
+    def to_dataframe(self):
+        """records() as a pandas DataFrame (pandas is imported here, and only here): float
+        columns with NaN, sequence and k as pandas' nullable Int64 with <NA>."""
+        return _frames.impact_frame(self)
 
 
 class Calibration(Result):

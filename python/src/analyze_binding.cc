@@ -64,11 +64,13 @@ audio::Recording RecordingFromArray(const py::handle samples, std::optional<doub
 }
 
 // The analysis document's entry for one recording (calibrate::ToJson, what `bouncecal analyze
-// --json` writes) as Python: the same fields; impacts and rejected events as Tables, and every
-// per-impact array of a sequence a numpy array even when empty.
+// --json` writes) as Python: an Analysis (a Result that also gives one row per impact) with the
+// same fields; impacts and rejected events as Tables, and every per-impact array of a sequence a
+// numpy array even when empty.
 py::object ToPython(const calibrate::RecordingAnalysis& analysis) {
   const nlohmann::json json = calibrate::ToJson(analysis);
-  py::object result = FromJson(json);
+  py::object result = NewResult("Analysis");
+  result.attr("update")(FromJson(json));
   result["impacts"] =
       TableFromRecords(json.at("impacts"), {"onset_s", "onset_uncertainty_s", "peak_dbfs",
                                             "rise_db", "ringing_novelty_db", "snr_db", "sequence"});
@@ -188,8 +190,9 @@ channel: 0-based channel of a file (default: the best impact-to-noise ratio).
 The other keywords are the detector's and the sequence finder's options (DetectorOptions,
 SequenceOptions in bouncecal/audio/*.h; docs/detector.md), with the same names and defaults.
 
-Returns a Result (a dict whose keys read as attributes) with the JSON's fields;
-impacts and rejected_events are Tables of numpy columns. Raises InputError for an unreadable
+Returns an Analysis (a Result: a dict whose keys read as attributes) with the JSON's fields;
+impacts and rejected_events are Tables of numpy columns; records() and to_dataframe() give one
+row per impact, as `bouncecal analyze --csv` does. Raises InputError for an unreadable
 recording, ConfigError for an option out of range.)doc");
 }
 

@@ -137,3 +137,44 @@ def test_bad_arguments_raise_one_line_errors(steel_sample, arguments, error, wor
     with pytest.raises(error) as raised:
         bouncecal.calibrate(**arguments)
     assert words in str(raised.value) and "\n" not in str(raised.value)
+
+
+@pytest.mark.parametrize("drop_height_m, first", [(None, 1), (0.2, 0)])
+def test_measured_and_simulated_impacts_are_numbered_alike(cli, steel_sample, tmp_path,
+                                                           drop_height_m, first):
+    # impact_index is the impact's 0-based place in its measured sequence, for the measurement
+    # and for the fitted drop alike, so entry j of both is one impact and a plot of both against
+    # impact_index lines up. Without a height e_1 is not measured and the drop starts from the
+    # first measured apex: both start at impact 1. The command's JSON is the same serializer's.
+    keywords = {} if drop_height_m is None else {"drop_height_m": drop_height_m}
+    fit = bouncecal.calibrate(steel_sample, analytic_check=False, **keywords)
+    sequence = fit.sequences[0]
+    measured, simulated = sequence.measured.impact_index, sequence.simulated.impact_index
+    assert measured[0] == first and simulated[0] == first
+    assert len(simulated) >= len(measured)
+    numpy.testing.assert_array_equal(simulated[:len(measured)], measured)
+    # Entry j of the fitted drop is its impact j, which lands where the measured impact of the
+    # same impact_index was heard: the drop follows the sample's onsets to 0.2 ms over these
+    # flights, while one impact off would be 50 ms or more (the last flights are 0.05-0.11 s).
+    onsets = bouncecal.analyze(steel_sample, **keywords).sequences[0].onsets_s
+    for j, index in enumerate(simulated):
+        assert abs(sequence.simulated_onsets_s[j] - onsets[index]) < 2e-3, (j, index)
+    arguments = [] if drop_height_m is None else ["--drop-height-m", drop_height_m]
+    document = cli.json("calibrate", steel_sample, *arguments,
+                        output=tmp_path / "fit.json")
+    assert document["sequences"][0]["simulated"]["impact_index"] == simulated.tolist()
+
+
+@pytest.mark.parametrize("command", ["analyze", "calibrate"])
+def test_a_rebound_above_the_drop_height_names_the_keyword_in_python_and_the_flag_on_the_cli(
+        cli, steel_sample, command):
+    # The sample's first rebound rises to 0.084 m, above a 0.05 m release. One library message
+    # (calibrate::RefuseReboundAboveRelease) naming the field: each front end spells it its way.
+    message, status = cli.error(command, steel_sample, "--drop-height-m", "0.05")
+    assert "first rebound rose to 0.08" in message and "omit --drop-height-m" in message
+    with pytest.raises(bouncecal.ConfigError) as raised:
+        getattr(bouncecal, command)(steel_sample, drop_height_m=0.05)
+    text = str(raised.value)
+    assert "omit drop_height_m" in text and "--" not in text
+    assert text == message.replace("--drop-height-m", "drop_height_m")
+    assert raised.value.exit_status == status == 3

@@ -27,10 +27,10 @@ cmake --install "${build}" --prefix "${prefix}" >"${work}/install.log" ||
   fail "cmake --install (log: ${work}/install.log)"
 
 # What a package holds: the command, five static libraries, public headers, the CMake package,
-# the pkg-config file and, when built, the Python package (three .py files and the extension);
-# no tests, benchmarks or internal headers.
+# the pkg-config file and, when built, the Python package (its .py files, its stubs with py.typed
+# and the extension); no tests, benchmarks or internal headers.
 (cd "${prefix}" && find . -type f | sort) >"${work}/installed.txt"
-unexpected="$(grep -v -E '^\./(bin/bouncecal|lib[^/]*(/[^/]+)?/(libbouncecal_(core|audio|dem_model|dem|calibrate)\.a|cmake/bouncecal/bouncecal[A-Za-z-]*\.cmake|pkgconfig/bouncecal\.pc)|include/bouncecal/.*\.h|lib/python3[.0-9]*/site-packages/bouncecal/(__init__|_errors|_result)\.py|lib/python3[.0-9]*/site-packages/bouncecal/_bouncecal\.cpython-[^/]*\.so)$' \
+unexpected="$(grep -v -E '^\./(bin/bouncecal|lib[^/]*(/[^/]+)?/(libbouncecal_(core|audio|dem_model|dem|calibrate)\.a|cmake/bouncecal/bouncecal[A-Za-z-]*\.cmake|pkgconfig/bouncecal\.pc)|include/bouncecal/.*\.h|lib/python3[.0-9]*/site-packages/bouncecal/((__init__|_errors|_frames|_result|_signatures|_summary)\.py|__init__\.pyi|py\.typed)|lib/python3[.0-9]*/site-packages/bouncecal/_bouncecal\.cpython-[^/]*\.so)$' \
   "${work}/installed.txt" || true)"
 [ -z "${unexpected}" ] || fail "unexpected installed files:
 ${unexpected}"
@@ -43,8 +43,9 @@ if [ "${mode}" = python ]; then
   python="$4"
   package="$(grep -E '/site-packages/bouncecal/__init__\.py$' "${work}/installed.txt" || true)"
   [ -n "${package}" ] || fail "the Python package is not installed (BOUNCECAL_BUILD_PYTHON off?)"
-  [ "$(grep -c '/site-packages/bouncecal/' "${work}/installed.txt")" -eq 4 ] ||
-    fail "not the four files of the Python package installed"
+  # Six .py files, the stubs, py.typed and the extension (python/CMakeLists.txt).
+  [ "$(grep -c '/site-packages/bouncecal/' "${work}/installed.txt")" -eq 9 ] ||
+    fail "not the nine files of the Python package installed"
   site="${prefix}/$(dirname "$(dirname "${package#./}")")"
   # The command of docs/python.md, from the source folder (its samples/), with nothing but the
   # prefix on the module path: -s leaves out the user's site-packages, and the source folder
@@ -52,7 +53,8 @@ if [ "${mode}" = python ]; then
   (cd "${source}" && PYTHONPATH="${site}" "${python}" -s -c \
     "import bouncecal; print(bouncecal.analyze('samples/steel_ball_h0.2m.wav'))") \
     >"${work}/print.txt" 2>&1 || fail "import bouncecal from ${site}: $(tail -3 "${work}/print.txt")"
-  grep -q "'impacts'" "${work}/print.txt" || fail "print(analyze(...)) shows no impacts"
+  # The summary a result prints as (bouncecal/_summary.py), not its whole JSON.
+  grep -q "impacts in 1 sequence" "${work}/print.txt" || fail "print(analyze(...)) shows no impacts"
   (cd "${source}" && PYTHONPATH="${site}" "${python}" -s -c "
 import bouncecal
 sequence = bouncecal.analyze('samples/steel_ball_h0.2m.wav', drop_height_m=0.2).sequences[0]

@@ -190,6 +190,9 @@ struct SequenceFit {
   std::optional<double> drop_height_m;
   RestitutionAnalysis measured;
   std::vector<double> simulated_onsets_s;  // at the fit, on the measured time axis
+  // The fitted drop analysed as the measurement is. Its impact_index numbers the measured
+  // impacts, as measured.impact_index does: without a drop height its first entry is 1, the
+  // measured impact the simulation's first impact stands for.
   RestitutionAnalysis simulated;
   double residual = 0;  // this recording's chi-square share
 };
