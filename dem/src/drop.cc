@@ -11,6 +11,7 @@
 
 #include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
+#include "bouncecal/option_error.h"
 #include "drop_contact.h"
 #include "drop_flight.h"
 #include "drop_state.h"
@@ -273,7 +274,7 @@ class DropRunner {
     result_.stop_reason = DropStopReason::kTimeLimit;
     result_.end_time_s = options_.max_time_s;
     result_.stop_detail =
-        fmt::format("stopped at max_time_s = {:g} s after {} impacts; raise --max-time-s",
+        fmt::format("stopped at max_time_s = {:g} s after {} impacts; raise max_time_s",
                     options_.max_time_s, result_.impacts.size());
   }
 
@@ -384,15 +385,15 @@ DropResult SimulateDrop(const DropOptions& options) {
   DropRunner runner(options, physics, result);
   if (options.integrator == Integrator::kExact) {
     if (!SupportsExactImpacts(law)) {
-      throw ConfigError(fmt::format(
-          "the exact integrator needs a piecewise-linear law ({}), not {}; use --integrator rk4 "
-          "(small-step reference) or verlet",
-          ExactImpactLawNames(), ToString(options.law.kind)));
+      throw OptionError({"integrator"},
+                        fmt::format("the exact integrator needs a piecewise-linear law ({}), not "
+                                    "{}; set `integrator` to rk4 (small-step reference) or verlet",
+                                    ExactImpactLawNames(), ToString(options.law.kind)));
     }
     if (options.drag.enabled) {
-      throw ConfigError(
-          "the exact integrator has no closed form with air drag; use --integrator verlet or rk4 "
-          "with drag");
+      throw OptionError({"integrator"},
+                        "the exact integrator has no closed form with air drag; set `integrator` "
+                        "to verlet or rk4 with drag");
     }
     std::visit(
         [&](const auto& typed) {
@@ -401,12 +402,15 @@ DropResult SimulateDrop(const DropOptions& options) {
         law);
   } else {
     if (step.time_step_s > step.stability_limit_s && !options.allow_unstable_step) {
-      throw ConfigError(fmt::format(
-          "time step {:.4g} s exceeds the stability limit {:.4g} s of {} with the {} integrator "
-          "for this ball; use a step below it (steps_per_contact >= {:.3g}) or allow it "
-          "explicitly (--allow-unstable-step)",
-          step.time_step_s, step.stability_limit_s, ToString(options.law.kind),
-          ToString(options.integrator), step.min_steps_per_contact));
+      throw OptionError(
+          {"steps_per_contact", "allow_unstable_step"},
+          fmt::format(
+              "time step {:.4g} s exceeds the stability limit {:.4g} s of {} with the {} "
+              "integrator "
+              "for this ball; use a step below it (steps_per_contact >= {:.3g}) or allow it "
+              "explicitly (allow_unstable_step)",
+              step.time_step_s, step.stability_limit_s, ToString(options.law.kind),
+              ToString(options.integrator), step.min_steps_per_contact));
     }
     result.time_step_s = step.time_step_s;
     std::visit([&](const auto& typed) { runner.RunStepped(typed, step.time_step_s); }, law);
