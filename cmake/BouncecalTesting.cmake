@@ -48,16 +48,16 @@ function(bouncecal_add_tests)
   gtest_discover_tests(${ARG_NAME} DISCOVERY_MODE PRE_TEST DISCOVERY_TIMEOUT 60
     ${ordinary_filter}
     PROPERTIES TIMEOUT 600)
-  if(ARG_LONG_TESTS)
-    list(JOIN ARG_LONG_TESTS ":" long_filter)
-    gtest_discover_tests(${ARG_NAME} DISCOVERY_MODE PRE_TEST DISCOVERY_TIMEOUT 60
-      TEST_FILTER "${long_filter}"
-      PROPERTIES TIMEOUT 600 LABELS long COST 1000)
-  endif()
-  if(ARG_EXTERNAL_TESTS)
-    list(JOIN ARG_EXTERNAL_TESTS ":" external_filter)
-    gtest_discover_tests(${ARG_NAME} DISCOVERY_MODE PRE_TEST DISCOVERY_TIMEOUT 60
-      TEST_FILTER "${external_filter}"
-      PROPERTIES TIMEOUT 600 LABELS external COST 100)
-  endif()
+  # Long tests start first under `ctest -j` (highest COST) rather than run alone at the end.
+  set(cost_long 1000)
+  set(cost_external 100)
+  foreach(tier IN ITEMS long external)
+    string(TOUPPER "${tier}" tier_upper)
+    if(ARG_${tier_upper}_TESTS)
+      list(JOIN ARG_${tier_upper}_TESTS ":" tier_filter)
+      gtest_discover_tests(${ARG_NAME} DISCOVERY_MODE PRE_TEST DISCOVERY_TIMEOUT 60
+        TEST_FILTER "${tier_filter}"
+        PROPERTIES TIMEOUT 600 LABELS ${tier} COST ${cost_${tier}})
+    endif()
+  endforeach()
 endfunction()
