@@ -123,6 +123,7 @@ calibrate::FitOptions CalibrateCliOptions::FitOptions(bool validate_law) const {
   options.ball_given = cli.drop.GivenBall().has_value();
   options.drop_height_given = cli.drop.drop_height_m.has_value();
   options.ball_preset = cli.drop.ball_preset;
+  options.contact_duration_s = cli.drop.contact_duration_s;
   if (!manifest_ball.empty() && cli.drop.ball_preset.empty()) {
     options.drop.ball = calibrate::FindBallPreset(manifest_ball).ToBall();
     options.ball_given = true;

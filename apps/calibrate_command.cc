@@ -77,16 +77,7 @@ void Run(const CalibrateCommandOptions& cli, const CLI::App& command) {
     return;
   }
 
-  auto summary = calibrate::Fit(sequences, options);
-  if (cli.drop.contact_duration_s) {
-    // k_n came from the contact duration with the law's starting damping, and the duration
-    // depends on the damping (walton-braun's two branches): derive it again with the fitted
-    // damping at the fit's own first impact speed, and refit once. The damping barely depends on
-    // k_n (gravity during contact), so one pass leaves the duration within 1e-3 of the given one.
-    options.drop.law = calibrate::WithContactDuration(
-        summary.law, options.drop.ball, summary.contact_speed_mps, *cli.drop.contact_duration_s);
-    summary = calibrate::Fit(sequences, options);
-  }
+  const auto summary = calibrate::Fit(sequences, options);
   PrintFit(out, summary, options, sequences.size());
   if (!cli.json.empty()) {
     WriteTextOutput(cli.json, calibrate::ToJson(summary).dump(2) + "\n");

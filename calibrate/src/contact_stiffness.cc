@@ -7,6 +7,7 @@
 #include "bouncecal/calibrate/ball_preset.h"
 #include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
+#include "bouncecal/option_error.h"
 
 namespace bouncecal::calibrate {
 namespace {
@@ -42,10 +43,12 @@ dem::ContactLawConfig WithContactDuration(dem::ContactLawConfig law, const dem::
                                           double impact_speed_mps, double contact_duration_s) {
   const std::string law_name(dem::ToString(law.kind));
   if (!(contact_duration_s > 0) || !std::isfinite(contact_duration_s)) {
-    throw ConfigError(fmt::format(
-        "--contact-duration-s must be a positive number of seconds (e.g. 0.005 for a tennis "
-        "ball), got {}",
-        contact_duration_s));
+    throw OptionError(
+        {"contact_duration_s"},
+        fmt::format(
+            "contact_duration_s must be a positive number of seconds (e.g. 0.005 for a tennis "
+            "ball), got {}",
+            contact_duration_s));
   }
   const dem::ParameterSpec& spec = ElasticSpec(law.kind);
   const std::string name(spec.name);
@@ -56,10 +59,12 @@ dem::ContactLawConfig WithContactDuration(dem::ContactLawConfig law, const dem::
   double value = law.Get(name);
   auto duration = duration_at(value);
   if (!duration) {
-    throw ConfigError(fmt::format(
-        "the {} law has no closed-form contact duration to set {} from --contact-duration-s; "
-        "give --{} instead",
-        law_name, name, spec.alias));
+    throw OptionError(
+        {"contact_duration_s"},
+        fmt::format(
+            "the {} law has no closed-form contact duration to set {} from contact_duration_s; "
+            "give --{} instead",
+            law_name, name, spec.alias));
   }
   // t_c is a power of the elastic parameter for every law here (k^(-1/2), E*^(-2/5)) up to the
   // damping term of some; Newton's step in log-log space with the measured local exponent
@@ -81,16 +86,20 @@ dem::ContactLawConfig WithContactDuration(dem::ContactLawConfig law, const dem::
     duration = next_duration;
   }
   if (!(value >= spec.min_value) || !(value <= spec.max_value)) {
-    throw ConfigError(fmt::format(
-        "--contact-duration-s {} s needs {} = {:.4g} {} for this ball with the {} law, outside "
-        "its range [{:g}, {:g}]; check the duration (seconds, e.g. 0.005) and the ball",
-        contact_duration_s, name, value, spec.unit, law_name, spec.min_value, spec.max_value));
+    throw OptionError(
+        {"contact_duration_s"},
+        fmt::format(
+            "contact_duration_s {} s needs {} = {:.4g} {} for this ball with the {} law, outside "
+            "its range [{:g}, {:g}]; check the duration (seconds, e.g. 0.005) and the ball",
+            contact_duration_s, name, value, spec.unit, law_name, spec.min_value, spec.max_value));
   }
   if (!(std::fabs(*duration / contact_duration_s - 1) < 1e-9)) {
-    throw ConfigError(fmt::format(
-        "--contact-duration-s {} s: no {} of the {} law gives that duration for this ball "
-        "(closest found: {:.4g} {}, lasting {:.4g} s); give --{} instead",
-        contact_duration_s, name, law_name, value, spec.unit, *duration, spec.alias));
+    throw OptionError(
+        {"contact_duration_s"},
+        fmt::format(
+            "contact_duration_s {} s: no {} of the {} law gives that duration for this ball "
+            "(closest found: {:.4g} {}, lasting {:.4g} s); give --{} instead",
+            contact_duration_s, name, law_name, value, spec.unit, *duration, spec.alias));
   }
   law.parameters[name] = value;
   return law;

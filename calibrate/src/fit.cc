@@ -722,7 +722,22 @@ FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOpt
 }  // namespace
 
 FitSummary Fit(const std::vector<MeasuredSequence>& sequences, const FitOptions& options) {
-  return FitSequences(sequences, options, /*comparing=*/false);
+  if (!options.contact_duration_s) return FitSequences(sequences, options, /*comparing=*/false);
+  if (!options.ball_given) {
+    throw OptionError({"contact_duration_s", "`ball`"},
+                      "contact_duration_s needs the ball (its mass sets the stiffness that gives "
+                      "that duration); give `ball`, or its diameter and mass");
+  }
+  FitOptions fixed = options;
+  fixed.contact_duration_s.reset();
+  const double release_speed_mps =
+      std::sqrt(2 * fixed.drop.gravity_mps2 * fixed.drop.drop_height_m);
+  fixed.drop.law = WithContactDuration(fixed.drop.law, fixed.drop.ball, release_speed_mps,
+                                       *options.contact_duration_s);
+  const auto first = FitSequences(sequences, fixed, /*comparing=*/false);
+  fixed.drop.law = WithContactDuration(first.law, fixed.drop.ball, first.contact_speed_mps,
+                                       *options.contact_duration_s);
+  return FitSequences(sequences, fixed, /*comparing=*/false);
 }
 
 namespace {

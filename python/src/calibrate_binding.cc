@@ -19,12 +19,14 @@
 
 #include "arguments.h"
 #include "bindings.h"
+#include "bouncecal/calibrate/contact_stiffness.h"
 #include "bouncecal/calibrate/content_hash.h"
 #include "bouncecal/calibrate/fit.h"
 #include "bouncecal/calibrate/fit_json.h"
 #include "bouncecal/calibrate/material_card.h"
 #include "bouncecal/calibrate/sequence_input.h"
 #include "bouncecal/error.h"
+#include "bouncecal/option_error.h"
 #include "python_values.h"
 
 namespace bouncecal::python {
@@ -126,7 +128,29 @@ std::vector<calibrate::MeasuredSequence> SequencesFromAnalysis(
 struct Inputs {
   std::vector<calibrate::MeasuredSequence> sequences;
   std::vector<std::filesystem::path> recordings;
+  std::vector<std::size_t> input_of_sequence;  // index into `inputs` of each sequence
+  std::size_t count = 0;                       // how many inputs were given
 };
+
+// A keyword that takes one number for every input or one per input in order: the numbers, none
+// for None.
+std::vector<double> OneOrPerInput(py::handle value, const char* keyword) {
+  if (value.is_none()) return {};
+  if (py::isinstance<py::float_>(value) || py::isinstance<py::int_>(value)) {
+    return {value.cast<double>()};
+  }
+  if (py::isinstance<py::sequence>(value) && !py::isinstance<py::str>(value)) {
+    try {
+      auto values = value.cast<std::vector<double>>();
+      if (!values.empty()) return values;
+    } catch (const py::cast_error&) {
+    }
+  }
+  throw OptionError({keyword}, std::string(keyword) +
+                                   " must be a number or a list of numbers (one per input, in "
+                                   "order), got " +
+                                   py::repr(value).cast<std::string>());
+}
 
 Inputs LoadInputs(py::handle inputs, double onset_uncertainty_s) {
   if (!(onset_uncertainty_s > 0 && std::isfinite(onset_uncertainty_s))) {
@@ -154,7 +178,9 @@ Inputs LoadInputs(py::handle inputs, double onset_uncertainty_s) {
       read.push_back(SequenceFromArray(item, i, onset_uncertainty_s));
     }
     loaded.sequences.insert(loaded.sequences.end(), read.begin(), read.end());
+    loaded.input_of_sequence.insert(loaded.input_of_sequence.end(), read.size(), i);
   }
+  loaded.count = listed.size();
   if (loaded.sequences.empty()) {
     throw ConfigError("no recording to fit; give at least one input");
   }
@@ -215,7 +241,8 @@ void BindCalibrate(py::module_& module) {
          std::vector<std::string> fitted_parameters, py::object ranges,
          std::optional<std::string> ball, std::optional<double> diameter_m,
          std::optional<double> density_kg_per_m3, std::optional<double> mass_kg,
-         std::optional<double> drop_height_m, double drop_height_uncertainty_m, double gravity_mps2,
+         py::object drop_height_m, py::object drop_height_uncertainty_m,
+         std::optional<double> contact_duration_s, double gravity_mps2,
          const std::string& integrator, std::optional<double> time_step_s,
          std::optional<double> steps_per_contact, bool fixed_step_grid, bool drag,
          double drag_coefficient, double air_density_kg_per_m3, const std::string& objective,
@@ -231,9 +258,37 @@ void BindCalibrate(py::module_& module) {
         if (given_ball) drop.ball = *given_ball;
         options.ball_given = given_ball.has_value();
         options.ball_preset = ball.value_or("");
-        if (drop_height_m) drop.drop_height_m = *drop_height_m;
-        options.drop_height_given = drop_height_m.has_value();
+        // One height (or uncertainty) is every input's; a list gives each input its own, in
+        // order, as the command line's repeated --drop-height-m does.
+        const auto heights = OneOrPerInput(drop_height_m, "drop_height_m");
+        const auto height_sigmas =
+            OneOrPerInput(drop_height_uncertainty_m, "drop_height_uncertainty_m");
+        for (double height : heights) {
+          if (!(height > 0 && height < 1e3)) {
+            throw OptionError({"drop_height_m"}, "drop_height_m must be in (0, 1000) m, got " +
+                                                     std::to_string(height));
+          }
+        }
+        for (double sigma : height_sigmas) {
+          if (!(sigma >= 0 && std::isfinite(sigma))) {
+            throw OptionError(
+                {"drop_height_uncertainty_m"},
+                "drop_height_uncertainty_m must be >= 0 m, got " + std::to_string(sigma));
+          }
+        }
+        const bool height_per_input = heights.size() > 1 || height_sigmas.size() > 1;
+        if (heights.size() == 1) drop.drop_height_m = heights.front();
+        options.drop_height_given = heights.size() == 1;
         drop.gravity_mps2 = gravity_mps2;
+        if (contact_duration_s) {
+          const std::string elastic(calibrate::ElasticParameterName(drop.law.kind));
+          if (!parameters.is_none() && parameters.cast<py::dict>().contains(elastic)) {
+            throw OptionError({"contact_duration_s"},
+                              "contact_duration_s and parameters['" + elastic +
+                                  "'] both set the stiffness; give one of them");
+          }
+        }
+        options.contact_duration_s = contact_duration_s;
         drop.drag = {.enabled = drag,
                      .drag_coefficient = drag_coefficient,
                      .air_density_kg_per_m3 = air_density_kg_per_m3};
@@ -251,13 +306,41 @@ void BindCalibrate(py::module_& module) {
         options.minimizer.global_evaluations = global_evaluations;
         options.uncertainty.confidence_level = confidence_level;
         options.uncertainty.threads = threads;
-        options.uncertainty.drop_height_uncertainty_m = drop_height_uncertainty_m;
+        if (height_sigmas.size() == 1 && !height_per_input) {
+          options.uncertainty.drop_height_uncertainty_m = height_sigmas.front();
+        }
         options.analytic_check = analytic_check;
 
         // The settings checked before any input is read, as on the command line, naming the
         // keywords (the library's field names).
         options.ValidateSettings();
         Inputs loaded = LoadInputs(inputs, onset_uncertainty_s);
+        if (height_per_input) {
+          const auto per_input = [&](const std::vector<double>& values, const char* keyword) {
+            if (values.size() > 1 && values.size() != loaded.count) {
+              throw OptionError({keyword}, std::string(keyword) + " gives " +
+                                               std::to_string(values.size()) + " values for " +
+                                               std::to_string(loaded.count) +
+                                               " inputs; give one for all, or one per input");
+            }
+          };
+          per_input(heights, "drop_height_m");
+          per_input(height_sigmas, "drop_height_uncertainty_m");
+          if (heights.empty()) {
+            throw OptionError({"drop_height_m", "drop_height_uncertainty_m"},
+                              "drop_height_uncertainty_m per input needs drop_height_m");
+          }
+          for (std::size_t s = 0; s < loaded.sequences.size(); ++s) {
+            const std::size_t input = loaded.input_of_sequence[s];
+            const auto pick = [&](const std::vector<double>& values) {
+              return values.size() == 1 ? values.front() : values[input];
+            };
+            // Every drop in an input was released from its height.
+            loaded.sequences[s].drop_height_m = pick(heights);
+            loaded.sequences[s].drop_height_uncertainty_m =
+                height_sigmas.empty() ? 0.0 : pick(height_sigmas);
+          }
+        }
         source->recordings = std::move(loaded.recordings);
         {
           py::gil_scoped_release release;
@@ -274,6 +357,7 @@ void BindCalibrate(py::module_& module) {
       py::arg("diameter_m") = py::none(), py::arg("density_kg_per_m3") = py::none(),
       py::arg("mass_kg") = py::none(), py::arg("drop_height_m") = py::none(),
       py::arg("drop_height_uncertainty_m") = defaults.uncertainty.drop_height_uncertainty_m,
+      py::arg("contact_duration_s") = py::none(),
       py::arg("gravity_mps2") = defaults.drop.gravity_mps2,
       py::arg("integrator") = std::string(dem::ToString(defaults.drop.integrator)),
       py::arg("time_step_s") = py::none(), py::arg("steps_per_contact") = py::none(),
@@ -302,8 +386,11 @@ fitted_parameters: names to fit (default: the law's damping parameters); ranges:
     (lower, upper[, log_scale])} overriding the default search ranges.
 ball: a preset name, or diameter_m with density_kg_per_m3 or mass_kg. Needed for a material
     card, with drag and with the Hertz laws; otherwise the drops use the 1 cm steel reference.
-drop_height_m: release height of the ball's lowest point; unset, e_1 and eta_1 are not
-    computed and the drops start from the first measured bounce apex.
+drop_height_m: release height of the ball's lowest point in m, one for every input or a list
+    with one per input in order (drop_height_uncertainty_m likewise); unset, e_1 and eta_1 are
+    not computed and the drops start from the first measured bounce apex.
+contact_duration_s: sets the law's stiffness so the simulated contact lasts this long at the
+    drop's impact speed (needs the ball), as `bouncecal calibrate --contact-duration-s`.
 The other keywords are calibrate::FitOptions' (bouncecal/calibrate/fit.h) and the options of
 `bouncecal calibrate` of the same name: objective (mean-energy-loss, intervals, heights),
 optimizer (bobyqa, cobyla, nelder-mead), confidence_level, ...

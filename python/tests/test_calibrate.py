@@ -1,6 +1,7 @@
 """bouncecal.calibrate against `bouncecal calibrate`, the analytic check and the sample's truth."""
 
 import json
+import pathlib
 
 import numpy
 import pytest
@@ -178,3 +179,30 @@ def test_a_rebound_above_the_drop_height_names_the_keyword_in_python_and_the_fla
     assert "omit drop_height_m" in text and "--" not in text
     assert text == message.replace("--drop-height-m", "drop_height_m")
     assert raised.value.exit_status == status == 3
+
+
+def test_each_input_takes_its_own_drop_height_as_on_the_command_line(cli, steel_sample, tmp_path):
+    # The shipped samples were dropped from 0.2 m (one drop) and 0.15 m (two drops): a list gives
+    # each input its height, in order, and the fit is the command's with --drop-height-m given
+    # once per recording, number for number.
+    stereo = str(pathlib.Path(steel_sample).with_name("steel_ball_stereo_44k.wav"))
+    fit = bouncecal.calibrate([steel_sample, stereo], ball="steel-10mm", drop_height_m=[0.2, 0.15])
+    expected = cli.json("calibrate", steel_sample, stereo, "--ball", "steel-10mm",
+                        "--drop-height-m", "0.2", "--drop-height-m", "0.15",
+                        output=tmp_path / "fit.json")
+    assert fit.to_dict() == expected
+    assert [s.drop_height_m for s in fit.sequences] == [0.2, 0.15, 0.15]
+    # A count that matches neither one nor the inputs names the keyword.
+    with pytest.raises(bouncecal.ConfigError, match="drop_height_m gives 3 values for 2 inputs"):
+        bouncecal.calibrate([steel_sample, stereo], ball="steel-10mm",
+                            drop_height_m=[0.2, 0.15, 0.1])
+
+
+def test_contact_duration_sets_the_stiffness_as_on_the_command_line(cli, steel_sample, tmp_path):
+    fit = bouncecal.calibrate(steel_sample, ball="steel-10mm", drop_height_m=0.2,
+                              contact_duration_s=1e-4)
+    expected = cli.json("calibrate", steel_sample, "--ball", "steel-10mm", "--drop-height-m", "0.2",
+                        "--contact-duration-s", "1e-4", output=tmp_path / "fit.json")
+    assert fit.to_dict() == expected
+    with pytest.raises(bouncecal.ConfigError, match="contact_duration_s needs the ball"):
+        bouncecal.calibrate(steel_sample, drop_height_m=0.2, contact_duration_s=1e-4)

@@ -119,6 +119,13 @@ struct FitOptions {
   UncertaintyOptions uncertainty;
   // Run the analytic check of AnalyticCheck (two extra drops).
   bool analytic_check = true;
+  // When set, the law's elastic parameter (k_n, E*) is the one that makes the simulated contact
+  // last this long (s) with the fitted damping at the fit's first impact speed
+  // (WithContactDuration). The duration depends on the damping (walton-braun's two branches), so
+  // Fit derives the stiffness from the starting damping, fits, derives it again from the fitted
+  // damping and fits once more; the damping barely depends on k_n (gravity during contact), so
+  // the duration then holds to ~1e-3. Needs the ball (its mass sets the stiffness).
+  std::optional<double> contact_duration_s;
 
   // drop.ball when ball_given, else nothing.
   std::optional<dem::Ball> GivenBall() const;
