@@ -5,9 +5,9 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
-#include "bouncecal/audio/synthesize.h"
 #include "bouncecal/audio/write_recording.h"
 #include "cli_runner.h"
+#include "synthetic_drop.h"
 
 namespace bouncecal::testing {
 namespace {
@@ -31,17 +31,9 @@ fs::path WriteWav(const std::string& name, std::vector<float> samples, int rate 
   return path;
 }
 
-// A steel ball (e = 0.648, the paper's eta = 0.58) on a plate whose modes ring for tens of ms
-// (a plate resting on a table). With the synthesiser's free-plate default, later bounces are
-// quieter than the tail of earlier ones in every band; see docs/recordings.md.
+// The table-damped steel drop of synthetic_drop.h.
 fs::path SyntheticDrop(const std::string& name, std::uint64_t seed, double height_m) {
-  audio::SynthesisOptions options;
-  options.drop.drop_height_m = height_m;
-  for (auto& mode : options.modes) mode.decay_s *= 0.1;
-  options.noise = audio::NoiseOptions{};
-  options.seed = seed;
-  const auto synthesized = audio::SynthesizeBounces(options);
-  return WriteWav(name, synthesized.channels[0].samples);
+  return WriteTableDampedDrop(Scratch(name), height_m, seed);
 }
 
 nlohmann::json ReadJson(const fs::path& path) {

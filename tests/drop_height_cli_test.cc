@@ -8,9 +8,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "bouncecal/audio/synthesize.h"
-#include "bouncecal/audio/write_recording.h"
 #include "cli_runner.h"
+#include "synthetic_drop.h"
 
 namespace bouncecal::testing {
 namespace {
@@ -23,17 +22,9 @@ fs::path Scratch(const std::string& name) {
   return folder / name;
 }
 
-// A steel ball on a table-damped plate (the analyze CLI tests' drop), e = 0.648.
+// The table-damped steel drop of synthetic_drop.h (the analyze CLI tests' drop), e = 0.648.
 fs::path SyntheticDrop(const std::string& name, double height_m, std::uint64_t seed) {
-  audio::SynthesisOptions options;
-  options.drop.drop_height_m = height_m;
-  for (auto& mode : options.modes) mode.decay_s *= 0.1;
-  options.noise = audio::NoiseOptions{};
-  options.seed = seed;
-  const auto synthesized = audio::SynthesizeBounces(options);
-  const auto path = Scratch(name);
-  audio::WriteRecording(path, synthesized.channels);
-  return path;
+  return WriteTableDampedDrop(Scratch(name), height_m, seed);
 }
 
 nlohmann::json ReadJson(const fs::path& path) {
