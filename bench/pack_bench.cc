@@ -60,11 +60,10 @@ std::string FindLammps() {
   return "";
 }
 
-// The same scene in LAMMPS: walton-braun gamma_n has no LAMMPS form, so the normal damping is
-// the linear dashpot with the same restitution for a particle pair (m_eff = m/2).
-// `processors` is LAMMPS's processor-grid command ("" keeps its default grid).
-std::string LammpsInput(const dem::Scene& scene, const std::filesystem::path& data,
-                        std::int64_t steps, const std::string& processors) {
+// Walton-braun gamma_n has no LAMMPS form, so the normal damping is the linear dashpot with the
+// same restitution for a particle pair (m_eff = m/2), per unit mass as gran/hooke/history and
+// LIGGGHTS's hooke/stiffness take it.
+double LinearDashpotGammaPerMass(const dem::Scene& scene) {
   const double k = scene.material.law.Get("stiffness_n_per_m");
   const double gamma = scene.material.law.kind == dem::ContactLawKind::kWaltonBraun
                            ? scene.material.law.Get("gamma_n")
@@ -75,7 +74,16 @@ std::string LammpsInput(const dem::Scene& scene, const std::filesystem::path& da
   const double m_eff = m / 2;
   const double c = 2 * std::sqrt(m_eff * k) * (-std::log(e)) /
                    std::sqrt(M_PI * M_PI + std::log(e) * std::log(e));
-  const double gamma_n = c / m_eff;  // LAMMPS gran/hooke/history takes damping per unit mass
+  return c / m_eff;
+}
+
+// The same scene in LAMMPS with LinearDashpotGammaPerMass's damping.
+// `processors` is LAMMPS's processor-grid command ("" keeps its default grid).
+std::string LammpsInput(const dem::Scene& scene, const std::filesystem::path& data,
+                        std::int64_t steps, const std::string& processors) {
+  const double k = scene.material.law.Get("stiffness_n_per_m");
+  const double d = scene.particles.diameter.MaxDiameterM();
+  const double gamma_n = LinearDashpotGammaPerMass(scene);
   // Walls: LAMMPS uses m_eff = m there, so the same damping ratio needs gamma_n / sqrt(2).
   const auto& ct = scene.container;
   std::ostringstream in;
@@ -105,16 +113,8 @@ std::string LammpsInput(const dem::Scene& scene, const std::filesystem::path& da
 std::string LiggghtsInput(const dem::Scene& scene, const std::filesystem::path& data,
                           std::int64_t steps, const std::string& processors) {
   const double k = scene.material.law.Get("stiffness_n_per_m");
-  const double gamma = scene.material.law.kind == dem::ContactLawKind::kWaltonBraun
-                           ? scene.material.law.Get("gamma_n")
-                           : 0.5;
-  const double e = std::sqrt((1 - gamma) / (1 + gamma));
   const double d = scene.particles.diameter.MaxDiameterM();
-  const double m = scene.particles.species[0].density_kg_per_m3 * M_PI / 6 * d * d * d;
-  const double m_eff = m / 2;
-  const double c = 2 * std::sqrt(m_eff * k) * (-std::log(e)) /
-                   std::sqrt(M_PI * M_PI + std::log(e) * std::log(e));
-  const double gamma_n = c / m_eff;
+  const double gamma_n = LinearDashpotGammaPerMass(scene);
   const double kt = scene.material.tangential_stiffness_n_per_m;
   const auto& ct = scene.container;
   auto per_type_pair = [](double particle, double wall) {
