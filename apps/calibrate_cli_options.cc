@@ -83,16 +83,7 @@ calibrate::FitOptions CalibrateCliOptions::FitOptions(bool validate_law) const {
         "--manifest); give the heights or leave both out");
   }
   // Counts and ranges of per-recording heights, checked before any file is read.
-  for (double height : drop.drop_heights_m) {
-    if (!(height > 0 && height < 1e3)) {
-      throw ConfigError(fmt::format("--drop-height-m must be in (0, 1000) m, got {}", height));
-    }
-  }
-  for (double sigma : drop_height_uncertainties_m) {
-    if (!(sigma >= 0 && std::isfinite(sigma))) {
-      throw ConfigError(fmt::format("--drop-height-uncertainty-m must be >= 0 m, got {}", sigma));
-    }
-  }
+  calibrate::ValidateDropHeights(drop.drop_heights_m, drop_height_uncertainties_m);
   const auto plan =
       calibrate::PlanRecordings(inputs, drop.drop_heights_m, drop_height_uncertainties_m, manifest);
   // The manifest may name the ball; one fit simulates one ball, so it must be one ball.

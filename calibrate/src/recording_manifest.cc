@@ -1,5 +1,7 @@
 #include "bouncecal/calibrate/recording_manifest.h"
 
+#include <fmt/core.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -198,6 +200,22 @@ std::vector<ManifestEntry> ReadRecordingManifest(const std::filesystem::path& pa
                      kColumns);
   }
   return entries;
+}
+
+void ValidateDropHeights(const std::vector<double>& drop_heights_m,
+                         const std::vector<double>& drop_height_uncertainties_m) {
+  for (double height : drop_heights_m) {
+    if (!(height > 0 && height < 1e3)) {
+      throw OptionError({"drop_height_m"},
+                        fmt::format("drop_height_m must be in (0, 1000) m, got {}", height));
+    }
+  }
+  for (double sigma : drop_height_uncertainties_m) {
+    if (!(sigma >= 0 && std::isfinite(sigma))) {
+      throw OptionError({"drop_height_uncertainty_m"},
+                        fmt::format("drop_height_uncertainty_m must be >= 0 m, got {}", sigma));
+    }
+  }
 }
 
 std::vector<ManifestEntry> PlanRecordings(const std::vector<std::filesystem::path>& recordings,

@@ -2,9 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
+#include <vector>
 
 #include "bouncecal/error.h"
 #include "bouncecal/option_error.h"
@@ -115,6 +118,35 @@ TEST(PlanRecordings, AMismatchedCountIsRefusedNamingTheField) {
   }
   EXPECT_THROW(PlanRecordings(files, {}, {0.01}), OptionError);
   EXPECT_THROW(PlanRecordings(files, {0.2}, {}, "m.csv"), OptionError);
+}
+
+}  // namespace
+}  // namespace bouncecal::calibrate
+
+namespace bouncecal::calibrate {
+namespace {
+
+// The check the command line and Python make before reading a file: each bad value is refused
+// naming its field, whichever position it holds.
+TEST(ValidateDropHeights, EachHeightAndUncertaintyIsCheckedNamingItsField) {
+  EXPECT_NO_THROW(ValidateDropHeights({0.2, 1.5}, {0.0, 0.005}));
+  EXPECT_NO_THROW(ValidateDropHeights({}, {}));
+  for (const double bad : {0.0, -1.0, 1e3, std::nan("")}) {
+    try {
+      ValidateDropHeights({0.2, bad}, {});
+      ADD_FAILURE() << "height " << bad << " was accepted";
+    } catch (const OptionError& error) {
+      EXPECT_EQ(error.fields(), std::vector<std::string>{"drop_height_m"});
+    }
+  }
+  for (const double bad : {-1e-3, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    try {
+      ValidateDropHeights({0.2}, {0.001, bad});
+      ADD_FAILURE() << "uncertainty " << bad << " was accepted";
+    } catch (const OptionError& error) {
+      EXPECT_EQ(error.fields(), std::vector<std::string>{"drop_height_uncertainty_m"});
+    }
+  }
 }
 
 }  // namespace

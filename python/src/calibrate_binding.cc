@@ -24,6 +24,7 @@
 #include "bouncecal/calibrate/fit.h"
 #include "bouncecal/calibrate/fit_json.h"
 #include "bouncecal/calibrate/material_card.h"
+#include "bouncecal/calibrate/recording_manifest.h"
 #include "bouncecal/calibrate/sequence_input.h"
 #include "bouncecal/error.h"
 #include "bouncecal/option_error.h"
@@ -263,19 +264,7 @@ void BindCalibrate(py::module_& module) {
         const auto heights = OneOrPerInput(drop_height_m, "drop_height_m");
         const auto height_sigmas =
             OneOrPerInput(drop_height_uncertainty_m, "drop_height_uncertainty_m");
-        for (double height : heights) {
-          if (!(height > 0 && height < 1e3)) {
-            throw OptionError({"drop_height_m"}, "drop_height_m must be in (0, 1000) m, got " +
-                                                     std::to_string(height));
-          }
-        }
-        for (double sigma : height_sigmas) {
-          if (!(sigma >= 0 && std::isfinite(sigma))) {
-            throw OptionError(
-                {"drop_height_uncertainty_m"},
-                "drop_height_uncertainty_m must be >= 0 m, got " + std::to_string(sigma));
-          }
-        }
+        calibrate::ValidateDropHeights(heights, height_sigmas);
         const bool height_per_input = heights.size() > 1 || height_sigmas.size() > 1;
         if (heights.size() == 1) drop.drop_height_m = heights.front();
         options.drop_height_given = heights.size() == 1;

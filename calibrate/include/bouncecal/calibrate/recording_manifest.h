@@ -26,6 +26,12 @@ struct ManifestEntry {
 // a positive number of metres, or an empty manifest.
 std::vector<ManifestEntry> ReadRecordingManifest(const std::filesystem::path& path);
 
+// Throws OptionError naming drop_height_m unless every height is in (0, 1000) m, and naming
+// drop_height_uncertainty_m unless every uncertainty is a finite value >= 0 m: the front ends'
+// check of heights given once or once per recording, before any file is read.
+void ValidateDropHeights(const std::vector<double>& drop_heights_m,
+                         const std::vector<double>& drop_height_uncertainties_m);
+
 // The recordings of one run with their heights: `recordings` with drop_height_m given once (every
 // recording, and every drop in it, was released from that height) or once per recording in
 // order, and drop_height_uncertainty_m the same way (once, or once per recording); or, when
