@@ -7,6 +7,7 @@
 #include <string>
 
 #include "bouncecal/calibrate/contact_stiffness.h"
+#include "option_names.h"
 
 namespace bouncecal::apps {
 namespace {
@@ -29,7 +30,7 @@ std::string FixedParameters(const calibrate::FitSummary& summary) {
 void PrintParameters(std::FILE* out, const calibrate::FitSummary& summary,
                      double confidence_level) {
   for (const auto& parameter : summary.parameters) {
-    std::string interval = "no interval (" + summary.uncertainty.message + ")";
+    std::string interval = "no interval (" + WithFlags(summary.uncertainty.message) + ")";
     if (parameter.confidence_interval) {
       interval = fmt::format("{:.0f} % CI [{}, {}]{}", 100 * confidence_level,
                              FormatValue(parameter.confidence_interval->first),
@@ -149,9 +150,9 @@ void PrintFit(std::FILE* out, const calibrate::FitSummary& summary,
   }
   fmt::print(out, "fitted parameters ({}):\n", FixedParameters(summary));
   PrintParameters(out, summary, options.uncertainty.confidence_level);
-  fmt::print(out, "  uncertainty: {}\n", summary.uncertainty.model);
+  fmt::print(out, "  uncertainty: {}\n", WithFlags(summary.uncertainty.model));
   PrintAcrossRecordings(out, summary, options.uncertainty.confidence_level);
-  fmt::print(out, "  model adequacy: {}\n", summary.adequacy.message);
+  fmt::print(out, "  model adequacy: {}\n", WithFlags(summary.adequacy.message));
   fmt::print(out, "  implied first impact: e = {:.4f}, eta = {:.4f}\n", summary.implied_restitution,
              summary.implied_energy_loss);
   const auto& check = summary.check;
@@ -166,7 +167,7 @@ void PrintFit(std::FILE* out, const calibrate::FitSummary& summary,
         check.difference, check.time_step_error, check.energy_loss_mean_chosen_step,
         check.energy_loss_mean_exact, check.model_error,
         options.drop.drag.enabled ? fmt::format(", air drag {:+.4f}", check.drag_error) : "");
-    fmt::print(out, "  {}\n", check.message);
+    fmt::print(out, "  {}\n", WithFlags(check.message));
   } else if (check.applicable) {
     fmt::print(out, "analytic check ({}):\n", check.formula);
     fmt::print(out, "  measured eta-bar = {:.4f} +- {:.2g} -> {} = {:.6g}\n",
@@ -179,17 +180,17 @@ void PrintFit(std::FILE* out, const calibrate::FitSummary& summary,
         check.difference, check.time_step_error, check.energy_loss_mean_chosen_step,
         check.energy_loss_mean_exact, check.reference_integrator, check.model_error,
         options.drop.drag.enabled ? fmt::format(", air drag {:+.4g}", check.drag_error) : "");
-    fmt::print(out, "  {}\n", check.message);
+    fmt::print(out, "  {}\n", WithFlags(check.message));
   } else {
-    fmt::print(out, "analytic check: not applicable ({})\n", check.message);
+    fmt::print(out, "analytic check: not applicable ({})\n", WithFlags(check.message));
   }
   fmt::print(out,
              "optimiser: stopped because {} ({}); {} evaluations; residual chi^2 = {:.4g} over "
              "{} data ({} dof); fit {:.3f} s, total {:.3f} s\n",
-             summary.stop_message, ToString(summary.stop), summary.evaluations, summary.residual,
-             summary.data_points, summary.degrees_of_freedom, summary.fit_time_s,
+             WithFlags(summary.stop_message), ToString(summary.stop), summary.evaluations,
+             summary.residual, summary.data_points, summary.degrees_of_freedom, summary.fit_time_s,
              summary.total_time_s);
-  for (const auto& warning : summary.warnings) fmt::print(out, "WARNING: {}\n", warning);
+  for (const auto& warning : summary.warnings) fmt::print(out, "WARNING: {}\n", WithFlags(warning));
 }
 
 void PrintComparison(std::FILE* out, const calibrate::LawComparison& comparison,
@@ -199,7 +200,7 @@ void PrintComparison(std::FILE* out, const calibrate::LawComparison& comparison,
              "(chi^2 + k ln n)\n",
              sequence_count, ToString(comparison.fits.front().objective));
   if (!comparison.objective_note.empty())
-    fmt::print(out, "  note: {}\n", comparison.objective_note);
+    fmt::print(out, "  note: {}\n", WithFlags(comparison.objective_note));
   fmt::print(out, "  {:<22} {:>12} {:>5} {:>10} {:>10} {:>10} {:>9}  parameters\n", "law", "chi^2",
              "n", "AIC", "BIC", "dBIC", "dof");
   const double best = comparison.fits.front().bic;
@@ -222,9 +223,10 @@ void PrintComparison(std::FILE* out, const calibrate::LawComparison& comparison,
   fmt::print(out, "  dBIC > 10 is very strong evidence against a law (Kass & Raftery 1995)\n");
   const auto& winner = comparison.fits.front();
   fmt::print(out, "  model adequacy of {}: {}\n", dem::ToString(winner.law.kind),
-             winner.adequacy.message);
-  for (const auto& warning : winner.warnings) fmt::print(out, "WARNING: {}\n", warning);
-  for (const auto& warning : comparison.warnings) fmt::print(out, "WARNING: {}\n", warning);
+             WithFlags(winner.adequacy.message));
+  for (const auto& warning : winner.warnings) fmt::print(out, "WARNING: {}\n", WithFlags(warning));
+  for (const auto& warning : comparison.warnings)
+    fmt::print(out, "WARNING: {}\n", WithFlags(warning));
 }
 
 std::vector<PlotPanel> FitPlotPanels(const calibrate::FitSummary& summary) {

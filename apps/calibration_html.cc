@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "option_names.h"
 #include "waveform_svg.h"
 
 namespace bouncecal::apps {
@@ -162,7 +163,7 @@ std::string FitSection(const CalibrationReportContent& content) {
         parameter.confidence_interval
             ? fmt::format("[{}, {}]", Number(parameter.confidence_interval->first),
                           Number(parameter.confidence_interval->second))
-            : "none (" + EscapeHtml(summary.uncertainty.message) + ")";
+            : "none (" + EscapeHtml(WithFlags(summary.uncertainty.message)) + ")";
     html += Row({EscapeHtml(parameter.name), Number(parameter.value), EscapeHtml(parameter.unit),
                  interval, parameter.at_bound ? "at the edge of its search range" : ""});
   }
@@ -180,11 +181,11 @@ std::string FitSection(const CalibrationReportContent& content) {
   add("AIC / BIC", Number(summary.aic) + " / " + Number(summary.bic));
   add("implied first impact e / eta",
       Number(summary.implied_restitution, 4) + " / " + Number(summary.implied_energy_loss, 4));
-  add("optimiser stop", EscapeHtml(summary.stop_message));
+  add("optimiser stop", EscapeHtml(WithFlags(summary.stop_message)));
   add("drop simulations", std::to_string(summary.evaluations));
-  add("uncertainty", EscapeHtml(summary.uncertainty.model));
-  add("model adequacy", EscapeHtml(summary.adequacy.message));
-  for (const auto& warning : summary.warnings) add("warning", EscapeHtml(warning));
+  add("uncertainty", EscapeHtml(WithFlags(summary.uncertainty.model)));
+  add("model adequacy", EscapeHtml(WithFlags(summary.adequacy.message)));
+  for (const auto& warning : summary.warnings) add("warning", EscapeHtml(WithFlags(warning)));
   add("time (fit / total)",
       Number(summary.fit_time_s, 3) + " s / " + Number(summary.total_time_s, 3) + " s");
   html += "</table>\n";
@@ -195,7 +196,7 @@ std::string CheckSection(const CalibrationReportContent& content) {
   const auto& check = content.summary.check;
   std::string html = "<h2 id=\"analytic-check\">Analytic check</h2>\n";
   if (!check.applicable) {
-    return html + "<p>Not applicable: " + EscapeHtml(check.message) + ".</p>\n";
+    return html + "<p>Not applicable: " + EscapeHtml(WithFlags(check.message)) + ".</p>\n";
   }
   const std::string& name = check.parameter;
   html += check.parameter == "gamma_n"
@@ -214,7 +215,7 @@ std::string CheckSection(const CalibrationReportContent& content) {
   html += Row({"formula model error in " + EscapeHtml(name), Number(check.model_error, 4)});
   html += "</table>\n";
   html += fmt::format("<p class=\"{}\">{}{}</p>\n", check.warning ? "warning" : "",
-                      check.warning ? "Warning: " : "", EscapeHtml(check.message));
+                      check.warning ? "Warning: " : "", EscapeHtml(WithFlags(check.message)));
   return html;
 }
 

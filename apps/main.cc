@@ -13,8 +13,9 @@
 
 namespace {
 
+// Library messages name options in backticks; the command line shows them as flags.
 int ReportError(const char* message, int status) {
-  std::fprintf(stderr, "bouncecal: error: %s\n", message);
+  std::fprintf(stderr, "bouncecal: error: %s\n", bouncecal::apps::WithFlags(message).c_str());
   return status;
 }
 

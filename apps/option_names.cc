@@ -9,9 +9,10 @@ namespace bouncecal::apps {
 namespace {
 
 // Fields whose flag is not the field with dashes.
-constexpr std::array<std::pair<std::string_view, std::string_view>, 2> kShortFlags{{
+constexpr std::array<std::pair<std::string_view, std::string_view>, 3> kShortFlags{{
     {"first_n", "--first"},
     {"confidence_level", "--confidence"},
+    {"parameters", "--param"},
 }};
 
 }  // namespace
@@ -25,8 +26,16 @@ std::string FlagOf(std::string_view field) {
   return flag;
 }
 
+std::string WithFlags(std::string_view message) {
+  return SpellOptions(message, [](std::string_view field, std::string_view value) {
+    std::string flag = FlagOf(field);
+    if (!value.empty()) flag.append(" ").append(value);
+    return flag;
+  });
+}
+
 std::string WithFlags(std::string message, const std::vector<std::string>& fields) {
-  return SpellFields(std::move(message), fields, FlagOf);
+  return WithFlags(SpellFields(std::move(message), fields, FlagOf));
 }
 
 }  // namespace bouncecal::apps

@@ -12,7 +12,12 @@ namespace bouncecal::apps {
 // dashes, except where the command line kept a shorter established name (first_n -> --first).
 std::string FlagOf(std::string_view field);
 
-// `message` with each mention of `fields` spelt as its flag (bouncecal::SpellFields).
+// `message` with each option it names in backticks spelt as the flag with its value
+// (bouncecal::SpellOptions: `first_n=3` -> --first 3). Everything the command prints or writes
+// from the libraries passes through one of these.
+std::string WithFlags(std::string_view message);
+
+// The same for an OptionError: also each mention of its `fields` (bouncecal::SpellFields).
 std::string WithFlags(std::string message, const std::vector<std::string>& fields);
 
 }  // namespace bouncecal::apps

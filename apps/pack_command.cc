@@ -26,6 +26,7 @@
 #include "bouncecal/error.h"
 #include "commands.h"
 #include "option_alias.h"
+#include "option_names.h"
 #include "output_target.h"
 #include "scene_template_option.h"
 #include "stop_signals.h"
@@ -377,10 +378,10 @@ void RunPack(const PackArgs& args) {
   }
   if (terminal) std::fprintf(stderr, "\n");
   for (const auto& warning : summary.warnings) {
-    fmt::print(stderr, "bouncecal: warning: {}: {}\n", scene.source.string(), warning);
+    fmt::print(stderr, "bouncecal: warning: {}: {}\n", scene.source.string(), WithFlags(warning));
   }
   for (const auto& note : summary.notes) {
-    fmt::print(stderr, "bouncecal: note: {}: {}\n", scene.source.string(), note);
+    fmt::print(stderr, "bouncecal: note: {}: {}\n", scene.source.string(), WithFlags(note));
   }
   WriteCsvs(dir, scene, summary);
   const std::string json = dem::ToJson(scene, summary).dump(2) + "\n";
@@ -390,7 +391,7 @@ void RunPack(const PackArgs& args) {
   // An unstable run has no profile to plot and may have no history row left; gnuplot failing on
   // that would turn the instability (status 3) into an output error (status 4).
   if (args.plot && !Unstable(summary) && !interrupted) Plot(dir, scene);
-  fmt::print(out, "{}: {} ({})\n", scene.name, summary.message, summary.physics);
+  fmt::print(out, "{}: {} ({})\n", scene.name, WithFlags(summary.message), summary.physics);
   if (!Unstable(summary)) {
     fmt::print(out, "packing density {:.4f}, mean coordination {:.3f} ({} particles measured)\n",
                summary.packing_density, summary.coordination.mean, summary.coordination.particles);

@@ -4,6 +4,7 @@
 
 #include "bouncecal/dem/scene_templates.h"
 #include "bouncecal/error.h"
+#include "option_names.h"
 #include "output_target.h"
 
 namespace bouncecal::apps {
@@ -33,7 +34,8 @@ void WriteSceneTemplate(const std::string& name) {
     throw ConfigError(
         fmt::format("--template: no template '{}'; there are: {}", name, TemplateList(", ")));
   }
-  WriteTextOutput("-", std::string(scene->text));
+  // The template's comments name the command's options in backticks, as library text does.
+  WriteTextOutput("-", WithFlags(scene->text));
 }
 
 }  // namespace bouncecal::apps

@@ -407,7 +407,7 @@ TEST_F(BadInput, RankingsWithoutDataAndUnusableContactDurationsAreRefusedInOneLi
   expect("calibrate " + csv + " --drop-height-m 0.2 --contact-duration-s 0.005",
          "--contact-duration-s needs the ball");
   expect("simulate drop --ball tennis --law hertz-viscoelastic --contact-duration-s 0.005",
-         "give --modulus-pa instead");
+         "give the law's effective_modulus_pa instead (--param)");
   expect("simulate drop --ball tennis --contact-duration-s 0.005 --param stiffness_n_per_m=1e5",
          "both set the stiffness");
 }

@@ -89,7 +89,7 @@ TEST_F(CalibrateSharedRecordings, PingPongWhoseRestitutionRisesAsItSlowsIsNotOne
   const auto summary = FitDefault("ub-mth337/pingpong.wav");
   EXPECT_TRUE(summary.adequacy.trend) << summary.adequacy.message;
   EXPECT_GT(summary.adequacy.change_over_range, 0);  // eta rises with speed
-  EXPECT_NE(summary.adequacy.message.find("--compare-laws"), std::string::npos);
+  EXPECT_NE(summary.adequacy.message.find("`compare_laws`"), std::string::npos);
 }
 
 }  // namespace

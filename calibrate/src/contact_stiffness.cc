@@ -63,8 +63,8 @@ dem::ContactLawConfig WithContactDuration(dem::ContactLawConfig law, const dem::
         {"contact_duration_s"},
         fmt::format(
             "the {} law has no closed-form contact duration to set {} from contact_duration_s; "
-            "give --{} instead",
-            law_name, name, spec.alias));
+            "give the law's {} instead (`parameters`)",
+            law_name, name, name));
   }
   // t_c is a power of the elastic parameter for every law here (k^(-1/2), E*^(-2/5)) up to the
   // damping term of some; Newton's step in log-log space with the measured local exponent
@@ -98,8 +98,8 @@ dem::ContactLawConfig WithContactDuration(dem::ContactLawConfig law, const dem::
         {"contact_duration_s"},
         fmt::format(
             "contact_duration_s {} s: no {} of the {} law gives that duration for this ball "
-            "(closest found: {:.4g} {}, lasting {:.4g} s); give --{} instead",
-            contact_duration_s, name, law_name, value, spec.unit, *duration, spec.alias));
+            "(closest found: {:.4g} {}, lasting {:.4g} s); give the law's {} instead",
+            contact_duration_s, name, law_name, value, spec.unit, *duration, name));
   }
   law.parameters[name] = value;
   return law;
@@ -122,8 +122,9 @@ std::string ContactDurationWarning(const dem::ContactLawConfig& law, const dem::
   if (!duration || (*duration > typical / 3 && *duration < typical * 3)) return "";
   return fmt::format(
       "{} = {:.3g} {} (the {} law's default) makes the {} ball's contact last {} at {:.3g} m/s, "
-      "against about {} for a real one ({}); give --contact-duration-s {:g} (or your measured "
-      "one) so the card's stiffness, and the time step of every scene built on it, fit the ball",
+      "against about {} for a real one ({}); give `contact_duration_s={:g}` (or your "
+      "measured one) so the card's stiffness, and the time step of every scene built on it, fit "
+      "the ball",
       spec->name, law.Get(spec->name), spec->unit, dem::ToString(law.kind), preset.name,
       Duration(*duration), impact_speed_mps, Duration(typical), preset.contact_source, typical);
 }

@@ -424,16 +424,16 @@ AnalyticCheck MakeCheck(const FitOptions& options, const ParameterMap& map,
                        " fit also weights later, slower impacts whose energy loss differs, so " +
                        (paper ? std::string("one constant gamma") : "one value of " + name) +
                        " does not describe these impacts; fit the first impacts only with "
-                       "--objective mean-energy-loss, or rank speed-dependent laws with "
-                       "--compare-laws";
+                       "`objective=mean-energy-loss`, or rank speed-dependent laws with "
+                       "`compare_laws`";
     } else if (!IsConverged(stop)) {
       check.message +=
           ": the optimiser did not converge, so the fit does not reproduce eta-bar; raise "
-          "--max-evaluations";
+          "`max_evaluations`";
     } else {
       check.message +=
           ": the drops do not reproduce eta-bar within the optimiser's reach (a jagged objective, "
-          "as on a fixed step grid); raise --global-evaluations or --steps-per-contact";
+          "as on a fixed step grid); raise `global_evaluations` or `steps_per_contact`";
     }
   }
   return check;
@@ -687,7 +687,7 @@ FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOpt
       sequences.size() == 1) {
     summary.warnings.push_back(
         "with one fitted impact the impact-to-impact scatter cannot be estimated, so the interval "
-        "holds timing noise only and is too narrow; fit three or more impacts (--first 3) or "
+        "holds timing noise only and is too narrow; fit three or more impacts (`first_n=3`) or "
         "give several recordings");
   }
   summary.contact_speed_mps =
@@ -708,7 +708,7 @@ FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOpt
         parameter.name + " = " + Format("%.6g", parameter.value) + " is at the " +
         (low ? "lower" : "upper") + " edge of its search range, so the data ask for " +
         (low ? "less" : "more") + " damping than the law allows; check the drop height and the " +
-        "first impact (bouncecal analyze), or rank other laws with --compare-laws");
+        "first impact (bouncecal analyze), or rank other laws with `compare_laws`");
   }
 
   if (options.analytic_check) {
@@ -724,7 +724,7 @@ FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOpt
 FitSummary Fit(const std::vector<MeasuredSequence>& sequences, const FitOptions& options) {
   if (!options.contact_duration_s) return FitSequences(sequences, options, /*comparing=*/false);
   if (!options.ball_given) {
-    throw OptionError({"contact_duration_s", "`ball`"},
+    throw OptionError({"contact_duration_s", "ball"},
                       "contact_duration_s needs the ball (its mass sets the stiffness that gives "
                       "that duration); give `ball`, or its diameter and mass");
   }
@@ -786,19 +786,19 @@ FitObjective RankableObjective(const std::vector<MeasuredSequence>& sequences,
     if (interval_points > static_cast<int>(most)) {
       note = "the default objective mean-energy-loss gives " + counts +
              ", which leaves no degree of freedom to rank on, so every law is fitted on every "
-             "flight interval instead (--objective intervals, " +
+             "flight interval instead (`objective=intervals`, " +
              std::to_string(interval_points) + " data)";
       return FitObjective::kIntervals;
     }
   }
   throw ConfigError(
-      "--compare-laws: objective " + std::string(ToString(options.objective)) + " gives " + counts +
+      "`compare_laws`: objective " + std::string(ToString(options.objective)) + " gives " + counts +
       ", so every law fits exactly and the ranking would count parameters only; " +
       (options.objective == FitObjective::kMeanEnergyLoss
-           ? "fit every flight interval (--objective intervals) or add recordings"
+           ? "fit every flight interval (`objective=intervals`) or add recordings"
            : "use a longer recording (more bounces) or add recordings") +
       (points > static_cast<int>(fewest)
-           ? ", or leave the laws with " + std::to_string(most) + " parameters out (--laws)"
+           ? ", or leave the laws with " + std::to_string(most) + " parameters out (`laws`)"
            : ""));
 }
 
@@ -821,7 +821,7 @@ std::string GoodnessOfFitWarning(const FitSummary& fit) {
       fit.degrees_of_freedom, above ? "above" : "below", 100 * kGoodnessOfFitLevel,
       fit.degrees_of_freedom, low, high,
       above ? "the law misses the data by more than their timing uncertainties, so its dBIC are "
-              "overstated about that many times; look at the residuals (--plot) and trust only "
+              "overstated about that many times; look at the residuals (`plot`) and trust only "
               "dBIC well beyond chi^2/dof"
             : "the data agree better than their stated uncertainties allow (overstated timing "
               "uncertainties), so dBIC are understated; check the onset uncertainties "

@@ -261,7 +261,7 @@ TEST(Fit, AnalyticCheckWarnsWhenOneGammaCannotDescribeTheImpacts) {
   EXPECT_TRUE(summary.check.warning) << summary.check.message;
   EXPECT_TRUE(summary.adequacy.trend) << summary.adequacy.message;
   // An intervals fit is told to try the mean-energy-loss objective or other laws.
-  EXPECT_NE(summary.check.message.find("--objective mean-energy-loss"), std::string::npos)
+  EXPECT_NE(summary.check.message.find("`objective=mean-energy-loss`"), std::string::npos)
       << summary.check.message;
 }
 
@@ -313,7 +313,7 @@ TEST(CompareLaws, WithoutADegreeOfFreedomFitsEveryIntervalAndSaysSo) {
   EXPECT_NE(comparison.objective_note.find("1 datum(s) against 1 fitted parameter(s)"),
             std::string::npos)
       << comparison.objective_note;
-  EXPECT_NE(comparison.objective_note.find("--objective intervals, 5 data"), std::string::npos)
+  EXPECT_NE(comparison.objective_note.find("`objective=intervals`, 5 data"), std::string::npos)
       << comparison.objective_note;
   for (const auto& fit : comparison.fits) {
     EXPECT_EQ(fit.objective, FitObjective::kIntervals);
@@ -329,7 +329,7 @@ TEST(CompareLaws, WithoutADegreeOfFreedomFitsEveryIntervalAndSaysSo) {
     EXPECT_NE(message.find("objective mean-energy-loss gives 1 datum(s) against 1 fitted"),
               std::string::npos)
         << message;
-    EXPECT_NE(message.find("--objective intervals"), std::string::npos) << message;
+    EXPECT_NE(message.find("`objective=intervals`"), std::string::npos) << message;
     EXPECT_EQ(message.find('\n'), std::string::npos);
   }
   // Two recordings give the default objective one degree of freedom: it is kept.
@@ -366,7 +366,7 @@ TEST(GoodnessOfFit, FlagsChiSquareOutsideTheCentral99PercentOfItsDistribution) {
   EXPECT_NE(above.find("walton-braun: chi^2/dof = 88"), std::string::npos) << above;
   EXPECT_NE(above.find("above the central 99 %"), std::string::npos) << above;
   EXPECT_NE(above.find("(2.156 to 25.19)"), std::string::npos) << above;
-  EXPECT_NE(above.find("--plot"), std::string::npos) << above;
+  EXPECT_NE(above.find("`plot`"), std::string::npos) << above;
   fit.residual = 1.5;  // below the 0.5 % point 2.156
   EXPECT_NE(GoodnessOfFitWarning(fit).find("below"), std::string::npos);
   for (double inside : {2.2, 10.0, 25.1}) {
@@ -627,9 +627,9 @@ TEST(Fit, MeanEnergyLossWarningNeverSuggestsTheObjectiveInUse) {
   const auto recording = SimulatedRecording(WaltonBraun(0.7), 6, 10e-6, 3);
   const auto summary = Fit({recording}, options);
   ASSERT_TRUE(summary.check.warning) << summary.check.message;
-  EXPECT_EQ(summary.check.message.find("--objective mean-energy-loss"), std::string::npos)
+  EXPECT_EQ(summary.check.message.find("`objective=mean-energy-loss`"), std::string::npos)
       << summary.check.message;
-  EXPECT_NE(summary.check.message.find("--max-evaluations"), std::string::npos)
+  EXPECT_NE(summary.check.message.find("`max_evaluations`"), std::string::npos)
       << summary.check.message;
 }
 

@@ -168,7 +168,8 @@ std::vector<MeasuredSequence> ReadJson(const std::filesystem::path& path, std::i
     document = nlohmann::json::parse(stream);
   } catch (const nlohmann::json::exception& error) {
     throw InputError("'" + path.string() + "' is not valid JSON (" + error.what() +
-                     "); expected the output of bouncecal analyze --json");
+                     "); expected the JSON that analyze writes (" + std::string(kAnalysisFormat) +
+                     ")");
   }
   std::vector<const nlohmann::json*> objects;
   if (document.is_object() && document.contains("format")) {
@@ -176,17 +177,16 @@ std::vector<MeasuredSequence> ReadJson(const std::filesystem::path& path, std::i
         document["format"].is_string() ? document["format"].get<std::string>() : "";
     if (format != kAnalysisFormat) {
       const bool newer = format.rfind("bouncecal-analysis/", 0) == 0;
-      throw InputError(
-          "'" + path.string() + "' has \"format\": \"" + format + "\", " +
-          (newer ? "which this bouncecal does not read (it reads " + std::string(kAnalysisFormat) +
-                       "); analyze the recording again with this version"
-                 : "not analyze output; expected the output of bouncecal analyze --json (" +
-                       std::string(kAnalysisFormat) + ")"));
+      throw InputError("'" + path.string() + "' has \"format\": \"" + format + "\", " +
+                       (newer ? "which this bouncecal does not read (it reads " +
+                                    std::string(kAnalysisFormat) +
+                                    "); analyze the recording again with this version"
+                              : "not analyze output; expected the JSON that analyze writes (" +
+                                    std::string(kAnalysisFormat) + ")"));
     }
     if (!document.contains("recordings") || !document["recordings"].is_array()) {
       throw InputError("'" + path.string() + "' is " + std::string(kAnalysisFormat) +
-                       " without a \"recordings\" array; write it again with bouncecal analyze "
-                       "--json");
+                       " without a \"recordings\" array; write it again with analyze");
     }
     for (const auto& recording : document["recordings"]) {
       if (recording.is_object() && recording.contains("sequences")) objects.push_back(&recording);
@@ -196,7 +196,8 @@ std::vector<MeasuredSequence> ReadJson(const std::filesystem::path& path, std::i
   }
   if (objects.empty()) {
     throw InputError("'" + path.string() +
-                     "' has no \"sequences\" key; expected the output of bouncecal analyze --json");
+                     "' has no \"sequences\" key; expected the JSON that analyze writes (" +
+                     std::string(kAnalysisFormat) + ")");
   }
   std::vector<MeasuredSequence> sequences;
   try {
@@ -232,8 +233,9 @@ std::vector<MeasuredSequence> ReadJson(const std::filesystem::path& path, std::i
       }
     }
   } catch (const nlohmann::json::exception& error) {
-    throw InputError("'" + path.string() + "' does not have the shape bouncecal analyze --json " +
-                     "writes (" + error.what() + ")");
+    throw InputError("'" + path.string() +
+                     "' does not have the shape of the JSON that analyze writes (" + error.what() +
+                     ")");
   }
   return sequences;
 }
@@ -249,7 +251,7 @@ std::vector<MeasuredSequence> ReadImpactTimes(const std::filesystem::path& path,
                                               const ImpactTimesOptions& options) {
   if (!IsImpactTimesFile(path)) {
     throw InputError("'" + path.string() + "' is neither .csv nor .json; give an impact-time CSV " +
-                     "or the JSON of bouncecal analyze --json");
+                     "or the JSON that analyze writes (" + std::string(kAnalysisFormat) + ")");
   }
   std::ifstream stream(path);
   if (!stream) {

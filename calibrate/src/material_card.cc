@@ -260,8 +260,7 @@ MaterialCard MaterialCardFromJson(const nlohmann::json& object, std::string_view
   if (!object.is_object() || !object.contains("format") || !object["format"].is_string() ||
       object["format"].get<std::string>() != kMaterialCardFormat) {
     throw InputError(where + ": not a material card (\"format\" must be \"" +
-                     std::string(kMaterialCardFormat) + "\"); write one with bouncecal " +
-                     "calibrate --card");
+                     std::string(kMaterialCardFormat) + "\"); calibrate writes one: `card`");
   }
   RejectUnknownKeys(object, where,
                     {"format", "contact_law", "parameter_units", "ball", "implied", "fit",
@@ -400,7 +399,7 @@ MaterialCard ReadMaterialCard(const std::filesystem::path& path) {
   std::ifstream stream(path);
   if (!stream) {
     throw InputError("cannot open material card '" + path.string() +
-                     "'; check the path (write one with bouncecal calibrate --card)");
+                     "'; check the path (calibrate writes one: `card`)");
   }
   nlohmann::json object;
   try {

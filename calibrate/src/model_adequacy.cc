@@ -59,21 +59,22 @@ ModelAdequacy TestSpeedTrend(const std::vector<AdequacyImpact>& impacts,
     result.message = "no trend of eta_k with impact speed beyond its uncertainty (it changes " +
                      std::string(figures) + ")";
   } else if (context.comparing) {
-    result.message = "the best-ranked law, " + context.law + ", still leaves eta_k that " +
-                     direction + " with impact speed " + figures +
-                     ": no compared law describes this material over these speeds; calibrate "
-                     "for the impact speeds your simulation has (--first N, or a drop height "
-                     "that gives them)";
+    result.message =
+        "the best-ranked law, " + context.law + ", still leaves eta_k that " + direction +
+        " with impact speed " + figures +
+        ": no compared law describes this material over these speeds; calibrate "
+        "for the impact speeds your simulation has (fewer impacts with `first_n`, or a "
+        "drop height that gives them)";
   } else if (context.speed_dependent) {
     result.message = "eta_k measured minus fitted " + direction + " with impact speed " + figures +
                      ": the speed dependence of " + context.law +
-                     " does not match this material; rank the laws with --compare-laws";
+                     " does not match this material; rank the laws with `compare_laws`";
   } else {
     result.message =
         "eta_k " + direction + " with impact speed " + figures + ": one constant " +
         (context.law == "walton-braun" ? std::string("gamma_n") : context.law + " damping") +
         " does not describe this material; rank speed-dependent laws with "
-        "--compare-laws";
+        "`compare_laws`";
   }
   return result;
 }

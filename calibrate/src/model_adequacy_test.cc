@@ -36,7 +36,7 @@ TEST(ModelAdequacy, ATrendFarBeyondTheScatterIsFlaggedWithTheNextStep) {
   EXPECT_NEAR(result.speed_max_mps, 2.0, 1e-12);
   EXPECT_NE(result.message.find("one constant gamma_n does not describe"), std::string::npos)
       << result.message;
-  EXPECT_NE(result.message.find("--compare-laws"), std::string::npos) << result.message;
+  EXPECT_NE(result.message.find("`compare_laws`"), std::string::npos) << result.message;
 }
 
 TEST(ModelAdequacy, PureScatterRaisesNoAlarmInNearlyAllSeeds) {
@@ -75,8 +75,8 @@ TEST(ModelAdequacy, MessagesNameTheLawAndDoNotSendAComparisonBackToItself) {
   EXPECT_NE(hertz.message.find("speed dependence of hertz-viscoelastic"), std::string::npos)
       << hertz.message;
   const auto compared = TestSpeedTrend(impacts, {"hertz-viscoelastic", true, true});
-  EXPECT_EQ(compared.message.find("--compare-laws"), std::string::npos) << compared.message;
-  EXPECT_NE(compared.message.find("--first"), std::string::npos) << compared.message;
+  EXPECT_EQ(compared.message.find("`compare_laws`"), std::string::npos) << compared.message;
+  EXPECT_NE(compared.message.find("`first_n`"), std::string::npos) << compared.message;
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "bouncecal/error.h"
+#include "bouncecal/option_error.h"
 
 namespace bouncecal::calibrate {
 
@@ -61,7 +62,8 @@ double RmsHeightError(const HeightCurve& measured, const HeightCurve& simulated)
 
 TrajectoryCompareSummary CompareTrajectories(const std::vector<double>& onsets_s,
                                              const TrajectoryCompareOptions& options) {
-  if (options.laws.empty()) throw ConfigError("no law to simulate; give --gamma or --material");
+  if (options.laws.empty())
+    throw OptionError({"laws"}, "no law to simulate: `laws` is empty; give at least one");
   TrajectoryCompareSummary summary;
   summary.measured = MeasuredTrajectory(onsets_s, options.drop.drop_height_m,
                                         options.drop.gravity_mps2, options.sample_interval_s);

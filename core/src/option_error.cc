@@ -1,5 +1,6 @@
 #include "bouncecal/option_error.h"
 
+#include <algorithm>
 #include <cctype>
 
 namespace bouncecal {
@@ -35,6 +36,35 @@ std::string SpellFields(std::string message, const std::vector<std::string>& fie
     });
   }
   return message;
+}
+
+std::string SpellOptions(std::string_view message, const OptionSpeller& spell) {
+  std::string spelt;
+  spelt.reserve(message.size());
+  std::size_t copied = 0;
+  for (std::size_t open = message.find('`'); open != std::string_view::npos;
+       open = message.find('`', open + 1)) {
+    const std::size_t close = message.find('`', open + 1);
+    if (close == std::string_view::npos) break;
+    const std::string_view inside = message.substr(open + 1, close - open - 1);
+    const std::size_t equals = inside.find('=');
+    const std::string_view field = inside.substr(0, equals);
+    const std::string_view value =
+        equals == std::string_view::npos ? std::string_view() : inside.substr(equals + 1);
+    const bool is_name = !field.empty() && std::islower(static_cast<unsigned char>(field[0])) &&
+                         std::all_of(field.begin(), field.end(), [](char c) {
+                           return std::islower(static_cast<unsigned char>(c)) ||
+                                  std::isdigit(static_cast<unsigned char>(c)) || c == '_';
+                         });
+    if (is_name && !(equals != std::string_view::npos && value.empty())) {
+      spelt.append(message.substr(copied, open - copied));
+      spelt += spell(field, value);
+      copied = close + 1;
+    }
+    open = close;  // a closing backtick never opens the next mention
+  }
+  spelt.append(message.substr(copied));
+  return spelt;
 }
 
 }  // namespace bouncecal

@@ -31,5 +31,28 @@ TEST(SpellFields, FieldsNotNamedAreLeftAlone) {
   EXPECT_EQ(SpellFields("first_n and `ball`", {}, Flag), "first_n and `ball`");
 }
 
+std::string CommandLine(std::string_view field, std::string_view value) {
+  std::string flag = Flag(field);
+  if (!value.empty()) flag.append(" ").append(value);
+  return flag;
+}
+
+TEST(SpellOptions, EachBacktickedOptionIsSpeltWithItsValue) {
+  EXPECT_EQ(SpellOptions("fit with `objective=mean-energy-loss`, or rank with `compare_laws`; "
+                         "`first_n=3` at least",
+                         CommandLine),
+            "fit with --objective mean-energy-loss, or rank with --compare-laws; --first-n 3 at "
+            "least");
+}
+
+TEST(SpellOptions, BacktickedTextThatIsNotAnOptionNameIsLeftAlone) {
+  // Upper case, spaces, an empty value and an unclosed backtick are not option mentions.
+  EXPECT_EQ(SpellOptions("`Hertz` `a b` `x=` `` `gamma_n", CommandLine),
+            "`Hertz` `a b` `x=` `` `gamma_n");
+  // A closing backtick of a skipped span does not open the next mention.
+  EXPECT_EQ(SpellOptions("`a b` then `plot`", CommandLine), "`a b` then --plot");
+  EXPECT_EQ(SpellOptions("no options here", CommandLine), "no options here");
+}
+
 }  // namespace
 }  // namespace bouncecal

@@ -34,6 +34,7 @@ def sections_of(result):
     if isinstance(result.get("file"), str):
         sections.append(("file", result["file"]))
     sections += _fitted_parameters(result)
+    sections += _warnings(result)
     sections += _analysis(result)
     sections += _contact_law(result)
     shown = {"format", "file"}
@@ -118,6 +119,16 @@ def _fitted_parameters(result):
             value += " (at a bound of its range)"
         sections.append((str(name), value))
     return sections
+
+
+def _warnings(result):
+    """A fit's warnings, with the options they name spelt as this module's keywords."""
+    from ._bouncecal import _with_keywords
+
+    warnings = result.get("warnings")
+    if not isinstance(warnings, list):
+        return []
+    return [("warning", _with_keywords(warning)) for warning in warnings if isinstance(warning, str)]
 
 
 def _analysis(result):

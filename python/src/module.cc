@@ -6,6 +6,7 @@
 #include "bindings.h"
 #include "bouncecal/version.h"
 #include "errors.h"
+#include "keywords.h"
 
 PYBIND11_MODULE(_bouncecal, module) {
   module.doc() =
@@ -18,4 +19,8 @@ PYBIND11_MODULE(_bouncecal, module) {
   bouncecal::python::BindCalibrate(module);
   bouncecal::python::BindPack(module);
   bouncecal::python::BindExport(module);
+  // Result documents keep the libraries' neutral text (options named in backticks, the same
+  // document as the command line's --json); what a person reads is spelt in keywords.
+  module.def("_with_keywords", &bouncecal::python::WithKeywords, pybind11::arg("message"),
+             "The message with each option it names in backticks spelt as Python's keyword.");
 }

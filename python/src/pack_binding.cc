@@ -17,6 +17,7 @@
 #include "bouncecal/dem/packing_json.h"
 #include "bouncecal/dem/scene.h"
 #include "bouncecal/error.h"
+#include "keywords.h"
 #include "python_values.h"
 
 namespace bouncecal::python {
@@ -126,7 +127,7 @@ void BindPack(py::module_& module) {
           // The command exits 3 and still writes what it measured; here the result is returned
           // with a RuntimeWarning, so a script that never reads result["boiling"] still hears
           // that its "packing" is a boiling state.
-          const std::string text = scene.source.string() + ": " + summary.message;
+          const std::string text = WithKeywords(scene.source.string() + ": " + summary.message);
           if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) {
             throw py::error_already_set();  // warnings turned into errors
           }

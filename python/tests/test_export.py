@@ -66,6 +66,21 @@ def test_a_missing_card_raises_the_commands_message(cli, tmp_path):
     assert not (tmp_path / "deck").exists()
 
 
+def test_an_option_a_library_message_names_is_the_keyword_here_and_the_flag_on_the_cli(
+        cli, card_file, tmp_path):
+    # The deck's unstable step is refused by one library message naming the option to use in
+    # its neutral form (`max_step_error`, bouncecal/option_error.h): each front end spells it.
+    message, status = cli.error("export", "--material", card_file, "--engine", "lammps",
+                                "--time-step-s", "1e-3", "-o", tmp_path / "cli")
+    assert "get one from --max-step-error" in message and "`" not in message
+    with pytest.raises(bouncecal.ConfigError) as raised:
+        bouncecal.export(card_file, time_step_s=1e-3)
+    text = str(raised.value)
+    assert "get one from max_step_error" in text and "--" not in text and "`" not in text
+    assert text == message.replace("--max-step-error", "max_step_error")
+    assert raised.value.exit_status == status
+
+
 @pytest.mark.parametrize("arguments, error, words", [
     ({"engine": "gromacs"}, bouncecal.ConfigError, "gromacs"),
     ({"material": 7}, bouncecal.ConfigError, "material must be"),

@@ -97,3 +97,14 @@ def test_a_result_of_any_size_stays_within_the_limit():
     for value in (huge, huge["table"]):
         assert len(repr(value)) <= LIMIT and len(value._repr_html_()) <= LIMIT
     assert "field_0000" in repr(huge)
+
+
+def test_a_fits_warnings_are_shown_with_the_options_they_name_as_keywords(steel_sample):
+    # A tennis ball with the law's default stiffness would touch for 0.26 ms, not ~5 ms: the
+    # library's warning names the option neutrally (`contact_duration_s=0.005`), as in the JSON
+    # document, and the summary spells it as the keyword.
+    fit = bouncecal.calibrate(steel_sample, ball="tennis")
+    warning = next(w for w in fit.warnings if "contact last" in w)
+    assert "`contact_duration_s=0.005`" in warning
+    text = repr(fit).replace("\n      ", " ")
+    assert "give contact_duration_s=0.005 (or your measured one)" in text and "`" not in text

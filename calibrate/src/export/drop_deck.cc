@@ -232,7 +232,7 @@ Deck MakeDropDeck(const LawMapping& mapping, const DeckBall& ball, const DropDec
   if (omega * deck.time_step_s >= 2) {
     throw ConfigError(fmt::format(
         "time step {} s is unstable for the mapped wall contact (omega dt = {:.3g} >= 2, t_c = "
-        "{:.3g} s); give a step below {:.3g} s, or none to get one from --max-step-error",
+        "{:.3g} s); give a step below {:.3g} s, or none to get one from `max_step_error`",
         deck.time_step_s, omega * deck.time_step_s, contact_s, contact_s / kMinStepsPerContact));
   }
 

@@ -118,7 +118,7 @@ void Validate(const PackingDeckSpec& spec, const PackingDeckOptions& options) {
     if (options.engine != Engine::kLammps) {
       throw ConfigError(
           "2D packing decks are written for LAMMPS only (dimension 2, enforce2d); "
-          "choose --engine lammps");
+          "choose `engine=lammps`");
     }
     if (spec.container != PackingContainer::kBox || !spec.start_data) {
       throw ConfigError("a 2D packing deck needs a box container and start positions");

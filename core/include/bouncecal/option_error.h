@@ -32,6 +32,17 @@ class OptionError : public ConfigError {
 std::string SpellFields(std::string message, const std::vector<std::string>& fields,
                         const std::function<std::string(std::string_view)>& spell);
 
+// Spells an option for one front end: (field, value) -> text, where value is empty for the option
+// alone. The command line writes `--first 3`, Python `first_n=3`.
+using OptionSpeller = std::function<std::string(std::string_view field, std::string_view value)>;
+
+// Every message the libraries write (errors, warnings, checks, notes) names an option the user
+// can change in backticks, as the options struct names it: `compare_laws`, or with the value to
+// give it, `objective=mean-energy-loss`, `first_n=3`. Returns `message` with each such mention
+// replaced by spell(field, value); backticked text that is not a lower-case name is left alone.
+// The front ends apply it to everything they show, so no library text carries a flag.
+std::string SpellOptions(std::string_view message, const OptionSpeller& spell);
+
 }  // namespace bouncecal
 
 #endif  // BOUNCECAL_OPTION_ERROR_H_

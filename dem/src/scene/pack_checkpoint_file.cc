@@ -35,7 +35,7 @@ PackCheckpointFrame ReadPackCheckpointFrame(std::string_view bytes, const std::s
   if (bytes.size() < sizeof(kMagic) || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
     throw InputError(fmt::format(
         "{}: is not a bouncecal pack checkpoint (no BCPACK header); give the checkpoint file a "
-        "run with --checkpoint-every-s or an interrupted run wrote",
+        "run with `checkpoint_every_s` or an interrupted run wrote",
         name));
   }
   ByteReader in(bytes.substr(sizeof(kMagic)), name);

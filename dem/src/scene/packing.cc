@@ -416,13 +416,14 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
     if (frame.dimension != Dim || frame.fingerprint != fingerprint) {
       throw InputError(fmt::format(
           "{}: was written for another scene or other options (its set-up fingerprint {:016x} "
-          "is not this run's {:016x}: scene file, material, seed, start file, --skin, "
-          "--min-skin); resume with the scene and options it was written with",
+          "is not this run's {:016x}: scene file, material, seed, start file, "
+          "`skin_diameters`, `min_skin_diameters`); resume with the scene and options it was "
+          "written with",
           name, frame.fingerprint, fingerprint));
     }
     if (frame.step > total_steps) {
       throw ConfigError(fmt::format(
-          "{}: holds t = {:.6g} s, beyond the run's duration of {:.6g} s; give a --duration of "
+          "{}: holds t = {:.6g} s, beyond the run's duration of {:.6g} s; set `duration_s` to "
           "at least {:.6g} s",
           name, frame.time_s, duration, frame.time_s));
     }

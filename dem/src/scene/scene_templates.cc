@@ -11,9 +11,9 @@ namespace {
 // 15 us) and 0.17 of the normal one, below the half that CheckTimeStep asks for.
 constexpr std::string_view kCylinder3d = R"({
   "_comment": [
-    "A bouncecal packing scene (docs/scenes.md), written by: bouncecal pack --template 3d-cylinder",
+    "A bouncecal packing scene (docs/scenes.md), written by: bouncecal pack `template=3d-cylinder`",
     "Keys starting with '_' are comments: the reader skips them (a JSON file has no other kind).",
-    "Every quantity is SI and every name carries its unit. Run: bouncecal pack scene.json --plot",
+    "Every quantity is SI and every name carries its unit. Run: bouncecal pack scene.json `plot`",
     "Keys left out take their defaults; a missing required key or an unknown one is named in one",
     "error with every other such key."
   ],
@@ -57,8 +57,8 @@ constexpr std::string_view kCylinder3d = R"({
   },
   "material": {
     "_comment": [
-      "contact_law: any law of bouncecal simulate drop --help with its parameters; or, instead,",
-      "\"material_card\": \"steel.json\", a card written by bouncecal calibrate --card (its law is",
+      "contact_law: any law of bouncecal simulate drop `help` with its parameters; or, instead,",
+      "\"material_card\": \"steel.json\", a card written by bouncecal calibrate `card` (its law is",
       "used; a relative path is read from this file's folder). The law object takes no comments.",
       "tangential_stiffness_n_per_m, friction, wall_friction (default: friction): the",
       "Cundall-Strack spring and its Coulomb cap. Van der Waals (hamaker_j, vdw_min_gap_m,",
@@ -81,7 +81,7 @@ constexpr std::string_view kCylinder3d = R"({
   "_comment_time_step_s": [
     "time_step_s is checked against the stability limits of the stiffest contacts before the",
     "run: beyond the normal limit the run is refused, beyond half of either limit it warns.",
-    "duration_s is simulated seconds (--duration-s overrides it); gravity points along -z."
+    "duration_s is simulated seconds (`duration_s` overrides it); gravity points along -z."
   ],
   "time_step_s": 5e-6,
   "duration_s": 1,
@@ -110,9 +110,9 @@ constexpr std::string_view kCylinder3d = R"({
 // is 0.21 of the tangential spring's limit for a pair and 0.11 of the normal one.
 constexpr std::string_view kBox2d = R"({
   "_comment": [
-    "A bouncecal packing scene (docs/scenes.md), written by: bouncecal pack --template 2d-box",
+    "A bouncecal packing scene (docs/scenes.md), written by: bouncecal pack `template=2d-box`",
     "Keys starting with '_' are comments: the reader skips them (a JSON file has no other kind).",
-    "Every quantity is SI and every name carries its unit. Run: bouncecal pack scene.json --plot",
+    "Every quantity is SI and every name carries its unit. Run: bouncecal pack scene.json `plot`",
     "In 2D the particles are spheres whose centres move in the x-y plane; gravity points along -y."
   ],
   "format": "bouncecal-scene/1",
@@ -145,7 +145,7 @@ constexpr std::string_view kBox2d = R"({
   "material": {
     "_comment": [
       "linear-dashpot: a spring and a viscous dashpot (damping_ratio 0.1: restitution 0.73).",
-      "Or \"material_card\": \"card.json\" from bouncecal calibrate --card instead of contact_law.",
+      "Or \"material_card\": \"card.json\" from bouncecal calibrate `card` instead of contact_law.",
       "The law object takes no comments."
     ],
     "contact_law": {"law": "linear-dashpot",

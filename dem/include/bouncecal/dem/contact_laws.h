@@ -95,7 +95,7 @@ template <typename Law>
 consteval bool CheckContactLaw() {
   static_assert(law_members::Name<Law>,
                 "a contact law needs `static constexpr std::string_view kName`, the name users "
-                "type (--law, material cards, scene files)");
+                "type (the law option, material cards, scene files)");
   static_assert(law_members::History<Law>,
                 "a contact law needs `static constexpr bool kNeedsHistory` (true if NormalForce "
                 "reads or writes NormalHistory)");
