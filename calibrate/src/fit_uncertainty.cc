@@ -269,34 +269,14 @@ ScatterEstimate ScatterAt(const std::vector<SequencePlan>& plans, const FitOptio
   return EstimateScatter(impacts, static_cast<int>(map.size()), &every);
 }
 
-FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
-                                   const FitOptions& options, const ParameterMap& map,
-                                   const std::vector<double>& x) {
-  FitUncertainty result;
-  auto& summary = result.summary;
-  summary.confidence_level = options.uncertainty.confidence_level;
-  summary.sequences = static_cast<int>(plans.size());
-  result.parameters.resize(map.size());
+namespace {
 
-  std::vector<Linearized> linearized;
-  std::vector<SequenceLinearization> linearizations;
-  std::vector<ImpactResiduals> impacts;
-  for (const auto& plan : plans) {
-    linearized.push_back(Linearize(plan, options, map, x, /*full=*/true));
-    linearizations.push_back(linearized.back().linearization);
-    impacts.push_back(linearized.back().impacts);
-    summary.impacts_used += static_cast<int>(linearized.back().used.size());
-  }
-  const auto every = EveryImpactScatter(plans, options, map.Apply(options.drop.law, x));
-  const ScatterEstimate scatter = EstimateScatter(impacts, static_cast<int>(map.size()), &every);
-  summary.per_impact_estimable = scatter.within_estimable;
-  summary.per_impact_scatter = std::sqrt(scatter.within_variance);
-  summary.per_impact_dof = scatter.within_dof;
-  summary.between_recording_sd = std::sqrt(scatter.between_variance);
-  summary.between_dof = scatter.between_dof;
-
-  // The paper's protocol: eta-bar per sequence, across sequences mean +- sd and the interval of
-  // the mean.
+// The paper's protocol: eta-bar per sequence, across sequences mean +- sd and the interval of
+// the mean, into `summary`.
+void SummariseRecordings(const std::vector<SequencePlan>& plans,
+                         const std::vector<Linearized>& linearized,
+                         const std::vector<ImpactResiduals>& impacts,
+                         const ScatterEstimate& scatter, UncertaintySummary& summary) {
   std::vector<double> means;
   double mean_variance = 0;
   for (size_t r = 0; r < plans.size(); ++r) {
@@ -323,114 +303,93 @@ FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
   for (double mean : means) summary.energy_loss_mean += mean / count;
   summary.energy_loss_mean_uncertainty =
       std::sqrt(mean_variance / (count * count) + scatter.between_variance / count);
-  const double tail = 0.5 + summary.confidence_level / 2;
   if (plans.size() >= 2) {
     const double sd = SampleSd(means);
     summary.energy_loss_sd_across = sd;
+    const double tail = 0.5 + summary.confidence_level / 2;
     const double half = StudentTQuantile(tail, count - 1) * sd / std::sqrt(count);
     summary.energy_loss_mean_interval =
         std::make_pair(summary.energy_loss_mean - half, summary.energy_loss_mean + half);
   }
+}
 
-  const CovarianceParts parts = SandwichCovariance(linearizations);
-  if (!parts.ok) {
-    summary.message = std::to_string(map.size()) +
-                      " fitted parameters are not separately determined by these data (the "
-                      "Gauss-Newton matrix is singular or has condition number " +
-                      Format("%.2g", parts.condition) + "), so no linear interval applies";
-    summary.model = "none: " + summary.message;
-    return result;
-  }
-  summary.available = true;
-  for (size_t r = 0; r < plans.size(); ++r) {
-    const Eigen::VectorXd step = SingleSequenceStep(linearizations[r]);
-    if (step.size() == 0) continue;
-    for (size_t i = 0; i < map.size(); ++i)
-      summary.recordings[r].parameter_values.push_back(
-          map.Value(i, x[i] + step[static_cast<Eigen::Index>(i)]));
-  }
+// One parameter's variance, in the sandwich's parts c_w, c_b (per unit of the within and
+// between variances) and its known timing and drop-height parts.
+struct ParameterVarianceParts {
+  double c_w = 0, c_b = 0, timing = 0, height = 0;
+};
 
-  // The drop-height parts are per sigma of each plan's own height (Linearize).
-  const bool height_uncertain = std::any_of(plans.begin(), plans.end(), [](const auto& plan) {
-    return plan.known_drop_height && plan.drop_height_uncertainty_m > 0;
-  });
-  const double height_variance = height_uncertain ? 1.0 : 0.0;
-  for (size_t i = 0; i < map.size(); ++i) {
-    const auto d = static_cast<Eigen::Index>(i);
-    const double c_w = parts.within(d, d), c_b = parts.between(d, d);
-    const double timing = parts.timing(d, d);
-    const double height = height_variance * parts.drop_height(d, d);
-    // The variance of the parameter and Satterthwaite's (1946) degrees of freedom of its estimated
-    // parts at a per-impact variance tau_w^2 with `within_dof` (0: taken as known). The stated
-    // timing and drop-height variances are known.
-    const auto at = [&](double within_variance, int within_dof) {
-      struct {
-        double within, between, total, dof;
-      } result{};
-      double between_variance = scatter.between_variance;
-      if (scatter.between_dof > 0) {
-        between_variance = std::max(0.0, scatter.between_mean_square -
-                                             within_variance * scatter.mean_inverse_count -
-                                             scatter.mean_timing_variance);
-      }
-      result.within = within_variance * c_w;
-      result.between = between_variance * c_b;
-      result.total = timing + result.within + result.between + height;
-      double denominator = 0;
-      if (between_variance > 0) {
-        // tau_b^2 = MS_b - mean(1/n) tau_w^2 - timing: the variance is a combination of the two
-        // estimated mean squares, so Satterthwaite's degrees of freedom are those of that
-        // combination (in a balanced design the within part cancels and MS_b's R - 1 remain).
-        const double a_w = (c_w - c_b * scatter.mean_inverse_count) * within_variance;
-        const double a_b = c_b * scatter.between_mean_square;
-        if (within_dof > 0) denominator += a_w * a_w / within_dof;
-        denominator += a_b * a_b / scatter.between_dof;
-      } else if (within_dof > 0) {
-        denominator += result.within * result.within / within_dof;
-      }
-      result.dof = denominator > 0 ? result.total * result.total / denominator
-                                   : std::numeric_limits<double>::infinity();
-      return result;
-    };
-    const auto point = at(scatter.within_variance, scatter.within_dof);
-    double half = 0, t = 0, dof = point.dof;
-    if (scatter.within_from_every_impact) {
-      // tau_w integrated over its posterior (scatter_posterior.h) instead of one estimate with
-      // Satterthwaite's dof: given tau_w the within part is known, the between part keeps its
-      // dof.
-      const auto& posterior = scatter.within_posterior;
-      std::vector<double> variance, dofs;
-      for (double tau : posterior.tau) {
-        const auto node = at(tau * tau, 0);
-        variance.push_back(node.total);
-        dofs.push_back(node.dof);
-      }
-      half = MixtureHalfWidth(posterior.weight, variance, dofs, summary.confidence_level);
-      t = point.total > 0 ? half / std::sqrt(point.total) : 0.0;
-      dof = EquivalentDof(t, tail);
-    } else {
-      t = StudentTQuantile(tail, point.dof);
-      half = t * std::sqrt(point.total);
+struct ParameterVariance {
+  double within = 0, between = 0, total = 0, dof = 0;
+};
+
+// The variance of the parameter and Satterthwaite's (1946) degrees of freedom of its estimated
+// parts at a per-impact variance tau_w^2 with `within_dof` (0: taken as known). The stated
+// timing and drop-height variances are known.
+ParameterVariance VarianceAt(const ScatterEstimate& scatter, const ParameterVarianceParts& parts,
+                             double within_variance, int within_dof) {
+  ParameterVariance result;
+  double between_variance = scatter.between_variance;
+  if (scatter.between_dof > 0) {
+    between_variance =
+        std::max(0.0, scatter.between_mean_square - within_variance * scatter.mean_inverse_count -
+                          scatter.mean_timing_variance);
+  }
+  result.within = within_variance * parts.c_w;
+  result.between = between_variance * parts.c_b;
+  result.total = parts.timing + result.within + result.between + parts.height;
+  double denominator = 0;
+  if (between_variance > 0) {
+    // tau_b^2 = MS_b - mean(1/n) tau_w^2 - timing: the variance is a combination of the two
+    // estimated mean squares, so Satterthwaite's degrees of freedom are those of that
+    // combination (in a balanced design the within part cancels and MS_b's R - 1 remain).
+    const double a_w = (parts.c_w - parts.c_b * scatter.mean_inverse_count) * within_variance;
+    const double a_b = parts.c_b * scatter.between_mean_square;
+    if (within_dof > 0) denominator += a_w * a_w / within_dof;
+    denominator += a_b * a_b / scatter.between_dof;
+  } else if (within_dof > 0) {
+    denominator += result.within * result.within / within_dof;
+  }
+  result.dof = denominator > 0 ? result.total * result.total / denominator
+                               : std::numeric_limits<double>::infinity();
+  return result;
+}
+
+// The interval's half-width, its t and effective dof for one parameter.
+struct HalfWidth {
+  double half = 0, t = 0, dof = 0;
+};
+
+HalfWidth IntervalHalfWidth(const ScatterEstimate& scatter, const ParameterVarianceParts& parts,
+                            const ParameterVariance& point, double confidence_level) {
+  const double tail = 0.5 + confidence_level / 2;
+  HalfWidth width;
+  width.dof = point.dof;
+  if (scatter.within_from_every_impact) {
+    // tau_w integrated over its posterior (scatter_posterior.h) instead of one estimate with
+    // Satterthwaite's dof: given tau_w the within part is known, the between part keeps its
+    // dof.
+    const auto& posterior = scatter.within_posterior;
+    std::vector<double> variance, dofs;
+    for (double tau : posterior.tau) {
+      const auto node = VarianceAt(scatter, parts, tau * tau, 0);
+      variance.push_back(node.total);
+      dofs.push_back(node.dof);
     }
-    const double total = point.total;
-    auto& parameter = result.parameters[i];
-    const double low = x[i] - half, high = x[i] + half;
-    parameter.clipped = low < map.LowerBounds()[i] || high > map.UpperBounds()[i];
-    parameter.interval = std::make_pair(map.Value(i, low), map.Value(i, high));
-    const double value = map.Value(i, x[i]);
-    parameter.standard_error =
-        (map.ranges()[i].log_scale ? value : 1.0) * std::sqrt(std::max(total, 0.0));
-    if (i == 0) {
-      const double share = total > 0 ? 1.0 / total : 0.0;
-      summary.timing_share = timing * share;
-      summary.scatter_share = point.within * share;
-      summary.between_share = point.between * share;
-      summary.drop_height_share = height * share;
-      summary.effective_dof = dof;
-      summary.t_quantile = t;
-    }
+    width.half = MixtureHalfWidth(posterior.weight, variance, dofs, confidence_level);
+    width.t = point.total > 0 ? width.half / std::sqrt(point.total) : 0.0;
+    width.dof = EquivalentDof(width.t, tail);
+  } else {
+    width.t = StudentTQuantile(tail, point.dof);
+    width.half = width.t * std::sqrt(point.total);
   }
+  return width;
+}
 
+// UncertaintySummary::model: what the interval is made of, in one line.
+std::string DescribeModel(const ScatterEstimate& scatter, const UncertaintySummary& summary,
+                          const std::vector<SequencePlan>& plans, const ParameterMap& map,
+                          bool height_uncertain) {
   std::string model = "linearised through the DEM drops at the fit: ";
   if (scatter.within_from_every_impact) {
     const auto& posterior = scatter.within_posterior;
@@ -455,7 +414,7 @@ FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
     model += " + between-recording spread (sd " + Format("%.2g", summary.between_recording_sd) +
              ", " + std::to_string(scatter.between_dof) + " dof)";
   }
-  if (height_variance > 0) {
+  if (height_uncertain) {
     double largest = 0;
     for (const auto& plan : plans) largest = std::max(largest, plan.drop_height_uncertainty_m);
     model += " + drop height (+- " + Format("%.3g", largest) + " m)";
@@ -470,9 +429,87 @@ FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
       Format("%.0f", 100 * summary.scatter_share) + " %, timing " +
       Format("%.0f", 100 * summary.timing_share) + " %";
   if (plans.size() >= 2) model += ", between " + Format("%.0f", 100 * summary.between_share) + " %";
-  if (height_variance > 0)
+  if (height_uncertain)
     model += ", drop height " + Format("%.0f", 100 * summary.drop_height_share) + " %";
-  summary.model = model;
+  return model;
+}
+
+}  // namespace
+
+FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
+                                   const FitOptions& options, const ParameterMap& map,
+                                   const std::vector<double>& x) {
+  FitUncertainty result;
+  auto& summary = result.summary;
+  summary.confidence_level = options.uncertainty.confidence_level;
+  summary.sequences = static_cast<int>(plans.size());
+  result.parameters.resize(map.size());
+
+  std::vector<Linearized> linearized;
+  std::vector<SequenceLinearization> linearizations;
+  std::vector<ImpactResiduals> impacts;
+  for (const auto& plan : plans) {
+    linearized.push_back(Linearize(plan, options, map, x, /*full=*/true));
+    linearizations.push_back(linearized.back().linearization);
+    impacts.push_back(linearized.back().impacts);
+    summary.impacts_used += static_cast<int>(linearized.back().used.size());
+  }
+  const auto every = EveryImpactScatter(plans, options, map.Apply(options.drop.law, x));
+  const ScatterEstimate scatter = EstimateScatter(impacts, static_cast<int>(map.size()), &every);
+  summary.per_impact_estimable = scatter.within_estimable;
+  summary.per_impact_scatter = std::sqrt(scatter.within_variance);
+  summary.per_impact_dof = scatter.within_dof;
+  summary.between_recording_sd = std::sqrt(scatter.between_variance);
+  summary.between_dof = scatter.between_dof;
+  SummariseRecordings(plans, linearized, impacts, scatter, summary);
+
+  const CovarianceParts covariance = SandwichCovariance(linearizations);
+  if (!covariance.ok) {
+    summary.message = std::to_string(map.size()) +
+                      " fitted parameters are not separately determined by these data (the "
+                      "Gauss-Newton matrix is singular or has condition number " +
+                      Format("%.2g", covariance.condition) + "), so no linear interval applies";
+    summary.model = "none: " + summary.message;
+    return result;
+  }
+  summary.available = true;
+  for (size_t r = 0; r < plans.size(); ++r) {
+    const Eigen::VectorXd step = SingleSequenceStep(linearizations[r]);
+    if (step.size() == 0) continue;
+    for (size_t i = 0; i < map.size(); ++i)
+      summary.recordings[r].parameter_values.push_back(
+          map.Value(i, x[i] + step[static_cast<Eigen::Index>(i)]));
+  }
+
+  // The drop-height parts are per sigma of each plan's own height (Linearize).
+  const bool height_uncertain = std::any_of(plans.begin(), plans.end(), [](const auto& plan) {
+    return plan.known_drop_height && plan.drop_height_uncertainty_m > 0;
+  });
+  for (size_t i = 0; i < map.size(); ++i) {
+    const auto d = static_cast<Eigen::Index>(i);
+    const ParameterVarianceParts parts{covariance.within(d, d), covariance.between(d, d),
+                                       covariance.timing(d, d),
+                                       height_uncertain ? covariance.drop_height(d, d) : 0.0};
+    const auto point = VarianceAt(scatter, parts, scatter.within_variance, scatter.within_dof);
+    const HalfWidth width = IntervalHalfWidth(scatter, parts, point, summary.confidence_level);
+    auto& parameter = result.parameters[i];
+    const double low = x[i] - width.half, high = x[i] + width.half;
+    parameter.clipped = low < map.LowerBounds()[i] || high > map.UpperBounds()[i];
+    parameter.interval = std::make_pair(map.Value(i, low), map.Value(i, high));
+    const double value = map.Value(i, x[i]);
+    parameter.standard_error =
+        (map.ranges()[i].log_scale ? value : 1.0) * std::sqrt(std::max(point.total, 0.0));
+    if (i == 0) {
+      const double share = point.total > 0 ? 1.0 / point.total : 0.0;
+      summary.timing_share = parts.timing * share;
+      summary.scatter_share = point.within * share;
+      summary.between_share = point.between * share;
+      summary.drop_height_share = parts.height * share;
+      summary.effective_dof = width.dof;
+      summary.t_quantile = width.t;
+    }
+  }
+  summary.model = DescribeModel(scatter, summary, plans, map, height_uncertain);
   return result;
 }
 
