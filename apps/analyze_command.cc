@@ -55,8 +55,11 @@ void PrintTable(std::FILE* out, const RecordingAnalysis& analysis) {
   fmt::print(out, "  {} in {}, {}{}\n", d.info.codec, d.info.container,
              d.info.lossy ? "lossy" : "lossless",
              d.codec_timing
-                 ? fmt::format(": onset uncertainties include +-{:.0f} us of codec timing",
-                               d.codec_timing->onset_uncertainty_s * 1e6)
+                 ? fmt::format(": onset uncertainties include +-{:.0f} us of codec timing{}",
+                               d.codec_timing->onset_uncertainty_s * 1e6,
+                               d.response_timing && d.response_timing->own_sigma > 0
+                                   ? " except where timed from the impact's response"
+                                   : "")
                  : std::string());
   fmt::print(out, "  {} impacts, {} sequence(s), {} rejected events\n", d.detection.impacts.size(),
              analysis.sequences.size(), analysis.rejected.size());
@@ -132,9 +135,9 @@ void WarnAboutCodec(const std::string& path, const audio::FileDetection& detecti
                           timing->high_bit_rate_bps_per_channel / 1e3)
             : fmt::format("measured for {}", timing->family);
     std::fprintf(stderr,
-                 "bouncecal: warning: %s: lossy %s (%s): every onset uncertainty widened by %.0f "
-                 "us in quadrature (%s; docs/codecs.md); record WAV or FLAC for the full "
-                 "precision\n",
+                 "bouncecal: warning: %s: lossy %s (%s): every onset uncertainty not timed from "
+                 "the impact's response widened by %.0f us in quadrature (%s; docs/codecs.md); "
+                 "record WAV or FLAC for the full precision\n",
                  path.c_str(), info.codec.c_str(), rate.c_str(), timing->onset_uncertainty_s * 1e6,
                  basis.c_str());
   }

@@ -183,9 +183,9 @@ std::vector<calibrate::MeasuredSequence> CalibrateCliOptions::LoadSequences() co
   for (const auto& sequence : sequences) {
     if (sequence.lossy_codec.empty() || !warned.insert(sequence.path).second) continue;
     fmt::print(stderr,
-               "bouncecal: warning: {}: lossy {}: every onset uncertainty widened by {:.0f} us "
-               "in quadrature (docs/codecs.md), which widens the fitted interval; record WAV or "
-               "FLAC for the full precision\n",
+               "bouncecal: warning: {}: lossy {}: every onset uncertainty not timed from the "
+               "impact's response widened by {:.0f} us in quadrature (docs/codecs.md), which "
+               "widens the fitted interval; record WAV or FLAC for the full precision\n",
                sequence.path.string(), sequence.lossy_codec,
                sequence.codec_timing_uncertainty_s * 1e6);
   }

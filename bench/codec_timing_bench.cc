@@ -13,7 +13,8 @@
 //
 // Columns after sigma_us: the median stated onset sigma (detector, response timing and the
 // codec table together) and the share of onsets whose error against the truth, less the drop's
-// median error, lies within 1.96 stated sigmas.
+// median error, lies within 1.96 stated sigmas; `own` counts the onsets stated with the response
+// alignment's sigma instead of the codec table's.
 #include <unistd.h>
 
 #include <algorithm>
@@ -82,6 +83,7 @@ struct Detected {
   int sample_rate_hz = 0;
   double table_sigma_s = 0;  // the codec table's share of every stated sigma
   int replaced = 0;          // onsets the response timing replaced (response_timing.h)
+  int own_sigma = 0;         // onsets stated with the alignment's own sigma, without the table's
 };
 
 constexpr double kMatchS = 5e-3;
@@ -97,7 +99,10 @@ Detected Analyse(const fs::path& path, const std::vector<double>& truth) {
   result.sample_rate_hz = file.info.sample_rate_hz;
   result.sequence = !grouping.sequences.empty();
   if (file.codec_timing) result.table_sigma_s = file.codec_timing->onset_uncertainty_s;
-  if (file.response_timing) result.replaced = file.response_timing->replaced;
+  if (file.response_timing) {
+    result.replaced = file.response_timing->replaced;
+    result.own_sigma = file.response_timing->own_sigma;
+  }
   const auto& impacts = detection.impacts;
   std::vector<bool> used(impacts.size(), false);
   for (double t : truth) {
@@ -152,7 +157,9 @@ struct Tally {
   std::vector<double> stated_s;  // stated onset sigma of every found impact
   std::vector<double> errors_s;  // |onset - truth| less the drop's median error
   std::vector<double> own_s;     // stated sigma without the codec table's share
+  std::vector<bool> widened;     // the table's share is in it (below the table: the alignment's)
   int replaced = 0;
+  int own_sigma = 0;
   int covered = 0;  // |error less the drop's median error| <= 1.96 stated sigma
   int judged = 0;
   int decoded_rate_hz = 0;
@@ -173,6 +180,7 @@ void Score(const Detected& codec, const Detected& wav, const std::vector<double>
            Tally& tally) {
   ++tally.drops;
   tally.replaced += codec.replaced;
+  tally.own_sigma += codec.own_sigma;
   tally.sequences += codec.sequence ? 1 : 0;
   tally.truth += static_cast<int>(truth.size());
   tally.extra += codec.extra;
@@ -199,8 +207,10 @@ void Score(const Detected& codec, const Detected& wav, const std::vector<double>
       const double sigma = *codec.sigmas[k];
       tally.stated_s.push_back(sigma);
       tally.errors_s.push_back(std::fabs(*codec.onsets[k] - truth[k] - median));
+      const bool widened = sigma >= codec.table_sigma_s;
+      tally.widened.push_back(widened);
       tally.own_s.push_back(
-          std::sqrt(std::max(0.0, sigma * sigma - codec.table_sigma_s * codec.table_sigma_s)));
+          widened ? std::sqrt(sigma * sigma - codec.table_sigma_s * codec.table_sigma_s) : sigma);
       ++tally.judged;
       if (std::fabs(*codec.onsets[k] - truth[k] - median) <= 1.96 * sigma) ++tally.covered;
     }
@@ -221,12 +231,14 @@ void Score(const Detected& codec, const Detected& wav, const std::vector<double>
 }
 
 // The smallest codec table sigma with which 95 % of the errors against the truth lie within
-// 1.96 stated sigmas (each onset's own sigma and the table's in quadrature).
+// 1.96 stated sigmas (each onset's own sigma and the table's in quadrature; an onset stated
+// below the table's sigma was timed by the response alignment alone and keeps its sigma).
 double NeededTableSigma(const Tally& t) {
   const auto covered = [&](double table) {
     std::size_t within = 0;
     for (std::size_t i = 0; i < t.errors_s.size(); ++i) {
-      within += t.errors_s[i] <= 1.96 * std::hypot(t.own_s[i], table) ? 1 : 0;
+      const double sigma = t.widened[i] ? std::hypot(t.own_s[i], table) : t.own_s[i];
+      within += t.errors_s[i] <= 1.96 * sigma ? 1 : 0;
     }
     return within >= 0.95 * static_cast<double>(t.errors_s.size());
   };
@@ -263,9 +275,9 @@ void PrintRow(const std::string& label, int rate_hz, const Tally& t, bool refere
   } else {
     std::printf(" %8.1f", Quantile(abs_centred, 0.95) / 1.96 * 1e6);
   }
-  std::printf(" %8.1f %5.1f%% %8.1f %8.1f %5d\n", Quantile(t.stated_s, 0.5) * 1e6,
+  std::printf(" %8.1f %5.1f%% %8.1f %8.1f %5d %5d\n", Quantile(t.stated_s, 0.5) * 1e6,
               t.judged > 0 ? 100.0 * t.covered / t.judged : 0.0, Quantile(t.errors_s, 0.95) * 1e6,
-              NeededTableSigma(t) * 1e6, t.replaced);
+              NeededTableSigma(t) * 1e6, t.replaced, t.own_sigma);
 }
 
 // --verbose: the onsets of a drop whose error against the truth (less the drop's median) exceeds
@@ -365,10 +377,10 @@ int main(int argc, char** argv) {
   std::printf("%d seeds x %zu scenes per row; shifts are codec onset - WAV onset\n", seeds,
               scenes.size());
   std::printf(
-      "%-10s %6s %6s %5s %5s %9s %5s %8s %8s %8s %8s %8s %8s %8s %8s %8s %8s %6s %8s %8s %5s\n",
+      "%-10s %6s %6s %5s %5s %9s %5s %8s %8s %8s %8s %8s %8s %8s %8s %8s %8s %6s %8s %8s %5s %5s\n",
       "codec", "rate", "dec_hz", "kbps", "seq", "found", "extra", "bias_us", "c50_us", "c95_us",
       "cmax_us", "int50_us", "int95_us", "deta_wav", "deta_tru", "sigma_us", "stat50us", "cover",
-      "e95_us", "need_us", "repl");
+      "e95_us", "need_us", "repl", "own");
   for (int rate : rates) PrintRow("WAV", rate, wav_tallies[rate], true);
   for (const auto& encoding : encodings) {
     for (int rate : rates) {

@@ -1,7 +1,8 @@
 // Phone formats and lossy codecs (issues 16 and 18): recordings encoded with Debian's `ffmpeg`
 // command decode at their own rate with the encoder delay removed, report their codec, and carry
-// the codec's measured timing error in every onset uncertainty, in `bouncecal analyze` and in
-// the calibration input alike. Every test skips with a message when ffmpeg is not installed.
+// the codec's measured timing error in every onset uncertainty the response timing did not
+// state (issue 30), in `bouncecal analyze` and in the calibration input alike. Every test skips
+// with a message when ffmpeg is not installed.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -284,6 +285,52 @@ TEST_F(CodecInput, OnsetShiftsOfHighBitRateCopiesStayWithinTheirStatedUncertaint
   }
 }
 
+// Issue 30: through the file path, an AAC 128k copy's onsets are timed from their responses and
+// stated with the alignment's precision, not the codec table's 967 us, and that precision covers
+// the error against the truth. Tolerances from the codec bench (16 seeds x 2 scenes at 48 kHz:
+// error p95 16 us, median stated sigma 10 us, 100 % within 1.96 sigma; docs/codecs.md): the
+// issue's targets (p95 <= 150 us, median stated <= 200 us) with coverage tested at 90 %, since
+// 4 drops give ~48 onsets and two outliers more than expected must not fail it.
+TEST_F(CodecInput, AnAacCopysOnsetsAreStatedWithTheirAlignmentsPrecisionWhichCoversTheirError) {
+  std::vector<double> errors, sigmas;
+  int covered = 0;
+  for (std::uint64_t seed = 201; seed <= 204; ++seed) {
+    const auto drop = Drop(seed);
+    const auto path =
+        Encode(WriteWav(folder_ / "drop.wav", drop), "drop.m4a", {"-c:a", "aac", "-b:a", "128k"});
+    const auto file = audio::DetectImpactsInFile(path);
+    ASSERT_TRUE(file.response_timing.has_value());
+    std::vector<double> drop_errors, drop_sigmas;
+    for (double truth : drop.BallImpactOnsetsS()) {
+      const audio::Impact* best = nullptr;
+      for (const auto& impact : file.detection.impacts) {
+        if (std::fabs(impact.onset_s - truth) < 5e-3 &&
+            (!best || std::fabs(impact.onset_s - truth) < std::fabs(best->onset_s - truth))) {
+          best = &impact;
+        }
+      }
+      if (!best) continue;
+      drop_errors.push_back(best->onset_s - truth);
+      drop_sigmas.push_back(best->onset_uncertainty_s);
+    }
+    ASSERT_GE(drop_errors.size(), 8u);
+    auto sorted = drop_errors;
+    std::sort(sorted.begin(), sorted.end());
+    const double median = sorted[sorted.size() / 2];  // a constant cancels in every interval
+    for (std::size_t i = 0; i < drop_errors.size(); ++i) {
+      errors.push_back(std::fabs(drop_errors[i] - median));
+      sigmas.push_back(drop_sigmas[i]);
+      covered += errors.back() <= 1.96 * sigmas.back() ? 1 : 0;
+    }
+  }
+  std::sort(errors.begin(), errors.end());
+  std::sort(sigmas.begin(), sigmas.end());
+  EXPECT_LE(errors[errors.size() * 95 / 100], 150e-6);
+  EXPECT_LE(sigmas[sigmas.size() / 2], 200e-6);
+  EXPECT_GE(covered, 0.9 * static_cast<double>(errors.size()))
+      << covered << " of " << errors.size();
+}
+
 TEST_F(CodecInput, AnAacCopyOfTheSteelSampleKeepsItsEtaBarAndSaysItIsLossy) {
   const fs::path sample = SourceDir() / "samples" / "steel_ball_h0.2m.wav";
   const auto m4a = folder_ / "steel.m4a";
@@ -311,9 +358,13 @@ TEST_F(CodecInput, AnAacCopyOfTheSteelSampleKeepsItsEtaBarAndSaysItIsLossy) {
       result.output.find(std::to_string(static_cast<int>(std::lround(codec_sigma * 1e6))) + " us"),
       std::string::npos)
       << result.output;
+  // The steel sample's impacts ring alike, so the response timing states most of them with the
+  // alignment's precision instead of the codec's.
+  int own = 0;
   for (const auto& impact : lossy["impacts"]) {
-    EXPECT_GE(impact["onset_uncertainty_s"].get<double>(), codec_sigma);
+    own += impact["onset_uncertainty_s"].get<double>() < 0.2 * codec_sigma ? 1 : 0;
   }
+  EXPECT_GE(own, 4) << lossy["impacts"].dump();
   // Issue 18's done-when: eta-bar within 0.005 of the WAV's (the steel sample's first impacts
   // stand 20+ dB out of their tails, so AAC at 128 kbit/s moves them by a few samples at most).
   const double eta_wav = wav["sequences"][0]["energy_loss_mean_first_n"];
@@ -352,11 +403,12 @@ TEST_F(CodecInput, TheCalibrationInputCarriesTheCodecErrorExactlyOnce) {
   const auto m4a = folder_ / "steel.m4a";
   ASSERT_TRUE(EncodeWithFfmpeg(sample, m4a, {"-c:a", "aac", "-b:a", "128k"}));
   const double sigma = audio::DetectImpactsInFile(m4a).codec_timing->onset_uncertainty_s;
-  // The detector's own sigmas (and the response timing the file path applies to a lossy file),
-  // from the same decoded samples without the file path's widening.
+  // The detector's onsets retimed from their responses, as the file path does for a lossy file,
+  // from the same decoded samples: the codec's error is in every sigma the alignment did not
+  // state, once.
   const auto recording = audio::LoadRecording(m4a);
   auto raw = audio::DetectImpacts(recording);
-  audio::RetimeFromResponses(raw, recording.samples);
+  audio::RetimeFromResponses(raw, recording.samples, sigma);
   audio::GroupBounces(raw);
   const auto sequences = calibrate::LoadSequences({m4a});
   ASSERT_FALSE(sequences.empty());
@@ -367,8 +419,7 @@ TEST_F(CodecInput, TheCalibrationInputCarriesTheCodecErrorExactlyOnce) {
       return std::fabs(r.onset_s - impact.onset_s) < 1e-9;
     });
     ASSERT_NE(same, raw.impacts.end()) << impact.onset_s;
-    EXPECT_NEAR(impact.uncertainty_s, std::hypot(same->onset_uncertainty_s, sigma), 1e-12)
-        << impact.onset_s;
+    EXPECT_NEAR(impact.uncertainty_s, same->onset_uncertainty_s, 1e-12) << impact.onset_s;
   }
 }
 

@@ -49,6 +49,10 @@ FileDetection DetectImpactsInFile(const std::filesystem::path& path,
   }
   result.channel = channels[best];
   result.detection = std::move(detections[best]);
+  // Here, not in a caller, so every path from a file to onsets (analyze, the calibration input,
+  // AnalyzeBounces' other callers) carries it once, and the sequence search's tolerances see it.
+  result.codec_timing = CodecTimingOf(info);
+  const double codec_sigma_s = result.codec_timing ? result.codec_timing->onset_uncertainty_s : 0;
   if (FirstLobeUnreliable(info)) {
     // A second pass, only where the first lobe cannot be trusted: the samples around each onset
     // were not kept during the first (memory stays bounded by the impacts, not the file).
@@ -58,13 +62,9 @@ FileDetection DetectImpactsInFile(const std::filesystem::path& path,
     while (!timer.Done() && again.ReadBlock(block, options.block_frames)) {
       timer.Process(block[channel]);
     }
-    result.response_timing = timer.Apply(result.detection);
-  }
-  // Here, not in a caller, so every path from a file to onsets (analyze, the calibration input,
-  // AnalyzeBounces' other callers) carries it once, and the sequence search's tolerances see it.
-  result.codec_timing = CodecTimingOf(info);
-  if (result.codec_timing) {
-    WidenOnsetUncertainties(result.detection, result.codec_timing->onset_uncertainty_s);
+    result.response_timing = timer.Apply(result.detection, codec_sigma_s);
+  } else if (result.codec_timing) {
+    WidenOnsetUncertainties(result.detection, codec_sigma_s);
   }
   return result;
 }

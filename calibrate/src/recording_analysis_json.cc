@@ -95,7 +95,8 @@ nlohmann::json ToJson(const RecordingAnalysis& analysis) {
   file["lossy"] = info.lossy;
   file["bit_rate_bps"] = OptionalNumber(info.bit_rate_bps);
   file["encoder_delay"] = std::string(audio::ToString(info.encoder_delay));
-  // Already inside every onset_uncertainty_s below (added in quadrature); 0 for lossless input.
+  // Already inside every onset_uncertainty_s below not timed from the impact's response (added in
+  // quadrature); 0 for lossless input.
   file["codec_timing_uncertainty_s"] =
       detection.codec_timing ? detection.codec_timing->onset_uncertainty_s : 0.0;
   nlohmann::json impacts = nlohmann::json::array();

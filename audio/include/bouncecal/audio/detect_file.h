@@ -29,18 +29,20 @@ struct FileDetection {
   bool channel_chosen_automatically = false;
   // impact_to_noise_db of every channel analysed (one entry when a channel was given).
   std::vector<double> channel_impact_to_noise_db;
-  // Set for a lossy file: the codec's timing error, already added in quadrature to every onset
-  // uncertainty of `detection` (codec_timing.h).
+  // Set for a lossy file: the codec's timing error of the detector's onsets (codec_timing.h),
+  // already added in quadrature to the uncertainty of every onset of `detection` that the
+  // response timing did not time (all of them for G.711 and ADPCM, which it does not retime).
   std::optional<CodecTiming> codec_timing;
   // Set where the first lobe is unreliable (FirstLobeUnreliable: a transform codec, a rate below
-  // 20 kHz): the impacts were retimed from their whole response (response_timing.h) before the
-  // codec's remaining timing error was added.
+  // 20 kHz): the impacts were retimed from their whole response (response_timing.h); those it
+  // aligned (own_sigma) are stated with the alignment's uncertainty instead of the codec's.
   std::optional<ResponseTimingSummary> response_timing;
   DetectionResult detection;
 };
 
 // Streams the file once through one detector per candidate channel; for a lossy file, widens
-// every onset uncertainty by the codec's measured timing error. Throws InputError for an
+// the uncertainty of every onset not timed from its response by the codec's measured timing
+// error. Throws InputError for an
 // unreadable file and ConfigError for a channel the file does not have or bad detector options.
 FileDetection DetectImpactsInFile(const std::filesystem::path& path,
                                   const FileDetectionOptions& options = {});

@@ -25,9 +25,13 @@ namespace bouncecal::audio {
 //
 // An impact whose alignment is unambiguous (one correlation peak clearly above every other lag)
 // gets a second measurement of its onset with an uncertainty from the alignment's own quality
-// (the residual 1 - rho^2 over the template's bandwidth). Where the detector's onset agrees with
-// it within 3 combined sigmas the two are combined by their variances; where it does not, the
-// detector's onset jumped (pre-echo, a hop in ringing) and the alignment's replaces it.
+// (the residual 1 - rho^2 over the template's bandwidth). The detector's onset, whose error is its
+// own sigma and the first lobe's (a codec's, codec_timing.h) in quadrature, is combined with it by
+// their variances where the two agree within 3 combined sigmas; where they do not, the detector's
+// onset jumped (pre-echo, a hop in ringing) and the alignment's replaces it. Either way the
+// impact is stated with the alignment's precision, not the codec's; an impact without a usable
+// alignment (weak or ambiguous correlation: another kind of sound, a double hit, a response cut
+// short) keeps the detector's onset with the first lobe's error added.
 struct ResponseTimingOptions {
   double search_s = 5e-3;        // largest lag tried either side of the detector's onset
   double response_s = 12e-3;     // length of response compared
@@ -48,6 +52,7 @@ struct ResponseTimingSummary {
   int aligned = 0;     // with an unambiguous alignment
   int combined = 0;    // detector and alignment agreed and were combined
   int replaced = 0;    // the detector's onset jumped; the alignment's replaced it
+  int own_sigma = 0;   // stated with the alignment's sigma, without the first lobe's error
   std::int64_t template_onset_sample = -1;
 };
 
@@ -61,7 +66,10 @@ class ResponseTimer {
   void Process(std::span<const float> samples);
   // Whether every window is complete (the rest of the recording need not be read).
   bool Done() const;
-  ResponseTimingSummary Apply(DetectionResult& detection) const;
+  // Retimes the detection; first_lobe_sigma_s is the error of the detector's onsets beyond their
+  // own uncertainty (a lossy codec's, codec_timing.h; 0 for PCM): it is added in quadrature to
+  // every onset but those the alignment times on its own.
+  ResponseTimingSummary Apply(DetectionResult& detection, double first_lobe_sigma_s) const;
 
  private:
   struct Window {
@@ -75,6 +83,8 @@ class ResponseTimer {
   std::int64_t length_ = 0;      // samples per window
   std::int64_t lead_ = 0;        // samples of a window before its onset sample
   std::vector<Window> windows_;  // by begin
+  ResponseTimingSummary Retime(DetectionResult& detection, double first_lobe_sigma_s,
+                               std::vector<bool>& own) const;
   std::int64_t position_ = 0;
   std::size_t first_open_ = 0;
 };
@@ -82,6 +92,7 @@ class ResponseTimer {
 // Convenience for a recording in memory.
 ResponseTimingSummary RetimeFromResponses(DetectionResult& detection,
                                           std::span<const float> samples,
+                                          double first_lobe_sigma_s = 0,
                                           const ResponseTimingOptions& options = {});
 
 }  // namespace bouncecal::audio

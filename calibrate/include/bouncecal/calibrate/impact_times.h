@@ -20,7 +20,8 @@ struct MeasuredSequence {
   // when the same content is given twice.
   std::string content_hash;
   // For a sequence from a lossy recording: its codec and the timing error (one sigma, s) already
-  // added in quadrature to every onset uncertainty, so a caller can say why they are wide.
+  // added in quadrature to every onset uncertainty not timed from the impact's response, so a
+  // caller can say why they are wide.
   std::string lossy_codec;
   double codec_timing_uncertainty_s = 0;
   // This sequence's own release height and its one-sigma uncertainty, m (a protocol of drops from
