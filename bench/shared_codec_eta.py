@@ -1,0 +1,88 @@
+#!/usr/bin/env python3
+"""eta-bar of lossy copies of real recordings against the WAV's, with stated sigmas.
+
+Encodes every WAV under a recordings directory (default /work/shared/recordings) at AAC 128k,
+Opus 64k, MP3 128k and Vorbis q4 with ffmpeg (cached in --cache), runs `bouncecal analyze` on the
+WAV and each copy, and prints per copy the first sequence's eta-bar, |difference| to the WAV's
+and that difference over the combined stated sigma. The counts within 0.002 / 0.003 and beyond
+2 / 3 combined sigmas are the issue 30 figures (docs/codecs.md).
+
+On main at 0bcd9c4 (2026-11-28): 31 of 44 copies within 0.002, 34 within 0.003, 5 beyond 2 and 4
+beyond 3 combined sigmas (basketball MP3, alessia rimbalzi MP3 and AAC, ub-mth337 ping-pong Opus).
+
+Usage: shared_codec_eta.py BOUNCECAL [--recordings DIR] [--cache DIR] [--json OUT]
+"""
+import argparse
+import json
+import math
+import pathlib
+import subprocess
+import sys
+
+CODECS = {
+    "aac128k": ("m4a", ["-c:a", "aac", "-b:a", "128k"]),
+    "opus64k": ("opus", ["-c:a", "libopus", "-b:a", "64k"]),
+    "mp3128k": ("mp3", ["-c:a", "libmp3lame", "-b:a", "128k"]),
+    "vorbisq4": ("ogg", ["-c:a", "libvorbis", "-q:a", "4"]),
+}
+
+
+def eta_bar(binary, path):
+    run = subprocess.run([binary, "analyze", str(path), "--json", "-"], capture_output=True,
+                         text=True)
+    if run.returncode != 0:
+        return None
+    try:
+        sequences = json.loads(run.stdout)["recordings"][0]["sequences"]
+    except (ValueError, KeyError, IndexError):
+        return None
+    if not sequences or sequences[0].get("energy_loss_mean_first_n") is None:
+        return None
+    s = sequences[0]
+    return s["energy_loss_mean_first_n"], s["energy_loss_mean_first_n_uncertainty"]
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("binary")
+    parser.add_argument("--recordings", default="/work/shared/recordings")
+    parser.add_argument("--cache", default="/tmp/shared_codec_eta")
+    parser.add_argument("--json")
+    args = parser.parse_args()
+    cache = pathlib.Path(args.cache)
+    cache.mkdir(parents=True, exist_ok=True)
+    wavs = sorted(pathlib.Path(args.recordings).rglob("*.wav"))
+    rows = []
+    for wav in wavs:
+        reference = eta_bar(args.binary, wav)
+        for name, (ext, options) in CODECS.items():
+            copy = cache / f"{wav.parent.name}_{wav.stem}_{name}.{ext}"
+            if not copy.exists():
+                subprocess.run(["ffmpeg", "-nostdin", "-loglevel", "error", "-y", "-i", str(wav)] +
+                               options + [str(copy)], check=True)
+            encoded = eta_bar(args.binary, copy)
+            row = {"recording": f"{wav.parent.name}/{wav.name}", "codec": name}
+            if reference and encoded:
+                diff = abs(encoded[0] - reference[0])
+                sigma = math.hypot(encoded[1], reference[1])
+                row.update(wav=reference[0], wav_sigma=reference[1], copy=encoded[0],
+                           copy_sigma=encoded[1], diff=diff,
+                           sigmas=diff / sigma if sigma > 0 else math.inf)
+            rows.append(row)
+            print(f"{row['recording']:40s} {name:9s} "
+                  + (f"wav {row['wav']:.4f}+-{row['wav_sigma']:.5f} copy {row['copy']:.4f}"
+                     f"+-{row['copy_sigma']:.5f} |d| {row['diff']:.4f} {row['sigmas']:.2f} sig"
+                     if "diff" in row else "no eta-bar"), flush=True)
+    done = [r for r in rows if "diff" in r]
+    print(f"copies {len(rows)}: within 0.002 {sum(r['diff'] <= 0.002 for r in done)}, "
+          f"within 0.003 {sum(r['diff'] <= 0.003 for r in done)}, "
+          f"beyond 2 sigma {sum(r['sigmas'] > 2 for r in done)}, "
+          f"beyond 3 sigma {sum(r['sigmas'] > 3 for r in done)}, "
+          f"no eta-bar {len(rows) - len(done)}")
+    if args.json:
+        pathlib.Path(args.json).write_text(json.dumps(rows, indent=1) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
