@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <numbers>
 #include <queue>
 #include <string>
 
@@ -289,39 +290,61 @@ class ChanceAlignment {
     const auto onset = [&](std::size_t k) {
       return impacts_[static_cast<size_t>(members[k])].onset_s;
     };
-    double score = 0;  // -sum ln p_k
+    double fisher = 0;     // -sum ln p_k
+    double log_rates = 0;  // sum ln a_k
+    double squared = 0;    // q = sum y_k^2
     int terms = 0;
     std::vector<double> ratios;  // before impact k, as the tracking predicted it
     for (std::size_t k = 3; k < members.size(); ++k) {
       const double dt0 = onset(k - 2) - onset(k - 3);
       const double dt1 = onset(k - 1) - onset(k - 2);
       ratios.push_back(dt1 / dt0);
-      const double ratio = ExpectedRatio(ratios);
+      const double predicted_s = onset(k - 1) + ExpectedRatio(ratios) * dt1;
       // Under chance the nearest event lands within d of a prediction with probability
       // 1 - exp(-2 rate d), however precisely it is timed, so p is exact for random events
       // (the floor only keeps the logarithm finite).
       const bool weak = impacts_[static_cast<size_t>(members[k])].residual_only;
       const double rate_hz = weak ? weak_rate_hz_ : strong_rate_hz_;
-      const auto chance = [&](double predicted_ratio) {
-        const double predicted_s = onset(k - 1) + predicted_ratio * dt1;
-        const double half_width_s = std::max(std::fabs(onset(k) - predicted_s), 1e-7);
-        return -std::expm1(-2.0 * rate_hz * half_width_s);
-      };
-      const double p = chance(ratio);
-      score += -std::log(std::max(p, 1e-300));
+      const double deviation_s = std::max(std::fabs(onset(k) - predicted_s), 1e-7);
+      fisher += -std::log(std::max(-std::expm1(-2.0 * rate_hz * deviation_s), 1e-300));
+      // A bounce misses its prediction by its ratio's scatter times the flight, sd s w_k with w_k
+      // = dt_{k-1} sqrt(1 + 1/n) (the new ratio against the mean of the n before it): y_k =
+      // d_k / w_k is what a ball with scattering e keeps small, whatever s is.
+      const double n = static_cast<double>(std::min(ratios.size(), kRatiosPredicting));
+      const double width_s = dt1 * std::sqrt(1.0 + 1.0 / n);
+      log_rates += std::log(2.0 * rate_hz * width_s);
+      squared += (deviation_s / width_s) * (deviation_s / width_s);
       ++terms;
     }
     if (terms == 0) return chains_tried_;
     // Upper tail of a Gamma(terms, 1) sum: e^-s sum_{i < terms} s^i / i!, in logarithms so that
     // long chains and large scores neither overflow nor underflow to 0 * inf.
     double log_sum = 0;  // log of the i = 0 term, 1
-    const double log_score = std::log(score);
+    const double log_score = std::log(fisher);
     for (int i = 1; i < terms; ++i) {
       const double log_term = i * log_score - std::lgamma(i + 1.0);
       const double high = std::max(log_sum, log_term);
       log_sum = high + std::log(std::exp(log_sum - high) + std::exp(log_term - high));
     }
-    return chains_tried_ * std::exp(log_sum - score);
+    const double fisher_chance = std::exp(log_sum - fisher);
+    // One impact: both tests order chains by |d| alone and agree.
+    if (terms == 1) return chains_tried_ * fisher_chance;
+    // Fisher's combination rewards one deviation far below the rest, but a ball whose e scatters
+    // (3-5 % per impact) misses every prediction by about s w_k: each p_k ~ 2 rate s w_k, and
+    // with one impact's p near 0.01 and the next near 0.02 the chain read as chance. Against that
+    // alternative the log likelihood ratio of "bounce with scatter" (y_k normal, sd s) to "random
+    // event" (y_k exponential with rate a_k = 2 rate w_k) is -q / 2s^2 + sum a_k y_k + const,
+    // q = sum y_k^2, and the linear term is negligible wherever a chain can pass (a_k y_k ~ p_k),
+    // so q is the statistic for every s. For random events P(q' <= q) <= prod a_k times the
+    // volume of the positive part of the m-ball of radius sqrt(q), pi^(m/2) q^(m/2) /
+    // (Gamma(m/2 + 1) 2^m), since each density a_k exp(-a_k y_k) <= a_k. The chance is the
+    // smaller of the two tests, doubled since either may decide (a union bound, so a random chain
+    // still passes with at most the stated probability).
+    const double m = static_cast<double>(terms);
+    const double log_ball = log_rates + 0.5 * m * std::log(std::numbers::pi * squared) -
+                            std::lgamma(0.5 * m + 1.0) - m * std::log(2.0);
+    const double ball_chance = std::exp(std::min(0.0, log_ball));
+    return chains_tried_ * 2.0 * std::min(fisher_chance, ball_chance);
   }
 
   bool Significant(const std::vector<int>& members) const {

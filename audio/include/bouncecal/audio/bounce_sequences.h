@@ -79,10 +79,13 @@ struct SequenceResult {
 // a band, or when it starts with two that did and its timing passes max_chance_alignment:
 // impact k >= 4 lands |t_k - t_pred| from t_pred = t_{k-1} + r dt_{k-1} (r that mean), which a
 // random event of its kind (band or residual-only, at the rate the file has them) beats with
-// probability p_k = 1 - exp(-2 rate |t_k - t_pred|) whatever its timing precision; the chain's
-// -sum ln p_k, whose tail for random events is that of a Gamma(m, 1) sum, times the number of
-// chains tried, must stay below max_chance_alignment. Deterministic. Throws ConfigError for bad
-// options.
+// probability p_k = 1 - exp(-2 rate |t_k - t_pred|) whatever its timing precision. Two
+// statistics combine them: Fisher's -sum ln p_k (a Gamma(m, 1) tail for random events), and
+// q = sum (|t_k - t_pred| / w_k)^2 with w_k the flight scaled for the ratio's prediction error,
+// which a ball whose e scatters keeps small whatever the scatter (its chance for random events is
+// bounded by prod(2 rate w_k) times the volume of the m-ball of radius sqrt(q) over 2^m). Twice the
+// smaller chance (one chance alone for m = 1), times the number of chains tried, must stay below
+// max_chance_alignment. Deterministic. Throws ConfigError for bad options.
 SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
                                    const SequenceOptions& options = {});
 
