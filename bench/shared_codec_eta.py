@@ -7,8 +7,10 @@ WAV and each copy, and prints per copy the first sequence's eta-bar, |difference
 and that difference over the combined stated sigma. The counts within 0.002 / 0.003 and beyond
 2 / 3 combined sigmas are the issue 30 figures (docs/codecs.md).
 
-On main at 0bcd9c4 (2026-11-28): 31 of 44 copies within 0.002, 34 within 0.003, 5 beyond 2 and 4
-beyond 3 combined sigmas (basketball MP3, alessia rimbalzi MP3 and AAC, ub-mth337 ping-pong Opus).
+On main, 2026-11-28, the shared folder's 12 recordings x 4 settings: 44 copies with an eta-bar,
+30 within 0.002, 33 within 0.003, 8 beyond 2 and 6 beyond 3 combined sigmas (among them
+zaky-ptv ping-pong Opus and MP3, 34-40 sigma: another sequence; basketball MP3), 2 with none;
+the same counts before and after the response timing's disagreement rule (docs/detector.md).
 
 Usage: shared_codec_eta.py BOUNCECAL [--recordings DIR] [--cache DIR] [--json OUT]
 """

@@ -141,8 +141,9 @@ TEST(ResponseTiming, ASoundUnlikeTheImpactsIsNotAligned) {
 }
 
 // With a codec's first-lobe error (AAC 128k's table sigma, 967 us) on every detector onset, an
-// impact the alignment times is stated with the alignment's precision, which still covers its
-// error; a sound the alignment cannot time keeps the detector's onset with the codec's error.
+// impact the alignment times is stated with the alignment's precision where the detector's onset
+// agrees, with half their disagreement where it jumped, and its error is covered either way; a
+// sound the alignment cannot time keeps the detector's onset with the codec's error.
 TEST(ResponseTiming, AlignedImpactsAreStatedWithTheAlignmentsPrecisionOthersWithTheCodecs) {
   constexpr double kCodecSigma = 967e-6;
   const auto drop = SteelDrop(2, 48000);
@@ -170,19 +171,27 @@ TEST(ResponseTiming, AlignedImpactsAreStatedWithTheAlignmentsPrecisionOthersWith
     if (after[k]) errors.push_back(detection.impacts[*after[k]].onset_s - truth[k]);
   }
   const double offset = Median(errors);
-  int own = 0;
+  int precise = 0;
   for (std::size_t k = 0; k < truth.size(); ++k) {
     if (!after[k]) continue;
     const Impact& impact = detection.impacts[*after[k]];
-    if (impact.onset_uncertainty_s >= kCodecSigma) continue;
-    ++own;
-    // The alignment's sigma is at least half a sample (10 us) and at most a few samples here;
-    // its error must lie within 1.96 of it (the bench's coverage, 100 % at 48 kHz).
-    EXPECT_LE(impact.onset_uncertainty_s, 100e-6) << k;
+    // Every aligned impact's error lies within 1.96 of its stated sigma (the bench's coverage,
+    // 100 % at 48 kHz).
     EXPECT_LE(std::fabs(impact.onset_s - truth[k] - offset), 1.96 * impact.onset_uncertainty_s)
         << "impact " << k << " stated " << impact.onset_uncertainty_s * 1e6 << " us";
+    // Where the detector's onset agreed, the alignment's sigma is all that is stated: at least
+    // half a sample (10 us), at most a few samples here. A jumped onset leaves half its 1.5-2.5
+    // ms jump unexplained (either measurement could be the one that slipped), so it is stated
+    // with at least that.
+    const bool jumped = k % 3 == 1;
+    if (jumped) {
+      EXPECT_GE(impact.onset_uncertainty_s, 0.5 * 1.5e-3 * 0.9) << k;
+    } else {
+      EXPECT_LE(impact.onset_uncertainty_s, 100e-6) << k;
+      ++precise;
+    }
   }
-  EXPECT_EQ(own, summary.own_sigma);
+  EXPECT_GE(precise, static_cast<int>(truth.size()) / 2);
   const auto noise_burst = std::find_if(detection.impacts.begin(), detection.impacts.end(),
                                         [&](const Impact& i) { return i.onset_s == burst_s; });
   ASSERT_NE(noise_burst, detection.impacts.end());
