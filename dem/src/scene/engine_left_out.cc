@@ -1,5 +1,5 @@
 // The engine factories of a build configured with BOUNCECAL_PACKING_ENGINE=OFF
-// (dem/CMakeLists.txt): the force loops, two thirds of a cold build's CPU, are not compiled, so a
+// (dem/CMakeLists.txt): the force loops, 28 % of a cold build's CPU, are not compiled, so a
 // packing stops here with what to do, after its scene was read and checked.
 #include "bouncecal/error.h"
 #include "scene/engine.h"
