@@ -15,6 +15,7 @@
 #include "bouncecal/dem/scene.h"
 #include "bouncecal/error.h"
 #include "commands.h"
+#include "option_names.h"
 
 namespace bouncecal::apps {
 namespace {
@@ -100,7 +101,7 @@ void RunExport(const ExportArguments& arguments) {
                                   : ", default");
   for (const auto& file : deck.files) fmt::print("  wrote {}\n", (folder / file.name).string());
   fmt::print("Mapping and expected deviation:\n");
-  for (const auto& note : deck.notes) fmt::print("  - {}\n", note);
+  for (const auto& note : deck.notes) fmt::print("  - {}\n", WithFlags(note));
   fmt::print(
       "Expected: restitution {:.6f} for every wall bounce, within +-{:.2f} % from the time "
       "step ({} steps of {:.4g} s, {:.4g} s simulated).\n",
@@ -125,7 +126,7 @@ void RunExport(const ExportArguments& arguments) {
       fmt::print("  wrote {}\n", (folder / file.name).string());
     }
     // The law is mapped again for the scene's particles, which may differ from the card's ball.
-    for (const auto& note : packing->notes) fmt::print("  - {}\n", note);
+    for (const auto& note : packing->notes) fmt::print("  - {}\n", WithFlags(note));
     fmt::print("{}", law_note);
     fmt::print("Run it ({} steps of {:.4g} s):\n  cd {} && {}\n", packing->steps,
                packing->time_step_s, ShellQuoted(folder.string()), packing->run_command);
