@@ -6,6 +6,7 @@
 #include <string>
 #include <string_view>
 
+#include "bouncecal/calibrate/ball_choice.h"
 #include "bouncecal/calibrate/ball_preset.h"
 #include "bouncecal/calibrate/contact_stiffness.h"
 #include "bouncecal/dem/contact_laws.h"
@@ -162,39 +163,16 @@ void DropCliOptions::ReadMaterial() {
 
 std::optional<dem::Ball> DropCliOptions::GivenBall() const {
   if (card_) return card_->ball;
-  if (!ball_preset.empty()) return calibrate::FindBallPreset(ball_preset).ToBall();
-  if (!diameter_m && !density_kg_per_m3 && !mass_kg) return std::nullopt;
-  // The old spellings are not tied by CLI11's "excludes" (it would show them in --help).
-  if (density_kg_per_m3 && mass_kg) {
-    throw ConfigError("--density-kg-per-m3 and --mass-kg both give the ball's mass; give one");
-  }
-  if (geometry_ == Geometry::kAsGiven) {
-    if (!diameter_m) {
-      throw ConfigError(
-          "--density-kg-per-m3 or --mass-kg needs --diameter-m (the ball's size), or use --ball "
-          "NAME");
-    }
-    if (!density_kg_per_m3 && !mass_kg) {
-      throw ConfigError(
-          "--diameter-m needs --density-kg-per-m3 or --mass-kg (the ball's mass), or use --ball "
-          "NAME");
-    }
-  }
-  dem::Ball ball;  // completed with the paper's 1 cm steel under kPaperDefaults
-  if (diameter_m) ball.diameter_m = *diameter_m;
-  if (density_kg_per_m3) ball.density_kg_per_m3 = *density_kg_per_m3;
-  ball.mass_kg = mass_kg;
-  if (!(ball.diameter_m > 0 && ball.diameter_m < 10)) {
-    throw ConfigError(fmt::format("--diameter-m must be in (0, 10) m, got {}", ball.diameter_m));
-  }
-  if (!(ball.density_kg_per_m3 > 0 && ball.density_kg_per_m3 < 1e5)) {
-    throw ConfigError(fmt::format("--density-kg-per-m3 must be in (0, 1e5) kg/m^3, got {}",
-                                  ball.density_kg_per_m3));
-  }
-  if (mass_kg && !(*mass_kg > 0 && std::isfinite(*mass_kg))) {
-    throw ConfigError(fmt::format("--mass-kg must be a positive number of kg, got {}", *mass_kg));
-  }
-  return ball;
+  // The rules are Python's too (calibrate::ResolveBall); its OptionErrors name the fields, which
+  // main() spells as these flags.
+  calibrate::BallChoice choice;
+  if (!ball_preset.empty()) choice.preset = ball_preset;
+  choice.diameter_m = diameter_m;
+  choice.density_kg_per_m3 = density_kg_per_m3;
+  choice.mass_kg = mass_kg;
+  return calibrate::ResolveBall(choice, geometry_ == Geometry::kAsGiven
+                                            ? calibrate::BallCompletion::kAsGiven
+                                            : calibrate::BallCompletion::kPaperBall);
 }
 
 dem::Ball DropCliOptions::Ball() const { return GivenBall().value_or(dem::Ball{}); }

@@ -348,9 +348,10 @@ double Ball::DensityKgPerM3() const {
 }
 
 void Ball::Validate() const {
-  CheckRange("ball.diameter_m", diameter_m, 1e-6, 10, "m");
-  CheckRange("ball.density_kg_per_m3", density_kg_per_m3, 1, 1e5, "kg/m^3");
-  if (mass_kg) CheckRange("ball.mass_kg", *mass_kg, 0, 1e6, "kg", true);
+  CheckRange("ball.diameter_m", diameter_m, kMinDiameterM, kMaxDiameterM, "m");
+  CheckRange("ball.density_kg_per_m3", density_kg_per_m3, kMinDensityKgPerM3, kMaxDensityKgPerM3,
+             "kg/m^3");
+  if (mass_kg) CheckRange("ball.mass_kg", *mass_kg, 0, kMaxMassKg, "kg", true);
 }
 
 DropStep ChooseDropStep(const DropOptions& options) {

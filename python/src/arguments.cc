@@ -4,7 +4,7 @@
 
 #include <ctime>
 
-#include "bouncecal/calibrate/ball_preset.h"
+#include "bouncecal/calibrate/ball_choice.h"
 #include "bouncecal/calibrate/card_creation_time.h"
 #include "bouncecal/dem/contact_law_json.h"
 #include "bouncecal/dem/contact_law_kind.h"
@@ -65,35 +65,9 @@ dem::ContactLawConfig LawFromPython(py::handle law, py::handle parameters, bool 
   return config;
 }
 
-std::optional<dem::Ball> BallFromArguments(const BallArguments& arguments, bool complete) {
-  const bool explicit_ball =
-      arguments.diameter_m || arguments.density_kg_per_m3 || arguments.mass_kg;
-  if (arguments.preset) {
-    if (explicit_ball) {
-      throw ConfigError("ball='" + *arguments.preset +
-                        "' names a preset; give either it or diameter_m with density_kg_per_m3 "
-                        "or mass_kg, not both");
-    }
-    return calibrate::FindBallPreset(*arguments.preset).ToBall();
-  }
-  if (!explicit_ball) return std::nullopt;
-  if (arguments.density_kg_per_m3 && arguments.mass_kg) {
-    throw ConfigError("density_kg_per_m3 and mass_kg both give the ball's mass; give one of them");
-  }
-  if (complete && !arguments.diameter_m) {
-    throw ConfigError(
-        "density_kg_per_m3 or mass_kg needs diameter_m (the ball's size), or use ball=NAME");
-  }
-  if (complete && !arguments.density_kg_per_m3 && !arguments.mass_kg) {
-    throw ConfigError(
-        "diameter_m needs density_kg_per_m3 or mass_kg (the ball's mass), or use ball=NAME");
-  }
-  dem::Ball ball;  // else completed with the 1 cm steel ball
-  if (arguments.diameter_m) ball.diameter_m = *arguments.diameter_m;
-  if (arguments.density_kg_per_m3) ball.density_kg_per_m3 = *arguments.density_kg_per_m3;
-  ball.mass_kg = arguments.mass_kg;
-  ball.Validate();
-  return ball;
+std::optional<dem::Ball> BallFromArguments(const calibrate::BallChoice& arguments, bool complete) {
+  return calibrate::ResolveBall(arguments, complete ? calibrate::BallCompletion::kAsGiven
+                                                    : calibrate::BallCompletion::kPaperBall);
 }
 
 std::time_t CardCreationTime() {

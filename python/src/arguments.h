@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "bouncecal/calibrate/ball_choice.h"
 #include "bouncecal/dem/contact_law.h"
 #include "bouncecal/dem/drop.h"
 
@@ -20,17 +21,11 @@ namespace bouncecal::python {
 dem::ContactLawConfig LawFromPython(pybind11::handle law, pybind11::handle parameters,
                                     bool validate = true);
 
-struct BallArguments {
-  std::optional<std::string> preset;  // ball="steel-10mm"
-  std::optional<double> diameter_m;
-  std::optional<double> density_kg_per_m3;
-  std::optional<double> mass_kg;
-};
-
-// The ball the arguments describe, or nothing when none was given. A preset excludes the other
-// three, and density excludes mass. `complete` (calibrate: an experiment's ball is never assumed)
-// asks a size with a mass; otherwise what is missing is the 1 cm steel ball's.
-std::optional<dem::Ball> BallFromArguments(const BallArguments& arguments, bool complete);
+// The ball keywords (ball=, diameter_m=, density_kg_per_m3=, mass_kg=) under the command line's
+// rules (calibrate::ResolveBall), or nothing when none was given. `complete` (calibrate: an
+// experiment's ball is never assumed) asks a size with a mass; otherwise what is missing is the
+// 1 cm steel ball's.
+std::optional<dem::Ball> BallFromArguments(const calibrate::BallChoice& arguments, bool complete);
 
 // The value of SOURCE_DATE_EPOCH when set (ConfigError unless a whole number of seconds in
 // 0..9999-12-31), else now: when a material card says it was made, as the command line does.

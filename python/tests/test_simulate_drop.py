@@ -92,6 +92,23 @@ def test_an_unknown_law_raises_the_commands_message(cli):
     assert str(raised.value) == message
 
 
+@pytest.mark.parametrize("flags, keywords", [
+    (["--diameter-m", "20"], {"diameter_m": 20.0}),
+    (["--density-kg-per-m3", "0.5"], {"density_kg_per_m3": 0.5}),
+    (["--mass-kg", "-1"], {"mass_kg": -1.0}),
+])
+def test_a_ball_out_of_range_is_refused_by_one_rule_spelt_by_each_front_end(cli, flags, keywords):
+    # One rule for both (calibrate::ResolveBall): the same sentence, with the flag on the command
+    # line where Python names the keyword, and the same exit status.
+    message, status = cli.error("simulate", "drop", *flags)
+    with pytest.raises(bouncecal.ConfigError) as raised:
+        bouncecal.simulate_drop(**keywords)
+    for flag in ("--diameter-m", "--density-kg-per-m3", "--mass-kg"):
+        message = message.replace(flag, flag[2:].replace("-", "_"))
+    assert str(raised.value) == message and "--" not in message
+    assert raised.value.exit_status == status == 3
+
+
 @pytest.mark.parametrize("arguments, words", [
     ({"parameters": {"gamma_n": "0.4"}}, "parameters['gamma_n'] must be a number"),
     ({"parameters": [0.4]}, "parameters must be a dict"),
@@ -100,7 +117,7 @@ def test_an_unknown_law_raises_the_commands_message(cli):
     ({"ball": "steel-10mm", "diameter_m": 0.02}, "names a preset"),
     ({"ball": "marble"}, "marble"),
     ({"density_kg_per_m3": 7800, "mass_kg": 0.004}, "give one of them"),
-    ({"diameter_m": 20.0}, "ball.diameter_m"),
+    ({"diameter_m": 20.0}, "diameter_m = 20 m is outside"),
     ({"integrator": "leapfrog"}, "leapfrog"),
     ({"drop_height_m": -1.0}, "drop_height_m"),
 ])

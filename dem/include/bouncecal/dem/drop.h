@@ -42,9 +42,17 @@ std::string_view ToString(DropStopReason reason);
 // DensityKgPerM3(), never the density field alone: with a mass set, that field is a leftover
 // default (a tennis-ball card once recorded steel's 7800 kg/m^3 beside its 57.7 g).
 struct Ball {
-  double diameter_m = 0.01;         // [1e-6, 10]
-  double density_kg_per_m3 = 7800;  // [1, 1e5]; ignored when mass_kg is set
-  std::optional<double> mass_kg;    // overrides density when set, (0, 1e6]
+  // The valid ranges, named once for Validate and for the front ends' ball rules
+  // (calibrate::ResolveBall).
+  static constexpr double kMinDiameterM = 1e-6;
+  static constexpr double kMaxDiameterM = 10;
+  static constexpr double kMinDensityKgPerM3 = 1;
+  static constexpr double kMaxDensityKgPerM3 = 1e5;
+  static constexpr double kMaxMassKg = 1e6;  // and above 0
+
+  double diameter_m = 0.01;         // [kMinDiameterM, kMaxDiameterM]
+  double density_kg_per_m3 = 7800;  // [kMin.., kMaxDensityKgPerM3]; ignored when mass_kg is set
+  std::optional<double> mass_kg;    // overrides density when set, (0, kMaxMassKg]
   double MassKg() const;
   // The mean density of the ball: mass_kg / (pi d^3 / 6) when the mass is set, else the density.
   double DensityKgPerM3() const;
