@@ -25,8 +25,10 @@ test_packages=(
   # scripts/check_format.sh.
   libgtest-dev libgmock-dev libbenchmark-dev git clang-format
   # The Python module and its tests (docs/python.md): pandas for to_dataframe(), venv and pip for
-  # the `pip install --no-build-isolation .` test.
+  # the `pip install --no-build-isolation .` test, mypy for stubtest (the .pyi stubs against the
+  # module).
   python3-dev python3-numpy python3-pybind11 python3-pytest python3-pandas python3-venv python3-pip
+  python3-mypy
   # --plot and pack's density curves (gnuplot); the HTML report's headless-browser test.
   gnuplot-nox chromium
   # The ffmpeg command encodes the lossy recordings of the codec tests and bench/codec_timing_bench.
