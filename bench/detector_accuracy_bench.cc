@@ -7,6 +7,9 @@
 //
 //   build/bench/detector_accuracy_bench                  # every condition, 12 seeds each
 //   build/bench/detector_accuracy_bench --seeds 40 --only chain
+//   build/bench/detector_accuracy_bench --only table --verbose   # onsets outside 2 sigmas
+// Below 20 kHz the drops are retimed from their whole response, as DetectImpactsInFile does
+// (--response-timing-everywhere: at every rate); --dump PREFIX writes each drop and its truth.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -17,7 +20,9 @@
 
 #include "bouncecal/audio/bounce_analysis.h"
 #include "bouncecal/audio/impact_detector.h"
+#include "bouncecal/audio/response_timing.h"
 #include "bouncecal/audio/synthesize.h"
+#include "bouncecal/audio/write_recording.h"
 
 namespace {
 
@@ -46,6 +51,58 @@ SynthesisOptions Base(int seed) {
   noise.reference = bouncecal::audio::SnrReference::kWeakestImpact;
   options.noise = noise;
   return options;
+}
+
+// A ping-pong ball on a wooden table (TableTopModes): the ball's thin shell rings too (three modes
+// near 3.2 kHz dying in 3-5 ms), high restitution, air drag (terminal speed 9 m/s) and a sharp
+// click.
+void PingPongOnTable(SynthesisOptions& o) {
+  o.modes = bouncecal::audio::TableTopModes();
+  for (double f : {3100.0, 3240.0, 3390.0}) o.modes.push_back({f, 0.004, 0.6});
+  o.contact_duration_s = 300e-6;
+  o.drop.drop_height_m = 0.3;
+  o.drop.restitution.constant = 0.88 + 0.04 * std::fmod(0.7548776662 * o.seed, 1.0);
+  o.drop.terminal_speed_mps = 9.0;
+  o.drop.min_flight_s = 0.04;
+  o.chain = bouncecal::audio::RecordingChain{};
+  o.click_gain = 0.3;
+  bouncecal::audio::ReverbOptions reverb;
+  reverb.rt60_s = 0.35;
+  reverb.direct_to_reverberant_db = 3;
+  reverb.echoes = {{0.0015, -14.0}, {0.006, -10.0}};
+  o.reverb = reverb;
+}
+
+// A soft rubber ball (0.8 ms contact) on the table, whose later impacts land in the ringing of
+// the earlier ones.
+void RubberOnTable(SynthesisOptions& o) {
+  o.modes = bouncecal::audio::TableTopModes();
+  o.contact_duration_s = 800e-6;
+  o.drop.drop_height_m = 0.5;
+  o.drop.restitution.constant = 0.74 + 0.06 * std::fmod(0.7548776662 * o.seed, 1.0);
+  o.chain = bouncecal::audio::RecordingChain{};
+  o.click_gain = 0.15;
+  o.amplitude_speed_exponent = 1.5;
+  bouncecal::audio::ReverbOptions reverb;
+  reverb.rt60_s = 0.3;
+  reverb.direct_to_reverberant_db = 4;
+  reverb.echoes = {{0.0015, -14.0}, {0.006, -10.0}};
+  o.reverb = reverb;
+}
+
+// A 1 ms contact on the long-ringing plate (modes at a third of the free plate's decays).
+void SoftContactOnPlate(SynthesisOptions& o) {
+  o.modes = bouncecal::audio::SteelPlateModes();
+  for (auto& mode : o.modes) mode.decay_s *= 0.3;
+  o.contact_duration_s = 1e-3;
+  o.drop.drop_height_m = 0.2;
+  o.chain = bouncecal::audio::RecordingChain{};
+  o.click_gain = 0.15;
+  bouncecal::audio::ReverbOptions reverb;
+  reverb.rt60_s = 0.25;
+  reverb.direct_to_reverberant_db = 6;
+  reverb.echoes = {{0.0015, -14.0}, {0.006, -10.0}};
+  o.reverb = reverb;
 }
 
 std::vector<Condition> Conditions() {
@@ -139,6 +196,37 @@ std::vector<Condition> Conditions() {
          o.contact_duration_s = 800e-6;
          o.level_jitter_db = 3;
        }},
+      {"ping-pong on table", PingPongOnTable},
+      {"ping-pong on table 16k",
+       [](SynthesisOptions& o) {
+         PingPongOnTable(o);
+         o.sample_rate_hz = 16000;
+       }},
+      {"ping-pong on table 40 dB re first",
+       [](SynthesisOptions& o) {
+         PingPongOnTable(o);
+         o.noise->snr_db = 40;
+         o.noise->reference = SnrReference::kFirstImpact;
+         o.drop.min_flight_s = 0.02;
+       }},
+      {"rubber on table", RubberOnTable},
+      {"rubber on table 16k",
+       [](SynthesisOptions& o) {
+         RubberOnTable(o);
+         o.sample_rate_hz = 16000;
+       }},
+      {"soft 1 ms on plate", SoftContactOnPlate},
+      {"soft 1 ms on plate 16k",
+       [](SynthesisOptions& o) {
+         SoftContactOnPlate(o);
+         o.sample_rate_hz = 16000;
+       }},
+      {"plate chain 8k",
+       [](SynthesisOptions& o) {
+         o.sample_rate_hz = 8000;
+         o.chain = RecordingChain{};
+         o.click_gain = 0.2;
+       }},
       {"low e 0.3",
        [](SynthesisOptions& o) {
          o.drop.restitution.constant = 0.3;
@@ -175,9 +263,33 @@ double EtaBar(const std::vector<double>& onsets) {
   return sum / 3;
 }
 
-void Score(const SynthesisOptions& options, Tally& tally) {
+// Command-line switches beyond the conditions.
+struct Flags {
+  // Retime from the whole response at every rate, not only below 20 kHz (what
+  // DetectImpactsInFile does): measures what the stage would do to 44.1-96 kHz WAVs.
+  bool response_timing_everywhere = false;
+  bool verbose = false;  // print every onset outside 2 stated sigmas
+  std::string dump;      // write each drop as DUMP<seed>.wav and .csv (truth)
+};
+
+void Score(const SynthesisOptions& options, const Flags& flags, Tally& tally) {
   auto recording = bouncecal::audio::SynthesizeBounces(options);
+  if (!flags.dump.empty()) {
+    const std::string base = flags.dump + std::to_string(options.seed);
+    bouncecal::audio::WriteRecordingOptions w;
+    w.encoding = bouncecal::audio::SampleEncoding::kFloat;
+    bouncecal::audio::WriteRecording(base + ".wav", recording.channels, w);
+    FILE* f = std::fopen((base + ".csv").c_str(), "w");
+    std::fputs(bouncecal::audio::TruthCsv(recording).c_str(), f);
+    std::fclose(f);
+  }
   auto detection = bouncecal::audio::DetectImpacts(recording.channels[0]);
+  if (options.sample_rate_hz < 20000 || flags.response_timing_everywhere) {
+    // As DetectImpactsInFile does below 20 kHz (response_timing.h): retimed from the response.
+    bouncecal::audio::ResponseTimer timer(detection);
+    timer.Process(recording.channels[0].samples);
+    timer.Apply(detection, 0.0);
+  }
   const auto grouping = bouncecal::audio::GroupBounces(detection);
   const auto& impacts = detection.impacts;
   const auto truth = recording.BallImpactOnsetsS();
@@ -220,6 +332,13 @@ void Score(const SynthesisOptions& options, Tally& tally) {
       const double centred = impact.onset_s - truth[t] - offset;
       tally.centred_errors_s.push_back(centred);
       tally.within_two_sigma += std::fabs(centred) <= 2 * impact.onset_uncertainty_s ? 1 : 0;
+      if (flags.verbose && std::fabs(centred) > 2 * impact.onset_uncertainty_s)
+        std::printf(
+            "  seed %llu impact %zu t %.4f err %+.1f us sigma %.1f us peak %.1f dB rise %.1f resid "
+            "%d\n",
+            (unsigned long long)options.seed, t, truth[t], centred * 1e6,
+            impact.onset_uncertainty_s * 1e6, impact.peak_dbfs, impact.rise_db,
+            impact.residual_only);
     }
   }
   for (std::size_t t = 1; t < truth.size(); ++t) {
@@ -257,14 +376,24 @@ std::vector<double> Abs(std::vector<double> values) {
 
 int main(int argc, char** argv) {
   int seeds = 12;
+  Flags flags;
   std::string only;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc) {
       seeds = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--dump") && i + 1 < argc) {
+      flags.dump = argv[++i];
+    } else if (!std::strcmp(argv[i], "--verbose")) {
+      flags.verbose = true;
+    } else if (!std::strcmp(argv[i], "--response-timing-everywhere")) {
+      flags.response_timing_everywhere = true;
     } else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
       only = argv[++i];
     } else {
-      std::fprintf(stderr, "usage: %s [--seeds N] [--only SUBSTRING]\n", argv[0]);
+      std::fprintf(stderr,
+                   "usage: %s [--seeds N] [--only SUBSTRING] [--verbose] [--dump PREFIX] "
+                   "[--response-timing-everywhere]\n",
+                   argv[0]);
       return 2;
     }
   }
@@ -278,7 +407,7 @@ int main(int argc, char** argv) {
     for (int seed = 1; seed <= seeds; ++seed) {
       auto options = Base(seed);
       condition.apply(options);
-      Score(options, tally);
+      Score(options, flags, tally);
     }
     const double bias = Quantile(tally.errors_s, 0.5);
     const auto& centred = tally.centred_errors_s;

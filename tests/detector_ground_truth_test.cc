@@ -622,5 +622,67 @@ TEST(DetectorGroundTruth, OnsetsThroughALinearPhaseChainDoNotDependOnLoudness) {
   }
 }
 
+// A ping-pong ball on a wooden table (TableTopModes plus the ball's shell ringing near 3.2 kHz for
+// 3-5 ms), through a linear-phase chain, with air drag and noise 40 dB under the first impact: its
+// late bounces are weak and land in the table's low ringing. There their first lobe sinks under
+// the tail, the change point and the edge fit find the next lobe, and the onset is a lobe late
+// (+110 to +170 us); stated with the shape terms alone (35-58 us) those onsets were 3 sigmas off
+// (here 5 of 94 onsets, 89 of 94 within 2 sigmas; 85 % over the 8 seeds of
+// bench/detector_accuracy_bench "ping-pong on table 40 dB re first"). An earlier lobe that came
+// within half the reference level now widens the onset by half the distance to its edge
+// (onset_picker.cc, kRivalLobeFraction): 1 and 93 of 94 here, 93 % in the bench.
+TEST(DetectorGroundTruth, WeakBouncesOfAPingPongBallOnATableStateTheLobeTheyMayHaveSkipped) {
+  int found = 0, covered = 0, late_uncovered = 0;
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    SynthesisOptions options;
+    options.seed = seed;
+    options.modes = TableTopModes();
+    for (double f : {3100.0, 3240.0, 3390.0}) options.modes.push_back({f, 0.004, 0.6});
+    options.contact_duration_s = 300e-6;
+    options.peak_amplitude = 0.3 + 0.1 * static_cast<double>(seed);
+    options.drop.drop_height_m = 0.25 + 0.05 * static_cast<double>(seed);
+    options.drop.restitution.constant = 0.86 + 0.015 * static_cast<double>(seed);
+    options.drop.terminal_speed_mps = 9.0;
+    options.drop.min_flight_s = 0.02;
+    options.chain = RecordingChain{};
+    options.click_gain = 0.3;
+    ReverbOptions reverb;
+    reverb.rt60_s = 0.35;
+    reverb.direct_to_reverberant_db = 3;
+    reverb.echoes = {{0.0015, -14.0}, {0.006, -10.0}};
+    options.reverb = reverb;
+    NoiseOptions noise;
+    noise.snr_db = 40;
+    noise.reference = SnrReference::kFirstImpact;
+    options.noise = noise;
+    const auto synthesized = SynthesizeBounces(options);
+    const auto detection = Detect(synthesized.channels[0]);
+    const auto score = Compare(detection.impacts, synthesized.BallImpactOnsetsS());
+    Print("ping-pong on a table, seed " + std::to_string(seed), score);
+    found += score.found;
+    covered += score.within_two_sigma;
+    // The lobe jump itself: an onset more than 80 us late (more than half the shell mode's period
+    // of 310 us away from the first lobe's crossing, so on another lobe) outside 2 stated sigmas.
+    for (const auto& impact : detection.impacts) {
+      for (double t : synthesized.BallImpactOnsetsS()) {
+        const double late = impact.onset_s - t - score.offset_s;
+        if (std::fabs(impact.onset_s - t) < kMatchS && late > 80e-6 &&
+            late > 2 * impact.onset_uncertainty_s) {
+          ++late_uncovered;
+        }
+      }
+    }
+  }
+  std::printf(
+      "[ figures  ] ping-pong on a table: %d of %d onsets within 2 sigma, %d a lobe late "
+      "outside them\n",
+      covered, found, late_uncovered);
+  // Honest Gaussian errors put 95.4 % within 2 sigmas.
+  EXPECT_GE(covered, 0.95 * found);
+  // The mechanism itself (5 before): one or two may remain where the skipped lobe stayed under
+  // half the level, which no rule on the samples can tell from the tail.
+  EXPECT_LE(late_uncovered, 2);
+}
+
 }  // namespace
 }  // namespace bouncecal::audio

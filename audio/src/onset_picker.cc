@@ -43,6 +43,13 @@ constexpr double kReferenceShapeSamples = 0.9;
 // the ratio of the two, which changes from impact to impact, and the intervals then jump by a
 // lobe's width (the detector suite's rubber ball: +150..+190 us on 4 of 10 impacts).
 constexpr std::size_t kReferenceHorizonSamples = 24;
+// A lobe next to the one the reference was taken on is a rival when it comes this close to the
+// level: the earlier one within this fraction under it, or the crossing lobe's top within the
+// inverse over it. Then a little more noise, tail or another mix of modes moves the crossing a
+// whole lobe (a ping-pong ball's weak late bounces on a table were timed one lobe late, +110 to
+// +170 us, at a stated 35-58 us; bench/detector_accuracy_bench "ping-pong on table"), and half
+// the distance to the rival's crossing widens the reference's uncertainty.
+constexpr double kRivalLobeFraction = 0.5;
 // How far the fitted edge may reach the reference level from where the samples reach it before
 // the fit is taken for another lobe's (see PickOnset).
 constexpr double kReferenceConsistencySamples = 1.0;
@@ -289,6 +296,44 @@ bool ImpactLevelFollows(std::span<const float> x, std::size_t f, std::size_t pea
   return false;
 }
 
+// Samples from the reference crossing at f (on the lobe whose top is `top`) to where a rival lobe
+// would have been crossed (see kRivalLobeFraction); 0 where neither neighbour is a rival.
+double RivalLobeDistance(std::span<const float> x, std::size_t from, std::size_t f, std::size_t top,
+                         std::size_t peak_end, double level, double sign) {
+  double distance = 0;
+  // The earlier lobe: the largest excursion of the other sign within the horizon before the
+  // crossing lobe began.
+  std::size_t start = f;
+  while (start > from && sign * x[start - 1] > 0) --start;
+  const std::size_t earliest =
+      f >= from + kReferenceHorizonSamples ? f - kReferenceHorizonSamples : from;
+  double earlier = 0;
+  std::size_t earlier_at = start;
+  for (std::size_t i = start; i-- > earliest;) {
+    if (sign * x[i] > 0) break;  // the lobe before it, of the crossing lobe's sign
+    if (std::fabs(x[i]) > earlier) {
+      earlier = std::fabs(x[i]);
+      earlier_at = i;
+    }
+  }
+  if (earlier >= kRivalLobeFraction * level) {
+    // Its crossing would lie on its edge: back to where it rose through half its top.
+    std::size_t edge = earlier_at;
+    while (edge > earliest && sign * x[edge - 1] < 0 && std::fabs(x[edge - 1]) >= 0.5 * earlier) {
+      --edge;
+    }
+    distance = static_cast<double>(f - edge);
+  }
+  // The later lobe: where the crossing lobe barely clears the level, the next lobe's edge.
+  if (sign * x[top] * kRivalLobeFraction < level) {
+    std::size_t next = top;
+    while (next + 1 < peak_end && sign * x[next + 1] > 0) ++next;
+    while (next + 1 < peak_end && std::fabs(x[next + 1]) < level) ++next;
+    if (next + 1 < peak_end) distance = std::max(distance, static_cast<double>(next + 1 - f));
+  }
+  return distance;
+}
+
 }  // namespace
 
 std::optional<OnsetPick> ReferenceCrossing(std::span<const float> x, std::size_t from,
@@ -332,6 +377,9 @@ std::optional<OnsetPick> ReferenceCrossing(std::span<const float> x, std::size_t
     const double to_top = std::max(1.0, static_cast<double>(top) - pick.reference_index);
     pick.reference_sigma_samples = std::hypot(
         noise_rms / slope, std::max(kReferenceShapeSamples, kReferenceShapeFraction * to_top));
+    pick.reference_sigma_samples =
+        std::hypot(pick.reference_sigma_samples,
+                   0.5 * RivalLobeDistance(x, from, f, top, peak_end, level, sign));
   }
   pick.index = pick.reference_index;
   pick.sigma_samples = pick.reference_sigma_samples;
@@ -505,6 +553,16 @@ OnsetPick PickOnset(std::span<const float> x, std::size_t search_begin, std::siz
     const double rise = std::pow(pick.reference_level / pick.edge_amplitude, 1.0 / pick.edge_power);
     pick.reference_index = pick.index + rise;
     pick.reference_sigma_samples = std::hypot(pick.sigma_samples, kReferenceShapeSamples);
+    // The edge was fitted on the lobe the change point found; an earlier lobe that comes as close
+    // to the level may have been the impact's first, under the tail (see kRivalLobeFraction).
+    const auto f = static_cast<std::size_t>(
+        std::clamp(std::ceil(pick.reference_index), 0.0, static_cast<double>(peak_end - 1)));
+    const double sign = x[f] >= 0 ? 1.0 : -1.0;
+    std::size_t top = f;
+    while (top + 1 < peak_end && sign * x[top + 1] >= sign * x[top]) ++top;
+    pick.reference_sigma_samples =
+        std::hypot(pick.reference_sigma_samples,
+                   0.5 * RivalLobeDistance(x, from, f, top, peak_end, pick.reference_level, sign));
   } else if (!start.edge_fitted) {
     // Neither a reference nor an edge: the onset is the change point, which in a tail can sit on
     // the tail's own excursion before the impact (a soft ball's click on a plate's hum, 0.2 ms

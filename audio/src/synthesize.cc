@@ -264,6 +264,20 @@ std::vector<PlateMode> CounterTopModes() {
   return RectangularPlateModes(plate);
 }
 
+std::vector<PlateMode> TableTopModes() {
+  RectangularPlate table;
+  table.length_m = 0.9;
+  table.width_m = 0.6;
+  table.thickness_m = 0.018;
+  table.youngs_modulus_pa = 10e9;
+  table.density_kg_per_m3 = 650.0;
+  table.poisson_ratio = 0.3;
+  table.loss_factor = 0.02;
+  table.min_frequency_hz = 100.0;
+  table.max_frequency_hz = 6000.0;
+  return RectangularPlateModes(table);
+}
+
 double RestitutionLaw::Evaluate(double impact_speed_mps) const {
   if (callback) return callback(impact_speed_mps);
   return constant + slope_per_mps * impact_speed_mps;
