@@ -355,84 +355,112 @@ std::vector<SynthesizedEvent> PlanBallImpacts(const SynthesisOptions& options) {
   return impacts;
 }
 
-SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
-  ValidateSynthesisOptions(options);
-  const double rate_hz = options.sample_rate_hz;
-  const std::vector<SynthesizedEvent> ball_impacts = PlanBallImpacts(options);
-  const std::optional<AntiAliasingFilter> filter =
-      options.chain ? std::optional(DesignAntiAliasingFilter(*options.chain, rate_hz))
-                    : std::nullopt;
-  const AntiAliasingFilter* chain_filter = filter ? &*filter : nullptr;
-  const double acoustic_rate_hz = filter ? rate_hz * filter->oversampling : rate_hz;
-  const std::vector<PlateMode> modes = AudibleModes(options.modes, acoustic_rate_hz);
-  const double unit_peak =
-      filter ? ChainSampledPeak(
-                   modes, *filter, options.contact_duration_s, rate_hz,
-                   std::min(kPeakSearchS,
-                            ModalImpact(modes, options.contact_duration_s).ring_duration_s()))
-             : ModalImpact(modes, options.contact_duration_s).SampledPeak(rate_hz, kPeakSearchS);
-  if (!(unit_peak > 0.0)) {
+namespace {
+
+// What every channel of one recording shares: the impacts and their levels, the recording
+// chain's filter and the file's extent, decided once before any channel is rendered.
+struct RenderPlan {
+  std::vector<SynthesizedEvent> ball_impacts;
+  std::vector<double> jitter;        // per ball impact: its level jitter, shared by every channel
+  std::vector<double> impact_peaks;  // per ball impact: its peak amplitude at channel gain 0 dB
+  std::vector<SynthesizedEvent> events;  // the truth: every event inside the file, in time order
+  std::optional<AntiAliasingFilter> filter;
+  double acoustic_rate_hz = 0;  // the rate the sound is rendered at (the chain's high rate)
+  std::vector<PlateMode> modes;
+  double unit_peak = 0;  // sampled peak of a unit reference impact (VoiceFor)
+  double duration_s = 0;
+  std::int64_t frame_count = 0;
+  std::int64_t acoustic_count = 0;            // samples per channel at acoustic_rate_hz
+  std::int64_t silence_frames = 0;            // leading digital zeros
+  std::vector<double> echo_delays_s = {0.0};  // the direct sound, then each discrete echo
+  std::vector<double> echo_gains = {1.0};
+
+  const AntiAliasingFilter* chain_filter() const { return filter ? &*filter : nullptr; }
+};
+
+double UnitPeak(const SynthesisOptions& options, const RenderPlan& plan) {
+  const double peak =
+      plan.filter
+          ? ChainSampledPeak(
+                plan.modes, *plan.filter, options.contact_duration_s, options.sample_rate_hz,
+                std::min(kPeakSearchS,
+                         ModalImpact(plan.modes, options.contact_duration_s).ring_duration_s()))
+          : ModalImpact(plan.modes, options.contact_duration_s)
+                .SampledPeak(options.sample_rate_hz, kPeakSearchS);
+  if (!(peak > 0.0)) {
     throw ConfigError(
         "synthesis option modes: the audible modes give a silent impact; give "
         "modes with non-zero gain below 0.45 x sample_rate_hz");
   }
+  return peak;
+}
 
-  // Per-impact level jitter is a property of the impact, shared by every channel.
-  std::vector<double> jitter(ball_impacts.size(), 1.0);
+// Every ball impact's level (with its jitter) and every event of the truth, before truncation to
+// the file's length.
+void PlanLevelsAndEvents(const SynthesisOptions& options, RenderPlan& plan) {
+  plan.jitter.assign(plan.ball_impacts.size(), 1.0);
   if (options.level_jitter_db > 0.0) {
     RandomStream random(options.seed, kLevelJitterStream);
-    for (double& value : jitter) value = DbToGain(options.level_jitter_db * random.Gaussian());
+    for (double& value : plan.jitter) {
+      value = DbToGain(options.level_jitter_db * random.Gaussian());
+    }
   }
-  // Every event of the truth, before truncation to the file length.
-  std::vector<SynthesizedEvent> events;
-  std::vector<double> impact_peaks(ball_impacts.size());
-  for (size_t k = 0; k < ball_impacts.size(); ++k) {
-    SynthesizedEvent impact = ball_impacts[k];
+  plan.impact_peaks.resize(plan.ball_impacts.size());
+  for (size_t k = 0; k < plan.ball_impacts.size(); ++k) {
+    SynthesizedEvent impact = plan.ball_impacts[k];
     impact.peak_amplitude = options.peak_amplitude *
                             std::pow(impact.impact_speed_mps / options.reference_speed_mps,
                                      options.amplitude_speed_exponent) *
-                            jitter[k];
-    impact_peaks[k] = impact.peak_amplitude;
-    events.push_back(impact);
+                            plan.jitter[k];
+    plan.impact_peaks[k] = impact.peak_amplitude;
+    plan.events.push_back(impact);
     if (options.precursor) {
-      events.push_back({impact.onset_s - options.precursor->lead_s, SoundEventKind::kPrecursor,
-                        impact.impact_speed_mps, impact.drop_index,
-                        impact.peak_amplitude * DbToGain(options.precursor->gain_db)});
+      plan.events.push_back({impact.onset_s - options.precursor->lead_s, SoundEventKind::kPrecursor,
+                             impact.impact_speed_mps, impact.drop_index,
+                             impact.peak_amplitude * DbToGain(options.precursor->gain_db)});
     }
   }
   for (const ExtraEvent& extra : options.extra_events) {
-    events.push_back({extra.onset_s, extra.kind, 0.0, -1, extra.peak_amplitude});
+    plan.events.push_back({extra.onset_s, extra.kind, 0.0, -1, extra.peak_amplitude});
   }
-  std::stable_sort(events.begin(), events.end(),
+  std::stable_sort(plan.events.begin(), plan.events.end(),
                    [](const auto& a, const auto& b) { return a.onset_s < b.onset_s; });
+}
+
+// The file's length, and the events it holds; refuses a file that would be empty, too long for
+// the chain's high-rate buffer, or that starts after an event.
+void PlanExtent(const SynthesisOptions& options, RenderPlan& plan) {
+  const double rate_hz = options.sample_rate_hz;
   double max_delay_s = 0.0;
   for (const ChannelOptions& channel : options.channels) {
     max_delay_s = std::max(max_delay_s, channel.delay_s);
   }
-  const double duration_s =
+  plan.duration_s =
       options.duration_s > 0.0
           ? options.duration_s
-          : (events.empty() ? 0.0 : events.back().onset_s) + max_delay_s + options.tail_s;
-  const auto frame_count = static_cast<std::int64_t>(std::ceil(duration_s * rate_hz));
-  if (frame_count < 1) {
+          : (plan.events.empty() ? 0.0 : plan.events.back().onset_s) + max_delay_s + options.tail_s;
+  plan.frame_count = static_cast<std::int64_t>(std::ceil(plan.duration_s * rate_hz));
+  if (plan.frame_count < 1) {
     throw ConfigError(
         "synthesis option duration_s gives an empty recording; set duration_s or "
         "tail_s above 0");
   }
-  std::erase_if(events, [&](const SynthesizedEvent& event) { return event.onset_s >= duration_s; });
+  std::erase_if(plan.events,
+                [&](const SynthesizedEvent& event) { return event.onset_s >= plan.duration_s; });
   // With a chain the high-rate signal runs on past the last output sample by the filter's lead.
-  const HighRateRange acoustic_range =
-      filter ? DecimatorInput(*filter, 0, frame_count) : HighRateRange{0, frame_count};
-  const std::int64_t acoustic_count = acoustic_range.first + acoustic_range.count;
-  if (filter && acoustic_count > kMaxHighRateSamples) {
+  const HighRateRange acoustic_range = plan.filter
+                                           ? DecimatorInput(*plan.filter, 0, plan.frame_count)
+                                           : HighRateRange{0, plan.frame_count};
+  plan.acoustic_count = acoustic_range.first + acoustic_range.count;
+  if (plan.filter && plan.acoustic_count > kMaxHighRateSamples) {
     throw ConfigError(
-        "synthesis option chain: " + Number(duration_s) + " s at " +
-        std::to_string(filter->oversampling) + " x " + std::to_string(options.sample_rate_hz) +
-        " Hz needs " + std::to_string(acoustic_count) +
+        "synthesis option chain: " + Number(plan.duration_s) + " s at " +
+        std::to_string(plan.filter->oversampling) + " x " + std::to_string(options.sample_rate_hz) +
+        " Hz needs " + std::to_string(plan.acoustic_count) +
         " high-rate samples per channel, more than " + std::to_string(kMaxHighRateSamples) +
         "; lower chain.oversampling or render a shorter file");
   }
-  for (const SynthesizedEvent& event : events) {
+  for (const SynthesizedEvent& event : plan.events) {
     if (event.onset_s < options.leading_digital_silence_s) {
       throw ConfigError("synthesis option leading_digital_silence_s = " +
                         Number(options.leading_digital_silence_s) + " s hides the " +
@@ -445,149 +473,193 @@ SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
                         " s falls before the start of the file; start the drop later");
     }
   }
+  plan.silence_frames = std::min<std::int64_t>(
+      plan.frame_count,
+      static_cast<std::int64_t>(std::ceil(options.leading_digital_silence_s * rate_hz)));
+}
 
-  std::vector<double> echo_delays_s = {0.0};
-  std::vector<double> echo_gains = {1.0};
+RenderPlan PlanRecording(const SynthesisOptions& options) {
+  RenderPlan plan;
+  plan.ball_impacts = PlanBallImpacts(options);
+  if (options.chain) plan.filter = DesignAntiAliasingFilter(*options.chain, options.sample_rate_hz);
+  plan.acoustic_rate_hz =
+      plan.filter ? options.sample_rate_hz * plan.filter->oversampling : options.sample_rate_hz;
+  plan.modes = AudibleModes(options.modes, plan.acoustic_rate_hz);
+  plan.unit_peak = UnitPeak(options, plan);
+  PlanLevelsAndEvents(options, plan);
+  PlanExtent(options, plan);
   if (options.reverb) {
     for (const Echo& echo : options.reverb->echoes) {
-      echo_delays_s.push_back(echo.delay_s);
-      echo_gains.push_back(DbToGain(echo.gain_db));
+      plan.echo_delays_s.push_back(echo.delay_s);
+      plan.echo_gains.push_back(DbToGain(echo.gain_db));
     }
   }
+  return plan;
+}
 
+// Renders what reaches channel c's microphone (every ball impact with its echoes, precursor and
+// click, the extra events, the room's tail) into `acoustic` at the plan's acoustic rate. Returns
+// each ball impact's direct-sound window power, which sets the noise level for the SNR.
+std::vector<double> RenderSound(const SynthesisOptions& options, const RenderPlan& plan, size_t c,
+                                std::span<float> acoustic) {
+  const ChannelOptions& channel = options.channels[c];
+  const double channel_gain = DbToGain(channel.gain_db);
+  std::vector<double> direct_power;
+  std::vector<ModalExcitation> excitations;
+  std::vector<ContactClick> clicks;
+  for (size_t k = 0; k < plan.ball_impacts.size(); ++k) {
+    const SynthesizedEvent& impact = plan.ball_impacts[k];
+    if (impact.onset_s >= plan.duration_s) break;
+    const ImpactVoice voice =
+        VoiceFor(options, plan.unit_peak, impact.impact_speed_mps, plan.jitter[k]);
+    const double arrival_s = impact.onset_s + channel.delay_s;
+    const double scale = voice.scale * channel_gain;
+    const double click_peak = options.click_gain * plan.impact_peaks[k] * channel_gain;
+    for (size_t e = 0; e < plan.echo_delays_s.size(); ++e) {
+      excitations.push_back(
+          {arrival_s + plan.echo_delays_s[e], scale * plan.echo_gains[e], voice.contact_s});
+      if (click_peak != 0.0) {
+        clicks.push_back(
+            {arrival_s + plan.echo_delays_s[e], click_peak * plan.echo_gains[e], voice.contact_s});
+      }
+      if (options.precursor) {
+        excitations.push_back({arrival_s + plan.echo_delays_s[e] - options.precursor->lead_s,
+                               scale * plan.echo_gains[e] * DbToGain(options.precursor->gain_db),
+                               voice.contact_s});
+      }
+    }
+    if (options.noise) {
+      direct_power.push_back(WindowPower(plan.modes, plan.chain_filter(), voice.contact_s, scale,
+                                         click_peak, arrival_s, options.noise->window_s,
+                                         options.sample_rate_hz));
+    }
+  }
+  RenderModalExcitations(plan.modes, excitations, plan.acoustic_rate_hz, acoustic);
+  if (!clicks.empty()) AddContactClicks(clicks, plan.acoustic_rate_hz, 0, acoustic);
+  for (size_t i = 0; i < options.extra_events.size(); ++i) {
+    const ExtraEvent& extra = options.extra_events[i];
+    // Past the file's end an event is not in the truth; with a chain its pre-ringing could
+    // otherwise reach the last samples (without one it would write nothing anyway).
+    if (plan.filter && extra.onset_s >= plan.duration_s) continue;
+    for (size_t e = 0; e < plan.echo_delays_s.size(); ++e) {
+      AddExtraEventSound(extra.kind, extra.onset_s + channel.delay_s + plan.echo_delays_s[e],
+                         extra.peak_amplitude * channel_gain * plan.echo_gains[e],
+                         plan.acoustic_rate_hz, RandomStream(options.seed, kExtraEventStream, i), 0,
+                         acoustic);
+    }
+  }
+  if (options.reverb && options.reverb->rt60_s > 0.0) {
+    AddConvolution(DiffuseTail(*options.reverb, plan.acoustic_rate_hz,
+                               RandomStream(options.seed, kReverbStream, c)),
+                   acoustic);
+  }
+  return direct_power;
+}
+
+struct ChannelImpairments {
+  double noise_rms = 0;
+  int clipped = 0;
+};
+
+// What the recording device adds to channel c after the sound reached it: noise at the
+// channel's SNR, hum, DC, clipping and a codec's band limit, none of it inside the leading
+// digital silence.
+ChannelImpairments AddDeviceImpairments(const SynthesisOptions& options, const RenderPlan& plan,
+                                        size_t c, std::span<const double> direct_power,
+                                        std::span<float> out) {
+  const double rate_hz = options.sample_rate_hz;
+  ChannelImpairments result;
+  std::span<float> live = out.subspan(static_cast<size_t>(plan.silence_frames));
+  if (options.noise && !direct_power.empty()) {
+    const double reference_power =
+        options.noise->reference == SnrReference::kFirstImpact
+            ? direct_power.front()
+            : *std::min_element(direct_power.begin(), direct_power.end());
+    const double snr_db = options.noise->snr_db + options.channels[c].snr_offset_db;
+    result.noise_rms = std::sqrt(reference_power / std::pow(10.0, snr_db / 10.0));
+    AddNoise(options.noise->color, result.noise_rms, RandomStream(options.seed, kNoiseStream, c),
+             live);
+  }
+  if (options.hum) {
+    RandomStream random(options.seed, kHumStream, c);
+    const double amplitude = DbToGain(options.hum->fundamental_dbfs);
+    for (int h = 1; h <= options.hum->harmonics_count; ++h) {
+      const double frequency_hz = h * options.hum->frequency_hz;
+      const double phase = 2.0 * std::numbers::pi * random.Uniform();
+      if (frequency_hz >= 0.45 * rate_hz) continue;
+      const double omega = 2.0 * std::numbers::pi * frequency_hz / rate_hz;
+      AddSine(amplitude / h, omega, phase, plan.silence_frames, live);
+    }
+  }
+  if (options.dc_offset != 0.0) {
+    for (float& sample : live) sample += static_cast<float>(options.dc_offset);
+  }
+  if (options.clip_level) {
+    const auto level = static_cast<float>(*options.clip_level);
+    for (float& sample : out) {
+      if (std::abs(sample) >= level) {
+        sample = std::copysign(level, sample);
+        ++result.clipped;
+      }
+    }
+  }
+  if (options.band_limit_hz) {
+    BandLimit(*options.band_limit_hz, 0.1 * *options.band_limit_hz, rate_hz, out);
+    std::fill(out.begin(), out.begin() + plan.silence_frames, 0.0f);
+  }
+  return result;
+}
+
+std::optional<RecordingChainSummary> SummariseChain(const SynthesisOptions& options,
+                                                    const RenderPlan& plan) {
+  if (!plan.filter) return std::nullopt;
+  const AntiAliasingFilter& filter = *plan.filter;
+  RecordingChain chain = *options.chain;
+  chain.oversampling = filter.oversampling;
+  return RecordingChainSummary{.chain = chain,
+                               .taps = static_cast<int>(filter.taps.size()),
+                               .high_rate_hz = plan.acoustic_rate_hz,
+                               .kaiser_beta = filter.kaiser_beta,
+                               .passband_ripple_db = filter.figures.passband_ripple_db,
+                               .stopband_attenuation_db = filter.figures.stopband_attenuation_db,
+                               .pre_ring_span_s = filter.lead / plan.acoustic_rate_hz};
+}
+
+}  // namespace
+
+SynthesizedRecording SynthesizeBounces(const SynthesisOptions& options) {
+  ValidateSynthesisOptions(options);
+  RenderPlan plan = PlanRecording(options);
   SynthesizedRecording result;
-  const auto silence_frames = std::min<std::int64_t>(
-      frame_count,
-      static_cast<std::int64_t>(std::ceil(options.leading_digital_silence_s * rate_hz)));
   for (size_t c = 0; c < options.channels.size(); ++c) {
-    const ChannelOptions& channel = options.channels[c];
-    const double channel_gain = DbToGain(channel.gain_db);
     Recording recording;
     recording.sample_rate_hz = options.sample_rate_hz;
     recording.source_channel = static_cast<int>(c);
     recording.source_channel_count = static_cast<int>(options.channels.size());
-    recording.samples.assign(static_cast<size_t>(frame_count), 0.0f);
+    recording.samples.assign(static_cast<size_t>(plan.frame_count), 0.0f);
     std::span<float> out(recording.samples);
-    // The acoustic signal: the output itself, or with a chain a high-rate buffer starting at
-    // time 0 (nothing sounds before it) that is decimated into the output below.
-    std::vector<float> high_rate;
-    std::span<float> acoustic = out;
-    if (filter) {
-      high_rate.assign(static_cast<size_t>(acoustic_count), 0.0f);
-      acoustic = high_rate;
-    }
-
-    std::vector<double> direct_power;  // per ball impact, for the SNR
-    std::vector<ModalExcitation> excitations;
-    std::vector<ContactClick> clicks;
-    for (size_t k = 0; k < ball_impacts.size(); ++k) {
-      const SynthesizedEvent& impact = ball_impacts[k];
-      if (impact.onset_s >= duration_s) break;
-      const ImpactVoice voice = VoiceFor(options, unit_peak, impact.impact_speed_mps, jitter[k]);
-      const double arrival_s = impact.onset_s + channel.delay_s;
-      const double scale = voice.scale * channel_gain;
-      const double click_peak = options.click_gain * impact_peaks[k] * channel_gain;
-      for (size_t e = 0; e < echo_delays_s.size(); ++e) {
-        excitations.push_back(
-            {arrival_s + echo_delays_s[e], scale * echo_gains[e], voice.contact_s});
-        if (click_peak != 0.0) {
-          clicks.push_back(
-              {arrival_s + echo_delays_s[e], click_peak * echo_gains[e], voice.contact_s});
-        }
-        if (options.precursor) {
-          excitations.push_back({arrival_s + echo_delays_s[e] - options.precursor->lead_s,
-                                 scale * echo_gains[e] * DbToGain(options.precursor->gain_db),
-                                 voice.contact_s});
-        }
-      }
-      if (options.noise) {
-        direct_power.push_back(WindowPower(modes, chain_filter, voice.contact_s, scale, click_peak,
-                                           arrival_s, options.noise->window_s, rate_hz));
-      }
-    }
-    RenderModalExcitations(modes, excitations, acoustic_rate_hz, acoustic);
-    if (!clicks.empty()) AddContactClicks(clicks, acoustic_rate_hz, 0, acoustic);
-    for (size_t i = 0; i < options.extra_events.size(); ++i) {
-      const ExtraEvent& extra = options.extra_events[i];
-      // Past the file's end an event is not in the truth; with a chain its pre-ringing could
-      // otherwise reach the last samples (without one it would write nothing anyway).
-      if (filter && extra.onset_s >= duration_s) continue;
-      for (size_t e = 0; e < echo_delays_s.size(); ++e) {
-        AddExtraEventSound(extra.kind, extra.onset_s + channel.delay_s + echo_delays_s[e],
-                           extra.peak_amplitude * channel_gain * echo_gains[e], acoustic_rate_hz,
-                           RandomStream(options.seed, kExtraEventStream, i), 0, acoustic);
-      }
-    }
-    if (options.reverb && options.reverb->rt60_s > 0.0) {
-      AddConvolution(DiffuseTail(*options.reverb, acoustic_rate_hz,
-                                 RandomStream(options.seed, kReverbStream, c)),
-                     acoustic);
-    }
-    if (filter) {
-      Decimate(*filter, high_rate, 0, 0, out);
-      high_rate = std::vector<float>();  // release it before the next channel's
+    std::vector<double> direct_power;
+    if (plan.filter) {
+      // The sound at the chain's high rate, from time 0 (nothing sounds before it), decimated
+      // into the file; released before the next channel's.
+      std::vector<float> high_rate(static_cast<size_t>(plan.acoustic_count), 0.0f);
+      direct_power = RenderSound(options, plan, c, high_rate);
+      Decimate(*plan.filter, high_rate, 0, 0, out);
       // Digital silence stays exact zeros, even where an event just after it pre-rings.
-      std::fill(out.begin(), out.begin() + silence_frames, 0.0f);
+      std::fill(out.begin(), out.begin() + plan.silence_frames, 0.0f);
+    } else {
+      direct_power = RenderSound(options, plan, c, out);
     }
-
-    double noise_rms = 0.0;
-    std::span<float> live = out.subspan(static_cast<size_t>(silence_frames));
-    if (options.noise && !direct_power.empty()) {
-      const double reference_power =
-          options.noise->reference == SnrReference::kFirstImpact
-              ? direct_power.front()
-              : *std::min_element(direct_power.begin(), direct_power.end());
-      const double snr_db = options.noise->snr_db + channel.snr_offset_db;
-      noise_rms = std::sqrt(reference_power / std::pow(10.0, snr_db / 10.0));
-      AddNoise(options.noise->color, noise_rms, RandomStream(options.seed, kNoiseStream, c), live);
-    }
-    if (options.hum) {
-      RandomStream random(options.seed, kHumStream, c);
-      const double amplitude = DbToGain(options.hum->fundamental_dbfs);
-      for (int h = 1; h <= options.hum->harmonics_count; ++h) {
-        const double frequency_hz = h * options.hum->frequency_hz;
-        const double phase = 2.0 * std::numbers::pi * random.Uniform();
-        if (frequency_hz >= 0.45 * rate_hz) continue;
-        const double omega = 2.0 * std::numbers::pi * frequency_hz / rate_hz;
-        AddSine(amplitude / h, omega, phase, silence_frames, live);
-      }
-    }
-    if (options.dc_offset != 0.0) {
-      for (float& sample : live) sample += static_cast<float>(options.dc_offset);
-    }
-    int clipped = 0;
-    if (options.clip_level) {
-      const auto level = static_cast<float>(*options.clip_level);
-      for (float& sample : out) {
-        if (std::abs(sample) >= level) {
-          sample = std::copysign(level, sample);
-          ++clipped;
-        }
-      }
-    }
-    if (options.band_limit_hz) {
-      BandLimit(*options.band_limit_hz, 0.1 * *options.band_limit_hz, rate_hz, out);
-      std::fill(out.begin(), out.begin() + silence_frames, 0.0f);
-    }
+    const ChannelImpairments impairments =
+        AddDeviceImpairments(options, plan, c, direct_power, out);
     result.channels.push_back(std::move(recording));
-    result.noise_rms.push_back(noise_rms);
-    result.clipped_sample_count.push_back(clipped);
-    result.channel_delay_s.push_back(channel.delay_s);
+    result.noise_rms.push_back(impairments.noise_rms);
+    result.clipped_sample_count.push_back(impairments.clipped);
+    result.channel_delay_s.push_back(options.channels[c].delay_s);
   }
-  result.events = std::move(events);
+  result.events = std::move(plan.events);
   result.click_gain = options.click_gain;
-  if (filter) {
-    RecordingChain chain = *options.chain;
-    chain.oversampling = filter->oversampling;
-    result.chain =
-        RecordingChainSummary{.chain = chain,
-                              .taps = static_cast<int>(filter->taps.size()),
-                              .high_rate_hz = acoustic_rate_hz,
-                              .kaiser_beta = filter->kaiser_beta,
-                              .passband_ripple_db = filter->figures.passband_ripple_db,
-                              .stopband_attenuation_db = filter->figures.stopband_attenuation_db,
-                              .pre_ring_span_s = filter->lead / acoustic_rate_hz};
-  }
+  result.chain = SummariseChain(options, plan);
   return result;
 }
 
