@@ -137,13 +137,9 @@ calibrate::FitOptions CalibrateCliOptions::FitOptions(bool validate_law) const {
 }
 
 calibrate::SequenceInputOptions CalibrateCliOptions::InputOptions() const {
-  if (!(onset_uncertainty_s > 0)) {
-    throw ConfigError(fmt::format(
-        "--onset-uncertainty-s must be a positive number of seconds (e.g. 1e-5), got {}",
-        onset_uncertainty_s));
-  }
   calibrate::SequenceInputOptions input;
   input.impact_times.default_uncertainty_s = onset_uncertainty_s;
+  input.impact_times.Validate();
   return input;
 }
 

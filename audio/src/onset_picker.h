@@ -28,7 +28,8 @@ inline constexpr double kReferenceFraction = 0.12;
 // Start of contact inside a window of band-passed samples that holds noise (or the tail of an
 // earlier impact) followed by the rising edge of one impact, up to its first peak.
 //
-// Two stages (docs/history/onset_timing.md compares them and the alternatives on synthetic recordings):
+// Two stages (docs/history/onset_timing.md compares them and the alternatives on synthetic
+// recordings):
 //  1. The change point is the minimum of the Akaike information criterion of a two-segment
 //     model (Maeda 1985; Sleeman & van Eck, PEPI 113, 1999), searched in [search_begin,
 //     search_end). It finds the first sample that belongs to the impact, but on its own it is

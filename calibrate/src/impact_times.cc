@@ -12,6 +12,7 @@
 #include <string_view>
 
 #include "bouncecal/error.h"
+#include "bouncecal/option_error.h"
 
 namespace bouncecal::calibrate {
 namespace {
@@ -241,6 +242,17 @@ std::vector<MeasuredSequence> ReadJson(const std::filesystem::path& path, std::i
 }
 
 }  // namespace
+
+void ImpactTimesOptions::Validate() const {
+  if (default_uncertainty_s > 0 && std::isfinite(default_uncertainty_s)) return;
+  std::ostringstream value;
+  value << default_uncertainty_s;
+  const std::string given =
+      std::isfinite(default_uncertainty_s) ? "got " + value.str() : "got a non-finite value";
+  throw OptionError(
+      {"onset_uncertainty_s"},
+      "onset_uncertainty_s must be a positive number of seconds (e.g. 1e-5), " + given);
+}
 
 bool IsImpactTimesFile(const std::filesystem::path& path) {
   const auto extension = Lower(path.extension().string());

@@ -154,16 +154,13 @@ std::vector<double> OneOrPerInput(py::handle value, const char* keyword) {
 }
 
 Inputs LoadInputs(py::handle inputs, double onset_uncertainty_s) {
-  if (!(onset_uncertainty_s > 0 && std::isfinite(onset_uncertainty_s))) {
-    throw ConfigError("onset_uncertainty_s must be a positive number of seconds (e.g. 1e-5), got " +
-                      std::to_string(onset_uncertainty_s));
-  }
   // One path or one analysis alone is a list of one.
   const py::list listed = IsPathLike(inputs) || py::isinstance<py::dict>(inputs)
                               ? py::list(py::make_tuple(inputs))
                               : py::list(py::reinterpret_borrow<py::object>(inputs));
   calibrate::SequenceInputOptions options;
   options.impact_times.default_uncertainty_s = onset_uncertainty_s;
+  options.impact_times.Validate();
   Inputs loaded;
   for (std::size_t i = 0; i < listed.size(); ++i) {
     const py::handle item = listed[i];

@@ -123,6 +123,15 @@ def test_an_unknown_objective_raises_the_commands_message(cli, steel_sample):
     assert str(raised.value) == message
 
 
+def test_an_onset_uncertainty_out_of_range_is_one_rule_spelt_by_each_front_end(cli, steel_sample):
+    # ImpactTimesOptions::Validate: the same sentence naming the flag there and the keyword here.
+    message, status = cli.error("calibrate", steel_sample, "--onset-uncertainty-s", "-1")
+    with pytest.raises(bouncecal.ConfigError) as raised:
+        bouncecal.calibrate(steel_sample, onset_uncertainty_s=-1.0)
+    assert "--onset-uncertainty-s must be a positive number" in message and status == 3
+    assert str(raised.value) == message.replace("--onset-uncertainty-s", "onset_uncertainty_s")
+
+
 @pytest.mark.parametrize("arguments, error, words", [
     ({"inputs": []}, bouncecal.ConfigError, "give at least one input"),
     ({"inputs": [numpy.array([[0.1, 0.2, 0.3]])]}, bouncecal.InputError, "inputs[0]"),

@@ -36,6 +36,9 @@ struct ImpactTimesOptions {
   double default_uncertainty_s = 10e-6;
   // Sequences with fewer impacts carry no restitution and are skipped.
   int min_impacts = 3;
+  // OptionError unless default_uncertainty_s is a positive, finite number of seconds. It names
+  // the option as both front ends call it (onset_uncertainty_s, --onset-uncertainty-s).
+  void Validate() const;
 };
 
 // Reads impact times from
