@@ -8,6 +8,7 @@
 #include "bouncecal/version.h"
 #include "commands.h"
 #include "exit_codes.h"
+#include "finite_numbers.h"
 #include "option_names.h"
 #include "stop_signals.h"
 
@@ -41,6 +42,8 @@ int main(int argc, char** argv) {
   apps::AddExportCheckCommand(app);
   apps::AddPackCommand(app);
   apps::AddReportCommand(app);
+  // Runs after parsing, before the command's own callback.
+  app.parse_complete_callback([&app] { apps::RefuseNonFiniteNumbers(app); });
 
   try {
     app.parse(argc, argv);

@@ -328,6 +328,33 @@ void ExpectCardRefused(BadInput& test, const fs::path& card, int status,
   test.ExpectRefused("export --engine lammps --material", card, status, problem, "-o");
 }
 
+TEST_F(BadInput, NonFiniteOptionValuesAreRefusedNamingTheOptionBeforeAnyWork) {
+  // apps/finite_numbers.h: one check for every numeric option of every command, also for
+  // options a command reads only in some modes (--trajectory-interval-s without --trajectory).
+  const std::string sample = SourceDir().string() + "/samples/steel_ball_h0.2m.wav";
+  const fs::path output = folder_ / "out.json";
+  const struct {
+    std::string arguments;
+    std::string option;
+  } cases[] = {
+      {"calibrate '" + sample + "' --ball steel-10mm --drop-height-m nan", "--drop-height-m nan"},
+      {"calibrate '" + sample + "' --ball steel-10mm --drop-height-m 0.2 --onset-uncertainty-s inf",
+       "--onset-uncertainty-s inf"},
+      {"simulate drop --trajectory-interval-s nan", "--trajectory-interval-s nan"},
+      {"simulate drop --drop-height-m 1e999", "--drop-height-m 1e999"},
+      {"analyze '" + sample + "' --band-low-hz -inf", "--band-low-hz -inf"},
+  };
+  for (const auto& c : cases) {
+    const auto result = RunBouncecal(c.arguments + " --json '" + output.string() + "'");
+    SCOPED_TRACE(c.arguments + ": " + result.output);
+    EXPECT_EQ(result.exit_status, 3);
+    EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1);
+    EXPECT_NE(result.output.find(c.option), std::string::npos);
+    EXPECT_NE(result.output.find("not a finite number"), std::string::npos);
+    EXPECT_FALSE(fs::exists(output));
+  }
+}
+
 TEST_F(BadInput, MaterialCardsThatAreNotCardsAreInputErrors) {
   ExpectCardRefused(*this, folder_ / "missing.json", 2, "missing.json");
   ExpectCardRefused(*this, Write("empty.json", ""), 2, "empty.json");
