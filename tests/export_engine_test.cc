@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "bouncecal/calibrate/export/trajectory_bounces.h"
 #include "bouncecal/dem/laws/walton_braun.h"
+#include "bouncecal/export/trajectory_bounces.h"
 #include "cli_runner.h"
 #include "external_engine.h"
 
