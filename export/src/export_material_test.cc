@@ -9,9 +9,12 @@
 #include <string>
 
 #include "bouncecal/error.h"
+#include "bouncecal/testing/scratch_folder.h"
 
 namespace bouncecal::calibrate {
 namespace {
+
+using bouncecal::testing::ScratchPath;
 
 nlohmann::json PaperCard() {
   return nlohmann::json::parse(R"({
@@ -96,11 +99,10 @@ TEST(ReadExportMaterial, MissingFileAndInvalidJsonAreInputErrorsNamingTheFile) {
               ReadExportMaterial("/nonexistent/card.json");
             }).find("/nonexistent/card.json"),
             std::string::npos);
-  const auto path = std::filesystem::temp_directory_path() / "bouncecal_export_not_json.json";
+  const auto path = ScratchPath("not_json.json");
   std::ofstream(path) << "{ this is not json";
   const auto message = MessageOf<InputError>([&] { ReadExportMaterial(path); });
   EXPECT_NE(message.find(path.string()), std::string::npos) << message;
-  std::filesystem::remove(path);
 }
 
 }  // namespace
