@@ -344,7 +344,7 @@ std::string RunCommands(const PourPlan& plan, const std::string& pour, const Dec
 
 // Type 1 is the particle, type 2 the walls; property/global matrices are ordered 11 12 21 22.
 std::string LiggghtsPackingScript(const PackingDeckSpec& spec, const LawMapping& mapping,
-                                  const PourPlan& plan, const Deck& deck) {
+                                  const PourPlan& plan, const Regions& regions, const Deck& deck) {
   const double d = LargestDiameter(spec);
   // A uniform diameter distribution becomes kSizeClasses equally likely sizes at the centres of
   // equal-width bins (number-based weights), the closest LIGGGHTS' discrete templates come.
@@ -365,7 +365,6 @@ std::string LiggghtsPackingScript(const PackingDeckSpec& spec, const LawMapping&
   auto per_type_pair = [](double particle, double wall) {
     return fmt::format("{0} {1} {1} {1}", Number(particle), Number(wall));
   };
-  const Regions regions = MakeRegions(spec);
   const std::string wall_model =
       "wall/gran model hooke/stiffness tangential history primitive type 2";
   std::string walls;
@@ -436,6 +435,14 @@ fix             integrate all nve/sphere
       fmt::arg("thermo", ThermoCommands(deck)), fmt::arg("run", RunCommands(plan, pour, deck)));
 }
 
+// fix wall/gran's hooke/history arguments: the card law's wall coefficients (m_eff = m), the
+// scene's tangential spring and wall friction: Kn Kt gamma_n gamma_t xmu dampflag.
+std::string LammpsWallLaw(const PackingDeckSpec& spec, const LawMapping& mapping) {
+  return fmt::format("hooke/history {} {} {} 0 {} 0", Number(mapping.wall.stiffness_n_per_m),
+                     Number(spec.tangential_stiffness_n_per_m),
+                     Number(mapping.wall.damping_rate_per_s), Number(spec.wall_friction));
+}
+
 // Disks in a box from start.data: LAMMPS needs a periodic z in 2D, and enforce2d after the
 // force fixes so that no z force survives. read_data's atom_style sphere gives each particle a
 // sphere's mass from its diameter and density, and nve/sphere a sphere's inertia: the same as
@@ -444,10 +451,7 @@ std::string Lammps2dPackingScript(const PackingDeckSpec& spec, const LawMapping&
                                   const Deck& deck) {
   const double x = spec.box_half_x_m;
   const double x0 = spec.origin_m[0], y0 = spec.origin_m[1];
-  const std::string wall_law =
-      fmt::format("hooke/history {} {} {} 0 {} 0", Number(mapping.wall.stiffness_n_per_m),
-                  Number(spec.tangential_stiffness_n_per_m),
-                  Number(mapping.wall.damping_rate_per_s), Number(spec.wall_friction));
+  const std::string wall_law = LammpsWallLaw(spec, mapping);
   return fmt::format(
       R"(
 {preamble}read_data       start.data
@@ -563,154 +567,12 @@ void AddInsertionNotes(const PackingDeckSpec& spec, const PourPlan& plan, const 
   }
 }
 
-}  // namespace
-
-Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec,
-                     const PackingDeckOptions& options) {
-  Validate(spec, options);
-  const double d = MeanDiameter(spec);
-  const double mass = SphereMass(d, spec.density_kg_per_m3);
-  // The pour's typical first impact: a fall from the middle of the insertion band.
-  // From start positions: a fall through half the container.
-  const double fall_m = spec.start_data ? 0.5 * spec.container_height_m
-                                        : 0.5 * (spec.insert_z_min_m + spec.insert_z_max_m);
-  const double impact_speed = std::sqrt(2 * spec.gravity_mps2 * fall_m);
-  const LawMapping mapping =
-      MapContactLaw(material.law, mass, 0.5 * d, impact_speed, options.engine);
-
-  Deck deck;
-  deck.input_file_name = "in.pack";
-  deck.time_step_s = spec.time_step_s;
-  deck.duration_s = spec.duration_s;
-  deck.steps = static_cast<std::int64_t>(std::ceil(spec.duration_s / spec.time_step_s));
-  deck.trajectory_file_name = "final.data";
-  deck.expected_restitution = mapping.restitution;
-  const SpringDashpot& pair = mapping.pair;
-  const double pair_contact_s = ContactDurationS(pair);
-  // The shortest contact (pairs; of the smallest particles) sets both the discretisation error
-  // and the stability limit.
-  deck.time_step_error_bound = pair.damping_rate_per_s * spec.time_step_s;
-  const double smallest_pair_mass = 0.5 * SphereMass(spec.diameter_m, spec.density_kg_per_m3);
-  const double omega_dt = std::sqrt(pair.stiffness_n_per_m / smallest_pair_mass) * spec.time_step_s;
-  if (omega_dt >= 2) {
-    throw ConfigError(fmt::format(
-        "scene time step {} s is unstable for the mapped pair contact (omega dt = {:.3g} >= 2, "
-        "t_c = {:.3g} s); use a step below {:.3g} s",
-        spec.time_step_s, omega_dt, pair_contact_s, pair_contact_s / 20));
-  }
-  // The deck always dumps snapshots (docs/export.md): at the scene's interval, or 20 over the run
-  // (the thermo cadence) when the scene asks bouncecal pack for none. LAMMPS takes an int.
-  const double every_steps = spec.snapshot_interval_s > 0
-                                 ? std::round(spec.snapshot_interval_s / spec.time_step_s)
-                                 : std::floor(static_cast<double>(deck.steps) / 20);
-  deck.output_every_steps = static_cast<int>(
-      std::clamp(every_steps, 1.0, static_cast<double>(std::numeric_limits<int>::max())));
-  deck.output_interval_s = deck.output_every_steps * spec.time_step_s;
-
-  deck.notes = mapping.notes;
-  if (spec.max_diameter_m) {
-    // One coefficient set for every size: the mass-scaled dashpot gives each its own e.
-    auto wall_e = [&](double diameter) {
-      SpringDashpot wall = mapping.wall;
-      wall.effective_mass_kg = SphereMass(diameter, spec.density_kg_per_m3);
-      return Restitution(wall);
-    };
-    deck.notes.push_back(fmt::format(
-        "POLYDISPERSE: diameters uniform in [{}, {}] m; the law is mapped for the mean diameter "
-        "{} m, so on the walls the smallest particles bounce with e = {:.4f} and the largest with "
-        "{:.4f} instead of {:.4f}.",
-        Number(spec.diameter_m), Number(*spec.max_diameter_m), Number(d), wall_e(spec.diameter_m),
-        wall_e(*spec.max_diameter_m), mapping.restitution));
-  }
-  deck.notes.push_back(fmt::format(
-      "Time step {} s resolves a pair contact (t_c = {:.4g} s) in {:.1f} steps and a wall contact "
-      "in {:.1f}: the restitution of single contacts may deviate by up to gamma_n dt = {:.1f} % "
-      "(pairs){}.",
-      Number(spec.time_step_s), pair_contact_s, pair_contact_s / spec.time_step_s,
-      ContactDurationS(mapping.wall) / spec.time_step_s, 100 * deck.time_step_error_bound,
-      deck.time_step_error_bound > 0.05
-          ? "; with so few steps per contact e scatters from bounce to bounce (bouncecal "
-            "docs/physics.md section 4: 0.47-0.58 for 0.577 at 10 us), which matters for dynamics "
-            "more than for the final packing"
-          : ""));
-  deck.notes.push_back(deck_text::AttractiveTailNote(options.engine == Engine::kLammps));
-  deck.notes.push_back(fmt::format(
-      "Tangential: Cundall-Strack spring kt = {} N/m with Coulomb friction {} (particles) and {} "
-      "(walls), no tangential damping; nve/sphere integrates rotation.",
-      Number(spec.tangential_stiffness_n_per_m), Number(spec.friction),
-      Number(spec.wall_friction)));
-  const bool lammps = options.engine == Engine::kLammps;
-  const PourPlan plan = PlanPour(spec);
-  const Regions regions = MakeRegions(spec);
-  const LammpsPour lammps_pour = PlanLammpsPour(spec, plan, regions);
-  if (spec.start_data) {
-    deck.notes.push_back(fmt::format(
-        "Start: read_data start.data, the scene's own start positions, at rest{}.",
-        spec.dimension == 2
-            ? "; 2D: dimension 2 with enforce2d, each particle a sphere (mass and inertia) whose "
-              "centre moves in the x-y plane, gravity along -y"
-            : ""));
-  } else {
-    AddInsertionNotes(spec, plan, lammps ? &lammps_pour : nullptr, deck);
-  }
-  if (!lammps) {
-    deck.notes.push_back(
-        "The wall is atom type 2, so wall (1-2) and pair (1-1) contacts keep their own "
-        "coefficients.");
-  }
-
-  const std::string executable(EngineExecutable(options.engine));
-  const std::string log_name = fmt::format("log.{}", ToString(options.engine));
-  deck.run_command =
-      options.processes > 1
-          ? fmt::format("mpirun -np {} {} -in {} -log {}", options.processes, executable,
-                        deck.input_file_name, log_name)
-          : fmt::format("{} -in {} -log {}", executable, deck.input_file_name, log_name);
-
-  std::vector<std::string> header = {
-      fmt::format("bouncecal packing-scene deck '{}' for {} ({})", spec.name,
-                  ToString(options.engine),
-                  lammps ? "LAMMPS 29Sep2021 or later, GRANULAR package" : "LIGGGHTS-PUBLIC 3.x"),
-      fmt::format("Written by bouncecal {} from material card: {}", Version(), material.source),
-      fmt::format("Scene: {}", options.scene_source),
-      fmt::format("Card's contact law: {}", mapping.source_description),
-      fmt::format("Particles: {} spheres of {} m, {} kg/m^3 ({} kg{}); {} s of {} s steps "
-                  "({} steps); g = {} m/s^2.",
-                  spec.particle_count,
-                  spec.max_diameter_m
-                      ? fmt::format("{}-{}", Number(spec.diameter_m), Number(*spec.max_diameter_m))
-                      : Number(d),
-                  Number(spec.density_kg_per_m3), Number(mass),
-                  spec.max_diameter_m ? " at the mean diameter" : " each", Number(spec.duration_s),
-                  Number(spec.time_step_s), deck.steps, Number(spec.gravity_mps2)),
-      ""};
-  for (const auto& note : deck.notes) header.push_back(note);
-  header.push_back("");
-  header.push_back(fmt::format(
-      "Outputs: {} (thermo: atoms, kinetic energy), dump.pack (snapshots every {} s from t = 0: "
-      "id type radius x y z vx vy vz), final.data (write_data of the final packing).",
-      log_name, Number(deck.output_interval_s)));
-  header.push_back(fmt::format("Run in this folder: {}", deck.run_command));
-
-  std::string script = CommentBlock(header);
-  if (spec.dimension == 2) {
-    script += Lammps2dPackingScript(spec, mapping, deck);
-    deck.files.push_back({deck.input_file_name, script});
-    deck.files.push_back({"start.data", *spec.start_data});
-    return deck;
-  }
-  if (!spec.start_spheres.empty()) {
-    deck.files.push_back({"start.data", StartDataFile(spec, regions, lammps)});
-  }
-  if (!lammps) {
-    script += LiggghtsPackingScript(spec, mapping, plan, deck);
-    deck.files.insert(deck.files.begin(), {deck.input_file_name, script});
-    return deck;
-  }
-  const std::string wall_law =
-      fmt::format("hooke/history {} {} {} 0 {} 0", Number(mapping.wall.stiffness_n_per_m),
-                  Number(spec.tangential_stiffness_n_per_m),
-                  Number(mapping.wall.damping_rate_per_s), Number(spec.wall_friction));
+// Spheres in a cylinder or box: read_data of the start spheres (or an empty box), then fix pour
+// for the rest; the pair style carries the pair coefficients, fix wall/gran the wall's.
+std::string Lammps3dPackingScript(const PackingDeckSpec& spec, const LawMapping& mapping,
+                                  const PourPlan& plan, const Regions& regions,
+                                  const LammpsPour& lammps_pour, const Deck& deck) {
+  const std::string wall_law = LammpsWallLaw(spec, mapping);
   std::string wall_sides;
   if (spec.container == PackingContainer::kCylinder) {
     wall_sides = fmt::format("fix             side all wall/gran {} zcylinder {}\n", wall_law,
@@ -740,7 +602,7 @@ Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec
       fmt::arg("rho", Number(spec.density_kg_per_m3)),
       fmt::arg("fraction", Number(lammps_pour.volume_fraction)),
       fmt::arg("attempts", kLammpsPourAttempts));
-  script += fmt::format(
+  return fmt::format(
       R"(
 {preamble}
 {box}
@@ -758,14 +620,199 @@ fix             floor all wall/gran {wall} zplane 0.0 NULL
 {sides}
 {thermo}{run})",
       fmt::arg("preamble", LammpsPreamble(3, /*atom_map=*/false)), fmt::arg("box", box),
-      fmt::arg("kn", Number(pair.stiffness_n_per_m)),
+      fmt::arg("kn", Number(mapping.pair.stiffness_n_per_m)),
       fmt::arg("kt", Number(spec.tangential_stiffness_n_per_m)),
-      fmt::arg("gn", Number(pair.damping_rate_per_s)), fmt::arg("mu", Number(spec.friction)),
-      fmt::arg("skin", Number(0.2 * LargestDiameter(spec))),
+      fmt::arg("gn", Number(mapping.pair.damping_rate_per_s)),
+      fmt::arg("mu", Number(spec.friction)), fmt::arg("skin", Number(0.2 * LargestDiameter(spec))),
       fmt::arg("dt", Number(spec.time_step_s)), fmt::arg("g", Number(spec.gravity_mps2)),
       fmt::arg("wall", wall_law), fmt::arg("sides", wall_sides),
       fmt::arg("thermo", ThermoCommands(deck)), fmt::arg("run", RunCommands(plan, pour, deck)));
-  deck.files.insert(deck.files.begin(), {deck.input_file_name, script});
+}
+
+// The card's law for the scene's particle: its mass at the mean diameter, at the typical first
+// impact of a pour (a fall from the middle of the insertion band) or, from start positions, of a
+// fall through half the container.
+LawMapping MapLawForScene(const ExportMaterial& material, const PackingDeckSpec& spec,
+                          Engine engine) {
+  const double d = MeanDiameter(spec);
+  const double mass = SphereMass(d, spec.density_kg_per_m3);
+  const double fall_m = spec.start_data ? 0.5 * spec.container_height_m
+                                        : 0.5 * (spec.insert_z_min_m + spec.insert_z_max_m);
+  const double impact_speed = std::sqrt(2 * spec.gravity_mps2 * fall_m);
+  return MapContactLaw(material.law, mass, 0.5 * d, impact_speed, engine);
+}
+
+// The shortest contact (pairs of the smallest particles) sets the stability limit.
+void CheckPairStability(const PackingDeckSpec& spec, const SpringDashpot& pair) {
+  const double smallest_pair_mass = 0.5 * SphereMass(spec.diameter_m, spec.density_kg_per_m3);
+  const double omega_dt = std::sqrt(pair.stiffness_n_per_m / smallest_pair_mass) * spec.time_step_s;
+  if (omega_dt >= 2) {
+    const double pair_contact_s = ContactDurationS(pair);
+    throw ConfigError(fmt::format(
+        "scene time step {} s is unstable for the mapped pair contact (omega dt = {:.3g} >= 2, "
+        "t_c = {:.3g} s); use a step below {:.3g} s",
+        spec.time_step_s, omega_dt, pair_contact_s, pair_contact_s / 20));
+  }
+}
+
+// The deck's schedule: its steps, what the step costs the restitution of a pair contact (the
+// shortest contact sets the discretisation error), and how often it dumps.
+Deck ScheduleDeck(const PackingDeckSpec& spec, const LawMapping& mapping) {
+  Deck deck;
+  deck.input_file_name = "in.pack";
+  deck.time_step_s = spec.time_step_s;
+  deck.duration_s = spec.duration_s;
+  deck.steps = static_cast<std::int64_t>(std::ceil(spec.duration_s / spec.time_step_s));
+  deck.trajectory_file_name = "final.data";
+  deck.expected_restitution = mapping.restitution;
+  deck.time_step_error_bound = mapping.pair.damping_rate_per_s * spec.time_step_s;
+  // The deck always dumps snapshots (docs/export.md): at the scene's interval, or 20 over the run
+  // (the thermo cadence) when the scene asks bouncecal pack for none. LAMMPS takes an int.
+  const double every_steps = spec.snapshot_interval_s > 0
+                                 ? std::round(spec.snapshot_interval_s / spec.time_step_s)
+                                 : std::floor(static_cast<double>(deck.steps) / 20);
+  deck.output_every_steps = static_cast<int>(
+      std::clamp(every_steps, 1.0, static_cast<double>(std::numeric_limits<int>::max())));
+  deck.output_interval_s = deck.output_every_steps * spec.time_step_s;
+  return deck;
+}
+
+// What the mapped contact keeps and loses: the mapping's own notes, the spread of e over a
+// polydisperse scene, the step's cost in accuracy, the attractive tail and the tangential law.
+void AddContactNotes(const PackingDeckSpec& spec, const LawMapping& mapping, Engine engine,
+                     Deck& deck) {
+  deck.notes = mapping.notes;
+  if (spec.max_diameter_m) {
+    // One coefficient set for every size: the mass-scaled dashpot gives each its own e.
+    auto wall_e = [&](double diameter) {
+      SpringDashpot wall = mapping.wall;
+      wall.effective_mass_kg = SphereMass(diameter, spec.density_kg_per_m3);
+      return Restitution(wall);
+    };
+    deck.notes.push_back(fmt::format(
+        "POLYDISPERSE: diameters uniform in [{}, {}] m; the law is mapped for the mean diameter "
+        "{} m, so on the walls the smallest particles bounce with e = {:.4f} and the largest with "
+        "{:.4f} instead of {:.4f}.",
+        Number(spec.diameter_m), Number(*spec.max_diameter_m), Number(MeanDiameter(spec)),
+        wall_e(spec.diameter_m), wall_e(*spec.max_diameter_m), mapping.restitution));
+  }
+  const double pair_contact_s = ContactDurationS(mapping.pair);
+  deck.notes.push_back(fmt::format(
+      "Time step {} s resolves a pair contact (t_c = {:.4g} s) in {:.1f} steps and a wall contact "
+      "in {:.1f}: the restitution of single contacts may deviate by up to gamma_n dt = {:.1f} % "
+      "(pairs){}.",
+      Number(spec.time_step_s), pair_contact_s, pair_contact_s / spec.time_step_s,
+      ContactDurationS(mapping.wall) / spec.time_step_s, 100 * deck.time_step_error_bound,
+      deck.time_step_error_bound > 0.05
+          ? "; with so few steps per contact e scatters from bounce to bounce (bouncecal "
+            "docs/physics.md section 4: 0.47-0.58 for 0.577 at 10 us), which matters for dynamics "
+            "more than for the final packing"
+          : ""));
+  deck.notes.push_back(deck_text::AttractiveTailNote(engine == Engine::kLammps));
+  deck.notes.push_back(fmt::format(
+      "Tangential: Cundall-Strack spring kt = {} N/m with Coulomb friction {} (particles) and {} "
+      "(walls), no tangential damping; nve/sphere integrates rotation.",
+      Number(spec.tangential_stiffness_n_per_m), Number(spec.friction),
+      Number(spec.wall_friction)));
+}
+
+// Where the particles come from: the scene's start positions, or bouncecal's start spheres and
+// the pour of the rest; LIGGGHTS' wall type. `lammps`: fix pour's plan, null for LIGGGHTS.
+void AddStartNotes(const PackingDeckSpec& spec, const PourPlan& plan, const LammpsPour* lammps,
+                   Deck& deck) {
+  if (spec.start_data) {
+    deck.notes.push_back(fmt::format(
+        "Start: read_data start.data, the scene's own start positions, at rest{}.",
+        spec.dimension == 2
+            ? "; 2D: dimension 2 with enforce2d, each particle a sphere (mass and inertia) whose "
+              "centre moves in the x-y plane, gravity along -y"
+            : ""));
+  } else {
+    AddInsertionNotes(spec, plan, lammps, deck);
+  }
+  if (!lammps) {
+    deck.notes.push_back(
+        "The wall is atom type 2, so wall (1-2) and pair (1-1) contacts keep their own "
+        "coefficients.");
+  }
+}
+
+std::string LogName(Engine engine) { return fmt::format("log.{}", ToString(engine)); }
+
+std::string RunCommand(const PackingDeckOptions& options, const std::string& input_file_name) {
+  const std::string executable(EngineExecutable(options.engine));
+  const std::string log_name = LogName(options.engine);
+  return options.processes > 1
+             ? fmt::format("mpirun -np {} {} -in {} -log {}", options.processes, executable,
+                           input_file_name, log_name)
+             : fmt::format("{} -in {} -log {}", executable, input_file_name, log_name);
+}
+
+// The comment block at the top of the input script: provenance, the particles and the run, the
+// notes, the outputs and how to run it.
+std::vector<std::string> HeaderLines(const ExportMaterial& material, const PackingDeckSpec& spec,
+                                     const PackingDeckOptions& options, const LawMapping& mapping,
+                                     const Deck& deck) {
+  const bool lammps = options.engine == Engine::kLammps;
+  std::vector<std::string> header = {
+      fmt::format("bouncecal packing-scene deck '{}' for {} ({})", spec.name,
+                  ToString(options.engine),
+                  lammps ? "LAMMPS 29Sep2021 or later, GRANULAR package" : "LIGGGHTS-PUBLIC 3.x"),
+      fmt::format("Written by bouncecal {} from material card: {}", Version(), material.source),
+      fmt::format("Scene: {}", options.scene_source),
+      fmt::format("Card's contact law: {}", mapping.source_description),
+      fmt::format("Particles: {} spheres of {} m, {} kg/m^3 ({} kg{}); {} s of {} s steps "
+                  "({} steps); g = {} m/s^2.",
+                  spec.particle_count,
+                  spec.max_diameter_m
+                      ? fmt::format("{}-{}", Number(spec.diameter_m), Number(*spec.max_diameter_m))
+                      : Number(MeanDiameter(spec)),
+                  Number(spec.density_kg_per_m3),
+                  Number(SphereMass(MeanDiameter(spec), spec.density_kg_per_m3)),
+                  spec.max_diameter_m ? " at the mean diameter" : " each", Number(spec.duration_s),
+                  Number(spec.time_step_s), deck.steps, Number(spec.gravity_mps2)),
+      ""};
+  for (const auto& note : deck.notes) header.push_back(note);
+  header.push_back("");
+  header.push_back(fmt::format(
+      "Outputs: {} (thermo: atoms, kinetic energy), dump.pack (snapshots every {} s from t = 0: "
+      "id type radius x y z vx vy vz), final.data (write_data of the final packing).",
+      LogName(options.engine), Number(deck.output_interval_s)));
+  header.push_back(fmt::format("Run in this folder: {}", deck.run_command));
+  return header;
+}
+
+}  // namespace
+
+Deck MakePackingDeck(const ExportMaterial& material, const PackingDeckSpec& spec,
+                     const PackingDeckOptions& options) {
+  Validate(spec, options);
+  const LawMapping mapping = MapLawForScene(material, spec, options.engine);
+  CheckPairStability(spec, mapping.pair);
+  Deck deck = ScheduleDeck(spec, mapping);
+  const bool lammps = options.engine == Engine::kLammps;
+  const PourPlan plan = PlanPour(spec);
+  const Regions regions = MakeRegions(spec);
+  const LammpsPour lammps_pour = PlanLammpsPour(spec, plan, regions);
+  AddContactNotes(spec, mapping, options.engine, deck);
+  AddStartNotes(spec, plan, lammps ? &lammps_pour : nullptr, deck);
+  deck.run_command = RunCommand(options, deck.input_file_name);
+
+  std::string script = CommentBlock(HeaderLines(material, spec, options, mapping, deck));
+  if (spec.dimension == 2) {
+    script += Lammps2dPackingScript(spec, mapping, deck);
+  } else if (lammps) {
+    script += Lammps3dPackingScript(spec, mapping, plan, regions, lammps_pour, deck);
+  } else {
+    script += LiggghtsPackingScript(spec, mapping, plan, regions, deck);
+  }
+  // The input script first (Deck::files), then the start the scene or bouncecal's engine gives.
+  deck.files.push_back({deck.input_file_name, script});
+  if (spec.dimension == 2) {
+    deck.files.push_back({"start.data", *spec.start_data});
+  } else if (!spec.start_spheres.empty()) {
+    deck.files.push_back({"start.data", StartDataFile(spec, regions, lammps)});
+  }
   return deck;
 }
 
