@@ -443,6 +443,24 @@ std::string LammpsWallLaw(const PackingDeckSpec& spec, const LawMapping& mapping
                      Number(mapping.wall.damping_rate_per_s), Number(spec.wall_friction));
 }
 
+// The pair style with the card law's pair coefficients (equal spheres, m_eff = m/2), the
+// neighbour list (a skin of a fifth of the largest diameter) and the integrator, as 2D and 3D
+// LAMMPS decks share them.
+std::string LammpsPairsAndIntegration(const PackingDeckSpec& spec, const LawMapping& mapping) {
+  return fmt::format(
+      "# Pair contacts (equal spheres, m_eff = m/2): Kn Kt gamma_n gamma_t xmu dampflag.\n"
+      "pair_style      gran/hooke/history {} {} {} 0 {} 0\n"
+      "pair_coeff      * *\n"
+      "neighbor        {} bin\n"
+      "neigh_modify    delay 0\n"
+      "\n"
+      "timestep        {}\n"
+      "fix             integrate all nve/sphere\n",
+      Number(mapping.pair.stiffness_n_per_m), Number(spec.tangential_stiffness_n_per_m),
+      Number(mapping.pair.damping_rate_per_s), Number(spec.friction),
+      Number(0.2 * LargestDiameter(spec)), Number(spec.time_step_s));
+}
+
 // Disks in a box from start.data: LAMMPS needs a periodic z in 2D, and enforce2d after the
 // force fixes so that no z force survives. read_data's atom_style sphere gives each particle a
 // sphere's mass from its diameter and density, and nve/sphere a sphere's inertia: the same as
@@ -456,15 +474,7 @@ std::string Lammps2dPackingScript(const PackingDeckSpec& spec, const LawMapping&
       R"(
 {preamble}read_data       start.data
 
-# Pair contacts (equal spheres, m_eff = m/2): Kn Kt gamma_n gamma_t xmu dampflag.
-pair_style      gran/hooke/history {kn} {kt} {gn} 0 {mu} 0
-pair_coeff      * *
-neighbor        {skin} bin
-neigh_modify    delay 0
-
-timestep        {dt}
-fix             integrate all nve/sphere
-fix             gravity all gravity {g} vector 0 -1 0
+{pairs}fix             gravity all gravity {g} vector 0 -1 0
 # Wall contacts (sphere on wall, m_eff = m).
 fix             floor all wall/gran {wall} yplane {floor} {top}
 fix             sides all wall/gran {wall} xplane {left} {right}
@@ -474,12 +484,9 @@ fix             plane all enforce2d
 write_data      final.data
 )",
       fmt::arg("preamble", LammpsPreamble(2, /*atom_map=*/false)),
-      fmt::arg("kn", Number(mapping.pair.stiffness_n_per_m)),
-      fmt::arg("kt", Number(spec.tangential_stiffness_n_per_m)),
-      fmt::arg("gn", Number(mapping.pair.damping_rate_per_s)),
-      fmt::arg("mu", Number(spec.friction)), fmt::arg("skin", Number(0.2 * spec.diameter_m)),
-      fmt::arg("dt", Number(spec.time_step_s)), fmt::arg("g", Number(spec.gravity_mps2)),
-      fmt::arg("wall", wall_law), fmt::arg("floor", Number(y0)),
+      fmt::arg("pairs", LammpsPairsAndIntegration(spec, mapping)),
+      fmt::arg("g", Number(spec.gravity_mps2)), fmt::arg("wall", wall_law),
+      fmt::arg("floor", Number(y0)),
       fmt::arg("top", spec.closed_top ? Number(y0 + spec.container_height_m) : "NULL"),
       fmt::arg("left", Number(x0 - x)), fmt::arg("right", Number(x0 + x)),
       fmt::arg("thermo", ThermoCommands(deck)), fmt::arg("dump", DumpCommand(deck)),
@@ -606,27 +613,16 @@ std::string Lammps3dPackingScript(const PackingDeckSpec& spec, const LawMapping&
       R"(
 {preamble}
 {box}
-# Pair contacts (equal spheres, m_eff = m/2): Kn Kt gamma_n gamma_t xmu dampflag.
-pair_style      gran/hooke/history {kn} {kt} {gn} 0 {mu} 0
-pair_coeff      * *
-neighbor        {skin} bin
-neigh_modify    delay 0
-
-timestep        {dt}
-fix             integrate all nve/sphere
-fix             gravity all gravity {g} vector 0 0 -1
+{pairs}fix             gravity all gravity {g} vector 0 0 -1
 # Wall contacts (sphere on wall, m_eff = m): the contact the drop calibration measured.
 fix             floor all wall/gran {wall} zplane 0.0 NULL
 {sides}
 {thermo}{run})",
       fmt::arg("preamble", LammpsPreamble(3, /*atom_map=*/false)), fmt::arg("box", box),
-      fmt::arg("kn", Number(mapping.pair.stiffness_n_per_m)),
-      fmt::arg("kt", Number(spec.tangential_stiffness_n_per_m)),
-      fmt::arg("gn", Number(mapping.pair.damping_rate_per_s)),
-      fmt::arg("mu", Number(spec.friction)), fmt::arg("skin", Number(0.2 * LargestDiameter(spec))),
-      fmt::arg("dt", Number(spec.time_step_s)), fmt::arg("g", Number(spec.gravity_mps2)),
-      fmt::arg("wall", wall_law), fmt::arg("sides", wall_sides),
-      fmt::arg("thermo", ThermoCommands(deck)), fmt::arg("run", RunCommands(plan, pour, deck)));
+      fmt::arg("pairs", LammpsPairsAndIntegration(spec, mapping)),
+      fmt::arg("g", Number(spec.gravity_mps2)), fmt::arg("wall", wall_law),
+      fmt::arg("sides", wall_sides), fmt::arg("thermo", ThermoCommands(deck)),
+      fmt::arg("run", RunCommands(plan, pour, deck)));
 }
 
 // The card's law for the scene's particle: its mass at the mean diameter, at the typical first
