@@ -3,8 +3,8 @@
 #include <memory>
 #include <string>
 
-#include "bouncecal/calibrate/export/drop_deck_check.h"
 #include "bouncecal/error.h"
+#include "bouncecal/export/drop_deck_check.h"
 #include "commands.h"
 
 namespace bouncecal::apps {

@@ -8,12 +8,12 @@
 #include <system_error>
 
 #include "bouncecal/atomic_file.h"
-#include "bouncecal/calibrate/export/drop_deck.h"
-#include "bouncecal/calibrate/export/packing_deck.h"
-#include "bouncecal/calibrate/export/scene_packing.h"
 #include "bouncecal/dem/contact_law_json.h"
 #include "bouncecal/dem/scene.h"
 #include "bouncecal/error.h"
+#include "bouncecal/export/drop_deck.h"
+#include "bouncecal/export/packing_deck.h"
+#include "bouncecal/export/scene_packing.h"
 #include "commands.h"
 #include "option_names.h"
 

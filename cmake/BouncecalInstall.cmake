@@ -1,4 +1,4 @@
-# Install rules: the five libraries with their public headers, the CMake package
+# Install rules: the six libraries with their public headers, the CMake package
 # (find_package(bouncecal CONFIG)), a pkg-config file and the bouncecal command. docs/install.md
 # says how a project consumes them; tests/consumer/ checks that one can.
 #
@@ -8,7 +8,8 @@
 include(CMakePackageConfigHelpers)
 
 set(BOUNCECAL_LIBRARIES
-  bouncecal_core bouncecal_audio bouncecal_dem_model bouncecal_dem bouncecal_calibrate)
+  bouncecal_core bouncecal_audio bouncecal_dem_model bouncecal_dem bouncecal_calibrate
+  bouncecal_export)
 # Exported as bouncecal::core, bouncecal::audio, ...: the names the build tree's aliases use.
 foreach(library IN LISTS BOUNCECAL_LIBRARIES)
   string(REPLACE "bouncecal_" "" export_name "${library}")
@@ -25,7 +26,7 @@ install(TARGETS ${BOUNCECAL_LIBRARIES}
 install(TARGETS bouncecal RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 # Each module's include/ holds only public headers (bouncecal/<module>/*.h); the internals stay
 # in <module>/src/.
-foreach(module core audio dem calibrate)
+foreach(module core audio dem calibrate export)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${module}/include/
     DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
     FILES_MATCHING PATTERN "*.h")

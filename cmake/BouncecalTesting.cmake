@@ -1,5 +1,6 @@
 # One helper registers every GoogleTest executable, unit tests beside the code and cross-module
-# tests alike, so they all get the same flags, the shared-data path and CTest discovery.
+# tests alike, so they all get the same flags, the shared-data path, the test-support library
+# (tests/support: a scratch folder per test and process, whole-file reads) and CTest discovery.
 #
 #   bouncecal_add_tests(NAME audio_tests SOURCES src/a_test.cc ... LIBRARIES bouncecal::audio
 #                       LONG_TESTS Suite.Name ... EXTERNAL_TESTS Suite.Name ...)
@@ -32,7 +33,8 @@ function(bouncecal_add_tests)
   endif()
   cmake_parse_arguments(ARG "" "NAME" "SOURCES;LIBRARIES;LONG_TESTS;EXTERNAL_TESTS" ${ARGN})
   add_executable(${ARG_NAME} ${ARG_SOURCES})
-  target_link_libraries(${ARG_NAME} PRIVATE ${ARG_LIBRARIES} GTest::gtest GTest::gtest_main)
+  target_link_libraries(${ARG_NAME} PRIVATE ${ARG_LIBRARIES} bouncecal::test_support GTest::gtest
+    GTest::gtest_main)
   target_compile_definitions(${ARG_NAME} PRIVATE
     BOUNCECAL_SHARED_DIR="${BOUNCECAL_SHARED_DIR}"
     BOUNCECAL_SOURCE_DIR="${PROJECT_SOURCE_DIR}"

@@ -7,9 +7,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "bouncecal/calibrate/export/export_material.h"
 #include "bouncecal/calibrate/material_card.h"
 #include "bouncecal/error.h"
+#include "bouncecal/export/export_material.h"
 
 namespace {
 

@@ -19,7 +19,8 @@ cd "$(dirname "$0")/.."
 scripts/install_deps.sh clang libclang-rt-14-dev
 seconds="${BOUNCECAL_FUZZ_SECONDS:-30}"
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DBOUNCECAL_FUZZ=ON -DBOUNCECAL_BUILD_TESTS=OFF -DBOUNCECAL_BUILD_BENCH=OFF >/dev/null
+  -DBOUNCECAL_FUZZ=ON -DBOUNCECAL_BUILD_TESTS=OFF -DBOUNCECAL_BUILD_BENCH=OFF \
+  -DBOUNCECAL_PACKING_ENGINE=OFF >/dev/null
 targets=(recording material_card scene particle_file)
 cmake --build build-fuzz -j"$(nproc)" --target "${targets[@]/#/fuzz_}"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1

@@ -6,6 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "bouncecal/audio/write_recording.h"
+#include "bouncecal/testing/file_text.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
 #include "synthetic_drop.h"
 
@@ -14,18 +16,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Scratch(const std::string& name) {
-  const fs::path folder = fs::temp_directory_path() / "bouncecal_analyze_cli";
-  fs::create_directories(folder);
-  return folder / name;
-}
-
 fs::path WriteWav(const std::string& name, std::vector<float> samples, int rate = 48000,
                   audio::SampleEncoding encoding = audio::SampleEncoding::kPcm16) {
   audio::Recording recording;
   recording.sample_rate_hz = rate;
   recording.samples = std::move(samples);
-  const auto path = Scratch(name);
+  const auto path = ScratchPath(name);
   audio::WriteRecording(path, std::span<const audio::Recording>(&recording, 1),
                         {audio::AudioContainer::kWav, encoding});
   return path;
@@ -33,17 +29,12 @@ fs::path WriteWav(const std::string& name, std::vector<float> samples, int rate 
 
 // The table-damped steel drop of synthetic_drop.h.
 fs::path SyntheticDrop(const std::string& name, std::uint64_t seed, double height_m) {
-  return WriteTableDampedDrop(Scratch(name), height_m, seed);
-}
-
-nlohmann::json ReadJson(const fs::path& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
+  return WriteTableDampedDrop(ScratchPath(name), height_m, seed);
 }
 
 // A bad input gives exit status 2, one line that names the file, and no output file.
 void ExpectInputError(const fs::path& input, const std::string& what) {
-  const auto json = Scratch("should_not_exist.json");
+  const auto json = ScratchPath("should_not_exist.json");
   fs::remove(json);
   const auto result =
       RunBouncecal("analyze '" + input.string() + "' --json '" + json.string() + "'");
@@ -55,16 +46,16 @@ void ExpectInputError(const fs::path& input, const std::string& what) {
 
 TEST(AnalyzeCli, BadInputsAreOneLineErrorsWithExitStatus2) {
   ExpectInputError("/nonexistent/drop.wav", "missing");
-  const auto empty = Scratch("empty.wav");
+  const auto empty = ScratchPath("empty.wav");
   std::ofstream(empty).close();
   ExpectInputError(empty, "empty");
-  const auto text = Scratch("text.wav");
+  const auto text = ScratchPath("text.wav");
   std::ofstream(text) << "not a recording\n";
   ExpectInputError(text, "text renamed .wav");
   const auto whole = WriteWav("whole.wav", std::vector<float>(48000, 0.01f));
   std::ifstream in(whole, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const auto truncated = Scratch("truncated.wav");
+  const auto truncated = ScratchPath("truncated.wav");
   std::ofstream(truncated, std::ios::binary) << bytes.substr(0, bytes.size() / 3);
   ExpectInputError(truncated, "truncated");
   std::vector<float> with_nan(1000, 0.0f);
@@ -76,7 +67,7 @@ TEST(AnalyzeCli, BadInputsAreOneLineErrorsWithExitStatus2) {
 
 TEST(AnalyzeCli, AGoodFileDoesNotSaveABadOneFromFailing) {
   const auto good = SyntheticDrop("good.wav", 3, 0.2);
-  const auto json = Scratch("mixed.json");
+  const auto json = ScratchPath("mixed.json");
   fs::remove(json);
   const auto result = RunBouncecal("analyze '" + good.string() + "' /nonexistent/b.wav --json '" +
                                    json.string() + "'");
@@ -86,12 +77,12 @@ TEST(AnalyzeCli, AGoodFileDoesNotSaveABadOneFromFailing) {
 
 TEST(AnalyzeCli, SilenceGivesEmptyListsANoteAndExitStatus0) {
   const auto silence = WriteWav("silence.wav", std::vector<float>(96000, 0.0f));
-  const auto json = Scratch("silence.json");
+  const auto json = ScratchPath("silence.json");
   const auto result =
       RunBouncecal("analyze '" + silence.string() + "' --json '" + json.string() + "'");
   EXPECT_EQ(result.exit_status, 0) << result.output;
   EXPECT_NE(result.output.find("no impacts"), std::string::npos) << result.output;
-  const auto out = ReadJson(json)["recordings"][0];
+  const auto out = ReadJsonFile(json)["recordings"][0];
   EXPECT_TRUE(out["impacts"].empty());
   EXPECT_TRUE(out["rejected_events"].empty());
   EXPECT_TRUE(out["sequences"].empty());
@@ -99,12 +90,12 @@ TEST(AnalyzeCli, SilenceGivesEmptyListsANoteAndExitStatus0) {
 
 TEST(AnalyzeCli, JsonOfOneRecordingHasTheFormatAndTheDropHeightGivesTheFirstImpact) {
   const auto drop = SyntheticDrop("drop.wav", 5, 0.2);
-  const auto json = Scratch("drop.json");
-  const auto csv = Scratch("drop.csv");
+  const auto json = ScratchPath("drop.json");
+  const auto csv = ScratchPath("drop.csv");
   const auto result = RunBouncecal("analyze '" + drop.string() + "' --drop-height-m 0.2 --json '" +
                                    json.string() + "' --csv '" + csv.string() + "'");
   ASSERT_EQ(result.exit_status, 0) << result.output;
-  const auto document = ReadJson(json);
+  const auto document = ReadJsonFile(json);
   EXPECT_EQ(document["format"], "bouncecal-analysis/1");
   ASSERT_EQ(document["recordings"].size(), 1u);
   EXPECT_EQ(document["summary"]["recordings"], 1);
@@ -146,11 +137,11 @@ TEST(AnalyzeCli, JsonOfOneRecordingHasTheFormatAndTheDropHeightGivesTheFirstImpa
 TEST(AnalyzeCli, SeveralRecordingsGiveTheSameShapeWithOneEntryEachAndASummary) {
   const auto a = SyntheticDrop("a.wav", 11, 0.2);
   const auto b = SyntheticDrop("b.wav", 12, 0.25);
-  const auto json = Scratch("two.json");
+  const auto json = ScratchPath("two.json");
   const auto result = RunBouncecal("analyze '" + a.string() + "' '" + b.string() + "' --json '" +
                                    json.string() + "'");
   ASSERT_EQ(result.exit_status, 0) << result.output;
-  const auto out = ReadJson(json);
+  const auto out = ReadJsonFile(json);
   ASSERT_TRUE(out.is_object());
   EXPECT_EQ(out["format"], "bouncecal-analysis/1");
   ASSERT_EQ(out["recordings"].size(), 2u);

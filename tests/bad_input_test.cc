@@ -3,7 +3,6 @@
 // missing, unreadable or malformed, whichever field is wrong), and no output file. The bad files
 // are written byte by byte here, so each case shows exactly what is wrong with it.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -21,6 +20,7 @@
 #include "bouncecal/audio/write_recording.h"
 #include "bouncecal/dem/packing.h"
 #include "bouncecal/dem/scene.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
 #include "lossy_encode.h"
 
@@ -31,15 +31,6 @@ namespace fs = std::filesystem;
 
 class BadInput : public ::testing::Test {
  public:
-  void SetUp() override {
-    folder_ = fs::temp_directory_path() /
-              ("bouncecal_bad_input_" + std::to_string(::getpid()) + "_" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(folder_);
-    fs::create_directories(folder_);
-  }
-  void TearDown() override { fs::remove_all(folder_); }
-
   fs::path Write(const std::string& name, const std::string& bytes) const {
     std::ofstream(folder_ / name, std::ios::binary) << bytes;
     return folder_ / name;
@@ -63,7 +54,7 @@ class BadInput : public ::testing::Test {
     EXPECT_FALSE(fs::exists(output));
   }
 
-  fs::path folder_;
+  const ScratchFolder folder_;
 };
 
 void Append16(std::string& bytes, std::uint16_t value) {

@@ -18,9 +18,12 @@
 #include "bouncecal/calibrate/sequence_input.h"
 #include "bouncecal/error.h"
 #include "bouncecal/random_stream.h"
+#include "bouncecal/testing/scratch_folder.h"
 
 namespace bouncecal {
 namespace {
+
+using bouncecal::testing::ScratchPath;
 
 constexpr double kGravity = 9.81;
 constexpr double kRestitution = 0.65;
@@ -44,12 +47,9 @@ calibrate::MeasuredSequence RecordDrop(std::uint64_t seed) {
   synthesis.reverb = audio::ReverbOptions{};
   synthesis.noise = audio::NoiseOptions{};
   synthesis.seed = seed;
-  const auto path = std::filesystem::temp_directory_path() /
-                    ("bouncecal_chain_coverage_" + std::to_string(seed) + ".wav");
+  const auto path = ScratchPath("chain_" + std::to_string(seed) + ".wav");
   audio::WriteRecording(path, audio::SynthesizeBounces(synthesis).channels);
-  auto sequence = calibrate::LoadSequences({path}).front();
-  std::filesystem::remove(path);
-  return sequence;
+  return calibrate::LoadSequences({path}).front();
 }
 
 calibrate::FitOptions WithHeight() {

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "bouncecal/testing/file_text.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
 
 namespace bouncecal::testing {
@@ -21,15 +23,11 @@ namespace fs = std::filesystem;
 
 std::string Sample() { return (SourceDir() / "samples" / "steel_ball_h0.2m.wav").string(); }
 
-std::filesystem::path Temp(const std::string& name) {
-  return std::filesystem::temp_directory_path() / ("bouncecal_calibrate_cli_" + name);
-}
-
 // The README's sample command: the paper's experiment, whose ball and height are known.
 const std::string kPaperSetUp = " --ball steel-10mm --drop-height-m 0.2";
 
 TEST(CalibrateCli, ShippedSampleGivesGammaNearTheFormulaWithJsonAndCard) {
-  const auto json = Temp("fit.json"), card = Temp("card.json");
+  const auto json = ScratchPath("fit.json"), card = ScratchPath("card.json");
   const auto result = RunBouncecal("calibrate " + Sample() + kPaperSetUp + " --json " +
                                    json.string() + " --card " + card.string());
   ASSERT_EQ(result.exit_status, 0) << result.output;
@@ -58,20 +56,13 @@ TEST(CalibrateCli, ShippedSampleGivesGammaNearTheFormulaWithJsonAndCard) {
   EXPECT_EQ(material["fit"]["uncertainty"]["sequences"], 1);
   EXPECT_NE(material["fit"]["uncertainty"]["model"].get<std::string>().find("per-impact scatter"),
             std::string::npos);
-  std::filesystem::remove(json);
-  std::filesystem::remove(card);
-}
-
-std::string ReadFile(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 // The card records the ball that was used, named or given by size and mass (issue 28: a tennis
 // card said 7800 kg/m^3, steel). walton-braun's gamma_n does not depend on the ball, so the steel
 // sample fits with any of them.
 TEST(CalibrateCli, CardRecordsTheDensityOfANamedOrAMassGivenBall) {
-  const auto card = Temp("ball_card.json");
+  const auto card = ScratchPath("ball_card.json");
   const std::string csv = (SourceDir() / "samples" / "steel_ball_h0.2m.csv").string();
   struct Case {
     std::string ball;
@@ -82,20 +73,19 @@ TEST(CalibrateCli, CardRecordsTheDensityOfANamedOrAMassGivenBall) {
     const auto result = RunBouncecal("calibrate " + csv + " " + c.ball +
                                      " --drop-height-m 0.2 --card " + card.string());
     ASSERT_EQ(result.exit_status, 0) << c.ball << "\n" << result.output;
-    const auto ball = nlohmann::json::parse(ReadFile(card))["ball"];
+    const auto ball = nlohmann::json::parse(ReadFileText(card))["ball"];
     const double volume = std::numbers::pi * std::pow(c.diameter_m, 3) / 6;
     EXPECT_DOUBLE_EQ(ball["mass_kg"].get<double>(), c.mass_kg) << c.ball;
     // The card prints 17 significant digits; the division is the only rounding.
     EXPECT_NEAR(ball["density_kg_per_m3"].get<double>(), c.mass_kg / volume, 1e-9) << c.ball;
   }
-  std::filesystem::remove(card);
 }
 
 // The card states k_n and the contact it implies; --contact-duration-s sets k_n so that the
 // fitted law's contact lasts that long (refitted once with the fitted damping), and a named ball
 // whose stiffness is left at a default far from its real contact is warned about.
 TEST(CalibrateCli, CardStatesTheContactDurationItsStiffnessImplies) {
-  const auto card = Temp("contact_card.json");
+  const auto card = ScratchPath("contact_card.json");
   const std::string csv = (SourceDir() / "samples" / "steel_ball_h0.2m.csv").string();
   const std::string head = "calibrate " + csv + " --ball tennis --drop-height-m 0.2 --card ";
   const auto plain = RunBouncecal(head + card.string());
@@ -105,7 +95,7 @@ TEST(CalibrateCli, CardStatesTheContactDurationItsStiffnessImplies) {
             std::string::npos)
       << plain.output;
   EXPECT_NE(plain.output.find("--contact-duration-s 0.005"), std::string::npos) << plain.output;
-  const auto implied = nlohmann::json::parse(ReadFile(card))["implied"];
+  const auto implied = nlohmann::json::parse(ReadFileText(card))["implied"];
   // gamma_n = 0.408 and 57.7 g at k_n = 1e7 N/m: (pi/2) sqrt(m/k) (1/sqrt(1.408) +
   // 1/sqrt(0.592)) = 0.2556 ms; the fitted gamma_n's +-0.005 moves it by 0.001 ms.
   EXPECT_NEAR(implied["contact_duration_s"].get<double>(), 2.556e-4, 0.01e-4);
@@ -114,30 +104,27 @@ TEST(CalibrateCli, CardStatesTheContactDurationItsStiffnessImplies) {
   const auto given = RunBouncecal(head + card.string() + " --contact-duration-s 0.005");
   ASSERT_EQ(given.exit_status, 0) << given.output;
   EXPECT_EQ(given.output.find("WARNING: stiffness_n_per_m"), std::string::npos) << given.output;
-  const auto matched = nlohmann::json::parse(ReadFile(card));
+  const auto matched = nlohmann::json::parse(ReadFileText(card));
   // One refit with the fitted gamma_n: what is left is gamma_n's change through k_n (< 1e-3).
   EXPECT_NEAR(matched["implied"]["contact_duration_s"].get<double>(), 0.005, 0.005 * 1e-3);
   EXPECT_LT(matched["contact_law"]["parameters"]["stiffness_n_per_m"].get<double>(), 1e5);
-  std::filesystem::remove(card);
 }
 
 // The reproducible-builds convention: with SOURCE_DATE_EPOCH set, the card records that time and
 // two runs give byte-identical cards (without it, created_utc is the wall clock).
 TEST(CalibrateCli, SourceDateEpochMakesTheCardByteIdentical) {
-  const auto first = Temp("epoch_1.json"), second = Temp("epoch_2.json");
+  const auto first = ScratchPath("epoch_1.json"), second = ScratchPath("epoch_2.json");
   const std::string environment = "SOURCE_DATE_EPOCH=1700000000";
   const std::string arguments = "calibrate " + Sample() + kPaperSetUp + " --card ";
   ASSERT_EQ(RunBouncecal(arguments + first.string(), environment).exit_status, 0);
   ASSERT_EQ(RunBouncecal(arguments + second.string(), environment).exit_status, 0);
-  const auto card = ReadFile(first);
-  EXPECT_EQ(card, ReadFile(second));
+  const auto card = ReadFileText(first);
+  EXPECT_EQ(card, ReadFileText(second));
   EXPECT_EQ(nlohmann::json::parse(card)["created_utc"], "2023-11-14T22:13:20Z");
-  std::filesystem::remove(first);
-  std::filesystem::remove(second);
 }
 
 TEST(CalibrateCli, MalformedSourceDateEpochIsAnOptionErrorBeforeTheFit) {
-  const auto card = Temp("epoch_bad.json");
+  const auto card = ScratchPath("epoch_bad.json");
   for (const char* value : {"yesterday", "-5", "1e9", "99999999999999"}) {
     const auto result =
         RunBouncecal("calibrate " + Sample() + kPaperSetUp + " --card " + card.string(),
@@ -190,7 +177,7 @@ TEST(CalibrateCli, WithoutAHeightTheFitStartsFromTheFirstBounceAndSaysSo) {
 }
 
 TEST(CalibrateCli, CardWithoutABallExitsWithStatus3BeforeFitting) {
-  const auto card = Temp("no_ball.json");
+  const auto card = ScratchPath("no_ball.json");
   const auto result = RunBouncecal("calibrate " + Sample() + " --card " + card.string());
   EXPECT_EQ(result.exit_status, 3) << result.output;
   EXPECT_NE(result.output.find("--ball"), std::string::npos) << result.output;
@@ -206,7 +193,7 @@ TEST(CalibrateCli, CardWithoutABallExitsWithStatus3BeforeFitting) {
 }
 
 TEST(CalibrateCli, SameRecordingTwiceGivesTheSameIntervalWithAWarning) {
-  const auto once = Temp("once.json"), twice = Temp("twice.json");
+  const auto once = ScratchPath("once.json"), twice = ScratchPath("twice.json");
   const auto one = RunBouncecal("calibrate " + Sample() + " --json " + once.string());
   const auto two =
       RunBouncecal("calibrate " + Sample() + " " + Sample() + " --json " + twice.string());
@@ -218,8 +205,6 @@ TEST(CalibrateCli, SameRecordingTwiceGivesTheSameIntervalWithAWarning) {
   EXPECT_EQ(b["uncertainty"]["duplicates"], 1);
   EXPECT_NE(two.output.find("counted once"), std::string::npos) << two.output;
   EXPECT_EQ(one.output.find("counted once"), std::string::npos) << one.output;
-  std::filesystem::remove(once);
-  std::filesystem::remove(twice);
 }
 
 TEST(CalibrateCli, RetiredBootstrapOptionsAreAcceptedWithAWarning) {
@@ -248,9 +233,7 @@ TEST(CompareCli, NeedsExactlyOneOfGammaOrMaterial) {
 // with the run without it on a ping-pong ball, whose flights drag shortens visibly; the JSON
 // results must differ.
 TEST(DropOptionsCli, EveryDropOptionChangesWhatSweepAndCompareSimulate) {
-  const fs::path folder = fs::temp_directory_path() / "bouncecal_drop_options_cli";
-  fs::remove_all(folder);
-  fs::create_directories(folder);
+  const ScratchFolder folder("drop_options");
   // Each variation replaces or adds one option of the base set-up.
   const std::map<std::string, std::string> base = {{"--ball", "pingpong-40mm"},
                                                    {"--drop-height-m", "0.2"}};
@@ -282,10 +265,10 @@ TEST(DropOptionsCli, EveryDropOptionChangesWhatSweepAndCompareSimulate) {
       const auto changed = folder / (name + "_" + std::to_string(i) + ".json");
       const auto result = RunBouncecal(command(head, set, changed));
       ASSERT_EQ(result.exit_status, 0) << command(head, set, changed) << "\n" << result.output;
-      EXPECT_NE(ReadFile(changed), ReadFile(reference)) << name << " " << variations[i].first;
+      EXPECT_NE(ReadFileText(changed), ReadFileText(reference))
+          << name << " " << variations[i].first;
     }
   }
-  fs::remove_all(folder);
 }
 
 // The same for the drops `simulate drop` runs and `calibrate` fits: only their results are
@@ -293,9 +276,7 @@ TEST(DropOptionsCli, EveryDropOptionChangesWhatSweepAndCompareSimulate) {
 // their set-up. calibrate's base has drag on, so the ball matters (without drag the linear law's
 // gamma_n does not depend on the ball, and an unchanged fit would be right).
 TEST(DropOptionsCli, EveryDropOptionChangesWhatSimulateRunsAndCalibrateFits) {
-  const fs::path folder = fs::temp_directory_path() / "bouncecal_drop_options_fit_cli";
-  fs::remove_all(folder);
-  fs::create_directories(folder);
+  const ScratchFolder folder("drop_options_fit");
   const std::vector<std::pair<std::string, std::string>> variations = {
       {"--gravity-mps2", "9.5"}, {"--drop-height-m", "0.3"},      {"--integrator", "euler"},
       {"--time-step-s", "2e-6"}, {"--steps-per-contact", "5"},    {"--fixed-step-grid", ""},
@@ -323,7 +304,7 @@ TEST(DropOptionsCli, EveryDropOptionChangesWhatSimulateRunsAndCalibrateFits) {
       text += " --json " + json.string();
       const auto result = RunBouncecal(text);
       EXPECT_EQ(result.exit_status, 0) << text << "\n" << result.output;
-      nlohmann::json document = nlohmann::json::parse(ReadFile(json));
+      nlohmann::json document = nlohmann::json::parse(ReadFileText(json));
       nlohmann::json results;
       for (const auto& field : fields) results[field] = document.at(field);
       return results;
@@ -339,7 +320,6 @@ TEST(DropOptionsCli, EveryDropOptionChangesWhatSimulateRunsAndCalibrateFits) {
       EXPECT_NE(changed, reference) << head << " " << tried[i].first;
     }
   }
-  fs::remove_all(folder);
 }
 
 // compare sets the measured arcs against drops released from the given height: it does not
@@ -354,9 +334,7 @@ TEST(CompareCli, RefusesToAssumeADropHeight) {
 // commands with the real file names. Each suggested command is run as printed, from the folder
 // the first run was in, and must succeed: the card first, then compare and export read it.
 TEST(CalibrateCli, SummaryEndsWithNextCommandsThatRunAsPrinted) {
-  const auto dir = Temp("next_steps");
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const auto dir = ScratchSubfolder("next_steps");
   const std::string in_dir = "cd " + dir.string() + " &&";
   const auto first = RunBouncecal("calibrate " + Sample() + kPaperSetUp, in_dir);
   ASSERT_EQ(first.exit_status, 0) << first.output;
@@ -391,7 +369,6 @@ TEST(CalibrateCli, SummaryEndsWithNextCommandsThatRunAsPrinted) {
   ASSERT_EQ(second.exit_status, 0) << second.output;
   EXPECT_NE(second.output.find("next steps:"), std::string::npos) << second.output;
   EXPECT_EQ(second.output.find("--card"), std::string::npos) << second.output;
-  fs::remove_all(dir);
 }
 
 // Without the drop height or the ball, the commands that need them say so with a placeholder.

@@ -12,9 +12,12 @@
 #include "bouncecal/calibrate/sequence_input.h"
 #include "bouncecal/dem/drop.h"
 #include "bouncecal/error.h"
+#include "bouncecal/testing/scratch_folder.h"
 
 namespace bouncecal {
 namespace {
+
+using bouncecal::testing::ScratchPath;
 
 struct RoundTrip {
   std::filesystem::path wav;
@@ -43,7 +46,7 @@ RoundTrip RecordSimulatedDrop(const dem::ContactLawConfig& law, dem::Integrator 
   synthesis.noise = audio::NoiseOptions{};    // 35 dB SNR re the first impact
   synthesis.seed = seed;
   const auto recording = audio::SynthesizeBounces(synthesis);
-  trip.wav = std::filesystem::temp_directory_path() / ("bouncecal_round_trip_" + name + ".wav");
+  trip.wav = ScratchPath(name + ".wav");
   audio::WriteRecording(trip.wav, recording.channels);
   return trip;
 }
@@ -79,7 +82,6 @@ TEST(CalibrateRoundTrip, WaltonBraunGammaComesBackFromASynthesizedRecording) {
   EXPECT_NEAR(fitted.value + summary.check.time_step_error, gamma, 1e-3)
       << "the measured time-step error should explain most of the bias";
   EXPECT_FALSE(summary.check.warning) << summary.check.message;
-  std::filesystem::remove(trip.wav);
 }
 
 TEST(CalibrateRoundTrip, HertzViscoelasticDissipativeTimeComesBackFromTheWholeSequence) {
@@ -105,7 +107,6 @@ TEST(CalibrateRoundTrip, HertzViscoelasticDissipativeTimeComesBackFromTheWholeSe
   // step at 50 steps per contact by < 0.5 % (its eta error is ~3e-4 of ~0.6); 3 % is a
   // threefold margin for the reverb and noise on the weaker late impacts.
   EXPECT_NEAR(summary.parameters.front().value, dissipative_time_s, 0.03 * dissipative_time_s);
-  std::filesystem::remove(trip.wav);
 }
 
 // The standard protocol: drops from several heights fitted jointly, each with its own height.
@@ -151,8 +152,6 @@ TEST(CalibrateRoundTrip, DropsFromTwoHeightsFitJointlyEachWithItsOwnHeight) {
     ASSERT_NE(implied, std::string::npos) << message;
     EXPECT_NEAR(std::stod(message.substr(implied + 21)), 0.40, 0.003) << message;
   }
-  std::filesystem::remove(low.wav);
-  std::filesystem::remove(high.wav);
 }
 
 }  // namespace

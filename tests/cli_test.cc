@@ -1,5 +1,4 @@
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <array>
 #include <cstdio>
@@ -9,6 +8,8 @@
 #include <sstream>
 #include <string>
 
+#include "bouncecal/testing/file_text.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "bouncecal/version.h"
 #include "cli_runner.h"
 
@@ -30,30 +31,15 @@ std::string StdoutOf(const std::string& arguments) {
   return text;
 }
 
-// One folder per test process: ctest runs each test in its own process, in parallel, and Card()
-// is written by every test that needs it, so a shared folder let one test's calibrate truncate
-// the card another test was reading.
-fs::path Scratch(const std::string& name) {
-  const fs::path folder =
-      fs::temp_directory_path() / ("bouncecal_cli_test_" + std::to_string(::getpid()));
-  fs::create_directories(folder);
-  fs::remove_all(folder / name);
-  return folder / name;
-}
-
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 const std::string kSteelCsv = (SourceDir() / "samples/steel_ball_h0.2m.csv").string();
 
-// A material card calibrated on the shipped sample (written once per test run).
+// A material card calibrated on the shipped sample (written once per test process, in a folder
+// of the process: ctest runs each test in its own process, in parallel, and a shared folder let
+// one test's calibrate truncate the card another test was reading).
 fs::path Card() {
+  static const ScratchFolder folder("card");
   static const fs::path card = [] {
-    const auto path = Scratch("card.json");
+    const auto path = folder / "card.json";
     const auto result =
         RunBouncecal("calibrate " + kSteelCsv + " --ball steel-10mm --drop-height-m 0.2 --card " +
                      path.string());
@@ -90,10 +76,10 @@ TEST(Cli, JsonDashWritesOnlyTheDocumentToStandardOutput) {
   EXPECT_EQ(document["format"], "bouncecal-drop/1");
   EXPECT_GT(document["impacts"].size(), 3u);
   // The same bytes as the file the same command writes.
-  const auto file = Scratch("drop.json");
+  const auto file = ScratchPath("drop.json");
   ASSERT_EQ(RunBouncecal("simulate drop --gamma 0.5 --quiet --json " + file.string()).exit_status,
             0);
-  EXPECT_EQ(text, ReadText(file));
+  EXPECT_EQ(text, ReadFileText(file));
   EXPECT_FALSE(fs::exists("-")) << "a file named '-' was written";
 }
 
@@ -132,7 +118,7 @@ TEST(Cli, OldAndNewSpellingOfOneQuantityTogetherAreRefused) {
 }
 
 TEST(Cli, SynthRefusesAnOutputNameThatChoosesNoFormatAndWritesNothing) {
-  const auto mp3 = Scratch("drop.mp3");
+  const auto mp3 = ScratchPath("drop.mp3");
   const auto result = RunBouncecal("synth -o " + mp3.string());
   EXPECT_EQ(result.exit_status, 3) << result.output;
   EXPECT_NE(result.output.find(".wav or .flac"), std::string::npos) << result.output;
@@ -151,7 +137,7 @@ TEST(Cli, ExportRefusesStandardOutputForADeckOfSeveralFiles) {
 // the card's drop height unless one is given.
 TEST(Cli, SimulateDropTakesTheLawBallAndHeightOfAMaterialCard) {
   const auto card = Card();
-  const auto card_json = nlohmann::json::parse(ReadText(card));
+  const auto card_json = nlohmann::json::parse(ReadFileText(card));
   const auto drop = nlohmann::json::parse(
       StdoutOf("simulate drop --quiet --material " + card.string() + " --json -"));
   EXPECT_EQ(drop["contact_law"], card_json["contact_law"]);
@@ -181,10 +167,10 @@ TEST(Cli, CompareTakesTheHeightBallAndDragOfAMaterialCard) {
 
   // A card fitted with drag simulates with drag unless --no-drag says otherwise; drag changes a
   // light ball's heights, so the RMS error moves.
-  auto dragged = nlohmann::json::parse(ReadText(card));
+  auto dragged = nlohmann::json::parse(ReadFileText(card));
   dragged["fit"]["drag"] = true;
   dragged["ball"] = {{"diameter_m", 0.04}, {"density_kg_per_m3", 80.6}, {"mass_kg", 0.0027}};
-  const auto drag_card = Scratch("drag_card.json");
+  const auto drag_card = ScratchPath("drag_card.json");
   std::ofstream(drag_card) << dragged.dump();
   const auto on = nlohmann::json::parse(StdoutOf(compare + drag_card.string() + " --json -"));
   EXPECT_EQ(on["drag"], true);
@@ -198,10 +184,10 @@ TEST(Cli, CompareTakesTheHeightBallAndDragOfAMaterialCard) {
   EXPECT_NE(printed.output.find("drag on (from the card)"), std::string::npos) << printed.output;
 
   // A card fitted without a drop height cannot supply one: refused in one line naming the card.
-  auto apex = nlohmann::json::parse(ReadText(card));
+  auto apex = nlohmann::json::parse(ReadFileText(card));
   apex["fit"]["drop_height_m"] = nullptr;
   apex["fit"]["release"] = "first-bounce-apex";
-  const auto apex_card = Scratch("apex_card.json");
+  const auto apex_card = ScratchPath("apex_card.json");
   std::ofstream(apex_card) << apex.dump();
   const auto refused = RunBouncecal(compare + apex_card.string());
   EXPECT_EQ(refused.exit_status, 3) << refused.output;

@@ -4,7 +4,6 @@
 // state (issue 30), in `bouncecal analyze` and in the calibration input alike. Every test skips
 // with a message when ffmpeg is not installed.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -23,6 +22,7 @@
 #include "bouncecal/audio/synthesize.h"
 #include "bouncecal/audio/write_recording.h"
 #include "bouncecal/calibrate/sequence_input.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
 #include "lossy_encode.h"
 
@@ -35,14 +35,6 @@ class CodecInput : public ::testing::Test {
  public:
   void SetUp() override {
     if (!FfmpegAvailable()) GTEST_SKIP() << FfmpegMissingMessage();
-    folder_ = fs::temp_directory_path() /
-              ("bouncecal_codec_" + std::to_string(::getpid()) + "_" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(folder_);
-    fs::create_directories(folder_);
-  }
-  void TearDown() override {
-    if (!folder_.empty()) fs::remove_all(folder_);
   }
 
   fs::path Encode(const fs::path& wav, const std::string& name,
@@ -52,7 +44,7 @@ class CodecInput : public ::testing::Test {
     return out;
   }
 
-  fs::path folder_;
+  const ScratchFolder folder_;
 };
 
 // A steel ball (e = 0.8, 12 impacts) on a plate whose modes ring for tens of ms, 30 dB SNR:

@@ -14,9 +14,12 @@
 #include "bouncecal/audio/impact_detector.h"
 #include "bouncecal/audio/synthesize.h"
 #include "bouncecal/audio/write_recording.h"
+#include "bouncecal/testing/scratch_folder.h"
 
 namespace bouncecal::audio {
 namespace {
+
+using bouncecal::testing::ScratchPath;
 
 struct Score {
   int truth = 0;
@@ -321,8 +324,7 @@ TEST(DetectorGroundTruth, StereoPicksTheBetterChannelIn24BitAndFloatFiles) {
   std::vector<double> truth;
   for (double t : synthesized.BallImpactOnsetsS()) truth.push_back(t + 0.25e-3);
   for (auto encoding : {SampleEncoding::kPcm24, SampleEncoding::kFloat}) {
-    const auto path = std::filesystem::temp_directory_path() /
-                      ("bouncecal_ground_truth_stereo_" + std::string(ToString(encoding)) + ".wav");
+    const auto path = ScratchPath("stereo_" + std::string(ToString(encoding)) + ".wav");
     WriteRecording(path, synthesized.channels, {AudioContainer::kWav, encoding});
     const auto detection = AnalyzeBounces(path).detection;
     EXPECT_EQ(detection.channel, 1);

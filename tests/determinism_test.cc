@@ -2,13 +2,14 @@
 // run after run, and calibrate and pack give the same answer on any number of threads (fit.h and
 // docs/scenes.md promise it).
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "bouncecal/testing/file_text.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
 
 namespace bouncecal::testing {
@@ -18,15 +19,6 @@ namespace fs = std::filesystem;
 
 class Determinism : public ::testing::Test {
  protected:
-  void SetUp() override {
-    folder_ = fs::temp_directory_path() /
-              ("bouncecal_determinism_" + std::to_string(::getpid()) + "_" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(folder_);
-    fs::create_directories(folder_);
-  }
-  void TearDown() override { fs::remove_all(folder_); }
-
   // Runs `command`, in which every "{out}" stands for a fresh folder, and returns that folder.
   fs::path Run(const std::string& command, const std::string& name) {
     const fs::path out = folder_ / name;
@@ -39,14 +31,8 @@ class Determinism : public ::testing::Test {
     return out;
   }
 
-  fs::path folder_;
+  const ScratchFolder folder_;
 };
-
-std::string Bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  EXPECT_TRUE(in) << path;
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 // Every output file, JSON included, must match byte for byte: analyze, calibrate, simulate and
 // synth keep run times out of their JSON (they print them). Only `pack --json` states how fast
@@ -57,8 +43,8 @@ const char* const kPackTimingFields[] = {"wall_s", "total_wall_s", "particle_ste
 // `also_ignore`: a field that legitimately differs between the two runs compared (the thread
 // count a pack summary reports when runs on different thread counts are compared).
 std::string Comparable(const fs::path& path, const char* also_ignore) {
-  if (path.filename() != "summary.json") return Bytes(path);
-  auto json = nlohmann::json::parse(Bytes(path));
+  if (path.filename() != "summary.json") return ReadFileText(path);
+  auto json = nlohmann::json::parse(ReadFileText(path));
   for (const char* key : kPackTimingFields) {
     EXPECT_TRUE(json.contains(key)) << path << " lost its timing field " << key;
     json.erase(key);
@@ -110,7 +96,7 @@ TEST_F(Determinism, SynthWritesTheSameWavBytesForTheSameSeed) {
       Run("synth -o {out}/s.wav --drop-height-m 0.3 --snr-db 30 --knock-s 0.1 --channels 2 "
           "--sample-rate-hz 44100 --format float --seed 12",
           "other_seed");
-  EXPECT_NE(Bytes(first / "s.wav"), Bytes(other / "s.wav"));
+  EXPECT_NE(ReadFileText(first / "s.wav"), ReadFileText(other / "s.wav"));
 }
 
 TEST_F(Determinism, CalibrateGivesTheSameFitOnOneTwoAndThreeThreads) {
@@ -122,9 +108,9 @@ TEST_F(Determinism, CalibrateGivesTheSameFitOnOneTwoAndThreeThreads) {
                               " --drop-height-m 0.2 --ball steel-10mm --compare-laws --laws "
                               "walton-braun,linear-dashpot,hertz-viscoelastic --json "
                               "{out}/fit.json --threads ";
-  const auto one = Bytes(Run(command + "1", "one") / "fit.json");
-  EXPECT_EQ(one, Bytes(Run(command + "2", "two") / "fit.json"));
-  EXPECT_EQ(one, Bytes(Run(command + "3", "three") / "fit.json"));
+  const auto one = ReadFileText(Run(command + "1", "one") / "fit.json");
+  EXPECT_EQ(one, ReadFileText(Run(command + "2", "two") / "fit.json"));
+  EXPECT_EQ(one, ReadFileText(Run(command + "3", "three") / "fit.json"));
   EXPECT_NE(one.find("confidence_interval"), std::string::npos) << one;
 }
 

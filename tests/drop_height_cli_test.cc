@@ -8,6 +8,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "bouncecal/testing/file_text.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
 #include "synthetic_drop.h"
 
@@ -16,20 +18,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Scratch(const std::string& name) {
-  const fs::path folder = fs::temp_directory_path() / "bouncecal_drop_height_cli";
-  fs::create_directories(folder);
-  return folder / name;
-}
-
 // The table-damped steel drop of synthetic_drop.h (the analyze CLI tests' drop), e = 0.648.
 fs::path SyntheticDrop(const std::string& name, double height_m, std::uint64_t seed) {
-  return WriteTableDampedDrop(Scratch(name), height_m, seed);
-}
-
-nlohmann::json ReadJson(const fs::path& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
+  return WriteTableDampedDrop(ScratchPath(name), height_m, seed);
 }
 
 int Lines(const std::string& text) {
@@ -70,7 +61,7 @@ TEST(DropHeightCli, AHeightTheBouncesContradictIsFlaggedByAnalyzeAndRefusedByCal
 
 TEST(DropHeightCli, AnalyzeRefusesAReboundAboveTheReleaseAsCalibrateDoes) {
   const auto wav = SyntheticDrop("rebound.wav", 0.2, 11);
-  const auto json = Scratch("rebound.json");
+  const auto json = ScratchPath("rebound.json");
   fs::remove(json);
   // The first rebound rises to 0.2 * 0.42 = 0.084 m.
   const auto result =
@@ -85,19 +76,19 @@ TEST(DropHeightCli, AnalyzeRefusesAReboundAboveTheReleaseAsCalibrateDoes) {
 TEST(DropHeightCli, EachRecordingTakesItsOwnHeightInOrderOrFromAManifest) {
   const auto low = SyntheticDrop("low.wav", 0.2, 12);
   const auto high = SyntheticDrop("high.wav", 0.4, 13);
-  const auto json = Scratch("heights.json");
+  const auto json = ScratchPath("heights.json");
   const auto analyze =
       RunBouncecal("analyze " + low.string() + " " + high.string() +
                    " --drop-height-m 0.2 --drop-height-m 0.4 --json " + json.string());
   ASSERT_EQ(analyze.exit_status, 0) << analyze.output;
-  const auto document = ReadJson(json);
+  const auto document = ReadJsonFile(json);
   EXPECT_EQ(document["recordings"][0]["drop_height_m"], 0.2);
   EXPECT_EQ(document["recordings"][1]["drop_height_m"], 0.4);
   EXPECT_EQ(document["recordings"][1]["sequences"][0]["drop_height_m"], 0.4);
   EXPECT_TRUE(document["recordings"][1]["sequences"][0]["drop_height_check"]["consistent"]);
 
   // Jointly: the per-sequence heights are recorded in the fit and the card.
-  const auto fit = Scratch("fit.json"), card = Scratch("card.json");
+  const auto fit = ScratchPath("fit.json"), card = ScratchPath("card.json");
   const auto calibrate =
       RunBouncecal("calibrate " + low.string() + " " + high.string() +
                    " --drop-height-m 0.2 --drop-height-m 0.4 --ball steel-10mm --json " +
@@ -105,21 +96,21 @@ TEST(DropHeightCli, EachRecordingTakesItsOwnHeightInOrderOrFromAManifest) {
   ASSERT_EQ(calibrate.exit_status, 0) << calibrate.output;
   EXPECT_NE(calibrate.output.find("drop heights per recording"), std::string::npos)
       << calibrate.output;
-  const auto fitted = ReadJson(fit);
+  const auto fitted = ReadJsonFile(fit);
   EXPECT_EQ(fitted["sequences"][0]["drop_height_m"], 0.2);
   EXPECT_EQ(fitted["sequences"][1]["drop_height_m"], 0.4);
-  const auto written = ReadJson(card);
+  const auto written = ReadJsonFile(card);
   EXPECT_EQ(written["fit"]["release"], "per-recording");
   EXPECT_EQ(written["recordings"][1]["drop_height_m"], 0.4);
 
   // The same protocol as a manifest (paths relative to it) fits to the same gamma_n.
-  const auto manifest = Scratch("drops.csv");
+  const auto manifest = ScratchPath("drops.csv");
   std::ofstream(manifest) << "recording,drop_height_m\nlow.wav,0.2\nhigh.wav,0.4\n";
-  const auto from_manifest = Scratch("manifest_fit.json");
+  const auto from_manifest = ScratchPath("manifest_fit.json");
   const auto listed = RunBouncecal("calibrate --manifest " + manifest.string() +
                                    " --ball steel-10mm --json " + from_manifest.string());
   ASSERT_EQ(listed.exit_status, 0) << listed.output;
-  EXPECT_EQ(ReadJson(from_manifest)["parameters"], fitted["parameters"]);
+  EXPECT_EQ(ReadJsonFile(from_manifest)["parameters"], fitted["parameters"]);
 
   // Two heights for three recordings: which is whose? Refused before anything is read.
   const auto mismatch = RunBouncecal("calibrate " + low.string() + " " + high.string() + " " +
@@ -133,7 +124,7 @@ TEST(DropHeightCli, EachRecordingTakesItsOwnHeightInOrderOrFromAManifest) {
 
 TEST(DropHeightCli, AShortDropWithItsHeightIsToldToLowerFirstNotToGiveTheHeight) {
   // A steel-on-lead drop (e = 0.5) from 0.30 m of which three impacts were heard.
-  const auto times = Scratch("lead.csv");
+  const auto times = ScratchPath("lead.csv");
   const double fall = 0.2473;  // sqrt(2 * 0.30 / 9.81)
   std::ofstream(times) << "onset_s\n"
                        << 0.5 << "\n"

@@ -4,7 +4,6 @@
 // the packing density `bouncecal pack` gives for the same scene. Skips, with a message, when an
 // engine or mpirun is not installed; scripts/install_deps.sh installs both engines.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -17,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "bouncecal/testing/file_text.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
 #include "external_engine.h"
 
@@ -83,13 +84,6 @@ std::string FileInsertion(const fs::path& file) {
   return R"({"type": "file", "path": ")" + file.string() + R"("})";
 }
 
-std::string Slurp(const fs::path& path) {
-  std::ifstream file(path);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
 // Runs `bouncecal pack` on a scene file and reads its summary.json.
 nlohmann::json Pack(const fs::path& scene, const std::string& name, const std::string& extra = "") {
   const auto run = RunBouncecal("pack " + scene.string() + " " + extra);
@@ -134,16 +128,8 @@ std::vector<ThermoRow> ReadThermo(const fs::path& log) {
 class ExportedBoxPour : public ::testing::Test {
  protected:
   void SetUp() override {
-    folder_ = fs::temp_directory_path() /
-              ("bouncecal_box_pour_" + std::to_string(::getpid()) + "_" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(folder_);
-    fs::create_directories(folder_);
     std::ofstream(folder_ / "card.json") << Card();
     std::ofstream(folder_ / "box.json") << BoxScene(Pour(kSeed), "box");
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(folder_);
   }
 
   // Exports the scene for `engine`, runs it on two MPI ranks and checks what it inserted, lost
@@ -169,11 +155,11 @@ class ExportedBoxPour : public ::testing::Test {
     EXPECT_EQ(status, 0) << "end of the output:\n" << Tail(deck / "run.out");
     if (status != 0) return 0;
 
-    const std::string out = Slurp(deck / "run.out");
+    const std::string out = ReadFileText(deck / "run.out");
     EXPECT_EQ(out.find("Lost atoms"), std::string::npos) << Tail(deck / "run.out");
     EXPECT_NE(out.find("on 2 procs for 15000 steps with 300 atoms"), std::string::npos)
         << Tail(deck / "run.out");
-    EXPECT_NE(Slurp(deck / "final.data").find("300 atoms"), std::string::npos);
+    EXPECT_NE(ReadFileText(deck / "final.data").find("300 atoms"), std::string::npos);
 
     // Real kinetic energies: until the lowest sphere (its centre at least 0.05 m + r up) meets
     // the floor, after sqrt(2 x 0.05 / g) = 0.101 s, all 300 fall freely from rest without
@@ -202,7 +188,7 @@ class ExportedBoxPour : public ::testing::Test {
     return summary.at("packing_density").get<double>();
   }
 
-  fs::path folder_;
+  const ScratchFolder folder_;
 };
 
 // The seed spread of `bouncecal pack` on this scene, measured over seeds 1-8: packing density in
@@ -227,7 +213,7 @@ TEST_F(ExportedBoxPour, LammpsOnTwoRanksInsertsAll300LosesNoneAndSettlesToBounce
     GTEST_SKIP() << "LAMMPS (lmp) or mpirun is not installed; scripts/install_deps.sh installs "
                     "lammps, which brings Open MPI";
   }
-  const double ours = BouncecalDensity(folder_);
+  const double ours = BouncecalDensity(folder_.path());
   const double theirs = ExportRunAndMeasure("lammps");
   std::cout << "packing density: bouncecal " << ours << ", LAMMPS " << theirs << "\n";
   EXPECT_NEAR(theirs, ours, 3 * std::sqrt(2.0) * kSeedSd);
@@ -238,7 +224,7 @@ TEST_F(ExportedBoxPour, LiggghtsOnTwoRanksInsertsAll300LosesNoneAndSettlesToBoun
     GTEST_SKIP() << "LIGGGHTS (liggghts) or mpirun is not installed; scripts/install_deps.sh "
                     "installs liggghts, which brings Open MPI";
   }
-  const double ours = BouncecalDensity(folder_);
+  const double ours = BouncecalDensity(folder_.path());
   const double theirs = ExportRunAndMeasure("liggghts");
   std::cout << "packing density: bouncecal " << ours << ", LIGGGHTS " << theirs << "\n";
   EXPECT_NEAR(theirs, ours, 3 * std::sqrt(2.0) * kSeedSd);

@@ -1,7 +1,6 @@
 // The export subcommand's command-line contract: what it writes and prints, and its exit
 // statuses for bad input (2), bad options (3) and unwritable output (4). No engine is needed.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -10,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
 
 namespace bouncecal::testing {
@@ -20,15 +20,9 @@ namespace fs = std::filesystem;
 class ExportCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    folder_ = fs::temp_directory_path() /
-              ("bouncecal_export_cli_" + std::to_string(::getpid()) + "_" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(folder_);
-    fs::create_directories(folder_);
     WriteCard(
         R"({"law": "walton-braun", "parameters": {"stiffness_n_per_m": 1e7, "gamma_n": 0.5}})");
   }
-  void TearDown() override { fs::remove_all(folder_); }
 
   void WriteCard(const std::string& contact_law) {
     std::ofstream(folder_ / "card.json")
@@ -37,7 +31,7 @@ class ExportCli : public ::testing::Test {
   }
   std::string Card() const { return (folder_ / "card.json").string(); }
 
-  fs::path folder_;
+  const ScratchFolder folder_;
 };
 
 TEST_F(ExportCli, WritesTheDeckAndPrintsMappingDeviationAndRunCommand) {

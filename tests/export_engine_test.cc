@@ -2,7 +2,6 @@
 // that the restitution they produce is the material card's. Skips, with a message, when an
 // engine is not installed; scripts/install_deps.sh installs both, so CI runs them.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -14,8 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "bouncecal/calibrate/export/trajectory_bounces.h"
 #include "bouncecal/dem/laws/walton_braun.h"
+#include "bouncecal/export/trajectory_bounces.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
 #include "external_engine.h"
 
@@ -34,11 +34,6 @@ constexpr double kGravity = 9.81;
 class ExportedDeck : public ::testing::Test {
  protected:
   void SetUp() override {
-    folder_ = fs::temp_directory_path() /
-              ("bouncecal_export_" + std::to_string(::getpid()) + "_" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(folder_);
-    fs::create_directories(folder_);
     // The paper's material (docs/physics.md section 3): 1 cm steel ball, k = 1e7 N/m,
     // gamma_n = 0.5.
     std::ofstream(folder_ / "card.json") << R"({
@@ -48,9 +43,6 @@ class ExportedDeck : public ::testing::Test {
       "ball": {"diameter_m": 0.01, "density_kg_per_m3": 7800, "mass_kg": null},
       "implied": {"restitution": 0.5773502691896257, "energy_loss": 0.6666666666666667}
     })";
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(folder_);
   }
 
   // Exports the card for `engine`, runs the deck with `executable` and checks every resolved
@@ -121,7 +113,7 @@ class ExportedDeck : public ::testing::Test {
     EXPECT_NE(tampered.output.find("FAILED"), std::string::npos) << tampered.output;
   }
 
-  fs::path folder_;
+  const ScratchFolder folder_;
 };
 
 TEST_F(ExportedDeck, LammpsReproducesTheCardsRestitutionWithinOnePercent) {

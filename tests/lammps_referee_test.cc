@@ -5,7 +5,6 @@
 // states are measured by the same code (`bouncecal pack --duration-s 0` on each final state).
 // Skips, with a message, when lmp is not installed; scripts/install_deps.sh installs it.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -17,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
 #include "external_engine.h"
 
@@ -95,10 +95,7 @@ TEST(LammpsReferee, FrictionalDiskPackingAgreesWithinTwoStandardErrors) {
     GTEST_SKIP() << "LAMMPS (lmp, Debian package lammps) is not installed; "
                     "scripts/install_deps.sh installs it";
   }
-  const fs::path root =
-      fs::temp_directory_path() / ("bouncecal_referee_" + std::to_string(::getpid()));
-  fs::remove_all(root);
-  fs::create_directories(root);
+  const ScratchFolder root;
   std::ofstream(root / "card.json") << R"({
       "format": "bouncecal-material/1",
       "contact_law": {"law": "linear-dashpot",
@@ -168,7 +165,6 @@ TEST(LammpsReferee, FrictionalDiskPackingAgreesWithinTwoStandardErrors) {
   EXPECT_LT(std::abs(az.mean - bz.mean), 2 * std::hypot(az.standard_error, bz.standard_error));
   // The standard errors themselves must stay small enough for the check to mean anything.
   EXPECT_LT(2 * combined, 0.02);
-  if (!HasFailure()) fs::remove_all(root);
 }
 
 }  // namespace

@@ -11,19 +11,14 @@
 #include <string>
 #include <vector>
 
+#include "bouncecal/testing/file_text.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
 
 namespace bouncecal::testing {
 namespace {
 
 // A 40-sphere pour for 0.05 s: enough to exercise every output, fast enough for CI.
-// A path under the temporary folder with nothing left at it from an earlier run.
-std::filesystem::path EmptyTempDir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / name;
-  std::filesystem::remove_all(dir);
-  return dir;
-}
-
 std::filesystem::path WriteTinyScene(const std::filesystem::path& dir) {
   std::filesystem::create_directories(dir);
   const auto path = dir / "tiny.json";
@@ -60,11 +55,6 @@ std::filesystem::path WriteRunawayScene(const std::filesystem::path& dir) {
   return path;
 }
 
-std::string ReadFile(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 std::string Lowercase(std::string text) {
   std::transform(text.begin(), text.end(), text.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -72,7 +62,7 @@ std::string Lowercase(std::string text) {
 }
 
 TEST(PackCli, WritesSummaryJsonCsvAndDumps) {
-  const auto dir = EmptyTempDir("bouncecal_pack_cli_test");
+  const auto dir = ScratchPath("test");
   const auto scene = WriteTinyScene(dir);
   const auto out = dir / "out";
   const auto json_path = dir / "result.json";
@@ -98,7 +88,6 @@ TEST(PackCli, WritesSummaryJsonCsvAndDumps) {
   EXPECT_NE(result.output.find("projected wall time: about"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("40 particles x 5000 steps on 1 thread"), std::string::npos)
       << result.output;
-  std::filesystem::remove_all(dir);
 }
 
 TEST(PackCli, MissingSceneIsAnInputFileError) {
@@ -109,14 +98,13 @@ TEST(PackCli, MissingSceneIsAnInputFileError) {
 // A bad value in the scene FILE is a malformed input file (README: status 2), like any other
 // file; tests/bad_input_test.cc holds the whole catalogue.
 TEST(PackCli, BadSceneValueIsAnInputErrorNamingTheKey) {
-  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_pack_cli_bad";
+  const auto dir = ScratchPath("bad");
   std::filesystem::create_directories(dir);
   const auto path = dir / "bad.json";
   std::ofstream(path) << R"({"format": "bouncecal-scene/1", "time_step_s": -1})";
   const auto result = RunBouncecal("pack " + path.string());
   EXPECT_EQ(result.exit_status, 2) << result.output;
   EXPECT_NE(result.output.find("bad.json"), std::string::npos) << result.output;
-  std::filesystem::remove_all(dir);
 }
 
 // The shipped paper-004 scenes (2D disks: friction, rotation, van der Waals, viscous or local
@@ -128,7 +116,7 @@ TEST(PackCli, BadSceneValueIsAnInputErrorNamingTheKey) {
 TEST(PackCli, ShippedPaper004ScenesRunBriefly) {
   for (const std::string name : {"paper004_disks_friction_vdw",
                                  "paper004_disks_friction_vdw_literal", "paper004_binary_c3"}) {
-    const auto dir = EmptyTempDir("bouncecal_pack_cli_" + name);
+    const auto dir = ScratchPath(name);
     const auto json_path = dir / "result.json";
     const auto scene = SourceDir() / "samples/scenes" / (name + ".json");
     const auto result = RunBouncecal("pack " + scene.string() + " --duration-s 0.005 -o " +
@@ -144,7 +132,6 @@ TEST(PackCli, ShippedPaper004ScenesRunBriefly) {
     const double fraction = json["packing_density"];
     EXPECT_GT(fraction, 0.3) << name;
     EXPECT_LT(fraction, 0.9069) << name;
-    std::filesystem::remove_all(dir);
   }
 }
 
@@ -154,7 +141,7 @@ TEST(PackCli, ShippedPaper004ScenesRunBriefly) {
 // k_t = 5e7 N/m (2 sqrt(m / (7 k_t)) = 7.6e-6 s): the run goes on (friction bounds the
 // chatter) and says so on stderr and in summary.json. Ten times the step is refused (exit 3).
 TEST(PackCli, StepBeyondTheTangentialLimitWarnsBeyondTheNormalLimitIsRefused) {
-  const auto dir = EmptyTempDir("bouncecal_pack_cli_step_limits");
+  const auto dir = ScratchPath("step_limits");
   std::filesystem::create_directories(dir);
   auto write = [&](const char* name, const char* step) {
     const auto path = dir / name;
@@ -191,11 +178,10 @@ TEST(PackCli, StepBeyondTheTangentialLimitWarnsBeyondTheNormalLimitIsRefused) {
   EXPECT_EQ(refused.exit_status, 3) << refused.output;
   EXPECT_NE(refused.output.find("normal contact"), std::string::npos) << refused.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "out2"));
-  std::filesystem::remove_all(dir);
 }
 
 TEST(PackCli, NanDurationIsAnOptionErrorNamingTheOption) {
-  const auto dir = EmptyTempDir("bouncecal_pack_cli_nan_duration");
+  const auto dir = ScratchPath("nan_duration");
   const auto scene = WriteTinyScene(dir);
   const auto out = dir / "out";
   const auto result =
@@ -203,13 +189,12 @@ TEST(PackCli, NanDurationIsAnOptionErrorNamingTheOption) {
   EXPECT_EQ(result.exit_status, 3) << result.output;
   EXPECT_NE(result.output.find("--duration-s"), std::string::npos) << result.output;
   EXPECT_FALSE(std::filesystem::exists(out / "summary.json"));
-  std::filesystem::remove_all(dir);
 }
 
 // 1e-7 s at a 1e-5 s step ran 0 steps and reported the start state as the result. 0 itself is
 // the documented way to measure the start state and stays allowed.
 TEST(PackCli, DurationBelowOneTimeStepIsAnOptionErrorButZeroMeasuresTheStart) {
-  const auto dir = EmptyTempDir("bouncecal_pack_cli_short_duration");
+  const auto dir = ScratchPath("short_duration");
   const auto scene = WriteTinyScene(dir);
   const auto out = dir / "out";
   const auto refused =
@@ -227,13 +212,12 @@ TEST(PackCli, DurationBelowOneTimeStepIsAnOptionErrorButZeroMeasuresTheStart) {
   const auto json = nlohmann::json::parse(in);
   EXPECT_EQ(json["steps"], 0);
   EXPECT_EQ(json["particles"], 40);
-  std::filesystem::remove_all(dir);
 }
 
 // A --json path in a missing folder was found only when the summary was written, after the
 // whole simulation. Now it is refused first: no output folder, no CSV, no dump.
 TEST(PackCli, JsonInMissingFolderIsRefusedBeforeSimulating) {
-  const auto dir = EmptyTempDir("bouncecal_pack_cli_json_folder");
+  const auto dir = ScratchPath("json_folder");
   const auto scene = WriteTinyScene(dir);
   const auto out = dir / "out";
   const auto result =
@@ -244,7 +228,6 @@ TEST(PackCli, JsonInMissingFolderIsRefusedBeforeSimulating) {
   EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
   // The folder this run created is removed again: nothing was simulated or written.
   EXPECT_FALSE(std::filesystem::exists(out)) << result.output;
-  std::filesystem::remove_all(dir);
 }
 
 // An existing output folder where no file can be made was found only at the first write, after
@@ -252,21 +235,20 @@ TEST(PackCli, JsonInMissingFolderIsRefusedBeforeSimulating) {
 // chmod-ed folder would not do in a container running tests as root).
 TEST(PackCli, OutputFolderWithoutWriteAccessIsRefusedBeforeSimulating) {
   if (!std::filesystem::is_directory("/proc")) GTEST_SKIP() << "no /proc on this system";
-  const auto dir = EmptyTempDir("bouncecal_pack_cli_out_folder");
+  const auto dir = ScratchPath("out_folder");
   const auto scene = WriteTinyScene(dir);
   const auto result = RunBouncecal("pack " + scene.string() + " --duration-s 0.001 -o /proc");
   EXPECT_EQ(result.exit_status, 4) << result.output;
   // The up-front check names the folder; the late failure named the first CSV it could not write.
   EXPECT_NE(result.output.find("output folder /proc"), std::string::npos) << result.output;
   EXPECT_EQ(result.output.find("history.csv"), std::string::npos) << result.output;
-  std::filesystem::remove_all(dir);
 }
 
 // An unstable run wrote inf/-nan into history.csv and particles.csv and null into summary.json.
 // Now: history up to its last finite row, no final-state tables (and none left over from an
 // earlier run in the folder), and the JSON leaves out what is not a number.
 TEST(PackCli, UnstableRunWritesNoNonFiniteNumberAndNoFinalState) {
-  const auto dir = EmptyTempDir("bouncecal_pack_cli_unstable");
+  const auto dir = ScratchPath("unstable");
   const auto scene = WriteRunawayScene(dir);
   const auto out = dir / "out";
   std::filesystem::create_directories(out);
@@ -281,7 +263,7 @@ TEST(PackCli, UnstableRunWritesNoNonFiniteNumberAndNoFinalState) {
   EXPECT_NE(result.output.find("runaway.json"), std::string::npos) << result.output;
 
   ASSERT_TRUE(std::filesystem::exists(out / "history.csv"));
-  const std::string history = Lowercase(ReadFile(out / "history.csv"));
+  const std::string history = Lowercase(ReadFileText(out / "history.csv"));
   EXPECT_EQ(history.find("inf"), std::string::npos) << history;
   EXPECT_EQ(history.find("nan"), std::string::npos) << history;
   for (const char* file : {"particles.csv", "profile.csv", "coordination.csv"}) {
@@ -297,7 +279,6 @@ TEST(PackCli, UnstableRunWritesNoNonFiniteNumberAndNoFinalState) {
     EXPECT_TRUE(json.at("mean_coordination").is_null()) << path;
     EXPECT_TRUE(json.at("time_step_s").is_number()) << path;
   }
-  std::filesystem::remove_all(dir);
 }
 
 // 40 frictionless spheres dropped into the tiny scene's cylinder for 0.5 s at `step`. At 2e-5 s
@@ -329,7 +310,7 @@ std::filesystem::path WriteBoilingScene(const std::filesystem::path& dir, const 
 // the impossible), every output written, and summary.json says why. The same scene at half the
 // step settles and exits 0, so the status is the step's doing, not the check's.
 TEST(PackCli, BoilingPackExitsWithStatus3AndItsSummarySaysWhy) {
-  const auto dir = EmptyTempDir("bouncecal_pack_cli_boiling");
+  const auto dir = ScratchPath("boiling");
   const auto out = dir / "out";
   const auto json_path = dir / "result.json";
   const auto boiled =
@@ -370,13 +351,12 @@ TEST(PackCli, BoilingPackExitsWithStatus3AndItsSummarySaysWhy) {
   const auto json = nlohmann::json::parse(in);
   EXPECT_FALSE(json["boiling"].get<bool>());
   EXPECT_EQ(json["message"], "ran 50000 steps to t = 0.5 s");
-  std::filesystem::remove_all(dir);
 }
 
 // Dumps and plots of an earlier, longer run stayed beside the new run's and were mixed with
 // them. A rerun removes this command's own file names and nothing else.
 TEST(PackCli, RerunRemovesOnlyTheEarlierRunsOwnOutputs) {
-  const auto dir = EmptyTempDir("bouncecal_pack_cli_stale");
+  const auto dir = ScratchPath("stale");
   const auto scene = WriteTinyScene(dir);
   const auto out = dir / "out";
   std::filesystem::create_directories(out / "keep_folder");
@@ -400,21 +380,20 @@ TEST(PackCli, RerunRemovesOnlyTheEarlierRunsOwnOutputs) {
   EXPECT_TRUE(std::filesystem::exists(out / "dump.000000000.lammpstrj"));
   EXPECT_TRUE(std::filesystem::exists(out / "dump.000000100.lammpstrj"));
   EXPECT_TRUE(std::filesystem::exists(out / "summary.json"));
-  std::filesystem::remove_all(dir);
 }
 
 // A run refused at set-up (here: a time step beyond the normal contacts' limit, found only once
 // the particles are placed) removed the earlier run's outputs before it was refused, leaving
 // the folder empty. Nothing goes until every check has passed.
 TEST(PackCli, RunRefusedAtSetUpLeavesTheEarlierRunsOutputs) {
-  const auto dir = EmptyTempDir("bouncecal_pack_cli_refused_keeps");
+  const auto dir = ScratchPath("refused_keeps");
   const auto scene = WriteTinyScene(dir);
   const auto out = dir / "out";
   ASSERT_EQ(RunBouncecal("pack " + scene.string() + " --duration-s 0.001 --output " + out.string())
                 .exit_status,
             0);
-  const std::string summary = ReadFile(out / "summary.json");
-  std::string text = ReadFile(scene);
+  const std::string summary = ReadFileText(out / "summary.json");
+  std::string text = ReadFileText(scene);
   const std::string fine = "\"time_step_s\": 1e-5";
   text.replace(text.find(fine), fine.size(), "\"time_step_s\": 1e-3");
   std::ofstream(dir / "coarse.json") << text;
@@ -422,12 +401,11 @@ TEST(PackCli, RunRefusedAtSetUpLeavesTheEarlierRunsOutputs) {
                                     " --duration-s 0.01 --output " + out.string());
   ASSERT_EQ(refused.exit_status, 3) << refused.output;
   EXPECT_NE(refused.output.find("normal contact"), std::string::npos) << refused.output;
-  EXPECT_EQ(ReadFile(out / "summary.json"), summary);
+  EXPECT_EQ(ReadFileText(out / "summary.json"), summary);
   for (const char* file :
        {"history.csv", "particles.csv", "dump.000000000.lammpstrj", "dump.000000100.lammpstrj"}) {
     EXPECT_TRUE(std::filesystem::exists(out / file)) << file;
   }
-  std::filesystem::remove_all(dir);
 }
 
 // A pid that no process has any more: a child that has exited and been reaped.
@@ -443,7 +421,7 @@ pid_t DeadPid() {
 // "<name>.tmp.<pid>". The next run in the folder removes those of processes that are gone, and
 // only of this command's own file names: a live process may be writing the others right now.
 TEST(PackCli, NextRunRemovesTheTemporariesOfAKilledRunOnly) {
-  const auto dir = EmptyTempDir("bouncecal_pack_cli_stale_tmp");
+  const auto dir = ScratchPath("stale_tmp");
   const auto scene = WriteTinyScene(dir);
   const auto out = dir / "out";
   std::filesystem::create_directories(out);
@@ -461,14 +439,13 @@ TEST(PackCli, NextRunRemovesTheTemporariesOfAKilledRunOnly) {
   ASSERT_EQ(result.exit_status, 0) << result.output;
   for (const auto& name : stale) EXPECT_FALSE(std::filesystem::exists(out / name)) << name;
   for (const auto& name : kept) EXPECT_TRUE(std::filesystem::exists(out / name)) << name;
-  std::filesystem::remove_all(dir);
 }
 
 // `pack --template NAME` writes a commented scene that loads and whose set-up draws no warning
 // (the time step, the region); run for 0 s, which measures the start state after every check.
 TEST(PackCli, TemplatesLoadAndRunWithoutAWarning) {
   for (const std::string name : {"3d-cylinder", "2d-box"}) {
-    const auto dir = EmptyTempDir("bouncecal_pack_cli_template_" + name);
+    const auto dir = ScratchPath("template_" + name);
     std::filesystem::create_directories(dir);
     const auto written = RunBouncecal("pack --template " + name);
     ASSERT_EQ(written.exit_status, 0) << written.output;
@@ -479,7 +456,6 @@ TEST(PackCli, TemplatesLoadAndRunWithoutAWarning) {
                                   (dir / "out").string());
     EXPECT_EQ(run.exit_status, 0) << name << ": " << run.output;
     EXPECT_EQ(Lowercase(run.output).find("warning"), std::string::npos) << name << run.output;
-    std::filesystem::remove_all(dir);
   }
   const auto unknown = RunBouncecal("pack --template 4d-hypercube");
   EXPECT_EQ(unknown.exit_status, 3) << unknown.output;
@@ -492,14 +468,13 @@ TEST(PackCli, TemplatesLoadAndRunWithoutAWarning) {
 // The paper 000 scene keeps the paper's 10 us step, 0.65 of the tangential limit: it says why
 // (time_step_reason), so every run prints that as a note, not as a warning about itself.
 TEST(PackCli, ShippedPaper000SceneExplainsItsStepInsteadOfWarning) {
-  const auto dir = EmptyTempDir("bouncecal_pack_cli_paper000_note");
+  const auto dir = ScratchPath("paper000_note");
   const auto scene = SourceDir() / "samples/scenes/paper000_cylinder_pour.json";
   const auto run = RunBouncecal("pack " + scene.string() + " --duration-s 0 -o " + dir.string());
   ASSERT_EQ(run.exit_status, 0) << run.output;
   EXPECT_EQ(Lowercase(run.output).find("warning"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("bouncecal: note: "), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("the paper's own 10 us"), std::string::npos) << run.output;
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -14,17 +14,12 @@
 #include <thread>
 #include <vector>
 
+#include "bouncecal/testing/file_text.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
 
 namespace bouncecal::testing {
 namespace {
-
-std::filesystem::path EmptyTempDir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / name;
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
 
 // 60 spheres poured in three batches (pending particles, the random stream), with friction and
 // rotation, for 0.3 s: long enough (30 000 steps, about a second) to be stopped part-way.
@@ -44,11 +39,6 @@ std::filesystem::path WritePourScene(const std::filesystem::path& dir) {
     "outputs": {"snapshot_interval_s": 0.1}
   })";
   return path;
-}
-
-nlohmann::json ReadJson(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
 }
 
 // Starts bouncecal with `arguments` (output to `log`), and returns its pid.
@@ -76,22 +66,17 @@ int Wait(pid_t pid) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
 }
 
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 // The issue's acceptance test: SIGTERM at a random moment, resume, and the uninterrupted run's
 // digest (every bit of every final position, velocity and spin), on one and two threads. The
 // moment is random on purpose (a fixed one would always hit the same kind of block boundary);
 // it is printed, so a failure can be replayed.
 TEST(PackInterrupt, SigtermAtARandomMomentThenResumeGivesTheUninterruptedDigest) {
-  const auto dir = EmptyTempDir("bouncecal_pack_interrupt");
+  const auto dir = ScratchSubfolder("interrupt");
   const auto scene = WritePourScene(dir);
   const auto whole =
       RunBouncecal("pack " + scene.string() + " --output " + (dir / "whole").string());
   ASSERT_EQ(whole.exit_status, 0) << whole.output;
-  const std::string digest = ReadJson(dir / "whole" / "summary.json")["state_digest"];
+  const std::string digest = ReadJsonFile(dir / "whole" / "summary.json")["state_digest"];
   std::random_device device;
   std::mt19937 random(device());
   for (const int threads : {1, 2}) {
@@ -117,12 +102,12 @@ TEST(PackInterrupt, SigtermAtARandomMomentThenResumeGivesTheUninterruptedDigest)
     }
     SCOPED_TRACE(::testing::Message()
                  << threads << " thread(s), SIGTERM after " << delay_ms << " ms");
-    const std::string output = ReadText(log);
+    const std::string output = ReadFileText(log);
     ASSERT_EQ(status, 6) << output;
     // One line says what happened and how to go on.
     EXPECT_NE(output.find("stopped (SIGTERM)"), std::string::npos) << output;
     EXPECT_NE(output.find("--resume"), std::string::npos) << output;
-    const auto stopped = ReadJson(out / "summary.json");
+    const auto stopped = ReadJsonFile(out / "summary.json");
     EXPECT_EQ(stopped["stop_reason"], "interrupted");
     EXPECT_LT(stopped["simulated_s"].get<double>(), 0.3);
     EXPECT_TRUE(stopped.contains("packing_density"));  // what was measured so far
@@ -131,7 +116,7 @@ TEST(PackInterrupt, SigtermAtARandomMomentThenResumeGivesTheUninterruptedDigest)
                                       std::to_string(3 - threads) + " --output " + out.string() +
                                       " --resume " + (out / "checkpoint.bcpack").string());
     ASSERT_EQ(resumed.exit_status, 0) << resumed.output;
-    const auto end = ReadJson(out / "summary.json");
+    const auto end = ReadJsonFile(out / "summary.json");
     EXPECT_EQ(end["stop_reason"], "duration");
     EXPECT_EQ(end["state_digest"], digest);
     EXPECT_EQ(end["steps"], 30000);
@@ -142,15 +127,14 @@ TEST(PackInterrupt, SigtermAtARandomMomentThenResumeGivesTheUninterruptedDigest)
     EXPECT_GT(earlier, 0);
     EXPECT_LE(earlier, stopped["wall_s"].get<double>());
     // The resumed run's history and dumps are the whole run's.
-    EXPECT_EQ(ReadText(out / "history.csv"), ReadText(dir / "whole" / "history.csv"));
-    EXPECT_EQ(ReadText(out / "dump.000030000.lammpstrj"),
-              ReadText(dir / "whole" / "dump.000030000.lammpstrj"));
+    EXPECT_EQ(ReadFileText(out / "history.csv"), ReadFileText(dir / "whole" / "history.csv"));
+    EXPECT_EQ(ReadFileText(out / "dump.000030000.lammpstrj"),
+              ReadFileText(dir / "whole" / "dump.000030000.lammpstrj"));
   }
-  std::filesystem::remove_all(dir);
 }
 
 TEST(PackInterrupt, SecondSignalExitsAtOnceLeavingOnlyWholeFiles) {
-  const auto dir = EmptyTempDir("bouncecal_pack_interrupt_twice");
+  const auto dir = ScratchSubfolder("interrupt_twice");
   const auto scene = WritePourScene(dir);
   const auto out = dir / "out";
   const pid_t pid = Spawn({"pack", scene.string(), "--output", out.string(), "--duration-s", "100"},
@@ -165,19 +149,18 @@ TEST(PackInterrupt, SecondSignalExitsAtOnceLeavingOnlyWholeFiles) {
   kill(pid, SIGINT);
   kill(pid, SIGINT);
   const auto start = std::chrono::steady_clock::now();
-  EXPECT_EQ(Wait(pid), 6) << ReadText(dir / "log.txt");
+  EXPECT_EQ(Wait(pid), 6) << ReadFileText(dir / "log.txt");
   // "At once": well before the 100 s run would end, and before a block of steps would.
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(20));
   // Whatever was written is whole: every file under its own name parses or reads fully; a
   // temporary (*.tmp.<pid>) may be left, and the next run removes it (PackCli test below).
   if (std::filesystem::exists(out / "summary.json")) {
-    EXPECT_NO_THROW(ReadJson(out / "summary.json"));
+    EXPECT_NO_THROW(ReadJsonFile(out / "summary.json"));
   }
-  std::filesystem::remove_all(dir);
 }
 
 TEST(PackInterrupt, PeriodicCheckpointResumesToTheSameDigestAndDoesNotChangeTheRun) {
-  const auto dir = EmptyTempDir("bouncecal_pack_periodic");
+  const auto dir = ScratchSubfolder("periodic");
   const auto scene = WritePourScene(dir);
   const auto plain = RunBouncecal("pack " + scene.string() + " --duration-s 0.12 --output " +
                                   (dir / "plain").string());
@@ -186,26 +169,25 @@ TEST(PackInterrupt, PeriodicCheckpointResumesToTheSameDigestAndDoesNotChangeTheR
                                  " --duration-s 0.12 --checkpoint-every-s 0.05 --output " +
                                  (dir / "with").string());
   ASSERT_EQ(with.exit_status, 0) << with.output;
-  const std::string digest = ReadJson(dir / "plain" / "summary.json")["state_digest"];
-  EXPECT_EQ(ReadJson(dir / "with" / "summary.json")["state_digest"], digest);
+  const std::string digest = ReadJsonFile(dir / "plain" / "summary.json")["state_digest"];
+  EXPECT_EQ(ReadJsonFile(dir / "with" / "summary.json")["state_digest"], digest);
   // The last checkpoint (t = 0.1 s) continues to the same end.
   const auto resumed = RunBouncecal("pack " + scene.string() + " --duration-s 0.12 --output " +
                                     (dir / "with").string() + " --resume " +
                                     (dir / "with" / "checkpoint.bcpack").string());
   ASSERT_EQ(resumed.exit_status, 0) << resumed.output;
-  EXPECT_EQ(ReadJson(dir / "with" / "summary.json")["state_digest"], digest);
-  std::filesystem::remove_all(dir);
+  EXPECT_EQ(ReadJsonFile(dir / "with" / "summary.json")["state_digest"], digest);
 }
 
 TEST(PackInterrupt, DamagedOrForeignCheckpointIsRefusedInOneLineNamingTheFile) {
-  const auto dir = EmptyTempDir("bouncecal_pack_bad_checkpoint");
+  const auto dir = ScratchSubfolder("bad_checkpoint");
   const auto scene = WritePourScene(dir);
   ASSERT_EQ(RunBouncecal("pack " + scene.string() +
                          " --duration-s 0.05 --checkpoint-every-s 0.02 --output " +
                          (dir / "out").string())
                 .exit_status,
             0);
-  const std::string good = ReadText(dir / "out" / "checkpoint.bcpack");
+  const std::string good = ReadFileText(dir / "out" / "checkpoint.bcpack");
   ASSERT_GT(good.size(), 1000u);
   auto refused = [&](const std::string& name, const std::string& bytes,
                      const std::string& problem) {
@@ -226,7 +208,7 @@ TEST(PackInterrupt, DamagedOrForeignCheckpointIsRefusedInOneLineNamingTheFile) {
   refused("flipped.bcpack", flipped, "its checksum does not match");
   refused("text.bcpack", "not a checkpoint\n", "is not a bouncecal pack checkpoint");
   // The same scene with another seed is another scene.
-  std::string other = ReadText(scene);
+  std::string other = ReadFileText(scene);
   other.replace(other.find("\"seed\": 3"), 9, "\"seed\": 4");
   std::ofstream(dir / "other.json") << other;
   const auto foreign = RunBouncecal("pack " + (dir / "other.json").string() +
@@ -236,7 +218,6 @@ TEST(PackInterrupt, DamagedOrForeignCheckpointIsRefusedInOneLineNamingTheFile) {
   EXPECT_NE(foreign.output.find("was written for another scene or other options"),
             std::string::npos)
       << foreign.output;
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

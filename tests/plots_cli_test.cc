@@ -8,27 +8,16 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "bouncecal/testing/file_text.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
 
 namespace bouncecal::testing {
 namespace {
 
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 class PlotsCli : public ::testing::Test {
  protected:
-  void SetUp() override {
-    folder_ = std::filesystem::temp_directory_path() /
-              ("bouncecal_plots_cli_" +
-               std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    std::filesystem::remove_all(folder_);
-    std::filesystem::create_directories(folder_);
-  }
-  void TearDown() override { std::filesystem::remove_all(folder_); }
-  std::filesystem::path folder_;
+  const ScratchFolder folder_;
 };
 
 TEST_F(PlotsCli, AnalyzePlotMarksEveryImpactTheTableReportsAndDrawsEtaVsK) {
@@ -39,11 +28,11 @@ TEST_F(PlotsCli, AnalyzePlotMarksEveryImpactTheTableReportsAndDrawsEtaVsK) {
   const auto run = RunBouncecal("analyze " + (SourceDir() / "samples/pingpong_hard.wav").string() +
                                 " --json " + json_path.string() + " --plot " + svg.string());
   ASSERT_EQ(run.exit_status, 0) << run.output;
-  const auto json = nlohmann::json::parse(ReadText(json_path))["recordings"][0];
+  const auto json = nlohmann::json::parse(ReadFileText(json_path))["recordings"][0];
   std::size_t in_sequences = 0;
   for (const auto& sequence : json["sequences"]) in_sequences += sequence["onsets_s"].size();
   ASSERT_GT(in_sequences, 2u);
-  const std::string text = ReadText(svg);
+  const std::string text = ReadFileText(svg);
   EXPECT_NE(text.find("impact (" + std::to_string(in_sequences) + ")"), std::string::npos);
   if (!json["rejected_events"].empty()) {
     EXPECT_NE(text.find("rejected event (" + std::to_string(json["rejected_events"].size()) + ")"),
@@ -68,7 +57,7 @@ TEST_F(PlotsCli, SimulateDropPlotsHeightWithImpactsAsPng) {
   const auto png = folder_ / "drop.png";
   const auto run = RunBouncecal("simulate drop --gamma 0.4 --quiet --plot " + png.string());
   ASSERT_EQ(run.exit_status, 0) << run.output;
-  const std::string bytes = ReadText(png);
+  const std::string bytes = ReadFileText(png);
   ASSERT_GE(bytes.size(), 4u);
   EXPECT_EQ(bytes.substr(1, 3), "PNG");
 }

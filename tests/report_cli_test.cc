@@ -3,7 +3,6 @@
 #include <fmt/core.h>
 #include <gtest/gtest.h>
 #include <stdlib.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,15 +16,12 @@
 #include <vector>
 
 #include "bouncecal/calibrate/content_hash.h"
+#include "bouncecal/testing/file_text.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
 
 namespace bouncecal::testing {
 namespace {
-
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
 
 std::size_t Count(const std::string& text, const std::string& what) {
   std::size_t count = 0;
@@ -37,13 +33,7 @@ std::size_t Count(const std::string& text, const std::string& what) {
 class ReportCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    // ctest runs each test in its own process, two at a time: the pid keeps one process's
-    // SetUpTestSuite from wiping the folder another is reading.
-    folder_ =
-        new std::filesystem::path(std::filesystem::temp_directory_path() /
-                                  ("bouncecal_report_cli_test_" + std::to_string(::getpid())));
-    std::filesystem::remove_all(*folder_);
-    std::filesystem::create_directories(*folder_);
+    folder_ = new ScratchFolder();
     // The report reads recordings through calibrate::LoadSequences; an analyze --json file is
     // one of its inputs and keeps this test independent of recording support in that loader.
     const auto analysis =
@@ -58,20 +48,19 @@ class ReportCli : public ::testing::Test {
                                       (*folder_ / "report.html").string()));
   }
   static void TearDownTestSuite() {
-    std::filesystem::remove_all(*folder_);
     delete folder_;
     delete run_;
   }
   static std::filesystem::path Input() { return *folder_ / "steel_ball_h0.2m.json"; }
-  static std::filesystem::path* folder_;
+  static ScratchFolder* folder_;
   static CliResult* run_;
 };
-std::filesystem::path* ReportCli::folder_ = nullptr;
+ScratchFolder* ReportCli::folder_ = nullptr;
 CliResult* ReportCli::run_ = nullptr;
 
 TEST_F(ReportCli, PageHasEverySectionTheFiguresAndTheInputHash) {
   ASSERT_EQ(run_->exit_status, 0) << run_->output;
-  const std::string html = ReadText(*folder_ / "report.html");
+  const std::string html = ReadFileText(*folder_ / "report.html");
   for (const char* id :
        {"inputs", "fit-summary", "analytic-check", "plots", "impacts", "material-card"}) {
     EXPECT_NE(html.find(std::string("id=\"") + id + "\""), std::string::npos) << id;
@@ -87,7 +76,7 @@ TEST_F(ReportCli, PageHasEverySectionTheFiguresAndTheInputHash) {
 
 TEST_F(ReportCli, FittedDampingMatchesTheSamplesKnownEnergyLoss) {
   ASSERT_EQ(run_->exit_status, 0) << run_->output;
-  const std::string html = ReadText(*folder_ / "report.html");
+  const std::string html = ReadFileText(*folder_ / "report.html");
   // The card is shown escaped in a <pre>; its gamma_n is the fit.
   const std::string key = "&quot;gamma_n&quot;: ";
   const auto at = html.find(key);
@@ -101,7 +90,7 @@ TEST_F(ReportCli, FittedDampingMatchesTheSamplesKnownEnergyLoss) {
 
 TEST_F(ReportCli, PageNeedsNoExternalResource) {
   ASSERT_EQ(run_->exit_status, 0) << run_->output;
-  const std::string html = ReadText(*folder_ / "report.html");
+  const std::string html = ReadFileText(*folder_ / "report.html");
   EXPECT_EQ(html.find("<script"), std::string::npos);
   EXPECT_EQ(html.find("<link"), std::string::npos);
   EXPECT_EQ(html.find("src="), std::string::npos);
@@ -137,8 +126,8 @@ TEST_F(ReportCli, RendersInHeadlessChromium) {
   const std::string dump =
       chromium + flags + "--dump-dom file://" + page.string() + " > " + dom + " 2>/dev/null";
   ASSERT_EQ(std::system(dump.c_str()), 0);
-  const std::string rendered = ReadText(dom);
-  const std::string html = ReadText(page);
+  const std::string rendered = ReadFileText(dom);
+  const std::string html = ReadFileText(page);
   // The DOM is what the browser parsed: sections, both figures and the fit values survive.
   EXPECT_NE(rendered.find("id=\"fit-summary\""), std::string::npos);
   EXPECT_NE(rendered.find("gamma_n fitted"), std::string::npos);
@@ -169,7 +158,7 @@ TEST_F(ReportCli, WaveformAmplitudeAxisIsReadableInHeadlessChromium) {
     GTEST_SKIP() << "chromium is not installed (Debian package chromium; "
                     "scripts/install_deps.sh --tests installs it)";
   }
-  std::string html = ReadText(*folder_ / "report.html");
+  std::string html = ReadFileText(*folder_ / "report.html");
   const auto body_end = html.rfind("</body>");
   ASSERT_NE(body_end, std::string::npos);
   // Boxes in CSS pixels (the figure is drawn at 100 %): inside the <svg>, left of the plot area
@@ -214,7 +203,7 @@ document.body.setAttribute("data-axis-check",
                            profile + " --dump-dom file://" + page.string() + " > " + dom.string() +
                            " 2>/dev/null";
   ASSERT_EQ(std::system(dump.c_str()), 0);
-  const std::string rendered = ReadText(dom);
+  const std::string rendered = ReadFileText(dom);
   const auto at = rendered.find("data-axis-check=\"");
   ASSERT_NE(at, std::string::npos) << "the check script did not run";
   const std::string check = rendered.substr(at + 17, rendered.find('"', at + 17) - at - 17);
@@ -249,8 +238,8 @@ document.body.setAttribute("data-axis-check",
 // rejected, at its time, over the recording's decimated waveform.
 TEST_F(ReportCli, WaveformMarksEveryImpactAndRejectedEventOfTheAnalysis) {
   ASSERT_EQ(run_->exit_status, 0) << run_->output;
-  const std::string html = ReadText(*folder_ / "report.html");
-  const auto analysis = nlohmann::json::parse(ReadText(Input()));
+  const std::string html = ReadFileText(*folder_ / "report.html");
+  const auto analysis = nlohmann::json::parse(ReadFileText(Input()));
   const auto& recording = analysis["recordings"][0];
   std::vector<double> onsets;
   for (const auto& sequence : recording["sequences"]) {

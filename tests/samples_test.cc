@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "bouncecal/audio/impact_csv.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
 #include "sound_file.h"
 
@@ -24,8 +25,7 @@ std::vector<float> ReadAllFrames(const std::filesystem::path& path, int& channel
 }
 
 TEST(Samples, ShippedSamplesMatchTheirDocumentedCommands) {
-  const auto fresh = std::filesystem::temp_directory_path() / "bouncecal_samples_test";
-  std::filesystem::remove_all(fresh);
+  const auto fresh = ScratchPath("samples");
   const std::string command = (SourceDir() / "samples" / "make_samples.sh").string() + " " +
                               BOUNCECAL_EXECUTABLE + " " + fresh.string() + " > /dev/null";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;

@@ -8,25 +8,16 @@
 #include <sstream>
 #include <string>
 
+#include "bouncecal/testing/file_text.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
 
 namespace bouncecal::testing {
 namespace {
 
-std::filesystem::path TempPath(const std::string& name) {
-  return std::filesystem::path(BOUNCECAL_BINARY_DIR) / ("simulate_drop_cli_" + name);
-}
-
-std::string ReadAll(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
-
 TEST(SimulateDropCli, WritesJsonAndTrajectoryOfThePaperDrop) {
-  const auto json_path = TempPath("paper.json");
-  const auto csv_path = TempPath("paper.csv");
+  const auto json_path = ScratchPath("paper.json");
+  const auto csv_path = ScratchPath("paper.csv");
   const auto result = RunBouncecal(
       "simulate drop --law walton-braun --gamma 0.5 --stiffness-n-per-m 1e7 --diameter-m 0.01 "
       "--density-kg-per-m3 "
@@ -34,7 +25,7 @@ TEST(SimulateDropCli, WritesJsonAndTrajectoryOfThePaperDrop) {
       json_path.string() + " --trajectory " + csv_path.string());
   ASSERT_EQ(result.exit_status, 0) << result.output;
   EXPECT_NE(result.output.find("restitution"), std::string::npos);
-  const auto json = nlohmann::json::parse(ReadAll(json_path));
+  const auto json = nlohmann::json::parse(ReadFileText(json_path));
   ASSERT_GE(json.at("impacts").size(), 10u);
   const auto& first = json.at("impacts").at(0);
   for (const char* key : {"time_s", "restitution", "energy_loss", "contact_duration_s",
@@ -49,11 +40,9 @@ TEST(SimulateDropCli, WritesJsonAndTrajectoryOfThePaperDrop) {
   // The run time is printed, never stored: the JSON of a given run is reproducible (issue 7).
   EXPECT_FALSE(json.contains("cpu_s"));
   EXPECT_NE(result.output.find("cpu:"), std::string::npos) << result.output;
-  const std::string csv = ReadAll(csv_path);
+  const std::string csv = ReadFileText(csv_path);
   EXPECT_EQ(csv.rfind("time_s,height_m,velocity_mps\n", 0), 0u);
   EXPECT_GT(std::count(csv.begin(), csv.end(), '\n'), 1000);
-  std::filesystem::remove(json_path);
-  std::filesystem::remove(csv_path);
 }
 
 TEST(SimulateDropCli, NonsenseParametersExitWithStatusThreeAndOneLine) {

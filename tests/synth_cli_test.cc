@@ -6,27 +6,15 @@
 
 #include "bouncecal/audio/impact_csv.h"
 #include "bouncecal/audio/synthesize.h"
+#include "bouncecal/testing/file_text.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
 
 namespace bouncecal::testing {
 namespace {
 
-std::filesystem::path FreshDir(const std::string& name) {
-  auto dir = std::filesystem::temp_directory_path() / ("bouncecal_synth_cli_" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
-
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 TEST(SynthCli, WritesTheRecordingAndATruthMatchingTheLibrary) {
-  const auto dir = FreshDir("truth");
+  const auto dir = ScratchSubfolder("truth");
   const auto result =
       RunBouncecal("synth -o " + (dir / "s.wav").string() + " --truth " + (dir / "s.csv").string() +
                    " --drop-height-m 0.3 --restitution 0.8 --snr-db 30 "
@@ -34,7 +22,7 @@ TEST(SynthCli, WritesTheRecordingAndATruthMatchingTheLibrary) {
                    "--sample-rate-hz 44100 --format pcm24 --seed 3");
   ASSERT_EQ(result.exit_status, 0) << result.output;
   EXPECT_NE(result.output.find("44100 Hz, 2 channel(s)"), std::string::npos) << result.output;
-  const std::string truth = ReadText(dir / "s.csv");
+  const std::string truth = ReadFileText(dir / "s.csv");
   EXPECT_NE(truth.find(",knock,-1"), std::string::npos) << truth;
 
   audio::SynthesisOptions options;
@@ -53,20 +41,20 @@ TEST(SynthCli, WritesTheRecordingAndATruthMatchingTheLibrary) {
 }
 
 TEST(SynthCli, ImpactTimesFromATruthFileReproduceTheOnsets) {
-  const auto dir = FreshDir("impacts");
+  const auto dir = ScratchSubfolder("impacts");
   std::ofstream(dir / "in.csv") << "onset_s,impact_speed_mps\n0.2,1.5\n0.45,1.0\n0.6,0.7\n";
   const auto result =
       RunBouncecal("synth -o " + (dir / "x.wav").string() + " --impact-times " +
                    (dir / "in.csv").string() + " --truth " + (dir / "x.csv").string());
   ASSERT_EQ(result.exit_status, 0) << result.output;
-  const auto written = audio::ParseImpactCsv(ReadText(dir / "x.csv"), "x.csv");
+  const auto written = audio::ParseImpactCsv(ReadFileText(dir / "x.csv"), "x.csv");
   ASSERT_EQ(written.size(), 3u);
   EXPECT_NEAR(written[1].onset_s, 0.45, 5e-10);
   EXPECT_NEAR(written[2].impact_speed_mps, 0.7, 5e-7);  // speeds have 6 decimals
 }
 
 TEST(SynthCli, BadOptionsMissingInputsAndUnwritableOutputsMapToExitStatuses) {
-  const auto dir = FreshDir("errors");
+  const auto dir = ScratchSubfolder("errors");
   const std::string out = " -o " + (dir / "x.wav").string();
   auto result = RunBouncecal("synth" + out + " --restitution 1.3");
   EXPECT_EQ(result.exit_status, 3) << result.output;
@@ -83,7 +71,7 @@ TEST(SynthCli, BadOptionsMissingInputsAndUnwritableOutputsMapToExitStatuses) {
 }
 
 TEST(SynthCli, AdcChainAndContactClickAreAppliedAndDescribedInTheSummaryAndTruth) {
-  const auto dir = FreshDir("adc");
+  const auto dir = ScratchSubfolder("adc");
   const auto result =
       RunBouncecal("synth -o " + (dir / "a.wav").string() + " --truth " + (dir / "a.csv").string() +
                    " --adc linear-phase --click-gain 0.2 --sample-rate-hz 16000 "
@@ -96,7 +84,7 @@ TEST(SynthCli, AdcChainAndContactClickAreAppliedAndDescribedInTheSummaryAndTruth
   EXPECT_NE(result.output.find("at 384000 Hz (24 x 16000 Hz)"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("passband to 7256 Hz"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("contact click: "), std::string::npos) << result.output;
-  const std::string truth = ReadText(dir / "a.csv");
+  const std::string truth = ReadFileText(dir / "a.csv");
   EXPECT_EQ(truth.rfind("# recording chain: linear-phase", 0), 0u) << truth;
   EXPECT_NE(truth.find("# contact click: "), std::string::npos) << truth;
 

@@ -6,9 +6,13 @@
 #include <fstream>
 
 #include "bouncecal/error.h"
+#include "bouncecal/testing/scratch_folder.h"
 
 namespace bouncecal::apps {
 namespace {
+
+using bouncecal::testing::ScratchPath;
+using bouncecal::testing::ScratchSubfolder;
 
 PlotPanel SinePanel() {
   PlotPanel panel{"test", "time t (s)", "height h (m)", {}, {}, {}, false, "top right"};
@@ -21,8 +25,7 @@ PlotPanel SinePanel() {
 }
 
 TEST(RenderPlot, WritesAPngWithItsSignatureAndLeavesNoTemporaryFiles) {
-  const auto folder = std::filesystem::temp_directory_path() / "bouncecal_plot_test_png";
-  std::filesystem::create_directories(folder);
+  const auto folder = ScratchSubfolder("png");
   const auto target = folder / "figure.png";
   RenderPlot(target, {SinePanel(), SinePanel()});
   std::ifstream in(target, std::ios::binary);
@@ -32,16 +35,14 @@ TEST(RenderPlot, WritesAPngWithItsSignatureAndLeavesNoTemporaryFiles) {
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder),
                           std::filesystem::directory_iterator()),
             1);
-  std::filesystem::remove_all(folder);
 }
 
 TEST(RenderPlot, WritesAnSvg) {
-  const auto target = std::filesystem::temp_directory_path() / "bouncecal_plot_test.svg";
+  const auto target = ScratchPath("plot.svg");
   RenderPlot(target, {SinePanel()});
   std::ifstream in(target);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("<svg"), std::string::npos);
-  std::filesystem::remove(target);
 }
 
 TEST(RenderSvgElement, StartsWithTheSvgElementSoItCanBeInlinedInHtml) {

@@ -2,7 +2,6 @@
 
 #include <gtest/gtest.h>
 #include <sndfile.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <fstream>
@@ -12,25 +11,19 @@
 
 #include "bouncecal/audio/load_recording.h"
 #include "bouncecal/error.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "ffmpeg_library.h"
 #include "sound_file.h"
 
 namespace bouncecal::audio {
 namespace {
 
+using bouncecal::testing::ScratchFolder;
+
 namespace fs = std::filesystem;
 
 class FfmpegDecoderTest : public ::testing::Test {
  public:
-  void SetUp() override {
-    folder_ = fs::temp_directory_path() /
-              ("bouncecal_ffmpeg_" + std::to_string(::getpid()) + "_" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(folder_);
-    fs::create_directories(folder_);
-  }
-  void TearDown() override { fs::remove_all(folder_); }
-
   fs::path WriteText(const std::string& name, const std::string& text) const {
     std::ofstream(folder_ / name, std::ios::binary) << text;
     return folder_ / name;
@@ -49,7 +42,7 @@ class FfmpegDecoderTest : public ::testing::Test {
     return folder_ / name;
   }
 
-  fs::path folder_;
+  const ScratchFolder folder_;
 };
 
 TEST_F(FfmpegDecoderTest, AWavDecodesToLibsndfilesSamplesWhateverTheBlockSize) {

@@ -8,14 +8,15 @@
 #include <limits>
 
 #include "bouncecal/error.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "sound_file.h"
 
 namespace bouncecal::audio {
 namespace {
 
-std::filesystem::path TempPath(const std::string& name) {
-  return std::filesystem::temp_directory_path() / ("bouncecal_load_" + name);
-}
+using bouncecal::testing::ScratchPath;
+
+std::filesystem::path TempPath(const std::string& name) { return ScratchPath(name); }
 
 void Write(const std::filesystem::path& path, int rate, int channels, int format,
            const std::vector<float>& interleaved) {

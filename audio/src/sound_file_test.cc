@@ -8,13 +8,14 @@
 #include <vector>
 
 #include "bouncecal/error.h"
+#include "bouncecal/testing/scratch_folder.h"
 
 namespace bouncecal::audio {
 namespace {
 
-std::filesystem::path TempPath(const std::string& name) {
-  return std::filesystem::temp_directory_path() / ("bouncecal_sound_file_" + name);
-}
+using bouncecal::testing::ScratchPath;
+
+std::filesystem::path TempPath(const std::string& name) { return ScratchPath(name); }
 
 TEST(SoundFile, WrittenSamplesReadBackWithinPcm16Quantisation) {
   const auto path = TempPath("roundtrip.wav");

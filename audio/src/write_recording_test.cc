@@ -9,17 +9,13 @@
 #include <vector>
 
 #include "bouncecal/error.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "sound_file.h"
 
 namespace bouncecal::audio {
 namespace {
 
-std::filesystem::path FreshDir(const std::string& name) {
-  auto dir = std::filesystem::temp_directory_path() / ("bouncecal_write_recording_" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+using bouncecal::testing::ScratchSubfolder;
 
 size_t FileCount(const std::filesystem::path& dir) {
   return static_cast<size_t>(std::distance(std::filesystem::directory_iterator(dir),
@@ -48,7 +44,7 @@ struct Case {
 };
 
 TEST(WriteRecording, WrittenChannelsReadBackWithRateChannelsAndSamplesWithinQuantisation) {
-  const auto dir = FreshDir("roundtrip");
+  const auto dir = ScratchSubfolder("roundtrip");
   const std::vector<Recording> channels = StereoTone();
   const Case cases[] = {
       {AudioContainer::kWav, SampleEncoding::kPcm16, 1.0 / 32768},
@@ -81,7 +77,7 @@ TEST(WriteRecording, WrittenChannelsReadBackWithRateChannelsAndSamplesWithinQuan
 }
 
 TEST(WriteRecording, SamplesBeyondFullScaleAreCountedAsClippedForIntegerEncodings) {
-  const auto dir = FreshDir("clip");
+  const auto dir = ScratchSubfolder("clip");
   Recording loud;
   loud.sample_rate_hz = 48000;
   loud.samples = {0.5f, 1.5f, -2.0f, 0.1f};
@@ -97,7 +93,7 @@ TEST(WriteRecording, SamplesBeyondFullScaleAreCountedAsClippedForIntegerEncoding
 }
 
 TEST(WriteRecording, FailuresLeaveNoFileBehindAndKeepAnExistingOne) {
-  const auto dir = FreshDir("fail");
+  const auto dir = ScratchSubfolder("fail");
   std::vector<Recording> channels = StereoTone();
   WriteRecording(dir / "keep.wav", channels);
   const auto size_before = std::filesystem::file_size(dir / "keep.wav");
@@ -125,7 +121,7 @@ TEST(WriteRecording, EncodingNamesRoundTripAndUnknownNamesAreConfigErrors) {
 // libsndfile would add a PEAK chunk holding the wall-clock time of writing to float WAVs, which
 // makes the same recording differ in bytes between runs (issue 7: byte-identical outputs).
 TEST(WriteRecording, FloatWavCarriesNoTimestampedPeakChunk) {
-  const auto dir = FreshDir("peak_chunk");
+  const auto dir = ScratchSubfolder("peak_chunk");
   const auto path = dir / "float.wav";
   WriteRecordingOptions options;
   options.encoding = SampleEncoding::kFloat;
@@ -133,7 +129,6 @@ TEST(WriteRecording, FloatWavCarriesNoTimestampedPeakChunk) {
   std::ifstream in(path, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_EQ(bytes.find("PEAK"), std::string::npos);
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -6,9 +6,12 @@
 #include <fstream>
 
 #include "bouncecal/error.h"
+#include "bouncecal/testing/scratch_folder.h"
 
 namespace bouncecal::calibrate {
 namespace {
+
+using bouncecal::testing::ScratchPath;
 
 std::uint64_t HashOf(std::string_view text) {
   Fnv1a64 hash;
@@ -31,13 +34,12 @@ TEST(Fnv1a64, ChunkingDoesNotChangeTheDigest) {
 }
 
 TEST(FileContentHash, HashesTheFileBytesAndNamesTheScheme) {
-  const auto path = std::filesystem::temp_directory_path() / "bouncecal_content_hash_test.bin";
+  const auto path = ScratchPath("content_hash_test.bin");
   {
     std::ofstream out(path, std::ios::binary);
     out << "foobar";
   }
   EXPECT_EQ(FileContentHash(path), "fnv1a64:85944171f73967e8");
-  std::filesystem::remove(path);
 }
 
 TEST(FileContentHash, MissingFileIsAnInputError) {

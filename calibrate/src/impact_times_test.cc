@@ -6,12 +6,15 @@
 #include <fstream>
 
 #include "bouncecal/error.h"
+#include "bouncecal/testing/scratch_folder.h"
 
 namespace bouncecal::calibrate {
 namespace {
 
+using bouncecal::testing::ScratchPath;
+
 std::filesystem::path WriteTemp(const std::string& name, const std::string& content) {
-  const auto path = std::filesystem::temp_directory_path() / ("bouncecal_impact_times_" + name);
+  const auto path = ScratchPath(name);
   std::ofstream(path) << content;
   return path;
 }
@@ -34,7 +37,6 @@ TEST(ReadImpactTimes, CsvWithHeaderUncertaintiesAndTwoSequences) {
   EXPECT_EQ(sequences[1].impacts.size(), 4u);
   EXPECT_DOUBLE_EQ(sequences[1].impacts[0].uncertainty_s,
                    ImpactTimesOptions{}.default_uncertainty_s);
-  std::filesystem::remove(path);
 }
 
 TEST(ReadImpactTimes, AnalyzeJsonTakesUncertaintiesFromTheImpactList) {
@@ -51,7 +53,6 @@ TEST(ReadImpactTimes, AnalyzeJsonTakesUncertaintiesFromTheImpactList) {
   EXPECT_EQ(sequences[0].source, "drop.wav#1");
   ASSERT_EQ(sequences[0].impacts.size(), 3u);
   EXPECT_DOUBLE_EQ(sequences[0].impacts[2].uncertainty_s, 5e-6);
-  std::filesystem::remove(path);
 }
 
 // One recording entry as bouncecal analyze --json writes it, with three impacts starting at t0.
@@ -80,7 +81,6 @@ TEST(ReadImpactTimes, AnalysisFormatOfSeveralRecordingsGivesEverySequenceInOrder
   EXPECT_EQ(sequences[1].source, "b.wav#1");
   EXPECT_DOUBLE_EQ(sequences[1].impacts[0].onset_s, 1.1);
   EXPECT_DOUBLE_EQ(sequences[1].impacts[2].uncertainty_s, 7e-6);
-  std::filesystem::remove(path);
 }
 
 TEST(ReadImpactTimes, TheArrayWrittenBeforeTheFormatFieldIsStillRead) {
@@ -94,7 +94,6 @@ TEST(ReadImpactTimes, TheArrayWrittenBeforeTheFormatFieldIsStillRead) {
   const auto sequences = ReadImpactTimes(path);
   ASSERT_EQ(sequences.size(), 2u);
   EXPECT_EQ(sequences[1].source, "b.wav#1");
-  std::filesystem::remove(path);
 }
 
 TEST(ReadImpactTimes, ALaterAnalysisVersionIsRefusedNamingIt) {
@@ -108,7 +107,6 @@ TEST(ReadImpactTimes, ALaterAnalysisVersionIsRefusedNamingIt) {
     EXPECT_NE(std::string(error.what()).find("bouncecal-analysis/2"), std::string::npos)
         << error.what();
   }
-  std::filesystem::remove(path);
 }
 
 TEST(ReadImpactTimes, AFitResultIsNotTakenForAnalyzeOutput) {
@@ -122,7 +120,6 @@ TEST(ReadImpactTimes, AFitResultIsNotTakenForAnalyzeOutput) {
     EXPECT_NE(std::string(error.what()).find("not analyze output"), std::string::npos)
         << error.what();
   }
-  std::filesystem::remove(path);
 }
 
 TEST(ReadImpactTimes, SynthesizerTruthCsvKeepsOnlyBallImpactsPerDrop) {
@@ -138,7 +135,6 @@ TEST(ReadImpactTimes, SynthesizerTruthCsvKeepsOnlyBallImpactsPerDrop) {
   // impact_speed_mps is not an uncertainty: the default applies.
   EXPECT_DOUBLE_EQ(sequences[0].impacts[0].uncertainty_s,
                    ImpactTimesOptions{}.default_uncertainty_s);
-  std::filesystem::remove(path);
 }
 
 TEST(ReadImpactTimes, MalformedRowNamesTheLine) {
@@ -149,19 +145,16 @@ TEST(ReadImpactTimes, MalformedRowNamesTheLine) {
   } catch (const InputError& error) {
     EXPECT_NE(std::string(error.what()).find("line 3"), std::string::npos) << error.what();
   }
-  std::filesystem::remove(path);
 }
 
 TEST(ReadImpactTimes, TooFewImpactsIsAnInputError) {
   const auto path = WriteTemp("short.csv", "0.1\n0.4\n");
   EXPECT_THROW(ReadImpactTimes(path), InputError);
-  std::filesystem::remove(path);
 }
 
 TEST(ReadImpactTimes, JsonWithoutSequencesIsAnInputError) {
   const auto path = WriteTemp("other.json", R"({"law": "walton-braun"})");
   EXPECT_THROW(ReadImpactTimes(path), InputError);
-  std::filesystem::remove(path);
 }
 
 }  // namespace

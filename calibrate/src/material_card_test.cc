@@ -10,9 +10,12 @@
 #include "bouncecal/calibrate/ball_preset.h"
 #include "bouncecal/dem/contact_law_json.h"
 #include "bouncecal/error.h"
+#include "bouncecal/testing/scratch_folder.h"
 
 namespace bouncecal::calibrate {
 namespace {
+
+using bouncecal::testing::ScratchPath;
 
 MaterialCard ExampleCard() {
   MaterialCard card;
@@ -33,7 +36,7 @@ MaterialCard ExampleCard() {
 }
 
 TEST(MaterialCard, WriteThenReadGivesTheSameCard) {
-  const auto path = std::filesystem::temp_directory_path() / "bouncecal_card_roundtrip.json";
+  const auto path = ScratchPath("card_roundtrip.json");
   WriteMaterialCard(path, ExampleCard());
   const auto card = ReadMaterialCard(path);
   EXPECT_EQ(card.law.kind, dem::ContactLawKind::kWaltonBraun);
@@ -45,7 +48,6 @@ TEST(MaterialCard, WriteThenReadGivesTheSameCard) {
   ASSERT_EQ(card.recordings.size(), 1u);
   EXPECT_EQ(card.recordings[0].content_hash, "fnv1a64:0123456789abcdef");
   EXPECT_EQ(card.created_utc, "2026-11-21T18:00:00Z");
-  std::filesystem::remove(path);
 }
 
 TEST(MaterialCard, JsonHasTheDocumentedKeysAndUnits) {
@@ -126,7 +128,7 @@ TEST(MakeMaterialCard, NeedsTheBallAndListsARecordingGivenTwiceOnce) {
   EXPECT_THROW(CheckCardOptions(options), ConfigError);
   options.ball_given = true;  // drop.ball is the reference
   options.ball_preset = "steel-10mm";
-  const auto path = std::filesystem::temp_directory_path() / "bouncecal_card_recording.csv";
+  const auto path = ScratchPath("card_recording.csv");
   std::ofstream(path) << "onset_s\n0.1\n0.3\n";
   const auto card = MakeMaterialCard(summary, options, {path, path}, 0);
   EXPECT_EQ(card.recordings.size(), 1u);
@@ -134,7 +136,6 @@ TEST(MakeMaterialCard, NeedsTheBallAndListsARecordingGivenTwiceOnce) {
   EXPECT_EQ(card.ball_preset, "steel-10mm");
   EXPECT_FALSE(card.fit.drop_height_m.has_value());
   EXPECT_EQ(ToJson(card)["fit"]["release"], "first-bounce-apex");
-  std::filesystem::remove(path);
 }
 
 // A card states the ball the damping belongs to: its density is the one its mass and size give,

@@ -11,27 +11,22 @@
 
 #include "bouncecal/error.h"
 #include "bouncecal/option_error.h"
+#include "bouncecal/testing/scratch_folder.h"
 
 namespace bouncecal::calibrate {
 namespace {
 
+using bouncecal::testing::ScratchFolder;
+
 class RecordingManifestTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    folder_ = std::filesystem::temp_directory_path() /
-              ("bouncecal_manifest_" +
-               std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    std::filesystem::create_directories(folder_);
-  }
-  void TearDown() override { std::filesystem::remove_all(folder_); }
-
   std::filesystem::path Write(const std::string& name, const std::string& text) {
     const auto path = folder_ / name;
     std::ofstream(path) << text;
     return path;
   }
 
-  std::filesystem::path folder_;
+  const ScratchFolder folder_;
 };
 
 TEST_F(RecordingManifestTest, CsvGivesEachRecordingItsHeightFromTheManifestsFolder) {

@@ -7,35 +7,26 @@
 #include <stdexcept>
 
 #include "bouncecal/error.h"
+#include "bouncecal/testing/file_text.h"
+#include "bouncecal/testing/scratch_folder.h"
 
 namespace bouncecal {
 namespace {
 
-std::filesystem::path FreshDir(const std::string& name) {
-  auto dir = std::filesystem::temp_directory_path() / ("bouncecal_atomic_" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
-
-std::string ReadAll(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
+using bouncecal::testing::ReadFileText;
+using bouncecal::testing::ScratchSubfolder;
 
 TEST(AtomicFile, CommitPutsContentInPlaceAndLeavesNoTemporary) {
-  const auto dir = FreshDir("commit");
+  const auto dir = ScratchSubfolder("commit");
   WriteFileAtomically(dir / "out.json", "{}\n");
-  EXPECT_EQ(ReadAll(dir / "out.json"), "{}\n");
+  EXPECT_EQ(ReadFileText(dir / "out.json"), "{}\n");
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir),
                           std::filesystem::directory_iterator()),
             1);
 }
 
 TEST(AtomicFile, AbandonedWriteLeavesExistingFileUntouched) {
-  const auto dir = FreshDir("abandon");
+  const auto dir = ScratchSubfolder("abandon");
   WriteFileAtomically(dir / "out.json", "old");
   try {
     AtomicFile file(dir / "out.json");
@@ -43,7 +34,7 @@ TEST(AtomicFile, AbandonedWriteLeavesExistingFileUntouched) {
     throw std::runtime_error("simulated failure before commit");
   } catch (const std::runtime_error&) {
   }
-  EXPECT_EQ(ReadAll(dir / "out.json"), "old");
+  EXPECT_EQ(ReadFileText(dir / "out.json"), "old");
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir),
                           std::filesystem::directory_iterator()),
             1);
@@ -54,19 +45,19 @@ TEST(AtomicFile, MissingFolderIsAnOutputError) {
 }
 
 TEST(AtomicPath, CommitRenamesTheTemporaryAndAbandonRemovesIt) {
-  const auto dir = FreshDir("path");
+  const auto dir = ScratchSubfolder("path");
   {
     AtomicPath path(dir / "out.wav");
     EXPECT_EQ(path.temporary_path().parent_path(), dir);
     std::ofstream(path.temporary_path()) << "audio";
     path.Commit();
   }
-  EXPECT_EQ(ReadAll(dir / "out.wav"), "audio");
+  EXPECT_EQ(ReadFileText(dir / "out.wav"), "audio");
   {
     AtomicPath path(dir / "out.wav");
     std::ofstream(path.temporary_path()) << "half";
   }
-  EXPECT_EQ(ReadAll(dir / "out.wav"), "audio");
+  EXPECT_EQ(ReadFileText(dir / "out.wav"), "audio");
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir),
                           std::filesystem::directory_iterator()),
             1);

@@ -1,5 +1,5 @@
 // bouncecal.export and bouncecal.export_check: the LAMMPS / LIGGGHTS decks of a material card
-// (calibrate/export/*) and the check of an engine's run of the single-drop deck.
+// (export/, bouncecal/export/*.h) and the check of an engine's run of the single-drop deck.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -13,13 +13,13 @@
 
 #include "bindings.h"
 #include "bouncecal/atomic_file.h"
-#include "bouncecal/calibrate/export/drop_deck.h"
-#include "bouncecal/calibrate/export/drop_deck_check.h"
-#include "bouncecal/calibrate/export/packing_deck.h"
-#include "bouncecal/calibrate/export/scene_packing.h"
 #include "bouncecal/dem/contact_law_json.h"
 #include "bouncecal/dem/scene.h"
 #include "bouncecal/error.h"
+#include "bouncecal/export/drop_deck.h"
+#include "bouncecal/export/drop_deck_check.h"
+#include "bouncecal/export/packing_deck.h"
+#include "bouncecal/export/scene_packing.h"
 #include "python_values.h"
 
 namespace bouncecal::python {

@@ -1,8 +1,9 @@
 // A program built against the installed bouncecal package (find_package or pkg-config), the way
 // docs/install.md describes. It touches every library: a recording is read and its impacts
 // detected (audio), turned into restitution and energy loss (calibrate), converted to the
-// contact law's damping (dem_model), and a one-particle scene falls freely in the packing
-// engine (dem). tests/consumer/run_consumer_test.sh checks the printed figures.
+// contact law's damping (dem_model), mapped to LAMMPS' spring-dashpot (export), and a
+// one-particle scene falls freely in the packing engine (dem). tests/consumer/run_consumer_test.sh
+// checks the printed figures.
 //
 //   consumer RECORDING DROP_HEIGHT_M
 #include <bouncecal/calibrate/restitution.h>
@@ -11,6 +12,7 @@
 #include <bouncecal/dem/packing.h>
 #include <bouncecal/dem/scene.h>
 #include <bouncecal/error.h>
+#include <bouncecal/export/law_mapping.h>
 #include <bouncecal/version.h>
 
 #include <cstdio>
@@ -74,11 +76,17 @@ int main(int argc, char** argv) {
     const bouncecal::dem::WaltonBraun law({.stiffness_n_per_m = 1e7, .gamma_n = gamma_n});
     const double mass_kg = 7800 * std::numbers::pi * 1e-6 / 6;  // 1 cm steel ball
     const double restitution = law.ClosedFormRestitution(mass_kg, 0.005, 1.0).value();
+    // The engines have no Walton-Braun law: the wall contact of the deck's spring-dashpot keeps
+    // its e (and t_c).
+    const auto mapping = bouncecal::calibrate::MapWaltonBraun(
+        1e7, gamma_n, mass_kg, bouncecal::calibrate::Engine::kLammps);
+    const double export_restitution = bouncecal::calibrate::Restitution(mapping.wall);
     const FreeFall fall = FallInTheEngine();
     std::printf("bouncecal %s\n", std::string(bouncecal::Version()).c_str());
     std::printf("energy_loss_mean_first_3 %.9f\n", eta);
     std::printf("gamma_n %.6f\n", gamma_n);
     std::printf("law_restitution %.9f\n", restitution);
+    std::printf("export_restitution %.9f\n", export_restitution);
     std::printf("free_fall_s %.9f\n", fall.duration_s);
     std::printf("free_fall_speed_mps %.12f\n", fall.speed_mps);
   } catch (const bouncecal::Error& error) {

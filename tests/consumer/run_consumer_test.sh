@@ -26,16 +26,17 @@ prefix="${work}/prefix"
 cmake --install "${build}" --prefix "${prefix}" >"${work}/install.log" ||
   fail "cmake --install (log: ${work}/install.log)"
 
-# What a package holds: the command, five static libraries, public headers, the CMake package,
+# What a package holds: the command, six static libraries, public headers, the CMake package,
 # the pkg-config file and, when built, the Python package (its .py files, its stubs with py.typed
 # and the extension); no tests, benchmarks or internal headers.
 (cd "${prefix}" && find . -type f | sort) >"${work}/installed.txt"
-unexpected="$(grep -v -E '^\./(bin/bouncecal|lib[^/]*(/[^/]+)?/(libbouncecal_(core|audio|dem_model|dem|calibrate)\.a|cmake/bouncecal/bouncecal[A-Za-z-]*\.cmake|pkgconfig/bouncecal\.pc)|include/bouncecal/.*\.h|lib/python3[.0-9]*/site-packages/bouncecal/((__init__|_errors|_frames|_result|_signatures|_summary)\.py|__init__\.pyi|py\.typed)|lib/python3[.0-9]*/site-packages/bouncecal/_bouncecal\.cpython-[^/]*\.so)$' \
+unexpected="$(grep -v -E '^\./(bin/bouncecal|lib[^/]*(/[^/]+)?/(libbouncecal_(core|audio|dem_model|dem|calibrate|export)\.a|cmake/bouncecal/bouncecal[A-Za-z-]*\.cmake|pkgconfig/bouncecal\.pc)|include/bouncecal/.*\.h|lib/python3[.0-9]*/site-packages/bouncecal/((__init__|_errors|_frames|_result|_signatures|_summary)\.py|__init__\.pyi|py\.typed)|lib/python3[.0-9]*/site-packages/bouncecal/_bouncecal\.cpython-[^/]*\.so)$' \
   "${work}/installed.txt" || true)"
 [ -z "${unexpected}" ] || fail "unexpected installed files:
 ${unexpected}"
-[ "$(grep -c '\.a$' "${work}/installed.txt")" -eq 5 ] || fail "not five libraries installed"
-grep -q -E '^\./include/bouncecal/calibrate/fit\.h$' "${work}/installed.txt" ||
+[ "$(grep -c '\.a$' "${work}/installed.txt")" -eq 6 ] || fail "not six libraries installed"
+grep -q -E '^\./include/bouncecal/calibrate/fit\.h$' "${work}/installed.txt" &&
+  grep -q -E '^\./include/bouncecal/export/packing_deck\.h$' "${work}/installed.txt" ||
   fail "public headers missing"
 "${prefix}/bin/bouncecal" --help >/dev/null || fail "the installed bouncecal command does not run"
 
@@ -105,19 +106,22 @@ cat "${work}/out.txt"
 # off on flights of 0.25-0.40 s) move it by less than 1e-3, and 0.005 is the agreement the
 # project asks of a recording and its re-encoded copy. The closed-form restitution of the
 # Walton-Braun law at gamma_n = eta / (2 - eta) must give back e^2 = 1 - eta to the rounding of
-# the nine printed decimals (below 2e-9). A
+# the nine printed decimals (below 2e-9), and so must the spring-dashpot that a LAMMPS deck puts
+# in its place for wall contacts (export keeps e and t_c, docs/export.md). A
 # sphere falling freely for t from rest reaches g t: velocity Verlet is exact for a constant
 # force, so only rounding (1e-9 relative) separates them.
 awk '
   $1 == "energy_loss_mean_first_3" { eta = $2; seen++ }
   $1 == "law_restitution" { e = $2; seen++ }
+  $1 == "export_restitution" { export_e = $2; seen++ }
   $1 == "free_fall_s" { t = $2; seen++ }
   $1 == "free_fall_speed_mps" { v = $2; seen++ }
   function abs(x) { return x < 0 ? -x : x }
   END {
-    if (seen != 4) { print "missing figures"; exit 1 }
+    if (seen != 5) { print "missing figures"; exit 1 }
     if (abs(eta - 0.58) > 0.005) { print "energy loss " eta " is not 0.58 +- 0.005"; exit 1 }
     if (abs(e * e - (1 - eta)) > 1e-8) { print "e^2 = " e * e " is not 1 - eta = " 1 - eta; exit 1 }
+    if (abs(export_e - e) > 2e-9) { print "exported e = " export_e " is not the law e = " e; exit 1 }
     if (t < 0.049 || abs(v - 9.81 * t) > 1e-9 * 9.81 * t) {
       print "free fall: " v " m/s after " t " s, expected " 9.81 * t; exit 1
     }

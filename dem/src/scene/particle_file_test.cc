@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -11,24 +10,19 @@
 #include <vector>
 
 #include "bouncecal/error.h"
+#include "bouncecal/testing/scratch_folder.h"
 #include "scene/insertion.h"
 
 namespace bouncecal::dem::scene {
 namespace {
+
+using bouncecal::testing::ScratchFolder;
 
 namespace fs = std::filesystem;
 
 // Start-positions files written into a folder of their own, removed afterwards.
 class ParticleFile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    folder_ = fs::temp_directory_path() /
-              ("bouncecal_insertion_test_" + std::to_string(::getpid()) + "_" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(folder_);
-  }
-  void TearDown() override { fs::remove_all(folder_); }
-
   fs::path Write(const std::string& name, const std::string& text) const {
     const fs::path path = folder_ / name;
     std::ofstream(path, std::ios::binary) << text;
@@ -70,7 +64,7 @@ class ParticleFile : public ::testing::Test {
     return "";
   }
 
-  fs::path folder_;
+  const ScratchFolder folder_;
 };
 
 bool Mentions(const std::string& message, const std::string& text) {
@@ -213,7 +207,7 @@ TEST_F(ParticleFile, HundredThousandParticleLatticeReads) {
 }
 
 TEST_F(ParticleFile, ADirectoryIsRefusedAsAParticleFile) {
-  const auto message = ErrorOf(folder_, 3);
+  const auto message = ErrorOf(folder_.path(), 3);
   EXPECT_TRUE(Mentions(message, ": is a directory, not a particle file")) << message;
 }
 

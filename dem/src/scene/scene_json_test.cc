@@ -7,9 +7,12 @@
 #include "bouncecal/dem/scene.h"
 #include "bouncecal/dem/scene_templates.h"
 #include "bouncecal/error.h"
+#include "bouncecal/testing/scratch_folder.h"
 
 namespace bouncecal::dem {
 namespace {
+
+using bouncecal::testing::ScratchPath;
 
 nlohmann::json Minimal() {
   return nlohmann::json::parse(R"({
@@ -256,7 +259,7 @@ TEST(SceneJson, MissingFileIsAnInputError) {
 }
 
 TEST(SceneJson, MaterialCardSuppliesTheContactLaw) {
-  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_scene_json_test";
+  const auto dir = ScratchPath("test");
   std::filesystem::create_directories(dir);
   {
     std::ofstream card(dir / "steel.json");
@@ -271,7 +274,6 @@ TEST(SceneJson, MaterialCardSuppliesTheContactLaw) {
   EXPECT_DOUBLE_EQ(scene.material.law.Get("stiffness_n_per_m"), 2e7);
   json["material"]["contact_law"] = {{"law", "walton-braun"}};
   EXPECT_TRUE(Mentions(ErrorOf(json), "exactly one"));
-  std::filesystem::remove_all(dir);
 }
 
 TEST(SceneJson, InsertionRegionMustLieInsideTheCylinder) {
@@ -388,7 +390,7 @@ TEST(SceneJson, InsertionRegionOf2dScenesAndPlanes) {
 }
 
 TEST(SceneJson, ADirectoryIsRefusedAsSceneFileOrMaterialCard) {
-  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_scene_json_dir_test";
+  const auto dir = ScratchPath("dir_test");
   std::filesystem::create_directories(dir / "card.json");
   try {
     LoadScene(dir);
@@ -406,11 +408,10 @@ TEST(SceneJson, ADirectoryIsRefusedAsSceneFileOrMaterialCard) {
     EXPECT_TRUE(Mentions(error.what(), "card.json: is a directory, not a material card"))
         << error.what();
   }
-  std::filesystem::remove_all(dir);
 }
 
 TEST(SceneJson, StartPositionsFileIsCheckedWhenTheSceneLoads) {
-  const auto dir = std::filesystem::temp_directory_path() / "bouncecal_scene_json_file_test";
+  const auto dir = ScratchPath("file_test");
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "start.csv") << "x_m,y_m,z_m,diameter_m\n0,0,0.005,0.01\n0.2,0,0.005,0.01\n";
   auto json = Minimal();
@@ -421,7 +422,6 @@ TEST(SceneJson, StartPositionsFileIsCheckedWhenTheSceneLoads) {
       << message;
   std::ofstream(dir / "start.csv") << "x_m,y_m,z_m,diameter_m\n0,0,0.005,0.01\n0.02,0,0.005,0.01\n";
   EXPECT_EQ(ErrorOf(json, dir / "scene.json"), "");
-  std::filesystem::remove_all(dir);
 }
 
 TEST(SceneJson, ShippedSampleScenesAllLoad) {

@@ -19,7 +19,7 @@ struct ExactImpact {
 };
 
 // How the linear spring-dashpot that LAMMPS and LIGGGHTS both offer stands in for a law, as the
-// law states it through an ExportForm() member (calibrate/src/export reads it). A law without one
+// law states it through an ExportForm() member (export/src reads it). A law without one
 // gets EngineMatchAtSpeed.
 // The law is the engines' spring-dashpot, damping coefficient 2 zeta sqrt(m_eff k): exact.
 struct EngineSpringDashpot {
