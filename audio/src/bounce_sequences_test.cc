@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -515,11 +516,87 @@ TEST(BounceSequences, AScatteringDropHeardOnlyInTheResidualIsOneSequence) {
   EXPECT_EQ(members, times);
 }
 
+// A copper drop with 5 % scatter of e as the chain-coverage bench renders it (its seed 5018,
+// recording 2, detected): three band-detected bounces, then two that the ringing residual alone
+// finds, the file's only residual-only events, 10.2 and 1.1 ms from where the ratios before put
+// them. Under chance the second of them is the nearest of the residual-only events the chain has
+// not taken yet, and there is no other: counting the first as a random event that could land
+// there too doubled the second's chance (0.0144 chance chains, no sequence; now below 0.01).
+TEST(BounceSequences, ADropsLaterBouncesAreNotTheirOwnEvidenceOfChance) {
+  auto impacts = ToImpacts({0.50192, 0.79594, 0.96849, 1.08270, 1.16136});
+  const double levels_dbfs[] = {-8.3, -10.6, -16.4, -18.7, -19.2};
+  for (std::size_t i = 0; i < impacts.size(); ++i) {
+    impacts[i].peak_dbfs = levels_dbfs[i];
+    if (i < 3) continue;
+    impacts[i].residual_only = true;
+    impacts[i].onset_uncertainty_s = 1.8e-3;
+  }
+  const auto result = FindBounceSequences(impacts);
+  ASSERT_EQ(result.sequences.size(), 1u);
+  EXPECT_EQ(result.sequences[0].impact_indices.size(), impacts.size());
+  EXPECT_LT(result.sequences[0].chance_alignment, 0.01);
+  // Four band-detected impacts need no chance test, and say so.
+  const auto band = FindBounceSequences(ToImpacts(Drop(0.5, 0.4, 0.7, 6)));
+  ASSERT_EQ(band.sequences.size(), 1u);
+  EXPECT_TRUE(std::isnan(band.sequences[0].chance_alignment));
+}
+
 // Random events must still almost never make a sequence through the chance test. Each file's
 // accepted chance chains are at most max_chance_alignment = 0.01 in expectation (the chance
 // per chain times the chains tried, doubled for taking the smaller of two tests), so 12 files
 // of 10 minutes expect at most 0.12; allowing one keeps a correct test failing on a given set
 // of seeds with probability < 0.007 (Poisson).
+// Poisson events of both kinds (band-detected, residual-only) in one 10-minute file each, and how
+// many of their chains the chance test admitted (fewer than 4 band-detected impacts, not a short
+// sequence).
+int AdmittedRandomChains(double band_hz, double residual_hz, std::uint64_t seed) {
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> level_dbfs(-40, -10);
+  std::vector<Impact> impacts;
+  const double rate[] = {band_hz, residual_hz};
+  for (int kind = 0; kind < 2; ++kind) {
+    std::exponential_distribution<double> gap_s(rate[kind]);
+    for (double t = gap_s(random); t < 600; t += gap_s(random)) {
+      Impact impact;
+      impact.onset_s = t;
+      impact.residual_only = kind == 1;
+      impact.onset_uncertainty_s = kind == 1 ? 1.8e-3 : 20e-6;
+      impact.peak_dbfs = level_dbfs(random);
+      impacts.push_back(impact);
+    }
+  }
+  std::sort(impacts.begin(), impacts.end(),
+            [](const Impact& a, const Impact& b) { return a.onset_s < b.onset_s; });
+  int admitted = 0;
+  for (const auto& sequence : FindBounceSequences(impacts).sequences) {
+    int band = 0;
+    for (int i : sequence.impact_indices) {
+      band += impacts[static_cast<std::size_t>(i)].residual_only ? 0 : 1;
+    }
+    if (!sequence.short_sequence && band < 4) ++admitted;
+  }
+  return admitted;
+}
+
+// Where band-detected events are sparse (0.5-1 per s, so pairs lie up to 3 s apart) and
+// residual-only ones dense, every first ratio's window holds several candidates and the search
+// tracks each (ChainFinder::Extend): the chains tried are those, not the pairs. Counting only the
+// pairs let 6.3 % of such files (0.5 / 4.5 per s) and 1.7 % (1 / 4) admit a random chain; now
+// 1.6 % and 0 % (sequence_chance_bench, 300-2000 files). Not yet the stated 1 %: the chain's
+// length is itself chance's (it ends where a window is empty), and each length's test holds its
+// level only for that length. These 400 files of each admit 9 chains now and 25 with the pairs
+// alone; at most 16 (2 %) are allowed: at the measured 1.6 % and 0 % (6.4 expected) a count
+// above 16 has probability 3e-4 (Poisson), at the old 8 % of 800 files (32 expected) one at or
+// below 16 has 1e-3.
+TEST(BounceSequences, SparseBandEventsAmongResidualOnlyOnesRarelyPassTheChanceTest) {
+  int admitted = 0;
+  for (int seed = 0; seed < 400; ++seed) {
+    admitted += AdmittedRandomChains(0.5, 4.5, static_cast<std::uint64_t>(11000 + seed));
+    admitted += AdmittedRandomChains(1.0, 4.0, static_cast<std::uint64_t>(12000 + seed));
+  }
+  EXPECT_LE(admitted, 16);
+}
+
 TEST(BounceSequences, RandomEventsRarelyPassTheChanceTest) {
   int admitted = 0;
   const double rates_hz[][2] = {{1, 4}, {4, 16}, {10, 40}};  // band-detected, residual-only

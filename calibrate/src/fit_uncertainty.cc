@@ -190,12 +190,15 @@ double SampleSd(const std::vector<double>& values) {
 ScatterPosterior EveryImpactScatter(const std::vector<SequencePlan>& plans,
                                     const FitOptions& options, const dem::ContactLawConfig& law) {
   const auto impacts = EveryImpactResiduals(plans, options, law);
-  auto with_slope = FitScatterPosterior(impacts, /*with_slope=*/true);
-  if (with_slope.ok && with_slope.dof >= 2 && with_slope.SlopeExcludesZero(kTrendLevel))
-    return with_slope;
-  auto constant = FitScatterPosterior(impacts, /*with_slope=*/false);
-  if (!(constant.dof >= 2)) constant.ok = false;  // one dof leaves tau all but unbounded
-  return constant;
+  // The trend is decided as the adequacy test decides it (stated timing sds); the interval's
+  // posterior then also scales the stated timing sds by what the residuals show
+  // (FitScatterPosterior's scale_timing).
+  const auto with_slope = FitScatterPosterior(impacts, /*with_slope=*/true);
+  const bool trend =
+      with_slope.ok && with_slope.dof >= 2 && with_slope.SlopeExcludesZero(kTrendLevel);
+  auto posterior = FitScatterPosterior(impacts, trend, /*scale_timing=*/true);
+  if (!trend && !(posterior.dof >= 2)) posterior.ok = false;  // one dof leaves tau unbounded
+  return posterior;
 }
 
 // The half-width q of the level interval of a parameter whose error, given tau_w, is Student t
@@ -288,7 +291,8 @@ void SummariseRecordings(const std::vector<SequencePlan>& plans,
     for (size_t j : used) sum += plans[r].measured.energy_loss[j];
     const double n = std::max<double>(1.0, static_cast<double>(used.size()));
     spread.energy_loss_mean = sum / n;
-    const double variance = scatter.within_variance / n + TimingVarianceOfMean(impacts[r]);
+    const double variance = scatter.within_variance / n +
+                            scatter.timing_variance_scale * TimingVarianceOfMean(impacts[r]);
     spread.energy_loss_mean_uncertainty = std::sqrt(variance);
     mean_variance += variance;
     const auto& residual = impacts[r].residual;
@@ -320,24 +324,26 @@ struct ParameterVarianceParts {
 };
 
 struct ParameterVariance {
-  double within = 0, between = 0, total = 0, dof = 0;
+  double within = 0, between = 0, timing = 0, total = 0, dof = 0;
 };
 
 // The variance of the parameter and Satterthwaite's (1946) degrees of freedom of its estimated
 // parts at a per-impact variance tau_w^2 with `within_dof` (0: taken as known). The stated
 // timing and drop-height variances are known.
+// `timing_scale2` multiplies every stated timing variance (the posterior's phi^2, 1 without it).
 ParameterVariance VarianceAt(const ScatterEstimate& scatter, const ParameterVarianceParts& parts,
-                             double within_variance, int within_dof) {
+                             double within_variance, int within_dof, double timing_scale2) {
   ParameterVariance result;
   double between_variance = scatter.between_variance;
   if (scatter.between_dof > 0) {
     between_variance =
         std::max(0.0, scatter.between_mean_square - within_variance * scatter.mean_inverse_count -
-                          scatter.mean_timing_variance);
+                          timing_scale2 * scatter.mean_timing_variance);
   }
   result.within = within_variance * parts.c_w;
   result.between = between_variance * parts.c_b;
-  result.total = parts.timing + result.within + result.between + parts.height;
+  result.timing = timing_scale2 * parts.timing;
+  result.total = result.timing + result.within + result.between + parts.height;
   double denominator = 0;
   if (between_variance > 0) {
     // tau_b^2 = MS_b - mean(1/n) tau_w^2 - timing: the variance is a combination of the two
@@ -371,8 +377,9 @@ HalfWidth IntervalHalfWidth(const ScatterEstimate& scatter, const ParameterVaria
     // dof.
     const auto& posterior = scatter.within_posterior;
     std::vector<double> variance, dofs;
-    for (double tau : posterior.tau) {
-      const auto node = VarianceAt(scatter, parts, tau * tau, 0);
+    for (size_t j = 0; j < posterior.tau.size(); ++j) {
+      const double tau = posterior.tau[j], phi = posterior.timing_scale[j];
+      const auto node = VarianceAt(scatter, parts, tau * tau, 0, phi * phi);
       variance.push_back(node.total);
       dofs.push_back(node.dof);
     }
@@ -400,6 +407,13 @@ std::string DescribeModel(const ScatterEstimate& scatter, const UncertaintySumma
              Format("%.2g", posterior.TauQuantile(0.95)) + ", " +
              std::to_string(scatter.within_dof) +
              " dof, from every measured impact; the interval integrates over it)";
+    if (posterior.timing_scaled) {
+      model += " + onset timing (each onset's stated sigma times " +
+               Format("%.2g", posterior.TimingScaleQuantile(0.5)) + ", 90 % between " +
+               Format("%.2g", posterior.TimingScaleQuantile(0.05)) + " and " +
+               Format("%.2g", posterior.TimingScaleQuantile(0.95)) +
+               ", from the same impacts, integrated over jointly)";
+    }
   } else if (scatter.within_estimable) {
     // The scatter beyond what the onsets' timing explains (ScatterEstimate: the excess, 0 when
     // timing explains all of it), not the raw sd the report prints beside eta-bar.
@@ -409,7 +423,8 @@ std::string DescribeModel(const ScatterEstimate& scatter, const UncertaintySumma
   } else {
     model += "per-impact scatter not estimable (one fitted impact per recording)";
   }
-  model += " + onset timing (each onset's stated sigma)";
+  if (!(scatter.within_from_every_impact && scatter.within_posterior.timing_scaled))
+    model += " + onset timing (each onset's stated sigma)";
   if (plans.size() >= 2) {
     model += " + between-recording spread (sd " + Format("%.2g", summary.between_recording_sd) +
              ", " + std::to_string(scatter.between_dof) + " dof)";
@@ -490,7 +505,8 @@ FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
     const ParameterVarianceParts parts{covariance.within(d, d), covariance.between(d, d),
                                        covariance.timing(d, d),
                                        height_uncertain ? covariance.drop_height(d, d) : 0.0};
-    const auto point = VarianceAt(scatter, parts, scatter.within_variance, scatter.within_dof);
+    const auto point = VarianceAt(scatter, parts, scatter.within_variance, scatter.within_dof,
+                                  scatter.timing_variance_scale);
     const HalfWidth width = IntervalHalfWidth(scatter, parts, point, summary.confidence_level);
     auto& parameter = result.parameters[i];
     const double low = x[i] - width.half, high = x[i] + width.half;
@@ -501,7 +517,7 @@ FitUncertainty EstimateUncertainty(const std::vector<SequencePlan>& plans,
         (map.ranges()[i].log_scale ? value : 1.0) * std::sqrt(std::max(point.total, 0.0));
     if (i == 0) {
       const double share = point.total > 0 ? 1.0 / point.total : 0.0;
-      summary.timing_share = parts.timing * share;
+      summary.timing_share = point.timing * share;
       summary.scatter_share = point.within * share;
       summary.between_share = point.between * share;
       summary.drop_height_share = parts.height * share;

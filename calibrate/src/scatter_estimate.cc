@@ -39,6 +39,10 @@ ScatterEstimate EstimateScatter(const std::vector<ImpactResiduals>& sequences,
     const double median = every_impact->TauQuantile(0.5);
     estimate.within_variance = median * median;
     estimate.within_posterior = *every_impact;
+    if (every_impact->timing_scaled) {
+      const double phi = every_impact->TimingScaleQuantile(0.5);
+      estimate.timing_variance_scale = phi * phi;
+    }
   }
 
   const int count = static_cast<int>(sequences.size());
@@ -52,8 +56,8 @@ ScatterEstimate EstimateScatter(const std::vector<ImpactResiduals>& sequences,
     }
     estimate.mean_inverse_count = inverse_counts / count;
     estimate.mean_timing_variance = timing / count;
-    const double expected =
-        estimate.within_variance * estimate.mean_inverse_count + estimate.mean_timing_variance;
+    const double expected = estimate.within_variance * estimate.mean_inverse_count +
+                            estimate.timing_variance_scale * estimate.mean_timing_variance;
     const double grand = sum / count;
     double spread = 0;
     for (const auto& sequence : sequences) {

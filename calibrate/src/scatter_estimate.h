@@ -33,6 +33,9 @@ struct ScatterEstimate {
   bool within_estimable = false;  // some sequence has two used impacts and dof >= 1
   bool within_from_every_impact = false;
   ScatterPosterior within_posterior;  // ok when within_from_every_impact
+  // The factor on every stated timing variance at the point value: the posterior median of
+  // phi^2 where within_posterior scales the timing (scatter_posterior.h), otherwise 1.
+  double timing_variance_scale = 1;
   double between_variance = 0;
   int between_dof = 0;
   // What between_variance was computed from: the sample variance of the sequences' mean

@@ -71,21 +71,51 @@ double Sum(const std::vector<double>& values) {
   return total;
 }
 
-}  // namespace
-
-double ScatterPosterior::TauQuantile(double p) const {
+// The p-quantile of `values` under `weight` (not necessarily sorted), interpolated in ln value
+// between neighbouring nodes.
+double WeightedQuantile(const std::vector<double>& values, const std::vector<double>& weight,
+                        double p) {
+  if (values.empty()) return 0.0;
+  std::vector<size_t> order(values.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return values[a] < values[b]; });
   double cumulative = 0;
-  for (size_t i = 0; i < tau.size(); ++i) {
+  for (size_t k = 0; k < order.size(); ++k) {
+    const size_t i = order[k];
     const double next = cumulative + weight[i];
     if (next >= p) {
-      if (i == 0) return tau.front();
+      if (k == 0) return values[i];
+      const double previous = values[order[k - 1]];
       const double f = weight[i] > 0 ? (p - cumulative) / weight[i] : 0.0;
-      return std::exp(std::log(tau[i - 1]) + f * (std::log(tau[i]) - std::log(tau[i - 1])));
+      return std::exp(std::log(previous) + f * (std::log(values[i]) - std::log(previous)));
     }
     cumulative = next;
   }
-  return tau.empty() ? 0.0 : tau.back();
+  return values[order.back()];
 }
+
+}  // namespace
+
+double ScatterPosterior::TauQuantile(double p) const { return WeightedQuantile(tau, weight, p); }
+
+double ScatterPosterior::TimingScaleQuantile(double p) const {
+  return WeightedQuantile(timing_scale, weight, p);
+}
+
+namespace {
+
+// The timing scales phi (FitScatterPosterior with scale_timing): log-uniform on [1/8, 4], in
+// steps of a third of an octave.
+constexpr int kTimingScaleNodes = 16;
+// Per timing scale a coarser grid in ln tau: the interval mixes over the whole (tau, phi) grid,
+// and 60 + 80 nodes per slice keep the cost of a fit within 5x of the unscaled posterior's.
+constexpr int kScaledCoarseNodes = 60;
+constexpr int kScaledFineNodes = 80;
+constexpr double kSmallestTimingScale = 0.125;
+constexpr double kLargestTimingScale = 4.0;
+
+}  // namespace
 
 double ScatterPosterior::SlopeAboveZero() const {
   double above = 0;
@@ -115,7 +145,8 @@ bool ScatterPosterior::SlopeExcludesZero(double level) const {
   return 2 * std::min(above, 1 - above) < 1 - level;
 }
 
-ScatterPosterior FitScatterPosterior(const std::vector<AdequacyImpact>& impacts, bool with_slope) {
+ScatterPosterior FitScatterPosterior(const std::vector<AdequacyImpact>& impacts, bool with_slope,
+                                     bool scale_timing) {
   ScatterPosterior posterior;
   posterior.with_slope = with_slope;
   std::map<int, int> columns;
@@ -157,38 +188,56 @@ ScatterPosterior FitScatterPosterior(const std::vector<AdequacyImpact>& impacts,
     posterior.speed_max_mps = std::max(posterior.speed_max_mps, speed);
   }
 
-  // Coarse pass, then the fine grid over the part that carries the posterior.
-  const double low = std::log(kBelowSmallestTiming * std::sqrt(smallest_variance));
-  const double high = std::log(kLargestTau);
-  const auto node = [](double from, double to, int count, int i) {
-    return from + (to - from) * i / (count - 1);
-  };
-  std::vector<double> coarse(kCoarseNodes);
-  double peak = -std::numeric_limits<double>::infinity();
-  for (int i = 0; i < kCoarseNodes; ++i) {
-    coarse[static_cast<size_t>(i)] =
-        Evaluate(design, std::exp(node(low, high, kCoarseNodes, i)), with_slope).log_density;
-    peak = std::max(peak, coarse[static_cast<size_t>(i)]);
-  }
-  if (!std::isfinite(peak)) return posterior;
-  int first = kCoarseNodes - 1, last = 0;
-  for (int i = 0; i < kCoarseNodes; ++i) {
-    if (coarse[static_cast<size_t>(i)] > peak - kLogSpan) {
-      first = std::min(first, i);
-      last = std::max(last, i);
+  // For each timing scale, a coarse pass in ln tau, then the fine grid over the part that carries
+  // the posterior; a node's weight is its density times its slice's spacing in ln tau (phi's
+  // spacing is the same for every slice).
+  posterior.timing_scaled = scale_timing;
+  const int scales = scale_timing ? kTimingScaleNodes : 1;
+  const int coarse_nodes = scale_timing ? kScaledCoarseNodes : kCoarseNodes;
+  const int fine_nodes = scale_timing ? kScaledFineNodes : kFineNodes;
+  std::vector<double> log_density;
+  const Eigen::VectorXd stated_variance = design.timing_variance;
+  for (int j = 0; j < scales; ++j) {
+    const double phi =
+        scale_timing ? std::exp(std::log(kSmallestTimingScale) +
+                                (std::log(kLargestTimingScale) - std::log(kSmallestTimingScale)) *
+                                    j / (kTimingScaleNodes - 1))
+                     : 1.0;
+    design.timing_variance = stated_variance * (phi * phi);
+    const double low = std::log(kBelowSmallestTiming * phi * std::sqrt(smallest_variance));
+    const double high = std::log(kLargestTau);
+    const auto node = [](double from, double to, int count, int i) {
+      return from + (to - from) * i / (count - 1);
+    };
+    std::vector<double> coarse(coarse_nodes);
+    double peak = -std::numeric_limits<double>::infinity();
+    for (int i = 0; i < coarse_nodes; ++i) {
+      coarse[static_cast<size_t>(i)] =
+          Evaluate(design, std::exp(node(low, high, coarse_nodes, i)), with_slope).log_density;
+      peak = std::max(peak, coarse[static_cast<size_t>(i)]);
+    }
+    if (!std::isfinite(peak)) continue;
+    int first = coarse_nodes - 1, last = 0;
+    for (int i = 0; i < coarse_nodes; ++i) {
+      if (coarse[static_cast<size_t>(i)] > peak - kLogSpan) {
+        first = std::min(first, i);
+        last = std::max(last, i);
+      }
+    }
+    const double fine_low = node(low, high, coarse_nodes, std::max(first - 1, 0));
+    const double fine_high = node(low, high, coarse_nodes, std::min(last + 1, coarse_nodes - 1));
+    const double log_spacing = std::log((fine_high - fine_low) / (fine_nodes - 1));
+    for (int i = 0; i < fine_nodes; ++i) {
+      const double tau = std::exp(node(fine_low, fine_high, fine_nodes, i));
+      const AtTau at = Evaluate(design, tau, with_slope);
+      posterior.tau.push_back(tau);
+      posterior.timing_scale.push_back(phi);
+      log_density.push_back(at.log_density + log_spacing);
+      posterior.slope.push_back(at.slope);
+      posterior.slope_variance.push_back(at.slope_variance);
     }
   }
-  const double fine_low = node(low, high, kCoarseNodes, std::max(first - 1, 0));
-  const double fine_high = node(low, high, kCoarseNodes, std::min(last + 1, kCoarseNodes - 1));
-  std::vector<double> log_density;
-  for (int i = 0; i < kFineNodes; ++i) {
-    const double tau = std::exp(node(fine_low, fine_high, kFineNodes, i));
-    const AtTau at = Evaluate(design, tau, with_slope);
-    posterior.tau.push_back(tau);
-    log_density.push_back(at.log_density);
-    posterior.slope.push_back(at.slope);
-    posterior.slope_variance.push_back(at.slope_variance);
-  }
+  if (log_density.empty()) return posterior;
   const double fine_peak = *std::max_element(log_density.begin(), log_density.end());
   if (!std::isfinite(fine_peak)) return posterior;
   for (double value : log_density) posterior.weight.push_back(std::exp(value - fine_peak));

@@ -1,6 +1,7 @@
 #ifndef BOUNCECAL_AUDIO_BOUNCE_SEQUENCES_H_
 #define BOUNCECAL_AUDIO_BOUNCE_SEQUENCES_H_
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -55,6 +56,11 @@ struct BounceSequence {
   // drop) are restitutions. Two or three sounds can time like that by chance, so such a
   // sequence is weak evidence and says so wherever it is reported.
   bool short_sequence = false;
+  // The expected number of chains, among those the search tried in the file, that random events
+  // would line up as well as this one (FindBounceSequences), where the chain needed the chance
+  // test (fewer than min_impacts band-detected impacts, or passing over a louder sound); NaN
+  // where it did not.
+  double chance_alignment = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct RejectedEvent {
@@ -78,13 +84,15 @@ struct SequenceResult {
 // rolling, noise), each with a reason. A chain counts when min_impacts of its impacts rose in
 // a band, or when it starts with two that did and its timing passes max_chance_alignment:
 // impact k >= 4 lands |t_k - t_pred| from t_pred = t_{k-1} + r dt_{k-1} (r that mean), which a
-// random event of its kind (band or residual-only, at the rate the file has them) beats with
-// probability p_k = 1 - exp(-2 rate |t_k - t_pred|) whatever its timing precision. Two
+// random event of its kind (band or residual-only, at the rate of the file's events of that kind
+// the chain has not taken before impact k) beats with probability
+// p_k = 1 - exp(-2 rate |t_k - t_pred|) whatever its timing precision. Two
 // statistics combine them: Fisher's -sum ln p_k (a Gamma(m, 1) tail for random events), and
 // q = sum (|t_k - t_pred| / w_k)^2 with w_k the flight scaled for the ratio's prediction error,
 // which a ball whose e scatters keeps small whatever the scatter (its chance for random events is
 // bounded by prod(2 rate w_k) times the volume of the m-ball of radius sqrt(q) over 2^m). Twice the
-// smaller chance (one chance alone for m = 1), times the number of chains tried, must stay below
+// smaller chance (one chance alone for m = 1), times the number of chains tried (pairs of
+// band-detected impacts times the third impacts the first ratio's window offers), must stay below
 // max_chance_alignment. Deterministic. Throws ConfigError for bad options.
 SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
                                    const SequenceOptions& options = {});
