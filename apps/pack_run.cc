@@ -10,6 +10,7 @@
 
 #include "bouncecal/atomic_file.h"
 #include "bouncecal/dem/pack_projection.h"
+#include "bouncecal/dem/packing_json.h"
 #include "bouncecal/dem/scene.h"
 #include "bouncecal/error.h"
 #include "option_names.h"
