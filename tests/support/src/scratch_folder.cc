@@ -83,7 +83,9 @@ std::filesystem::path ScratchPath(std::string_view name) {
   // first call (not constant-initialised), so it goes before gtest's UnitTest, which it asks
   // whether its test failed.
   struct Current {
-    Current() {}
+    // Statics die in the reverse order of their construction: the registry of live folders must
+    // be made first, so that it is still there when this one's folder is removed at exit.
+    Current() { Live(); }
     std::unique_ptr<ScratchFolder> folder;
     const ::testing::TestInfo* owner = nullptr;
   };
