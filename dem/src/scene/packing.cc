@@ -6,8 +6,10 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bouncecal/dem/pack_projection.h"
@@ -300,9 +302,23 @@ std::uint64_t StateDigest(const scene::ParticleState<Dim>& state) {
   return scene::Fnv1a(out.bytes());
 }
 
-template <int Dim>
-PackSummary Run(const Scene& scene, const PackOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+// The cadences of a run, in steps; `never` where a thing does not happen.
+struct StepCadence {
+  static constexpr std::int64_t never = std::numeric_limits<std::int64_t>::max();
+  std::int64_t total = 0;
+  std::int64_t history = never;
+  std::int64_t snapshot = never;
+  std::int64_t batch = never;
+  std::int64_t progress = never;
+  std::int64_t checkpoint = never;
+};
+
+std::int64_t NextMultiple(std::int64_t step, std::int64_t every) {
+  if (every == StepCadence::never) return every;
+  return (step / every + 1) * every;
+}
+
+void CheckProfileBins(const Scene& scene) {
   const double container_height_m = ContainerTopM(scene) - ContainerFloorM(scene);
   if (scene.measurement.profile_bin_m > 0 && std::isfinite(container_height_m) &&
       container_height_m / scene.measurement.profile_bin_m > kMaxProfileBins) {
@@ -312,6 +328,9 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
         scene.source.string(), scene.measurement.profile_bin_m, container_height_m,
         kMaxProfileBins));
   }
+}
+
+scene::EngineSettings EngineSettingsFor(const Scene& scene, const PackOptions& options) {
   const auto& m = scene.material;
   scene::EngineSettings settings;
   settings.time_step_s = scene.time_step_s;
@@ -330,247 +349,328 @@ PackSummary Run(const Scene& scene, const PackOptions& options) {
   settings.skin_rebuild_steps = options.skin_rebuild_steps;
   settings.brute_force_pairs = options.brute_force_pairs;
   settings.threads = options.threads;
-  auto engine = scene::MakeEngine<Dim>(settings, scene::ContainerWalls<Dim>(scene.container), m.law,
-                                       scene.physics);
+  return settings;
+}
 
-  scene::SceneRandom random(scene.insertion.seed);
-  std::vector<scene::NewParticle> pending;
-  if (scene.insertion.kind == InsertionKind::kFile) {
-    std::vector<scene::NewParticle> start;
-    if (scene.insertion.start_particles.empty()) {
-      start = scene::ReadParticleFile(scene.insertion.file, Dim);
-    } else {
-      for (const auto& p : scene.insertion.start_particles) {
-        start.push_back({p.position_m, p.radius_m, p.species});
-      }
-    }
-    Insert(*engine, scene, start);
-  } else {
-    pending = scene::DrawParticles(scene, random);
-    const auto placed = scene::PlaceInRegion(scene, pending, {}, random);
-    if (scene.insertion.kind == InsertionKind::kRandom && placed.size() < pending.size()) {
-      throw ConfigError(fmt::format(
-          "{}: insertion.region holds only {} of the {} particles without overlap after {} "
-          "attempts; enlarge the region or raise insertion.max_attempts",
-          scene.source.string(), placed.size(), pending.size(), scene.insertion.max_attempts));
-    }
-    Insert(*engine, scene, placed);
-    pending.erase(pending.begin(), pending.begin() + static_cast<std::ptrdiff_t>(placed.size()));
-  }
+// One packing run: the engine and what the stepping carries from block to block (the particles
+// still to pour, the random stream that places them, the energy budget, the summary so far).
+// The set-up's checks run in the constructor, in the order a user meets them: the measurement,
+// the start, van der Waals overlaps, the time step.
+template <int Dim>
+class PackingRun {
+ public:
+  PackingRun(const Scene& scene, const PackOptions& options);
+  PackSummary Run() &&;
 
-  const double dt = scene.time_step_s;
-  const scene::BodyExtremes bodies = Extremes(*engine, scene, pending);
-  if (const auto problem = scene::VanDerWaalsOverlapProblem(scene, bodies)) {
-    throw ConfigError(scene.source.string() + ": " + *problem);
-  }
-  PackSummary summary;
-  const scene::TimeStepLimits limits = scene::CheckTimeStep(
-      scene, bodies, options.allow_unstable_step, summary.warnings, summary.notes);
-  const scene::TimeStepLimit& limit = limits.normal;
-  scene::EnergyBudget budget(scene, *engine,
-                             engine->state().size() + static_cast<std::int64_t>(pending.size()));
+ private:
+  void PlaceStart();
+  void ScheduleSteps();
+  std::uint64_t Fingerprint() const;
+  void Resume();
+  void SaveCheckpoint() const;
+  std::optional<std::string> Instability() const;
+  void PourBatch();
+  void Record(std::int64_t step);
+  void Measure();
+
+  const Scene& scene_;
+  const PackOptions& options_;
+  const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  const double dt_;
+  const double duration_s_;
+  scene::EngineSettings settings_;
+  std::unique_ptr<scene::EngineBase<Dim>> engine_;
+  scene::SceneRandom random_;
+  std::vector<scene::NewParticle> pending_;
+  PackSummary summary_;
+  scene::TimeStepLimits limits_;
+  std::optional<scene::EnergyBudget> budget_;
   // A particle that moves half its radius in one step overlaps whatever it meets by that much
   // before any force acts: no contact is resolved any more, energy is created, particles pass
   // through walls. Stop there rather than run on to absurd (finite) numbers.
-  const double runaway_speed_mps = 0.5 * SmallestRadiusM(*engine, pending) / dt;
-  const double duration = options.duration_s.value_or(scene.duration_s);
-  const std::int64_t total_steps = std::llround(duration / dt);
-  const std::int64_t history_every = StepsFor(scene.measurement.history_interval_s, dt);
-  const std::int64_t snapshot_every = StepsFor(scene.outputs.snapshot_interval_s, dt);
-  const std::int64_t batch_every = scene.insertion.kind == InsertionKind::kPour
-                                       ? StepsFor(scene.insertion.batch_interval_s, dt)
-                                       : std::numeric_limits<std::int64_t>::max();
-  const std::int64_t progress_every = options.progress_every_steps;
+  double runaway_speed_mps_ = 0;
+  StepCadence cadence_;
+  std::uint64_t fingerprint_ = 0;
+  double earlier_wall_s_ = 0;  // of the runs before the checkpoint this one resumes
+};
 
-  summary.physics = DescribePhysics(scene);
-  summary.time_step_s = dt;
-  summary.time_step_limit_s = limit.limit_s;
-  summary.tangential_time_step_limit_s = limits.tangential.limit_s;
-  summary.threads = options.threads;
-  summary.history.push_back(Sample(Snapshot(*engine), scene, engine->KineticEnergyJ()));
-  const std::uint64_t fingerprint =
-      SetupFingerprint(scene, settings, *engine, pending, random,
-                       {history_every, snapshot_every, batch_every, progress_every});
-  double earlier_wall_s = 0;  // of the runs before the checkpoint this one resumes
-  auto save_checkpoint = [&] {
-    if (!options.checkpoint) return;
-    scene::ByteWriter payload;
-    engine->SaveCheckpoint(payload);
-    payload.Put(random.state());
-    payload.Put(budget.joules());
-    PutParticles(payload, pending);
-    payload.PutVector(summary.history);
-    // The wall time of the runs that led to this state, so that a resumed run reports the total.
-    payload.Put(earlier_wall_s + SecondsSince(start));
-    scene::PackCheckpointFrame frame;
-    frame.dimension = Dim;
-    frame.fingerprint = fingerprint;
-    frame.step = engine->steps();
-    frame.time_s = engine->time_s();
-    frame.payload = payload.bytes();
-    options.checkpoint(scene::WritePackCheckpointFrame(frame), engine->time_s());
-  };
-  if (options.resume_checkpoint) {
-    const std::string& name = options.resume_name;
-    const auto frame = scene::ReadPackCheckpointFrame(*options.resume_checkpoint, name);
-    if (frame.dimension != Dim || frame.fingerprint != fingerprint) {
-      throw InputError(fmt::format(
-          "{}: was written for another scene or other options (its set-up fingerprint {:016x} "
-          "is not this run's {:016x}: scene file, material, seed, start file, "
-          "`skin_diameters`, `min_skin_diameters`); resume with the scene and options it was "
-          "written with",
-          name, frame.fingerprint, fingerprint));
-    }
-    if (frame.step > total_steps) {
-      throw ConfigError(fmt::format(
-          "{}: holds t = {:.6g} s, beyond the run's duration of {:.6g} s; set `duration_s` to "
-          "at least {:.6g} s",
-          name, frame.time_s, duration, frame.time_s));
-    }
-    scene::ByteReader in(frame.payload, name);
-    engine->RestoreCheckpoint(in);
-    random = scene::SceneRandom(in.Get<std::uint64_t>());
-    budget.RestoreJoules(in.Get<double>());
-    pending = GetParticles(in);
-    summary.history = in.GetVector<HistoryPoint>();
-    earlier_wall_s = in.Get<double>();
-    if (in.left() != 0 || engine->steps() != frame.step) {
-      in.Fail("its payload does not match its header");
-    }
+template <int Dim>
+PackingRun<Dim>::PackingRun(const Scene& scene, const PackOptions& options)
+    : scene_(scene),
+      options_(options),
+      dt_(scene.time_step_s),
+      duration_s_(options.duration_s.value_or(scene.duration_s)),
+      random_(scene.insertion.seed) {
+  CheckProfileBins(scene_);
+  settings_ = EngineSettingsFor(scene_, options_);
+  engine_ = scene::MakeEngine<Dim>(settings_, scene::ContainerWalls<Dim>(scene_.container),
+                                   scene_.material.law, scene_.physics);
+  PlaceStart();
+  const scene::BodyExtremes bodies = Extremes(*engine_, scene_, pending_);
+  if (const auto problem = scene::VanDerWaalsOverlapProblem(scene_, bodies)) {
+    throw ConfigError(scene_.source.string() + ": " + *problem);
   }
-  if (options.started) options.started();
-  if (!options.resume_checkpoint && options.snapshot &&
-      snapshot_every != std::numeric_limits<std::int64_t>::max()) {
-    options.snapshot(Snapshot(*engine));
+  limits_ = scene::CheckTimeStep(scene_, bodies, options_.allow_unstable_step, summary_.warnings,
+                                 summary_.notes);
+  budget_.emplace(scene_, *engine_,
+                  engine_->state().size() + static_cast<std::int64_t>(pending_.size()));
+  runaway_speed_mps_ = 0.5 * SmallestRadiusM(*engine_, pending_) / dt_;
+  ScheduleSteps();
+  summary_.physics = DescribePhysics(scene_);
+  summary_.time_step_s = dt_;
+  summary_.time_step_limit_s = limits_.normal.limit_s;
+  summary_.tangential_time_step_limit_s = limits_.tangential.limit_s;
+  summary_.threads = options_.threads;
+  summary_.history.push_back(Sample(Snapshot(*engine_), scene_, engine_->KineticEnergyJ()));
+  fingerprint_ = Fingerprint();
+}
+
+// A file's particles, or as many drawn particles as the region holds now; the rest wait in
+// `pending_` for the pour's batches.
+template <int Dim>
+void PackingRun<Dim>::PlaceStart() {
+  if (scene_.insertion.kind == InsertionKind::kFile) {
+    std::vector<scene::NewParticle> start;
+    if (scene_.insertion.start_particles.empty()) {
+      start = scene::ReadParticleFile(scene_.insertion.file, Dim);
+    } else {
+      for (const auto& p : scene_.insertion.start_particles) {
+        start.push_back({p.position_m, p.radius_m, p.species});
+      }
+    }
+    Insert(*engine_, scene_, start);
+    return;
+  }
+  pending_ = scene::DrawParticles(scene_, random_);
+  const auto placed = scene::PlaceInRegion(scene_, pending_, {}, random_);
+  if (scene_.insertion.kind == InsertionKind::kRandom && placed.size() < pending_.size()) {
+    throw ConfigError(fmt::format(
+        "{}: insertion.region holds only {} of the {} particles without overlap after {} "
+        "attempts; enlarge the region or raise insertion.max_attempts",
+        scene_.source.string(), placed.size(), pending_.size(), scene_.insertion.max_attempts));
+  }
+  Insert(*engine_, scene_, placed);
+  pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(placed.size()));
+}
+
+template <int Dim>
+void PackingRun<Dim>::ScheduleSteps() {
+  cadence_.total = std::llround(duration_s_ / dt_);
+  cadence_.history = StepsFor(scene_.measurement.history_interval_s, dt_);
+  cadence_.snapshot = StepsFor(scene_.outputs.snapshot_interval_s, dt_);
+  if (scene_.insertion.kind == InsertionKind::kPour) {
+    cadence_.batch = StepsFor(scene_.insertion.batch_interval_s, dt_);
+  }
+  cadence_.progress = options_.progress_every_steps;
+  if (options_.checkpoint) cadence_.checkpoint = StepsFor(options_.checkpoint_every_s, dt_);
+}
+
+template <int Dim>
+std::uint64_t PackingRun<Dim>::Fingerprint() const {
+  return SetupFingerprint(scene_, settings_, *engine_, pending_, random_,
+                          {cadence_.history, cadence_.snapshot, cadence_.batch, cadence_.progress});
+}
+
+template <int Dim>
+void PackingRun<Dim>::SaveCheckpoint() const {
+  if (!options_.checkpoint) return;
+  scene::ByteWriter payload;
+  engine_->SaveCheckpoint(payload);
+  payload.Put(random_.state());
+  payload.Put(budget_->joules());
+  PutParticles(payload, pending_);
+  payload.PutVector(summary_.history);
+  // The wall time of the runs that led to this state, so that a resumed run reports the total.
+  payload.Put(earlier_wall_s_ + SecondsSince(start_));
+  scene::PackCheckpointFrame frame;
+  frame.dimension = Dim;
+  frame.fingerprint = fingerprint_;
+  frame.step = engine_->steps();
+  frame.time_s = engine_->time_s();
+  frame.payload = payload.bytes();
+  options_.checkpoint(scene::WritePackCheckpointFrame(frame), engine_->time_s());
+}
+
+template <int Dim>
+void PackingRun<Dim>::Resume() {
+  const std::string& name = options_.resume_name;
+  const auto frame = scene::ReadPackCheckpointFrame(*options_.resume_checkpoint, name);
+  if (frame.dimension != Dim || frame.fingerprint != fingerprint_) {
+    throw InputError(fmt::format(
+        "{}: was written for another scene or other options (its set-up fingerprint {:016x} "
+        "is not this run's {:016x}: scene file, material, seed, start file, "
+        "`skin_diameters`, `min_skin_diameters`); resume with the scene and options it was "
+        "written with",
+        name, frame.fingerprint, fingerprint_));
+  }
+  if (frame.step > cadence_.total) {
+    throw ConfigError(fmt::format(
+        "{}: holds t = {:.6g} s, beyond the run's duration of {:.6g} s; set `duration_s` to "
+        "at least {:.6g} s",
+        name, frame.time_s, duration_s_, frame.time_s));
+  }
+  scene::ByteReader in(frame.payload, name);
+  engine_->RestoreCheckpoint(in);
+  random_ = scene::SceneRandom(in.Get<std::uint64_t>());
+  budget_->RestoreJoules(in.Get<double>());
+  pending_ = GetParticles(in);
+  summary_.history = in.GetVector<HistoryPoint>();
+  earlier_wall_s_ = in.Get<double>();
+  if (in.left() != 0 || engine_->steps() != frame.step) {
+    in.Fail("its payload does not match its header");
+  }
+}
+
+// Why the run cannot go on, if it cannot: a state that is no longer finite, a particle crossing
+// half its radius per step, or kinetic energy the particles never brought in.
+template <int Dim>
+std::optional<std::string> PackingRun<Dim>::Instability() const {
+  if (engine_->HasNonFiniteState()) {
+    return fmt::format(
+        "the run became unstable at t = {:.6g} s (a position or velocity is not finite); "
+        "use a smaller time_step_s than {:.3g} s",
+        engine_->time_s(), dt_);
+  }
+  const double limit_s = limits_.normal.limit_s;
+  if (const double speed = MaxSpeedMps(engine_->state()); speed > runaway_speed_mps_) {
+    return fmt::format(
+        "the run became unstable at t = {:.6g} s: a particle reached {:.3g} m/s and moves more "
+        "than half its radius per step; use a smaller time_step_s than {:.3g} s (the stability "
+        "limit of one contact is {:.3g} s)",
+        engine_->time_s(), speed, dt_, limit_s);
+  }
+  if (const double kinetic = engine_->KineticEnergyJ();
+      budget_->bounded() &&
+      kinetic > kEnergyBudgetFactor * budget_->joules() + std::numeric_limits<double>::min()) {
+    return fmt::format(
+        "the run became unstable at t = {:.6g} s: the particles hold {:.3g} J of kinetic energy, "
+        "more than {:.0f} times the {:.3g} J they brought in (fall to the floor, launch, start "
+        "overlaps, van der Waals), so the integrator is making energy; use a smaller "
+        "time_step_s than {:.3g} s (several contacts stiffen a particle beyond the {:.3g} s "
+        "limit of one)",
+        engine_->time_s(), kinetic, kEnergyBudgetFactor, budget_->joules(), dt_, limit_s);
+  }
+  return std::nullopt;
+}
+
+template <int Dim>
+void PackingRun<Dim>::PourBatch() {
+  const auto placed = scene::PlaceInRegion(scene_, pending_, Existing(*engine_), random_);
+  const std::int32_t first_new = engine_->state().size();
+  Insert(*engine_, scene_, placed);
+  budget_->AddInserted(*engine_, first_new);
+  pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(placed.size()));
+}
+
+// The history point and the snapshot due at `step`.
+template <int Dim>
+void PackingRun<Dim>::Record(std::int64_t step) {
+  if (step % cadence_.history == 0 || step == cadence_.total) {
+    summary_.history.push_back(Sample(Snapshot(*engine_), scene_, engine_->KineticEnergyJ()));
+  }
+  if (options_.snapshot && (step % cadence_.snapshot == 0 ||
+                            (step == cadence_.total && cadence_.snapshot != StepCadence::never))) {
+    options_.snapshot(Snapshot(*engine_));
+  }
+}
+
+template <int Dim>
+PackSummary PackingRun<Dim>::Run() && {
+  if (options_.resume_checkpoint) Resume();
+  if (options_.started) options_.started();
+  if (!options_.resume_checkpoint && options_.snapshot && cadence_.snapshot != StepCadence::never) {
+    options_.snapshot(Snapshot(*engine_));
   }
   std::int64_t particle_steps = 0;
-  auto next_multiple = [](std::int64_t step, std::int64_t every) {
-    if (every == std::numeric_limits<std::int64_t>::max()) return every;
-    return (step / every + 1) * every;
-  };
-  std::int64_t step = engine->steps();
-  const std::int64_t checkpoint_every = options.checkpoint
-                                            ? StepsFor(options.checkpoint_every_s, dt)
-                                            : std::numeric_limits<std::int64_t>::max();
-  std::int64_t next_checkpoint = next_multiple(step, checkpoint_every);
-  WallTimeProjection projection(engine->state().size() + static_cast<std::int64_t>(pending.size()),
-                                total_steps, options.threads, step, SecondsSince(start));
-  while (step < total_steps) {
-    const std::int64_t target = std::min(
-        {total_steps, next_multiple(step, history_every), next_multiple(step, snapshot_every),
-         next_multiple(step, batch_every), next_multiple(step, progress_every)});
+  std::int64_t step = engine_->steps();
+  std::int64_t next_checkpoint = NextMultiple(step, cadence_.checkpoint);
+  WallTimeProjection projection(
+      engine_->state().size() + static_cast<std::int64_t>(pending_.size()), cadence_.total,
+      options_.threads, step, SecondsSince(start_));
+  while (step < cadence_.total) {
+    const std::int64_t target =
+        std::min({cadence_.total, NextMultiple(step, cadence_.history),
+                  NextMultiple(step, cadence_.snapshot), NextMultiple(step, cadence_.batch),
+                  NextMultiple(step, cadence_.progress)});
     // A stop request ends the block at the step it arrives in (AdvanceUntil); the checkpoint
     // below then holds the pending kick that keeps a resumed run bit-identical.
-    const std::int64_t taken = engine->AdvanceUntil(target - step, options.stop_requested);
-    particle_steps += taken * engine->state().size();
+    const std::int64_t taken = engine_->AdvanceUntil(target - step, options_.stop_requested);
+    particle_steps += taken * engine_->state().size();
     step += taken;
-    if (engine->HasNonFiniteState()) {
-      summary.stop_reason = PackStopReason::kUnstable;
-      summary.message = fmt::format(
-          "the run became unstable at t = {:.6g} s (a position or velocity is not finite); "
-          "use a smaller time_step_s than {:.3g} s",
-          engine->time_s(), dt);
+    if (auto unstable = Instability()) {
+      summary_.stop_reason = PackStopReason::kUnstable;
+      summary_.message = std::move(*unstable);
       break;
     }
-    if (const double speed = MaxSpeedMps(engine->state()); speed > runaway_speed_mps) {
-      summary.stop_reason = PackStopReason::kUnstable;
-      summary.message = fmt::format(
-          "the run became unstable at t = {:.6g} s: a particle reached {:.3g} m/s and moves more "
-          "than half its radius per step; use a smaller time_step_s than {:.3g} s (the stability "
-          "limit of one contact is {:.3g} s)",
-          engine->time_s(), speed, dt, limit.limit_s);
+    if (step % cadence_.batch == 0 && !pending_.empty()) PourBatch();
+    Record(step);
+    if (options_.progress) {
+      const double wall = SecondsSince(start_);
+      options_.progress(PackProgress{engine_->time_s(), duration_s_, step, engine_->state().size(),
+                                     wall, projection.Update(step, engine_->state().size(), wall)});
+    }
+    if (step < cadence_.total && options_.stop_requested && options_.stop_requested()) {
+      SaveCheckpoint();
+      summary_.stop_reason = PackStopReason::kInterrupted;
       break;
     }
-    if (const double kinetic = engine->KineticEnergyJ();
-        budget.bounded() &&
-        kinetic > kEnergyBudgetFactor * budget.joules() + std::numeric_limits<double>::min()) {
-      summary.stop_reason = PackStopReason::kUnstable;
-      summary.message = fmt::format(
-          "the run became unstable at t = {:.6g} s: the particles hold {:.3g} J of kinetic energy, "
-          "more than {:.0f} times the {:.3g} J they brought in (fall to the floor, launch, start "
-          "overlaps, van der Waals), so the integrator is making energy; use a smaller "
-          "time_step_s than {:.3g} s (several contacts stiffen a particle beyond the {:.3g} s "
-          "limit of one)",
-          engine->time_s(), kinetic, kEnergyBudgetFactor, budget.joules(), dt, limit.limit_s);
-      break;
-    }
-    if (step % batch_every == 0 && !pending.empty()) {
-      const auto placed = scene::PlaceInRegion(scene, pending, Existing(*engine), random);
-      const std::int32_t first_new = engine->state().size();
-      Insert(*engine, scene, placed);
-      budget.AddInserted(*engine, first_new);
-      pending.erase(pending.begin(), pending.begin() + static_cast<std::ptrdiff_t>(placed.size()));
-    }
-    if (step % history_every == 0 || step == total_steps) {
-      summary.history.push_back(Sample(Snapshot(*engine), scene, engine->KineticEnergyJ()));
-    }
-    if (options.snapshot &&
-        (step % snapshot_every == 0 ||
-         (step == total_steps && snapshot_every != std::numeric_limits<std::int64_t>::max()))) {
-      options.snapshot(Snapshot(*engine));
-    }
-    if (options.progress) {
-      const double wall = SecondsSince(start);
-      options.progress(PackProgress{engine->time_s(), duration, step, engine->state().size(), wall,
-                                    projection.Update(step, engine->state().size(), wall)});
-    }
-    if (step < total_steps && options.stop_requested && options.stop_requested()) {
-      save_checkpoint();
-      summary.stop_reason = PackStopReason::kInterrupted;
-      break;
-    }
-    if (step < total_steps && step >= next_checkpoint) {
-      save_checkpoint();
-      next_checkpoint = next_multiple(step, checkpoint_every);
+    if (step < cadence_.total && step >= next_checkpoint) {
+      SaveCheckpoint();
+      next_checkpoint = NextMultiple(step, cadence_.checkpoint);
     }
   }
+  Measure();
+  summary_.wall_s = SecondsSince(start_);
+  summary_.total_wall_s = earlier_wall_s_ + summary_.wall_s;
+  summary_.particle_steps_per_s =
+      summary_.wall_s > 0 ? static_cast<double>(particle_steps) / summary_.wall_s : 0.0;
+  return std::move(summary_);
+}
 
-  summary.final_state = Snapshot(*engine);
-  summary.particles = engine->state().size();
-  summary.particles_not_inserted = static_cast<std::int64_t>(pending.size());
-  summary.steps = engine->steps();
-  summary.neighbor_rebuilds = engine->rebuilds();
-  summary.simulated_s = engine->time_s();
-  summary.kinetic_energy_j = engine->KineticEnergyJ();
-  summary.state_digest = StateDigest(engine->state());
-  if (summary.stop_reason != PackStopReason::kUnstable) {
-    summary.packing_density = PackingDensity(summary.final_state, scene);
-    summary.packing_density_by_count = CentreCountDensity(summary.final_state, scene);
-    summary.coordination = Coordination(summary.final_state, scene);
-    const double bin = scene.measurement.profile_bin_m > 0
-                           ? scene.measurement.profile_bin_m
-                           : 0.25 * scene.particles.diameter.MaxDiameterM();
-    summary.profile = DensityProfileVsHeight(summary.final_state, scene, bin);
-    summary.message =
-        fmt::format("ran {} steps to t = {:.6g} s", summary.steps, summary.simulated_s);
-    if (summary.particles_not_inserted > 0) {
-      summary.message += fmt::format("; {} particles never fit in the pour region",
-                                     summary.particles_not_inserted);
-    }
-    if (summary.stop_reason == PackStopReason::kInterrupted) {
-      summary.message = fmt::format(
-          "interrupted after {} steps at t = {:.6g} s of {:.6g} s; the measures describe that "
-          "moment",
-          summary.steps, summary.simulated_s, duration);
-    } else if (auto unsettled = scene::NotAtRest(summary.history)) {
-      summary.warnings.push_back(*unsettled);
-      summary.boiling = scene::Boiling(summary.history);
-      // The summary's one sentence says why the run failed, not only how far it ran.
-      if (summary.boiling) summary.message = scene::BoilingMessage(summary.history, dt);
-    }
+// The final state and its measures (none of an unstable run's), and the summary's sentence.
+template <int Dim>
+void PackingRun<Dim>::Measure() {
+  summary_.final_state = Snapshot(*engine_);
+  summary_.particles = engine_->state().size();
+  summary_.particles_not_inserted = static_cast<std::int64_t>(pending_.size());
+  summary_.steps = engine_->steps();
+  summary_.neighbor_rebuilds = engine_->rebuilds();
+  summary_.simulated_s = engine_->time_s();
+  summary_.kinetic_energy_j = engine_->KineticEnergyJ();
+  summary_.state_digest = StateDigest(engine_->state());
+  if (summary_.stop_reason == PackStopReason::kUnstable) return;
+  summary_.packing_density = PackingDensity(summary_.final_state, scene_);
+  summary_.packing_density_by_count = CentreCountDensity(summary_.final_state, scene_);
+  summary_.coordination = Coordination(summary_.final_state, scene_);
+  const double bin = scene_.measurement.profile_bin_m > 0
+                         ? scene_.measurement.profile_bin_m
+                         : 0.25 * scene_.particles.diameter.MaxDiameterM();
+  summary_.profile = DensityProfileVsHeight(summary_.final_state, scene_, bin);
+  summary_.message =
+      fmt::format("ran {} steps to t = {:.6g} s", summary_.steps, summary_.simulated_s);
+  if (summary_.particles_not_inserted > 0) {
+    summary_.message +=
+        fmt::format("; {} particles never fit in the pour region", summary_.particles_not_inserted);
   }
-  summary.wall_s = SecondsSince(start);
-  summary.total_wall_s = earlier_wall_s + summary.wall_s;
-  summary.particle_steps_per_s =
-      summary.wall_s > 0 ? static_cast<double>(particle_steps) / summary.wall_s : 0.0;
-  return summary;
+  if (summary_.stop_reason == PackStopReason::kInterrupted) {
+    summary_.message = fmt::format(
+        "interrupted after {} steps at t = {:.6g} s of {:.6g} s; the measures describe that "
+        "moment",
+        summary_.steps, summary_.simulated_s, duration_s_);
+  } else if (auto unsettled = scene::NotAtRest(summary_.history)) {
+    summary_.warnings.push_back(*unsettled);
+    summary_.boiling = scene::Boiling(summary_.history);
+    // The summary's one sentence says why the run failed, not only how far it ran.
+    if (summary_.boiling) summary_.message = scene::BoilingMessage(summary_.history, dt_);
+  }
 }
 
 }  // namespace
 
 PackSummary RunPacking(const Scene& scene, const PackOptions& options) {
   options.Validate();
-  return scene.dimension == 2 ? Run<2>(scene, options) : Run<3>(scene, options);
+  return scene.dimension == 2 ? PackingRun<2>(scene, options).Run()
+                              : PackingRun<3>(scene, options).Run();
 }
 
 void WriteLammpsDump(std::ostream& out, const ParticleSnapshot& snap, const Scene& scene) {
