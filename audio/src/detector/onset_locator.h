@@ -61,8 +61,39 @@ class OnsetLocator {
   static std::size_t HistorySamples(int sample_rate_hz);
 
  private:
+  // How a candidate passed the SNR gate.
+  struct SnrGate {
+    double snr_db = 0;    // in the band that rose most, against that band's floor
+    bool in_band = true;  // false: it passed only against the ringing residual's floor
+  };
+  // The stretch of one band's samples that the onset is picked in (held in window_): what was
+  // there before the impact, then the impact's rising edge up to its largest sample.
+  struct PickWindow {
+    std::int64_t search_begin = 0;  // the earliest sample the onset may be at
+    std::int64_t begin = 0;         // the sample index of window_[0]
+    std::size_t search_offset = 0;  // search_begin as an index into window_
+    std::int64_t peak = 0;          // the impact's largest sample: its edge ends there
+  };
+
+  // Nothing when the candidate fails the SNR gate.
+  std::optional<SnrGate> CheckSnr(const Candidate& candidate) const;
   // The band the onset of a candidate that rose most in rising_band is picked in.
   std::size_t PickBand(std::size_t rising_band) const;
+  // The earliest sample the onset is searched from, before clipping to what the band holds.
+  std::int64_t SearchFrom(const Candidate& candidate, bool in_ringing) const;
+  // Samples before the search that the window holds: noise for the picker, and in ringing
+  // enough for the linear predictor's fit.
+  std::int64_t SamplesBeforeSearch(bool in_ringing) const;
+  // Fills window_ from samples and says where it lies.
+  PickWindow FillPickWindow(const Candidate& candidate, const SampleHistory<float>& samples,
+                            bool in_ringing);
+  // In ringing: replaces window_ by its prediction innovation, where the tail is removed, and
+  // ends the edge at the innovation's largest sample; leaves the window as it is when the
+  // predictor could not be fitted.
+  void SwitchToInnovation(PickWindow& window);
+  // The largest raw level over kPeakLevelMs from the onset, in dBFS.
+  double PeakDbfsAfter(double onset_index) const;
+
   const DetectorFrames frames_;
   double rise_threshold_db_;
   double min_snr_db_;
