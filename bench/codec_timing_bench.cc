@@ -5,8 +5,8 @@
 // the onset shift against the WAV's onsets (each drop's median shift removed: a constant offset
 // cancels in every interval), the interval and eta-bar errors against the truth, and the sigma
 // that covers 95 % of the shifts at 1.96 sigma: the codec timing uncertainty
-// (audio/src/codec_timing.cc holds the table derived from it, docs/codecs.md quotes it). It
-// prints figures and asserts nothing.
+// (audio/src/detector/codec_timing.cc holds the table derived from it, docs/codecs.md quotes it).
+// It prints figures and asserts nothing.
 //
 //   build/bench/codec_timing_bench                      # every setting, 3 rates, 8 seeds
 //   build/bench/codec_timing_bench --seeds 4 --only Opus --rate 48000

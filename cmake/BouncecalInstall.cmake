@@ -1,4 +1,4 @@
-# Install rules: the six libraries with their public headers, the CMake package
+# Install rules: the seven libraries with their public headers, the CMake package
 # (find_package(bouncecal CONFIG)), a pkg-config file and the bouncecal command. docs/install.md
 # says how a project consumes them; tests/consumer/ checks that one can.
 #
@@ -8,8 +8,8 @@
 include(CMakePackageConfigHelpers)
 
 set(BOUNCECAL_LIBRARIES
-  bouncecal_core bouncecal_audio bouncecal_dem_model bouncecal_dem bouncecal_calibrate
-  bouncecal_export)
+  bouncecal_core bouncecal_audio bouncecal_synth bouncecal_dem_model bouncecal_dem
+  bouncecal_calibrate bouncecal_export)
 # Exported as bouncecal::core, bouncecal::audio, ...: the names the build tree's aliases use.
 foreach(library IN LISTS BOUNCECAL_LIBRARIES)
   string(REPLACE "bouncecal_" "" export_name "${library}")

@@ -7,7 +7,7 @@
 #include "bouncecal/audio/impact_csv.h"
 #include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
-#include "sound_file.h"
+#include "io/sound_file.h"
 
 namespace bouncecal::testing {
 namespace {

@@ -1,11 +1,13 @@
 // A program built against the installed bouncecal package (find_package or pkg-config), the way
 // docs/install.md describes. It touches every library: a recording is read and its impacts
 // detected (audio), turned into restitution and energy loss (calibrate), converted to the
-// contact law's damping (dem_model), mapped to LAMMPS' spring-dashpot (export), and a
-// one-particle scene falls freely in the packing engine (dem). tests/consumer/run_consumer_test.sh
+// contact law's damping (dem_model), mapped to LAMMPS' spring-dashpot (export), a
+// one-particle scene falls freely in the packing engine (dem), and an impact list is read for the
+// synthesiser (synth). tests/consumer/run_consumer_test.sh
 // checks the printed figures.
 //
 //   consumer RECORDING DROP_HEIGHT_M
+#include <bouncecal/audio/impact_csv.h>
 #include <bouncecal/calibrate/restitution.h>
 #include <bouncecal/calibrate/sequence_input.h>
 #include <bouncecal/dem/laws/walton_braun.h>
@@ -82,6 +84,9 @@ int main(int argc, char** argv) {
         1e7, gamma_n, mass_kg, bouncecal::calibrate::Engine::kLammps);
     const double export_restitution = bouncecal::calibrate::Restitution(mapping.wall);
     const FreeFall fall = FallInTheEngine();
+    // What `bouncecal synth --impacts` reads: two impacts, the second slower.
+    const auto impacts = bouncecal::audio::ParseImpactCsv(
+        "onset_s,impact_speed_mps\n0.1,2.0\n0.5,1.5\n", "consumer");
     std::printf("bouncecal %s\n", std::string(bouncecal::Version()).c_str());
     std::printf("energy_loss_mean_first_3 %.9f\n", eta);
     std::printf("gamma_n %.6f\n", gamma_n);
@@ -89,6 +94,7 @@ int main(int argc, char** argv) {
     std::printf("export_restitution %.9f\n", export_restitution);
     std::printf("free_fall_s %.9f\n", fall.duration_s);
     std::printf("free_fall_speed_mps %.12f\n", fall.speed_mps);
+    std::printf("synth_impacts %zu\n", impacts.size());
   } catch (const bouncecal::Error& error) {
     std::fprintf(stderr, "consumer: %s\n", error.what());
     return 2;

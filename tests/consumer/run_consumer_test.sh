@@ -26,15 +26,15 @@ prefix="${work}/prefix"
 cmake --install "${build}" --prefix "${prefix}" >"${work}/install.log" ||
   fail "cmake --install (log: ${work}/install.log)"
 
-# What a package holds: the command, six static libraries, public headers, the CMake package,
+# What a package holds: the command, seven static libraries, public headers, the CMake package,
 # the pkg-config file and, when built, the Python package (its .py files, its stubs with py.typed
 # and the extension); no tests, benchmarks or internal headers.
 (cd "${prefix}" && find . -type f | sort) >"${work}/installed.txt"
-unexpected="$(grep -v -E '^\./(bin/bouncecal|lib[^/]*(/[^/]+)?/(libbouncecal_(core|audio|dem_model|dem|calibrate|export)\.a|cmake/bouncecal/bouncecal[A-Za-z-]*\.cmake|pkgconfig/bouncecal\.pc)|include/bouncecal/.*\.h|lib/python3[.0-9]*/site-packages/bouncecal/((__init__|_errors|_frames|_result|_signatures|_summary)\.py|__init__\.pyi|py\.typed)|lib/python3[.0-9]*/site-packages/bouncecal/_bouncecal\.cpython-[^/]*\.so)$' \
+unexpected="$(grep -v -E '^\./(bin/bouncecal|lib[^/]*(/[^/]+)?/(libbouncecal_(core|audio|synth|dem_model|dem|calibrate|export)\.a|cmake/bouncecal/bouncecal[A-Za-z-]*\.cmake|pkgconfig/bouncecal\.pc)|include/bouncecal/.*\.h|lib/python3[.0-9]*/site-packages/bouncecal/((__init__|_errors|_frames|_result|_signatures|_summary)\.py|__init__\.pyi|py\.typed)|lib/python3[.0-9]*/site-packages/bouncecal/_bouncecal\.cpython-[^/]*\.so)$' \
   "${work}/installed.txt" || true)"
 [ -z "${unexpected}" ] || fail "unexpected installed files:
 ${unexpected}"
-[ "$(grep -c '\.a$' "${work}/installed.txt")" -eq 6 ] || fail "not six libraries installed"
+[ "$(grep -c '\.a$' "${work}/installed.txt")" -eq 7 ] || fail "not seven libraries installed"
 grep -q -E '^\./include/bouncecal/calibrate/fit\.h$' "${work}/installed.txt" &&
   grep -q -E '^\./include/bouncecal/export/packing_deck\.h$' "${work}/installed.txt" ||
   fail "public headers missing"
@@ -116,9 +116,11 @@ awk '
   $1 == "export_restitution" { export_e = $2; seen++ }
   $1 == "free_fall_s" { t = $2; seen++ }
   $1 == "free_fall_speed_mps" { v = $2; seen++ }
+  $1 == "synth_impacts" { synth_impacts = $2; seen++ }
   function abs(x) { return x < 0 ? -x : x }
   END {
-    if (seen != 5) { print "missing figures"; exit 1 }
+    if (seen != 6) { print "missing figures"; exit 1 }
+    if (synth_impacts != 2) { print "synth read " synth_impacts " impacts, not 2"; exit 1 }
     if (abs(eta - 0.58) > 0.005) { print "energy loss " eta " is not 0.58 +- 0.005"; exit 1 }
     if (abs(e * e - (1 - eta)) > 1e-8) { print "e^2 = " e * e " is not 1 - eta = " 1 - eta; exit 1 }
     if (abs(export_e - e) > 2e-9) { print "exported e = " export_e " is not the law e = " e; exit 1 }

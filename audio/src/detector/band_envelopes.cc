@@ -1,0 +1,177 @@
+#include "detector/band_envelopes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace bouncecal::audio {
+namespace {
+
+// High-pass edges of the extra detection bands; a band is used when its edge is above the main
+// band's low edge and below 0.7 of the Nyquist frequency (and the low-pass).
+constexpr double kDetectionBandsHz[] = {2000.0, 6000.0};
+
+std::vector<double> DetectionBands(int rate, const DetectorOptions& options) {
+  std::vector<double> edges;
+  for (double hz : kDetectionBandsHz) {
+    if (hz > options.band_low_hz * 1.5 && hz < 0.35 * rate &&
+        (options.band_high_hz <= 0 || hz < 0.5 * options.band_high_hz)) {
+      edges.push_back(hz);
+    }
+  }
+  return edges;
+}
+
+// Sum of x^2 in double (each square exact) in four interleaved partial sums: one running sum is
+// a chain of dependent additions, four times the latency per sample, and it was the detector's
+// largest single cost outside the FFTs. The order of the additions changes the sum by a few
+// units in the last place of a double only. The four sums are one vector (GCC's vector
+// extension), so a build for AVX keeps them in one register: the same four sums, in half the
+// instructions.
+inline double SumOfSquares(std::span<const float> x) {
+  using Float4 = float __attribute__((vector_size(16)));
+  using Double4 = double __attribute__((vector_size(32)));
+  Double4 sums = {0, 0, 0, 0};
+  std::size_t i = 0;
+  for (; i + 4 <= x.size(); i += 4) {
+    Float4 four;
+    std::memcpy(&four, x.data() + i, sizeof four);
+    const Double4 wide = __builtin_convertvector(four, Double4);
+    sums += wide * wide;
+  }
+  double s0 = sums[0];
+  for (; i < x.size(); ++i) s0 += double{x[i]} * x[i];
+  return (s0 + sums[1]) + (sums[2] + sums[3]);
+}
+
+// The mean squares of `count` whole frames of `hop` samples from x into out: each frame's
+// SumOfSquares (the same lanes, the same order) divided by hop. Also compiled for AVX, picked
+// when the library loads where the processor has it: the four lanes are then one register,
+// which halves the instructions of the detector's most frequent loop, and every sum and
+// quotient is the same double (AVX has no fused multiply-add, which would round differently;
+// that is FMA, not enabled here). The divisions run in a loop of their own, several at a time
+// and off the sums' dependency chains (the same quotients: no reciprocal).
+#if defined(__x86_64__) && defined(__GNUC__)
+[[gnu::target_clones("avx", "default")]]
+#endif
+void FrameMeanSquares(const float* x, std::size_t hop, std::size_t count, double* out) {
+  for (std::size_t k = 0; k < count; ++k) out[k] = SumOfSquares({x + k * hop, hop});
+  const auto samples = static_cast<double>(hop);
+  for (std::size_t k = 0; k < count; ++k) out[k] /= samples;
+}
+
+}  // namespace
+
+BandEnvelopes::BandEnvelopes(const DetectorFrames& frames, const DetectorOptions& options,
+                             double secondary_rise_db, std::int64_t frame_ring_extra,
+                             std::size_t history_samples, std::size_t band_zero_history)
+    : frames_(frames),
+      filter_(frames.rate_hz, options.band_low_hz, options.band_high_hz,
+              DetectionBands(frames.rate_hz, options)),
+      secondary_rise_ratio_(std::pow(10.0, 0.1 * secondary_rise_db) * (1.0 - 1e-6)) {
+  sink_ = [this](std::size_t band, std::span<const float> samples) { Take(band, samples); };
+  // The frames the windows read plus the caller's, plus a whole filter block: a block's frames
+  // are entered before they are examined.
+  const auto ring = static_cast<std::size_t>(
+      frames.lookback + frame_ring_extra +
+      static_cast<std::int64_t>(filter_.max_latency_samples()) / frames.hop + 1);
+  const auto ahead_frames = static_cast<std::size_t>(frames.attack + 1);
+  const auto reference_frames = static_cast<std::size_t>(frames.lookback - frames.skip + 1);
+  low_hz_.push_back(options.band_low_hz);
+  for (double hz : DetectionBands(frames.rate_hz, options)) low_hz_.push_back(hz);
+  for (std::size_t b = 0; b < filter_.output_count(); ++b) {
+    // Each band's history holds a whole filter block ahead of the frames being examined.
+    const std::size_t history =
+        (b == 0 ? band_zero_history : history_samples) + filter_.max_latency_samples();
+    bands_.emplace_back(history, ring, frames.frame_s, ahead_frames, reference_frames);
+  }
+}
+
+std::size_t BandEnvelopes::Filter(std::span<const float> samples) {
+  delivered_ = 0;
+  filter_.Process(samples, sink_);
+  EndBlock();
+  return delivered_;
+}
+
+std::size_t BandEnvelopes::Finish() {
+  delivered_ = 0;
+  filter_.Finish(sink_);
+  EndBlock();
+  return delivered_;
+}
+
+void BandEnvelopes::EndBlock() {
+  frames_before_block_ = frame_count_;
+  fill_before_block_ = fill_;
+  const auto completed = (fill_ + static_cast<std::int64_t>(delivered_)) / frames_.hop;
+  frame_count_ += completed;
+  fill_ = (fill_ + static_cast<std::int64_t>(delivered_)) % frames_.hop;
+}
+
+// One band's share of a filtered block, straight from the filter's buffer (no intermediate
+// copy): its history takes the whole block and its frame energies are collected, band by band
+// (cache-friendly loops), before the frames are examined. Every band's block covers the same
+// samples, so each starts at the frame fill the previous block left.
+void BandEnvelopes::Take(std::size_t b, std::span<const float> samples) {
+  EnvelopeBand& band = bands_[b];
+  band.samples.PushBlock(samples);
+  band.frame_powers.clear();
+  const auto hop = static_cast<std::size_t>(frames_.hop);
+  auto fill = static_cast<std::size_t>(fill_);
+  double power = band.power;
+  // The frame the last block left unfinished, the whole frames in a plain loop, and the start
+  // of the next one: the same sums in the same order as frame by frame.
+  std::size_t at = std::min(samples.size(), fill > 0 ? hop - fill : 0);
+  power += SumOfSquares(samples.first(at));
+  fill += at;
+  if (fill == hop) {
+    band.frame_powers.push_back(power / static_cast<double>(frames_.hop));
+    power = 0;
+    fill = 0;
+  }
+  if (fill == 0) {
+    const std::size_t whole = (samples.size() - at) / hop;
+    const std::size_t first_frame = band.frame_powers.size();
+    band.frame_powers.resize(first_frame + whole);
+    FrameMeanSquares(samples.data() + at, hop, whole, band.frame_powers.data() + first_frame);
+    at += whole * hop;
+    power = SumOfSquares(samples.subspan(at));
+    fill = samples.size() - at;
+  }
+  band.power = power;
+  delivered_ = samples.size();
+  // The frame ring, the floor and the rise windows of the block's frames, and whether the band
+  // may rise there: none of it depends on the decisions made frame by frame, so it runs here in
+  // one loop per band instead of interleaved with them.
+  const std::size_t count = band.frame_powers.size();
+  band.ahead_maxima.resize(count);
+  band.reference_maxima.resize(count);
+  band.floor_powers.resize(count);
+  if (b == 0) may_rise_.assign(count, 0);
+  for (std::size_t k = 0; k < count; ++k) {
+    const auto n = static_cast<std::size_t>(frame_count_) + k;
+    band.frame_powers_ring[n & band.mask] = band.frame_powers[k];
+  }
+  band.floor.AddBlock(band.frame_powers, band.floor_powers.data());
+  // Rise of frame m = n - attack: the attack window [m, n] takes frame n, the lookback
+  // [m - lookback, m - skip] frame m - skip once that exists. The ring holds those frames: the
+  // lookback's newest is at least attack + skip frames old.
+  band.ahead.PushBlock(band.frame_powers, band.ahead_maxima.data());
+  const std::int64_t lag = frames_.attack + frames_.skip;
+  const auto before_first = static_cast<std::size_t>(
+      std::clamp<std::int64_t>(lag - frame_count_, 0, static_cast<std::int64_t>(count)));
+  std::fill_n(band.reference_maxima.begin(), before_first, band.reference.max());
+  entering_.resize(count - before_first);
+  for (std::size_t k = before_first; k < count; ++k) {
+    entering_[k - before_first] = band.Power(frame_count_ + static_cast<std::int64_t>(k) - lag);
+  }
+  band.reference.PushBlock(entering_, band.reference_maxima.data() + before_first);
+  for (std::size_t k = 0; k < count; ++k) {
+    may_rise_[k] |=
+        static_cast<char>(std::max(band.ahead_maxima[k], kTinyPower) >=
+                          secondary_rise_ratio_ * std::max(band.reference_maxima[k], kTinyPower));
+  }
+}
+
+}  // namespace bouncecal::audio

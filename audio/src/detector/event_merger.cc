@@ -1,0 +1,155 @@
+#include "detector/event_merger.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace bouncecal::audio {
+
+EventMerger::EventMerger(const DetectorOptions& options, double residual_hop_s, int sample_rate_hz,
+                         const BandEnvelopes& bands)
+    : rise_threshold_db_(options.rise_threshold_db),
+      min_snr_db_(options.min_snr_db),
+      min_gap_ms_(options.min_gap_ms),
+      residual_hop_s_(residual_hop_s),
+      rate_hz_(sample_rate_hz),
+      bands_(bands) {}
+
+double EventMerger::OwnLevelDb(std::size_t band, double from, double to) const {
+  const SampleHistory<float>& samples = bands_.band(band).samples;
+  const std::int64_t begin =
+      std::max<std::int64_t>(samples.begin(), std::llround(std::floor(from)));
+  const std::int64_t end = std::min<std::int64_t>(samples.end(), std::llround(std::ceil(to)));
+  double largest = 0;
+  for (std::int64_t i = begin; i < end; ++i) {
+    largest = std::max(largest, double{samples[i]} * samples[i]);
+  }
+  return EnvelopeDb(largest);
+}
+
+std::string EventMerger::BandName(std::size_t band) const {
+  char text[48];
+  std::snprintf(text, sizeof text, "the band above %.0f Hz", bands_.low_hz(band));
+  return text;
+}
+
+void EventMerger::Add(const LocatedImpact& next) {
+  if (group_ && next.impact.onset_s - group_->kept.impact.onset_s < min_gap_ms_ * 1e-3) {
+    Group& group = *group_;
+    const LocatedImpact& kept = group.kept;
+    group.rise_db = std::max(group.rise_db, next.rise_db);
+    group.band_rise_db = std::max(group.band_rise_db, next.band_rise_db);
+    // Each member's own sound, in the band where the pair rose most. The later one's span ends
+    // where its candidate's examined frames end: no later sample is known to have been filtered
+    // whatever the block sizes.
+    const std::size_t band = next.band_rise_db > kept.band_rise_db ? next.band : kept.band;
+    const double span =
+        std::min({next.onset_sample - kept.onset_sample, kMaxOwnLevelMs * 1e-3 * rate_hz_,
+                  static_cast<double>(next.span_end_sample) - next.onset_sample});
+    const double kept_db = OwnLevelDb(band, kept.onset_sample, kept.onset_sample + span);
+    const double next_db = OwnLevelDb(band, next.onset_sample, next.onset_sample + span);
+    // A rise that did not reach the full threshold in the bands a few ms after a hit sits in
+    // that hit's tail, whose level it shares: it never takes the onset from a hit that rose by
+    // the full threshold. (Counting rises of half the threshold as band rises here was measured
+    // worse: alessia rimbalzi split into 3 sequences, rubberball lost 4 impacts.) Nor does the
+    // rest of a sound whose candidate closed while it was still rising.
+    const bool next_wins = !next.continuation &&
+                           (next.band_rose == kept.band_rose ? next_db > kept_db : next.band_rose);
+    Merge merge;
+    merge.span_ms = span / rate_hz_ * 1e3;
+    merge.band = band;
+    if (next_wins) {
+      merge.merged = kept;
+      merge.winner = next;
+      merge.precursor = true;
+      merge.level_difference_db = next_db - kept_db;
+      group.others.push_back(merge);
+      group.kept = next;
+    } else {
+      merge.merged = next;
+      merge.winner = kept;
+      merge.level_difference_db = kept_db - next_db;
+      merge.why = next.continuation                  ? "the rest of its sound"
+                  : next.band_rose != kept.band_rose ? "no band rose by the full threshold there"
+                                                     : nullptr;
+      group.others.push_back(merge);
+    }
+    return;
+  }
+  Emit();
+  group_ = Group{next, next.rise_db, next.band_rise_db, {}};
+}
+
+void EventMerger::Flush() { Emit(); }
+
+void EventMerger::Emit() {
+  if (!group_) return;
+  LocatedImpact& kept = group_->kept;
+  Impact& impact = kept.impact;
+  if (group_->rise_db >= rise_threshold_db_) {
+    if (group_->band_rise_db < rise_threshold_db_) impact.residual_only = true;
+    if (impact.residual_only) {
+      // Its onset is picked on a flank inside the tail that the residual located only to within
+      // its frame hop: on the synthetic free plate, in rooms and under level jitter such onsets
+      // were off by a median of 133 us, p90 1.5 ms, up to 8 ms, while the picker claimed ~50 us
+      // (42 % within 2 sigma). Stated as at least one hop, like the tentative ones below, so the
+      // e and eta around it carry that.
+      impact.onset_uncertainty_s = std::max(impact.onset_uncertainty_s, residual_hop_s_);
+    }
+    impacts_.push_back(kept);
+    for (auto& other : group_->others) merged_.push_back(std::move(other));
+  } else if (impact.snr_db >= min_snr_db_) {
+    // Rose by at least half the threshold: not an impact on its own, but it may continue a
+    // bounce sequence where the next bounce is due (ExtendSequencesWithTentative). Such a weak
+    // onset is picked on a flank the residual located only to within its frame hop; on the
+    // free-plate ground truth adopted onsets were 1-1.5 ms off while the picker claimed tens of
+    // us, so the stated uncertainty is at least one hop.
+    impact.residual_only = true;
+    impact.onset_uncertainty_s = std::max(impact.onset_uncertainty_s, residual_hop_s_);
+    tentative_.push_back(kept);
+  }
+  group_.reset();
+}
+
+double EventMerger::Onset(const LocatedImpact& located, double reference_to_contact_s) {
+  return located.impact.onset_s - (located.by_reference ? reference_to_contact_s : 0.0);
+}
+
+void EventMerger::Report(double reference_to_contact_s, DetectionResult& result) const {
+  for (const LocatedImpact& located : impacts_) {
+    result.impacts.push_back(located.impact);
+    result.impacts.back().onset_s = Onset(located, reference_to_contact_s);
+  }
+  for (const LocatedImpact& located : tentative_) {
+    result.tentative.push_back(located.impact);
+    result.tentative.back().onset_s = Onset(located, reference_to_contact_s);
+  }
+  for (const Merge& merge : merged_) {
+    const double merged_s = Onset(merge.merged, reference_to_contact_s);
+    const double winner_s = Onset(merge.winner, reference_to_contact_s);
+    const double gap_ms = std::fabs(winner_s - merged_s) * 1e3;
+    const std::string where = BandName(merge.band);
+    char text[256];
+    if (merge.precursor) {
+      std::snprintf(text, sizeof text,
+                    "precursor %.1f ms before the impact at %.5f s, whose first %.1f ms are "
+                    "%.1f dB louder in %s (merged; min gap %.3g ms)",
+                    gap_ms, winner_s, merge.span_ms, merge.level_difference_db, where.c_str(),
+                    min_gap_ms_);
+    } else if (merge.why) {
+      std::snprintf(text, sizeof text,
+                    "echo or secondary burst %.1f ms after the impact at %.5f s (%s; merged; "
+                    "min gap %.3g ms)",
+                    gap_ms, winner_s, merge.why, min_gap_ms_);
+    } else {
+      std::snprintf(text, sizeof text,
+                    "echo or secondary burst %.1f ms after the impact at %.5f s, %.1f dB "
+                    "quieter over its first %.1f ms in %s (merged; min gap %.3g ms)",
+                    gap_ms, winner_s, merge.level_difference_db, merge.span_ms, where.c_str(),
+                    min_gap_ms_);
+    }
+    result.merged.push_back({merged_s, merge.merged.impact.peak_dbfs, text});
+  }
+}
+
+}  // namespace bouncecal::audio

@@ -1,0 +1,134 @@
+#include "detector/event_merger.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "detector/stage_test_support.h"
+#include "detector/test_signals.h"
+
+namespace bouncecal::audio {
+namespace {
+
+constexpr int kRate = 48000;
+
+// A candidate located at onset_s in band `band`, as the onset locator hands it on.
+LocatedImpact At(double onset_s, std::size_t band = 0, double rise_db = 30.0) {
+  LocatedImpact located;
+  located.impact.onset_s = onset_s;
+  located.impact.onset_uncertainty_s = 20e-6;
+  located.impact.snr_db = 40.0;
+  located.band = band;
+  located.onset_sample = onset_s * kRate;
+  located.span_end_sample = static_cast<std::int64_t>((onset_s + 0.02) * kRate);
+  located.rise_db = rise_db;
+  located.band_rise_db = rise_db;
+  return located;
+}
+
+// The bands hold the signal the candidates were found in (the merger measures each member's own
+// sound there).
+struct Rig {
+  explicit Rig(const std::vector<float>& x) : rig(kRate) {
+    rig.Run(x, [](std::int64_t, std::ptrdiff_t) {});
+  }
+  testing::StageRig rig;
+};
+
+std::vector<float> HitInATail(double hit_s) {
+  std::vector<float> x(kRate / 2, 0.0f);
+  testing::AddNoise(x, 1e-4, 5);
+  testing::AddImpact(x, kRate, 0.05, 0.3, 0.1);  // an earlier impact ringing on
+  testing::AddImpact(x, kRate, hit_s, 0.5);
+  return x;
+}
+
+// A rise that fired 2.5 ms before the hit, inside the tail of an earlier impact, starts only
+// that tail: measured from its own onset up to the hit's, it is far quieter than the hit over
+// as long, so the hit is kept and the early one is listed as its precursor, with the hit's time
+// and the level difference. (Measured over each candidate's whole span, the early one took the
+// hit's loudness and was kept: detector suite, 2-3 ms early onsets.)
+TEST(EventMerger, TheMemberWhoseOwnSoundIsLoudestIsKeptWhicheverCameFirst) {
+  const double hit_s = 0.2;
+  Rig rig(HitInATail(hit_s));
+  // The history must still hold the members' samples: these tests read the end of a short
+  // signal, which it does.
+  for (bool early_first : {true, false}) {
+    EventMerger merger(DetectorOptions{}, 1.8e-3, kRate, rig.rig.bands);
+    const auto early = At(hit_s - 2.5e-3);
+    const auto hit = At(hit_s);
+    if (early_first) {
+      merger.Add(early);
+      merger.Add(hit);
+    } else {
+      merger.Add(At(hit_s - 30e-3));  // an unrelated impact first, to start a group
+      merger.Add(early);
+      merger.Add(hit);
+    }
+    merger.Flush();
+    DetectionResult result;
+    merger.Report(0.0, result);
+    ASSERT_FALSE(result.impacts.empty());
+    EXPECT_DOUBLE_EQ(result.impacts.back().onset_s, hit_s);
+    ASSERT_FALSE(result.merged.empty());
+    const auto& reason = result.merged.back().reason;
+    EXPECT_NE(reason.find("precursor 2.5 ms before the impact at 0.20000 s"), std::string::npos)
+        << reason;
+    EXPECT_NE(reason.find("dB louder"), std::string::npos) << reason;
+  }
+}
+
+// An echo 8 ms after the hit is quieter over its own span: merged as such, naming the hit.
+TEST(EventMerger, AnEchoAfterTheHitIsMergedIntoIt) {
+  std::vector<float> x(kRate / 2, 0.0f);
+  testing::AddNoise(x, 1e-4, 5);
+  testing::AddImpact(x, kRate, 0.2, 0.5);
+  testing::AddImpact(x, kRate, 0.208, 0.12);
+  Rig rig(x);
+  EventMerger merger(DetectorOptions{}, 1.8e-3, kRate, rig.rig.bands);
+  merger.Add(At(0.2));
+  merger.Add(At(0.208));
+  merger.Flush();
+  DetectionResult result;
+  merger.Report(0.0, result);
+  ASSERT_EQ(result.impacts.size(), 1u);
+  EXPECT_DOUBLE_EQ(result.impacts[0].onset_s, 0.2);
+  ASSERT_EQ(result.merged.size(), 1u);
+  EXPECT_NE(result.merged[0].reason.find("echo or secondary burst 8.0 ms after the impact at "
+                                         "0.20000 s"),
+            std::string::npos)
+      << result.merged[0].reason;
+}
+
+// The rest of a sound whose candidate closed while still rising never takes the onset, however
+// loud; a group whose rises all stayed under the full threshold is a tentative impact; and the
+// recording's reference-to-contact offset moves every reported onset but not an onset that is
+// no reference.
+TEST(EventMerger, ContinuationsNeverWinWeakGroupsAreTentativeAndTheOffsetMovesReferences) {
+  Rig rig(HitInATail(0.2));
+  EventMerger merger(DetectorOptions{}, 1.8e-3, kRate, rig.rig.bands);
+  auto first = At(0.19);
+  first.by_reference = true;
+  auto rest = At(0.2);
+  rest.continuation = true;
+  merger.Add(first);
+  merger.Add(rest);
+  auto weak = At(0.3, 0, 6.0);
+  merger.Add(weak);
+  merger.Flush();
+  DetectionResult result;
+  merger.Report(50e-6, result);
+  ASSERT_EQ(result.impacts.size(), 1u);
+  EXPECT_DOUBLE_EQ(result.impacts[0].onset_s, 0.19 - 50e-6);
+  ASSERT_EQ(result.tentative.size(), 1u);
+  EXPECT_DOUBLE_EQ(result.tentative[0].onset_s, 0.3);
+  EXPECT_TRUE(result.tentative[0].residual_only);
+  // A tentative onset states at least the residual's hop.
+  EXPECT_GE(result.tentative[0].onset_uncertainty_s, 1.8e-3);
+  ASSERT_EQ(result.merged.size(), 1u);
+  EXPECT_NE(result.merged[0].reason.find("the rest of its sound"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace bouncecal::audio

@@ -1,0 +1,112 @@
+#include "detector/novelty_sources.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+namespace bouncecal::audio {
+namespace {
+
+// The ringing residual's novelty (mean per-bin rise in dB, see ringing_residual.h) that counts
+// as a full rise_threshold_db: it is rescaled so the user's threshold moves both tests together.
+// Stationary noise gives 0.2-0.3 dB and the loudest beating plate tail measured ~0.4 dB (free
+// Kirchhoff plate, 12 drops); an impact that lifts a tenth of the bins by 6 dB gives 0.6 dB.
+constexpr double kNoveltyAtThresholdDb = 0.6;
+// Rises of this fraction of rise_threshold_db open a candidate (see CandidateTracker).
+constexpr double kSecondaryRiseFraction = 0.5;
+
+}  // namespace
+
+std::size_t UsableBands(const BandEnvelopes& bands, double content_edge_hz) {
+  // 2^-1/2: a band's low edge must lie half an octave under the content edge.
+  constexpr double kMinContentOctaveRatio = 0.70710678118654752;
+  std::size_t usable = 1;
+  while (usable < bands.size() &&
+         bands.low_hz(usable) <= content_edge_hz * kMinContentOctaveRatio) {
+    ++usable;
+  }
+  return usable;
+}
+
+NoveltyRise BandRiseNovelty::Rise(std::int64_t, std::ptrdiff_t k, bool wanted) {
+  NoveltyRise rise;
+  if (!wanted && !bands_.AnyBandMayRise(k)) return rise;
+  const std::size_t usable =
+      residual_ ? UsableBands(bands_, residual_->content_edge_hz()) : bands_.size();
+  for (std::size_t b = 0; b < usable; ++b) {
+    const double db = bands_.Rise(b, k);
+    if (db > rise.rise_db) {
+      rise.rise_db = db;
+      rise.band = b;
+    }
+  }
+  return rise;
+}
+
+RingingResidualNovelty::RingingResidualNovelty(const DetectorFrames& frames,
+                                               const DetectorOptions& options, BandEnvelopes& bands,
+                                               std::size_t frame_ring)
+    : frames_(frames),
+      rise_threshold_db_(options.rise_threshold_db),
+      secondary_threshold_db_(kSecondaryRiseFraction * options.rise_threshold_db),
+      tail_ratio_(std::pow(10.0, 0.1 * options.rise_threshold_db)),
+      bands_(bands),
+      residual_(frames.rate_hz, options.band_low_hz, options.band_high_hz, &bands.band(0).samples),
+      latest_frame_(std::bit_ceil(frame_ring), -1),
+      mask_(latest_frame_.size() - 1),
+      noise_floor_(frames.frame_s) {}
+
+void RingingResidualNovelty::EnterFrame(std::int64_t n, std::ptrdiff_t) {
+  latest_frame_[static_cast<std::size_t>(n) & mask_] = residual_.latest_frame();
+  if (!std::isnan(noise_power_)) noise_floor_.Add(noise_power_);
+}
+
+// A tail is present where band 0's lookback stands rise_threshold_db above the noise under the
+// ringing (under continuous ringing the band's own minimum-statistics floor is the ringing).
+// Decided on the powers (the same clamps as EnvelopeDb and NoiseFloor::db) where they are
+// clearly apart, in dB only within a margin around the threshold that covers PowerToDb's
+// 1e-9 dB: the same decision as in dB, without the conversions and their data-dependent
+// branches in every frame.
+bool RingingResidualNovelty::TailPresent(std::ptrdiff_t k) {
+  if (!noise_floor_.started()) return false;
+  EnvelopeBand& band = bands_.band(0);
+  const double reference = std::max(band.ReferenceMax(k), kTinyPower);
+  const double floor = std::max(noise_floor_.power(), kTinyPower) * tail_ratio_;
+  if (reference >= floor * (1.0 + 1e-6)) return true;
+  if (reference >= floor * (1.0 - 1e-6)) {
+    return band.reference_db(band.ReferenceMax(k)) - noise_floor_.db() >= rise_threshold_db_;
+  }
+  return false;
+}
+
+NoveltyRise RingingResidualNovelty::Rise(std::int64_t n, std::ptrdiff_t k, bool) {
+  NoveltyRise rise;
+  if (!TailPresent(k)) return rise;
+  const double db =
+      MaxNoveltyDb(n - frames_.attack, n) * rise_threshold_db_ / kNoveltyAtThresholdDb;
+  if (db >= secondary_threshold_db_) rise.rise_db = db;
+  return rise;
+}
+
+double RingingResidualNovelty::MaxNoveltyDb(std::int64_t m, std::int64_t n) {
+  double novelty_db = -std::numeric_limits<double>::infinity();
+  std::int64_t previous = -2;
+  for (std::int64_t i = m; i <= n; ++i) {
+    const std::int64_t frame = latest_frame_[static_cast<std::size_t>(i) & mask_];
+    if (frame == previous) continue;
+    previous = frame;
+    novelty_db = std::max(novelty_db, frame < 0 ? 0.0 : residual_.NoveltyDb(frame));
+  }
+  return novelty_db;
+}
+
+double RingingResidualNovelty::SnrDb(double level_db) const {
+  if (!noise_floor_.started()) return -std::numeric_limits<double>::infinity();
+  return level_db - noise_floor_.db();
+}
+
+double RingingResidualNovelty::NoveltyDb(double rise_db) const {
+  return rise_db * kNoveltyAtThresholdDb / rise_threshold_db_;
+}
+
+}  // namespace bouncecal::audio

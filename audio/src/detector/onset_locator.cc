@@ -1,0 +1,248 @@
+#include "detector/onset_locator.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "detector/onset_picker.h"
+#include "detector/prediction_innovation.h"
+
+namespace bouncecal::audio {
+namespace {
+
+// Noise before the onset that the AIC picker sees (bounded by the previous impact's peak).
+constexpr double kPickerNoiseMs = 4.0;
+// Window after the onset in which peak_dbfs is measured.
+constexpr double kPeakLevelMs = 5.0;
+// Order of the linear predictor that removes ringing before picking an onset inside it: two
+// coefficients per mode, so up to 12 modes in the band (a plate's strong low modes).
+constexpr int kInnovationOrder = 24;
+// Samples per predictor coefficient in the stretch before the search it is fitted on. The
+// picker's kPickerNoiseMs give 8 at 48 kHz, where the innovation was measured; at a lower rate
+// the same milliseconds hold fewer samples (64 at 16 kHz, under the 4 per coefficient below which
+// PredictionInnovation refuses to fit), so the innovation was skipped and the onset picked on the
+// tail itself. The fit spans at least this many samples per coefficient at every rate.
+constexpr int kInnovationFitSamplesPerCoefficient = 8;
+// History kept for the picker and the peak level; longer than every window above together.
+constexpr double kHistoryS = 0.1;
+
+// The loudest level of band over the candidate's frames, in dB.
+double LoudestDb(const EnvelopeBand& band, const Candidate& candidate) {
+  double peak_db = band.Db(candidate.frame);
+  for (std::int64_t i = candidate.frame + 1; i <= candidate.closed_at; ++i) {
+    peak_db = std::max(peak_db, band.Db(i));
+  }
+  return peak_db;
+}
+
+// The index in [begin, end) of the largest |sample| (the first of equals); begin when empty.
+template <typename Samples, typename Index>
+Index LargestSampleIndex(const Samples& samples, Index begin, Index end) {
+  Index top = begin;
+  for (Index i = begin; i < end; ++i) {
+    if (std::fabs(samples[i]) > std::fabs(samples[top])) top = i;
+  }
+  return top;
+}
+
+// The onset's one-sigma uncertainty widened where a later, louder sound shares the candidate.
+double WidenedOverLaterSound(const Candidate& candidate, double onset_index,
+                             const DetectorFrames& frames, double sigma_s) {
+  if (candidate.later_sound_frame < 0) return sigma_s;
+  // Two sounds in one candidate, the later louder by the full threshold: the impact is either
+  // the one picked or the later one (a precursor picked instead of its impact, 2-10 ms early,
+  // was 5 and 60 stated sigmas off in bench/silent_wrong_sweep.py). Half their distance in
+  // quadrature covers both.
+  const double gap = static_cast<double>(candidate.later_sound_frame * frames.hop) - onset_index;
+  if (gap > 0) return std::hypot(sigma_s, 0.5 * gap / frames.rate_hz);
+  return sigma_s;
+}
+
+// Places the impact at the pick's timing reference where the picker placed one, at its start of
+// contact otherwise, and states the uncertainty; returns the onset as a fractional sample index.
+double PlaceOnset(const Candidate& candidate, const OnsetPick& pick, std::int64_t window_begin,
+                  const DetectorFrames& frames, LocatedImpact& located) {
+  Impact& impact = located.impact;
+  const double start_index = static_cast<double>(window_begin) + pick.index;
+  double onset_index = start_index;
+  impact.onset_uncertainty_s = pick.sigma_samples / frames.rate_hz;
+  if (std::isfinite(pick.reference_index)) {
+    onset_index = static_cast<double>(window_begin) + pick.reference_index;
+    impact.onset_uncertainty_s = pick.reference_sigma_samples / frames.rate_hz;
+    located.by_reference = true;
+    if (std::isfinite(pick.edge_amplitude)) {
+      located.reference_lead_s = (pick.reference_index - pick.index) / frames.rate_hz;
+    }
+  }
+  impact.onset_uncertainty_s =
+      WidenedOverLaterSound(candidate, onset_index, frames, impact.onset_uncertainty_s);
+  impact.onset_s = onset_index / frames.rate_hz;
+  return onset_index;
+}
+
+}  // namespace
+
+std::size_t OnsetLocator::HistorySamples(int sample_rate_hz) {
+  return static_cast<std::size_t>(std::ceil(kHistoryS * sample_rate_hz));
+}
+
+OnsetLocator::OnsetLocator(const DetectorFrames& frames, const DetectorOptions& options,
+                           BandEnvelopes& bands, const RingingResidualNovelty& residual,
+                           const SampleHistory<float>& raw)
+    : frames_(frames),
+      rise_threshold_db_(options.rise_threshold_db),
+      min_snr_db_(options.min_snr_db),
+      bands_(bands),
+      residual_(residual),
+      raw_(raw) {}
+
+std::size_t OnsetLocator::PickBand(std::size_t rising_band) const {
+  // A band that holds too little of the recording's content (UsableBands, novelty_sources.h)
+  // hands the pick to the highest one that holds enough.
+  return std::min(rising_band, UsableBands(bands_, residual_.content_edge_hz()) - 1);
+}
+
+std::optional<OnsetLocator::SnrGate> OnsetLocator::CheckSnr(const Candidate& candidate) const {
+  // SNR in the band that rose most: its loudest frame of the candidate against its floor.
+  const EnvelopeBand& band = bands_.band(candidate.band);
+  const double snr_db = LoudestDb(band, candidate) - band.FloorDb(candidate.closed_in_block);
+  // Under continuous ringing the minimum-statistics floor of every band is the ringing, not the
+  // noise; the ringing residual's floor stays at the noise, so passing in it also counts.
+  // snr_db itself stays the band's, so the channel choice compares like with like.
+  const bool in_band = snr_db >= min_snr_db_;
+  if (!in_band && residual_.SnrDb(LoudestDb(bands_.band(0), candidate)) < min_snr_db_) {
+    return std::nullopt;
+  }
+  return SnrGate{snr_db, in_band};
+}
+
+std::int64_t OnsetLocator::SearchFrom(const Candidate& candidate, bool in_ringing) const {
+  const std::int64_t hop = frames_.hop;
+  std::int64_t search_from = (candidate.frame - 2 * frames_.skip) * hop;
+  if (in_ringing) {
+    // The residual's frame that fired ended by the frame that opened the candidate, and the
+    // onset lies inside that frame's window (its Hann taper hides a new sound at the window's
+    // end, so the novelty may rise a few ms after the onset): search from the window's start.
+    search_from =
+        std::min(search_from, (candidate.opened_at + 1) * hop - residual_.window_samples());
+  }
+  return search_from;
+}
+
+std::int64_t OnsetLocator::SamplesBeforeSearch(bool in_ringing) const {
+  std::int64_t noise_samples = frames_.Samples(kPickerNoiseMs * 1e-3);
+  if (in_ringing) {
+    noise_samples = std::max<std::int64_t>(noise_samples,
+                                           kInnovationFitSamplesPerCoefficient * kInnovationOrder);
+  }
+  return noise_samples;
+}
+
+OnsetLocator::PickWindow OnsetLocator::FillPickWindow(const Candidate& candidate,
+                                                      const SampleHistory<float>& samples,
+                                                      bool in_ringing) {
+  const std::int64_t hop = frames_.hop;
+  PickWindow window;
+  window.search_begin = std::max(samples.begin(), SearchFrom(candidate, in_ringing));
+  // The window ends at the impact's largest sample.
+  const std::int64_t peak_end = std::min(
+      samples.end(), (std::max(candidate.peak_frame, candidate.band_peak_frame) + 1) * hop);
+  window.peak = LargestSampleIndex(samples, window.search_begin, peak_end);
+  window.begin = std::max({samples.begin(), window.search_begin - SamplesBeforeSearch(in_ringing),
+                           last_peak_sample_ + 1});
+  window.search_offset =
+      static_cast<std::size_t>(std::max<std::int64_t>(0, window.search_begin - window.begin));
+  std::int64_t window_end = std::min(samples.end(), window.peak + 2);
+  if (in_ringing) {
+    // The largest sample is the tail's: the onset is picked on the innovation, up to its
+    // largest innovation sample within the candidate.
+    window_end = std::min(samples.end(), (candidate.peak_frame + frames_.peak + 1) * hop);
+  }
+  window_.clear();
+  for (std::int64_t i = window.begin; i < window_end; ++i) window_.push_back(samples[i]);
+  return window;
+}
+
+void OnsetLocator::SwitchToInnovation(PickWindow& window) {
+  auto innovation = PredictionInnovation(window_, window.search_offset, kInnovationOrder);
+  // The innovation leaves out the predictor's first samples; an unchanged length means the
+  // predictor could not be fitted, and a search that starts among the left-out samples would
+  // lose its start.
+  const std::size_t skipped = window_.size() - innovation.size();
+  if (skipped > 0 && window.search_offset > skipped) {
+    window_ = std::move(innovation);
+    window.begin += static_cast<std::int64_t>(skipped);
+    window.search_offset -= skipped;
+    const std::size_t top = LargestSampleIndex(window_, window.search_offset, window_.size());
+    window.peak = window.begin + static_cast<std::int64_t>(top);
+    window_.resize(std::min(window_.size(), top + 2));
+  }
+}
+
+double OnsetLocator::PeakDbfsAfter(double onset_index) const {
+  const std::int64_t level_begin =
+      std::max<std::int64_t>(raw_.begin(), std::llround(std::floor(onset_index)));
+  const std::int64_t level_end =
+      std::min(raw_.end(), level_begin + frames_.Samples(kPeakLevelMs * 1e-3));
+  double peak_abs = 0;
+  for (std::int64_t i = level_begin; i < level_end; ++i) {
+    peak_abs = std::max(peak_abs, double{std::fabs(raw_[i])});
+  }
+  return 20.0 * std::log10(std::max(peak_abs, 1e-7));
+}
+
+std::optional<LocatedImpact> OnsetLocator::Locate(const Candidate& candidate) {
+  const std::optional<SnrGate> gate = CheckSnr(candidate);
+  if (!gate) return std::nullopt;
+  // The onset is picked in the same band, where the impact stands out most from what was there
+  // before (unless the recording holds too little of that band, PickBand).
+  const SampleHistory<float>& samples = bands_.band(PickBand(candidate.band)).samples;
+  // Where no band rose by the full threshold the impact sits in a tail louder than itself, so
+  // the band's largest sample and its AIC edge are the tail's: the onset is picked on the
+  // prediction innovation instead (measured on the free plate: 61.9 us median against 68.6 us
+  // when only rises under half the threshold took this path; the sample steel_ball_h0.2m.wav's
+  // 5th impact 0.6 ms instead of 1.5 ms early).
+  const bool in_ringing = candidate.rise_db < rise_threshold_db_;
+  PickWindow window = FillPickWindow(candidate, samples, in_ringing);
+  if (in_ringing) SwitchToInnovation(window);
+  const auto end_offset =
+      static_cast<std::size_t>(std::max<std::int64_t>(0, window.peak + 1 - window.begin));
+  const OnsetPick pick = PickOnset(window_, window.search_offset, end_offset);
+  // The rest of a sound whose candidate closed while rising cannot pick an onset before that
+  // candidate's peak: when its search starts before that peak its onset is not trusted.
+  const bool continuation = candidate.continues && window.search_begin <= last_peak_sample_;
+  last_peak_sample_ = window.peak;
+
+  LocatedImpact located;
+  const double onset_index = PlaceOnset(candidate, pick, window.begin, frames_, located);
+  Impact& impact = located.impact;
+  impact.rise_db = candidate.rise_db;
+  // The residual's rise is kept scaled to the band threshold for the decisions; reported in its
+  // own unit.
+  impact.ringing_novelty_db = std::isfinite(candidate.residual_rise_db)
+                                  ? residual_.NoveltyDb(candidate.residual_rise_db)
+                                  : std::numeric_limits<double>::quiet_NaN();
+  impact.snr_db = gate->snr_db;
+  impact.residual_only = !gate->in_band;
+  impact.peak_dbfs = PeakDbfsAfter(onset_index);
+  located.band = candidate.band;
+  located.onset_sample = onset_index;
+  located.span_end_sample = (candidate.closed_at + 1) * frames_.hop;
+  located.rise_db = std::max(candidate.rise_db, candidate.residual_rise_db);
+  located.band_rise_db = candidate.rise_db;
+  located.band_rose = !in_ringing;
+  located.continuation = continuation;
+  return located;
+}
+
+double ReferenceToContactOffset(const std::vector<LocatedImpact>& impacts) {
+  std::vector<double> leads;
+  for (const LocatedImpact& located : impacts) {
+    if (std::isfinite(located.reference_lead_s)) leads.push_back(located.reference_lead_s);
+  }
+  if (leads.empty()) return 0.0;
+  const auto middle = leads.begin() + static_cast<std::ptrdiff_t>(leads.size() / 2);
+  std::nth_element(leads.begin(), middle, leads.end());
+  return *middle;
+}
+
+}  // namespace bouncecal::audio

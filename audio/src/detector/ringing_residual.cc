@@ -1,0 +1,255 @@
+#include "detector/ringing_residual.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "detector/select_kth.h"
+
+namespace bouncecal::audio {
+namespace {
+
+constexpr double kWindowS = 5.3e-3;
+constexpr int kMinWindow = 32;
+// Hop a third of the window (1.8 ms at 48 kHz). Measured on the free plate: hop 1/4 found
+// 134/144 at 1.25x the cost, hop 1/2 132/144 with 5 extras.
+constexpr int kHopsPerWindow = 3;
+// How far back each bin's reference reaches: longer than the beat period of two modes a
+// bin apart (~5 ms) and than a hit's own echoes (8-10 ms), so neither reads as new; shorter
+// than the 30 ms of the shortest flights, so the previous impact's attack is not the reference.
+constexpr double kLookbackS = 0.02;
+// Floor of a bin's reference power, far below any sound (-300 dB): digital silence must not
+// divide by zero.
+constexpr float kTinyPower = 1e-30f;
+// A bin holds content when its loudest power is within this range of the median bin's: a codec's
+// or a phone path's stop band lies 60-100 dB under its pass band (noise included), while noise
+// fills every bin of the pass band to within a few dB of the median (pink noise falls 19 dB over
+// 300 Hz-24 kHz, at most ~10 dB below the median bin) and modes only rise above it. The median,
+// not the loudest bin: over a quiet recording a plate's loudest mode lies 70 dB above the noise
+// in the bins beside it. A cut that removes more than half of the band's bins puts the median in
+// the stop band and is not seen (then nothing changes).
+constexpr double kContentRangeDb = 30.0;
+// Lower quartile of an exponential distribution (the power of a noise bin): ln(4/3) of its mean.
+constexpr double kQuartileOfMean = 0.28768207245178085;
+// A frame whose window overlaps the current one by more than half shares the onset's samples,
+// so the reference skips it: with a hop of a third, the frame just before.
+constexpr std::size_t kSkipFrames = (kHopsPerWindow - 1) / 2;
+
+// The power of two within a factor 2/3 .. 4/3 of kWindowS.
+int WindowOf(int sample_rate_hz) {
+  return std::max(kMinWindow, static_cast<int>(std::bit_floor(static_cast<unsigned>(
+                                  std::lround(1.5 * kWindowS * sample_rate_hz)))));
+}
+
+std::size_t LookbackFramesOf(int sample_rate_hz, int hop) {
+  return std::max<std::size_t>(
+      2, static_cast<std::size_t>(std::lround(kLookbackS * sample_rate_hz / hop)));
+}
+
+// A power of two, so a frame's slot is a mask, not a 64-bit division (which took 15 % of
+// Powers).
+std::size_t SlotsOf(std::size_t lookback_frames) {
+  return std::bit_ceil(lookback_frames + kSkipFrames + 1 +
+                       static_cast<std::size_t>(RingingResidual::kMaxQueryAgeFrames));
+}
+
+}  // namespace
+
+std::size_t RingingResidual::HistorySamples(int sample_rate_hz) {
+  // The oldest frame a slot can hold starts slots * hop samples before the newest one, which
+  // ends a window after its start; a run pushed at once is at most a window.
+  const int window = WindowOf(sample_rate_hz);
+  const int hop = window / kHopsPerWindow;
+  return SlotsOf(LookbackFramesOf(sample_rate_hz, hop)) * static_cast<std::size_t>(hop) +
+         static_cast<std::size_t>(window);
+}
+
+RingingResidual::RingingResidual(int sample_rate_hz, double band_low_hz, double band_high_hz,
+                                 const SampleHistory<float>* source)
+    : window_(WindowOf(sample_rate_hz)),
+      hop_(window_ / kHopsPerWindow),
+      taper_(static_cast<std::size_t>(window_)),
+      fft_(window_) {
+  const double bin_hz = static_cast<double>(sample_rate_hz) / window_;
+  const auto all_bins = static_cast<std::size_t>(window_ / 2 + 1);
+  first_bin_ = std::clamp<std::size_t>(static_cast<std::size_t>(std::ceil(band_low_hz / bin_hz)), 1,
+                                       all_bins);
+  std::size_t end_bin =
+      band_high_hz > 0
+          ? std::min(all_bins, static_cast<std::size_t>(std::floor(band_high_hz / bin_hz)) + 1)
+          : all_bins - 1;  // the Nyquist bin is real-only: half the statistics of the others
+  bins_ = end_bin > first_bin_ ? end_bin - first_bin_ : 0;
+  bin_hz_ = bin_hz;
+  loudest_.assign(bins_, 0.0f);
+  content_edge_hz_ = static_cast<double>(first_bin_ + bins_) * bin_hz_;
+  content_bins_ = bins_;
+  skip_frames_ = kSkipFrames;
+  lookback_frames_ = LookbackFramesOf(sample_rate_hz, hop_);
+  slots_.resize(SlotsOf(lookback_frames_));
+  history_samples_ = HistorySamples(sample_rate_hz);
+  if (source == nullptr) {
+    own_.emplace(history_samples_ + static_cast<std::size_t>(window_));
+    source = &*own_;
+  }
+  source_ = source;
+  powers_.assign(slots_.size() * bins_, 0.0f);
+  reference_.assign(bins_, 0.0f);
+  // Periodic Hann window: its low side lobes keep a loud mode out of the neighbouring bins.
+  for (int i = 0; i < window_; ++i) {
+    taper_[static_cast<std::size_t>(i)] =
+        static_cast<float>(0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * i / window_));
+  }
+}
+
+void RingingResidual::CompleteFrame() {
+  const std::int64_t t = frames_++;
+  const std::size_t slot = SlotOf(t);
+  slots_[slot] = Slot{};
+  // The noise estimate is needed once per window length (frames that far apart share no
+  // samples, and the floor built from these estimates, minimum statistics over seconds, needs no
+  // more); the other spectra only when a novelty is asked for, which the detector does only
+  // inside a tail: elsewhere two FFTs in three are skipped.
+  if (bins_ > 0 && t % kHopsPerWindow == 0) {
+    const float* powers = Powers(t);
+    // The maxima rarely grow once the first loud sounds are in: the edge is found again only when
+    // one does.
+    bool grew = false;
+    for (std::size_t k = 0; k < bins_; ++k) {
+      if (powers[k] > loudest_[k]) {
+        loudest_[k] = powers[k];
+        grew = true;
+      }
+    }
+    if (grew) content_edge_hz_ = ContentEdgeHz();
+    // The noise is read only where the recording holds content: a cut spectrum's stop band (a
+    // third of the bins of a 22.05 kHz file band-limited at 6.4 kHz) put the lower quartile 70
+    // dB under the noise, and every sound in a tail then passed the gate against it. The last
+    // estimate is the guess: the noise changes little from one window to the next.
+    const float quartile =
+        SelectKth({powers, content_bins_}, content_bins_ / 4, select_scratch_, last_quartile_);
+    last_quartile_ = quartile;
+    // Parseval with the Hann window's mean square 3/8: a bin of white noise of variance s^2
+    // has mean power 3/8 N s^2.
+    noise_power_ = quartile / kQuartileOfMean / (0.375 * window_);
+  }
+  fill_ = window_ - hop_;
+}
+
+double RingingResidual::ContentEdgeHz() {
+  std::vector<float>& sorted = edge_scratch_;
+  sorted.assign(loudest_.begin(), loudest_.end());
+  const auto middle = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
+  std::size_t top = bins_;
+  if (middle != sorted.end()) {
+    std::nth_element(sorted.begin(), middle, sorted.end());
+    const double level = *middle * std::pow(10.0, -0.1 * kContentRangeDb);
+    if (level > 0) {
+      while (top > 0 && !(loudest_[top - 1] >= level)) --top;
+    }
+  }
+  content_bins_ = std::max<std::size_t>(top, 1);
+  return static_cast<double>(first_bin_ + top) * bin_hz_;
+}
+
+bool RingingResidual::Valid(std::int64_t frame) const {
+  // The reference of frame t is the lookback ending skip + 1 frames before it.
+  const std::int64_t j = frame - static_cast<std::int64_t>(skip_frames_) - 1;
+  return j >= static_cast<std::int64_t>(lookback_frames_) - 1 && bins_ > 0;
+}
+
+const float* RingingResidual::Powers(std::int64_t frame) {
+  const std::size_t slot = SlotOf(frame);
+  float* powers = powers_.data() + slot * bins_;
+  if (slots_[slot].spectrum_frame == frame) return powers;
+  // The window in at most two views, where the source's ring wraps.
+  auto real = fft_.real();
+  const std::int64_t start = frame * hop_;
+  for (std::size_t i = 0; i < taper_.size();) {
+    const auto view = source_->Contiguous(start + static_cast<std::int64_t>(i), taper_.size() - i);
+    for (std::size_t k = 0; k < view.size(); ++k) real[i + k] = view[k] * taper_[i + k];
+    i += view.size();
+  }
+  fft_.Forward();
+  const auto spectrum = fft_.spectrum();
+  for (std::size_t k = 0; k < bins_; ++k) powers[k] = std::norm(spectrum[first_bin_ + k]);
+  slots_[slot].spectrum_frame = frame;
+  return powers;
+}
+
+double RingingResidual::NoveltyDb(std::int64_t frame) {
+  if (frame < 0 || frame >= frames_ || frames_ - 1 - frame > kMaxQueryAgeFrames) {
+    throw std::logic_error("RingingResidual::NoveltyDb: frame " + std::to_string(frame) +
+                           " is not among the last " + std::to_string(kMaxQueryAgeFrames + 1) +
+                           " of " + std::to_string(frames_));
+  }
+  Slot& slot = slots_[SlotOf(frame)];
+  if (slot.novelty_frame == frame) return slot.novelty_db;
+  double novelty_db = 0;
+  if (Valid(frame)) {
+    // The reference of each bin is its maximum over frames [j - L + 1, j], j = t - skip - 1.
+    const std::int64_t j = frame - static_cast<std::int64_t>(skip_frames_) - 1;
+    const auto lookback = static_cast<std::int64_t>(lookback_frames_);
+    const float* first = Powers(j - lookback + 1);
+    std::copy(first, first + bins_, reference_.begin());
+    // Two frames per pass over the reference: it is loaded and stored half as often.
+    std::int64_t i = j - lookback + 2;
+    for (; i + 1 <= j; i += 2) {
+      const float* a = Powers(i);
+      const float* b = Powers(i + 1);
+      for (std::size_t k = 0; k < bins_; ++k) {
+        reference_[k] = std::max(reference_[k], std::max(a[k], b[k]));
+      }
+    }
+    if (i == j) {
+      const float* powers = Powers(i);
+      for (std::size_t k = 0; k < bins_; ++k) reference_[k] = std::max(reference_[k], powers[k]);
+    }
+    const float* current = Powers(frame);
+    for (std::size_t k = 0; k < bins_; ++k) {
+      reference_[k] = std::max(1.0f, current[k] / std::max(reference_[k], kTinyPower));
+    }
+    // The sum of log ratios is the log of their product; a log per bin would cost more than
+    // the FFT. Ratios are at most ~1e35 (a float), so products of 8 of them fit a double. Four
+    // products side by side (bins k = lane mod 4): one running product was a chain of ~130
+    // dependent multiplications per frame. Each is renormalised by its binary exponent after
+    // every 8 of its bins, so the whole sum costs one log.
+    constexpr std::size_t kLanes = 4;
+    constexpr std::size_t kChunk = 8 * kLanes;
+    std::array<double, kLanes> mantissa;
+    mantissa.fill(1.0);
+    long long exponent = 0;
+    for (std::size_t k = 0; k < bins_; k += kChunk) {
+      std::array<double, kLanes> product = mantissa;
+      const std::size_t end = std::min(bins_, k + kChunk);
+      std::size_t i = k;
+      for (; i + kLanes <= end; i += kLanes) {
+        for (std::size_t lane = 0; lane < kLanes; ++lane) product[lane] *= reference_[i + lane];
+      }
+      // The rest (fewer than kLanes bins) one per lane, so no lane takes more than 8 ratios.
+      for (std::size_t lane = 0; i < end; ++i, ++lane) product[lane] *= reference_[i];
+      for (std::size_t lane = 0; lane < kLanes; ++lane) {
+        // std::frexp from the bits (exact, and not a libm call): product is a positive normal
+        // double (at least 0.5, at most ~1e280).
+        const auto bits = std::bit_cast<std::uint64_t>(product[lane]);
+        exponent += static_cast<long long>((bits >> 52) & 0x7ff) - 1022;
+        mantissa[lane] =
+            std::bit_cast<double>((bits & 0x000fffffffffffffULL) | 0x3fe0000000000000ULL);
+      }
+    }
+    // Four mantissas in [1/2, 1): their product is at least 1/16, no underflow.
+    const double all_mantissas = (mantissa[0] * mantissa[1]) * (mantissa[2] * mantissa[3]);
+    const double sum_log10 = (static_cast<double>(exponent) + std::log2(all_mantissas)) *
+                             std::numbers::ln2 / std::numbers::ln10;
+    novelty_db = 10.0 * sum_log10 / static_cast<double>(bins_);
+  }
+  slot.novelty_frame = frame;
+  slot.novelty_db = novelty_db;
+  return novelty_db;
+}
+
+}  // namespace bouncecal::audio
