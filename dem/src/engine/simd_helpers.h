@@ -1,0 +1,62 @@
+#ifndef BOUNCECAL_DEM_ENGINE_SIMD_HELPERS_H_
+#define BOUNCECAL_DEM_ENGINE_SIMD_HELPERS_H_
+
+// The packing engine's x86 SIMD helpers: whether the wider builds of the contact arithmetic
+// exist, the target strings they are compiled with, and the 4x4 transposes of the dense pair
+// pass. GCC does not vectorise a gather of whole particle records into per-component arrays, so
+// that pass reads four records as rows and transposes them in registers (and back for the
+// results). Only the engine's translation units include this (see engine_impl.h).
+
+#include <cstddef>
+
+// The contact arithmetic is also compiled for AVX2 and AVX-512 and picked at run time: the build
+// itself targets baseline x86-64 (CI and users' machines may lack either).
+#if (defined(__x86_64__) || defined(__i386__)) && defined(__GNUC__)
+#define BOUNCECAL_SCENE_HAS_SIMD_PATHS 1
+#include <immintrin.h>
+#else
+#define BOUNCECAL_SCENE_HAS_SIMD_PATHS 0
+#endif
+
+// The attributes of the AVX-512 build, at the full 512-bit width (8 contacts per instruction): at
+// 256 bits it gained nothing over AVX2. Clang's target attribute does not take the width (it
+// ignores the whole string, and then the AVX2 helpers cannot be inlined); its min_vector_width
+// says the same.
+#if defined(__clang__)
+#define BOUNCECAL_SCENE_AVX512 \
+  gnu::target("avx512f,avx512dq,avx512vl"), clang::min_vector_width(512)
+#else
+#define BOUNCECAL_SCENE_AVX512 gnu::target("avx512f,avx512dq,avx512vl,prefer-vector-width=512")
+#endif
+
+namespace bouncecal::dem::scene {
+
+#if BOUNCECAL_SCENE_HAS_SIMD_PATHS
+// Four 4-double rows in, four columns out.
+[[gnu::always_inline, gnu::target("avx2")]] inline void Transpose4(__m256d& r0, __m256d& r1,
+                                                                   __m256d& r2, __m256d& r3) {
+  const __m256d t0 = _mm256_unpacklo_pd(r0, r1);
+  const __m256d t1 = _mm256_unpackhi_pd(r0, r1);
+  const __m256d t2 = _mm256_unpacklo_pd(r2, r3);
+  const __m256d t3 = _mm256_unpackhi_pd(r2, r3);
+  r0 = _mm256_permute2f128_pd(t0, t2, 0x20);
+  r1 = _mm256_permute2f128_pd(t1, t3, 0x20);
+  r2 = _mm256_permute2f128_pd(t0, t2, 0x31);
+  r3 = _mm256_permute2f128_pd(t1, t3, 0x31);
+}
+
+// The 32-byte-aligned rows at byte `offset` in four records, as columns (x, y, z, scalar).
+template <class Record>
+[[gnu::always_inline, gnu::target("avx2")]] inline void LoadColumns(
+    const Record* const (&record)[4], std::size_t offset, __m256d (&column)[4]) {
+  for (int q = 0; q < 4; ++q) {
+    column[q] = _mm256_load_pd(
+        reinterpret_cast<const double*>(reinterpret_cast<const char*>(record[q]) + offset));
+  }
+  Transpose4(column[0], column[1], column[2], column[3]);
+}
+#endif
+
+}  // namespace bouncecal::dem::scene
+
+#endif  // BOUNCECAL_DEM_ENGINE_SIMD_HELPERS_H_

@@ -1,0 +1,93 @@
+#ifndef BOUNCECAL_DEM_ENGINE_TANGENTIAL_SPRING_H_
+#define BOUNCECAL_DEM_ENGINE_TANGENTIAL_SPRING_H_
+
+// The tangential contact force of the packing engine (PhysicsSpec::tangential): a Cundall &
+// Strack (1979) spring on the accumulated tangential displacement, capped by Coulomb friction
+// (paper 000 eq. 5-6), and the twist n x F_t its force exerts (PhysicsSpec::rotation). Each
+// contact keeps its spring from step to step (the engine's pair and wall spring arrays). The
+// functions work on one contact's components in local arrays, so that the contact stages
+// (contact_stages.h) can call them inside loops the compiler vectorises across contacts: no
+// branches, selects only.
+
+#include <cmath>
+
+namespace bouncecal::dem::scene {
+
+// Turns a contact's spring into the tangent plane of the unit normal n, keeping its length, so
+// that a rolling contact does not grow a normal component (LAMMPS gran/hooke/history projects
+// without the rescale; pair granular rescales like this). The projection is done in place; the
+// factor that restores the length is returned, to be applied by CoulombSpringForce. With no
+// spring, or none left after the projection, the factor is 1.
+template <int Dim>
+[[gnu::always_inline]] inline double ProjectSpring(double (&spring)[Dim], const double (&n)[Dim]) {
+  double old2 = 0;
+  for (int c = 0; c < Dim; ++c) old2 += spring[c] * spring[c];
+  double along = 0;
+  for (int c = 0; c < Dim; ++c) along += spring[c] * n[c];
+  double projected[Dim];
+  for (int c = 0; c < Dim; ++c) projected[c] = spring[c] - along * n[c];
+  double new2 = 0;
+  for (int c = 0; c < Dim; ++c) new2 += projected[c] * projected[c];
+  const bool had_spring = old2 > 0;
+  for (int c = 0; c < Dim; ++c) spring[c] = had_spring ? projected[c] : spring[c];
+  const bool rescale = had_spring & (new2 > 0);
+  return std::sqrt((rescale ? old2 : 1.0) / (rescale ? new2 : 1.0));
+}
+
+// The spring's constants for a run.
+struct SpringConstants {
+  double time_step_s;
+  double stiffness_n_per_m;        // k_t
+  double shear_per_force_m_per_n;  // 1 / -k_t: the spring of a sliding contact from its force
+};
+
+// One step of the spring: its projected length restored (length_factor from ProjectSpring), the
+// step's tangential displacement dt v_t added, and the force -k_t s. When that force exceeds
+// friction |F_n| the contact slides: the force is scaled back to the Coulomb cap and the spring
+// reset to match it, so |F_t| never exceeds mu |F_n|. Writes the new spring back and returns the
+// tangential force in `tangential`.
+template <int Dim>
+[[gnu::always_inline]] inline void CoulombSpringForce(double (&spring)[Dim], double length_factor,
+                                                      const double (&tangential_velocity)[Dim],
+                                                      double normal_force, double friction,
+                                                      const SpringConstants& constants,
+                                                      double (&tangential)[Dim]) {
+  const double dt = constants.time_step_s;
+  const double ks = constants.stiffness_n_per_m;
+  double shear[Dim];
+  for (int c = 0; c < Dim; ++c) {
+    shear[c] = spring[c] * length_factor;
+    shear[c] += dt * tangential_velocity[c];
+    tangential[c] = shear[c] * -ks;
+  }
+  const double cap = friction * std::abs(normal_force);
+  double f2 = 0;
+  for (int c = 0; c < Dim; ++c) f2 += tangential[c] * tangential[c];
+  const bool slides = f2 > cap * cap;
+  const double scale = cap / std::sqrt(f2);
+  for (int c = 0; c < Dim; ++c) {
+    const double capped = tangential[c] * scale;
+    tangential[c] = slides ? capped : tangential[c];
+    spring[c] = slides ? capped * constants.shear_per_force_m_per_n : shear[c];
+  }
+}
+
+// n x F_t, the twist of the tangential force: the torque on either body of a contact is
+// -r (n x F_t) with r its radius (for the second body of a pair both the normal and the force
+// change sign). In 2D the twist is its z component.
+template <int Dim>
+[[gnu::always_inline]] inline void SpringTwist(const double (&n)[Dim],
+                                               const double (&tangential)[Dim],
+                                               double (&twist)[Dim == 3 ? 3 : 1]) {
+  if constexpr (Dim == 3) {
+    twist[0] = n[1] * tangential[2] - n[2] * tangential[1];
+    twist[1] = n[2] * tangential[0] - n[0] * tangential[2];
+    twist[2] = n[0] * tangential[1] - n[1] * tangential[0];
+  } else {
+    twist[0] = n[0] * tangential[1] - n[1] * tangential[0];
+  }
+}
+
+}  // namespace bouncecal::dem::scene
+
+#endif  // BOUNCECAL_DEM_ENGINE_TANGENTIAL_SPRING_H_
