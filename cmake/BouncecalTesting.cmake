@@ -3,7 +3,12 @@
 # (tests/support: a scratch folder per test and process, whole-file reads) and CTest discovery.
 #
 #   bouncecal_add_tests(NAME audio_tests SOURCES src/a_test.cc ... LIBRARIES bouncecal::audio
-#                       LONG_TESTS Suite.Name ... EXTERNAL_TESTS Suite.Name ...)
+#                       [TIER integration] LONG_TESTS Suite.Name ... EXTERNAL_TESTS Suite.Name ...)
+#
+# The executable's other tests get the label of its TIER: `unit` (the default: one module's code
+# called in-process; the whole tier runs in well under a minute) or `integration` (tests/: round
+# trips across modules, the `bouncecal` command started once or more per test, bad input; and
+# pytest on the Python module).
 #
 # LONG_TESTS (gtest names, wildcards allowed) get the CTest label `long`: tests that are slow
 # because they simulate long (paper reproductions, full packings, calibration fits, sweeps). The
@@ -20,7 +25,8 @@
 # and the deck or page they read is written by shorter tests that do run there (ExportCli.*,
 # ReportCli.Page*).
 #
-# Tiers: `ctest -LE 'long|external'` is the fast tier a developer runs after a change (CONTRIBUTING.md).
+# Tiers (CONTRIBUTING.md): `ctest -L unit` after every change, `ctest -LE 'long|external'` (unit and
+# integration) before a commit.
 if(BOUNCECAL_BUILD_TESTS)
   enable_testing()
   find_package(GTest REQUIRED)
@@ -31,7 +37,10 @@ function(bouncecal_add_tests)
   if(NOT BOUNCECAL_BUILD_TESTS)
     return()
   endif()
-  cmake_parse_arguments(ARG "" "NAME" "SOURCES;LIBRARIES;LONG_TESTS;EXTERNAL_TESTS" ${ARGN})
+  cmake_parse_arguments(ARG "" "NAME;TIER" "SOURCES;LIBRARIES;LONG_TESTS;EXTERNAL_TESTS" ${ARGN})
+  if(NOT ARG_TIER)
+    set(ARG_TIER unit)
+  endif()
   add_executable(${ARG_NAME} ${ARG_SOURCES})
   target_link_libraries(${ARG_NAME} PRIVATE ${ARG_LIBRARIES} bouncecal::test_support GTest::gtest
     GTest::gtest_main)
@@ -49,7 +58,7 @@ function(bouncecal_add_tests)
   endif()
   gtest_discover_tests(${ARG_NAME} DISCOVERY_MODE PRE_TEST DISCOVERY_TIMEOUT 60
     ${ordinary_filter}
-    PROPERTIES TIMEOUT 600)
+    PROPERTIES TIMEOUT 600 LABELS ${ARG_TIER})
   # Long tests start first under `ctest -j` (highest COST) rather than run alone at the end.
   set(cost_long 1000)
   set(cost_external 100)
