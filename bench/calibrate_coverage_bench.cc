@@ -99,6 +99,12 @@ Outcome RunCase(const Row& row, int index, double truth) {
 int main(int argc, char** argv) {
   const int cases = argc > 1 ? std::atoi(argv[1]) : 400;
   const int threads = argc > 2 ? std::atoi(argv[2]) : 2;
+  if (argc > 3 || cases < 1 || threads < 1 || threads > 1024) {
+    std::fprintf(stderr,
+                 "usage: calibrate_coverage_bench [CASES [THREADS]]: CASES per row (>= 1, default "
+                 "400), THREADS in [1, 1024] (default 2)\n");
+    return 2;
+  }
   std::vector<Row> rows;
   for (double jitter : {0.0, 0.003, 0.01, 0.03, 0.05}) {
     for (int first_n : {3, 10}) {
