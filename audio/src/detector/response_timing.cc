@@ -1,7 +1,9 @@
 #include "bouncecal/audio/response_timing.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <utility>
 
@@ -38,6 +40,27 @@ std::vector<float> FirstDifference(const std::vector<float>& samples) {
   return out;
 }
 
+// The dot products of a[0, n) with x[j, j + n) for the kLagLanes lags j, each summed over t
+// in order: lane j adds the float product a[t] x[t + j] to its float sum exactly as one lag at a
+// time would, so the correlations are bit for bit the same; the lanes are one vector (GCC's
+// vector extension), since the sum over t cannot be vectorised without reordering it. Also
+// compiled for AVX (no fused multiply-add there, which would round differently), picked when the
+// library loads where the processor has it.
+constexpr std::int64_t kLagLanes = 8;
+#if defined(__x86_64__) && defined(__GNUC__)
+[[gnu::target_clones("avx", "default")]]
+#endif
+void EightLagDots(const float* a, const float* x, std::int64_t n, float* dot) {
+  using Float8 = float __attribute__((vector_size(kLagLanes * sizeof(float))));
+  Float8 sums = {};
+  for (std::int64_t t = 0; t < n; ++t) {
+    Float8 window;
+    std::memcpy(&window, x + t, sizeof window);
+    sums += a[t] * window;
+  }
+  std::memcpy(dot, &sums, sizeof sums);
+}
+
 // Normalised cross-correlation of templ[lead, lead + n) with target[lead + lag, lead + lag + n)
 // for lags -search..search (lead: the onset's index in both).
 Alignment Align(const std::vector<float>& templ, const std::vector<float>& target,
@@ -65,15 +88,26 @@ Alignment Align(const std::vector<float>& templ, const std::vector<float>& targe
     prefix[i + 1] = prefix[i] + static_cast<double>(target[i]) * target[i];
   }
   const float* a = templ.data() + lead;
-  for (std::int64_t k = 0; k < lags; ++k) {
+  const auto normalise = [&](std::int64_t k, float dot) {
     const std::int64_t start = lead + k - search;
-    const float* x = target.data() + start;
-    float dot = 0;
-    for (std::int64_t t = 0; t < n; ++t) dot += a[t] * x[t];
     const double energy =
         prefix[static_cast<std::size_t>(start + n)] - prefix[static_cast<std::size_t>(start)];
     correlation[static_cast<std::size_t>(k)] =
         energy > 0 ? dot / std::sqrt(templ_energy * energy) : 0.0;
+  };
+  // kLagLanes lags at a time (EightLagDots): this loop was 27 % of analysing an AAC copy (a
+  // 10-minute file: 1.41 CPU s against its WAV's 0.56).
+  std::int64_t k = 0;
+  for (; k + kLagLanes <= lags; k += kLagLanes) {
+    std::array<float, kLagLanes> dot{};
+    EightLagDots(a, target.data() + (lead + k - search), n, dot.data());
+    for (std::int64_t j = 0; j < kLagLanes; ++j) normalise(k + j, dot[static_cast<std::size_t>(j)]);
+  }
+  for (; k < lags; ++k) {
+    const float* x = target.data() + (lead + k - search);
+    float dot = 0;
+    for (std::int64_t t = 0; t < n; ++t) dot += a[t] * x[t];
+    normalise(k, dot);
   }
   const auto best_it = std::max_element(correlation.begin(), correlation.end());
   const std::int64_t best = best_it - correlation.begin();
