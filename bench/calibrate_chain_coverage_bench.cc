@@ -6,7 +6,12 @@
 // without the drop height, one recording or several fitted jointly.
 //
 //   calibrate_chain_coverage_bench [--seeds N (200)] [--threads T (2)] [--power-seeds M (N)]
-//                                  [--skip-coverage] [--skip-power]
+//                                  [--skip-coverage] [--skip-power] [--material copper|anvil]
+//                                  [--jitters 0,1,3,5] [--recordings 1,3,5]
+//
+// --material, --jitters (percent) and --recordings select rows of the coverage table (all by
+// default), so a change that concerns some rows can be measured on them with many seeds; only the
+// selected materials' and jitters' recordings are synthesised.
 //
 // Each recording is synthesised and detected once and reused by every row that needs it (the
 // 1-, 3- and 5-recording rows of a seed share their first recordings; both height options share
@@ -147,7 +152,18 @@ Outcome FitAndScore(const std::vector<calibrate::MeasuredSequence>& sequences,
 
 double CpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
-void Coverage(int seeds, bouncecal::WorkerPool& pool) {
+// The coverage rows to run: material indices, jitter indices into kJitters, recording counts.
+struct RowSelection {
+  std::vector<int> materials{0, 1};
+  std::vector<int> jitters{0, 1, 2, 3};
+  std::vector<int> counts{1, 3, 5};
+};
+
+bool Contains(const std::vector<int>& values, int value) {
+  return std::find(values.begin(), values.end(), value) != values.end();
+}
+
+void Coverage(int seeds, const RowSelection& rows, bouncecal::WorkerPool& pool) {
   const int materials = static_cast<int>(std::size(kMaterials));
   const int jitters = static_cast<int>(std::size(kJitters));
   // recordings[((m * jitters + j) * seeds + s) * kMaxRecordings + r]
@@ -159,27 +175,30 @@ void Coverage(int seeds, bouncecal::WorkerPool& pool) {
     const auto s = static_cast<std::uint64_t>((item / kMaxRecordings) % seeds);
     const int j = static_cast<int>((item / kMaxRecordings / seeds) % jitters);
     const int m = static_cast<int>(item / kMaxRecordings / seeds / jitters);
+    if (!Contains(rows.materials, m) || !Contains(rows.jitters, j)) return;
     const auto& material = kMaterials[m];
     const double e = material.restitution;
     recordings[static_cast<size_t>(item)] =
         RecordDrop([e](double) { return e; }, material.drop_height_m, kJitters[j], 5000 + s, r,
                    "coverage_" + std::to_string(m) + "_" + std::to_string(j));
   });
-  std::printf("# %zu recordings synthesised and detected, %.2f CPU s each\n", recordings.size(),
-              (CpuSeconds() - cpu) / static_cast<double>(recordings.size()));
+  const auto synthesised =
+      rows.materials.size() * rows.jitters.size() * static_cast<size_t>(seeds * kMaxRecordings);
+  std::printf("# %zu recordings synthesised and detected, %.2f CPU s each\n", synthesised,
+              (CpuSeconds() - cpu) / static_cast<double>(synthesised));
   std::printf(
       "| material | jitter of e | drop height | recordings | material gamma_n | coverage "
       "(95 %% binomial range) | mean width | trend claimed | no fit | CPU s per fit |\n"
       "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
   std::fflush(stdout);
   int total_trend = 0, total_tested = 0;
-  for (int m = 0; m < materials; ++m) {
-    for (int j = 0; j < jitters; ++j) {
+  for (int m : rows.materials) {
+    for (int j : rows.jitters) {
       for (bool known_height : {false, true}) {
         const auto& material = kMaterials[m];
         const double truth = MaterialGamma(material, kJitters[j], known_height);
         const auto options = Options(known_height, material.drop_height_m);
-        for (int count : {1, 3, 5}) {
+        for (int count : rows.counts) {
           std::vector<Outcome> outcomes(static_cast<size_t>(seeds));
           cpu = CpuSeconds();
           pool.ParallelForEach(seeds, [&](std::int64_t s) {
@@ -322,11 +341,42 @@ void Power(int seeds, bouncecal::WorkerPool& pool) {
   }
 }
 
+// "1,3,5" -> {1, 3, 5}; empty when some entry is not a number.
+std::vector<int> ParseList(const std::string& text) {
+  std::vector<int> values;
+  size_t start = 0;
+  while (start <= text.size()) {
+    const size_t end = std::min(text.find(',', start), text.size());
+    const std::string entry = text.substr(start, end - start);
+    char* rest = nullptr;
+    const long value = std::strtol(entry.c_str(), &rest, 10);
+    if (entry.empty() || *rest != '\0') return {};
+    values.push_back(static_cast<int>(value));
+    start = end + 1;
+  }
+  return values;
+}
+
+// Indices of the percents in kJitters; empty when one is not there.
+std::vector<int> JitterIndices(const std::vector<int>& percents) {
+  std::vector<int> indices;
+  for (int percent : percents) {
+    int found = -1;
+    for (size_t j = 0; j < std::size(kJitters); ++j)
+      if (std::lround(100 * kJitters[j]) == percent) found = static_cast<int>(j);
+    if (found < 0) return {};
+    indices.push_back(found);
+  }
+  return indices;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   int seeds = 200, threads = 2, power_seeds = -1;
   bool coverage = true, power = true;
+  RowSelection rows;
+  bool rows_ok = true;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const auto next = [&]() { return i + 1 < argc ? std::atoi(argv[++i]) : 0; };
@@ -340,13 +390,35 @@ int main(int argc, char** argv) {
       coverage = false;
     } else if (arg == "--skip-power") {
       power = false;
+    } else if (arg == "--material" && i + 1 < argc) {
+      const std::string name = argv[++i];
+      rows.materials = name == "copper"  ? std::vector<int>{0}
+                       : name == "anvil" ? std::vector<int>{1}
+                                         : std::vector<int>{};
+      rows_ok = rows_ok && !rows.materials.empty();
+    } else if (arg == "--jitters" && i + 1 < argc) {
+      rows.jitters = JitterIndices(ParseList(argv[++i]));
+      rows_ok = rows_ok && !rows.jitters.empty();
+    } else if (arg == "--recordings" && i + 1 < argc) {
+      rows.counts = ParseList(argv[++i]);
+      rows_ok = rows_ok && !rows.counts.empty() &&
+                std::all_of(rows.counts.begin(), rows.counts.end(),
+                            [](int count) { return count >= 1 && count <= kMaxRecordings; });
     } else {
       std::fprintf(stderr,
                    "calibrate_chain_coverage_bench: unknown argument '%s'; use --seeds N, "
-                   "--threads T, --power-seeds M, --skip-coverage, --skip-power\n",
+                   "--threads T, --power-seeds M, --skip-coverage, --skip-power, --material "
+                   "copper|anvil, --jitters 0,1,3,5, --recordings 1,3,5\n",
                    arg.c_str());
       return 2;
     }
+  }
+  if (!rows_ok) {
+    std::fprintf(stderr,
+                 "calibrate_chain_coverage_bench: --material is copper or anvil, --jitters a "
+                 "comma list of 0, 1, 3, 5 and --recordings of 1 to %d\n",
+                 kMaxRecordings);
+    return 2;
   }
   if (seeds < 1 || threads < 1) {
     std::fprintf(stderr, "calibrate_chain_coverage_bench: --seeds and --threads must be >= 1\n");
@@ -359,7 +431,7 @@ int main(int argc, char** argv) {
       "(walton-braun, eta-bar of the first 3); %d seeds per row, %d threads\n",
       seeds, threads);
   bouncecal::WorkerPool pool(threads);
-  if (coverage) Coverage(seeds, pool);
+  if (coverage) Coverage(seeds, rows, pool);
   if (power) Power(power_seeds, pool);
   return 0;
 }
