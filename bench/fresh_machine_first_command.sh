@@ -13,6 +13,7 @@ set -euo pipefail
 repo="$(cd "$(dirname "$0")/.." && pwd)"
 work="${1:-$(mktemp -d /tmp/bouncecal_fresh.XXXXXX)}"
 root="${work}/root"
+mkdir -p "${work}"
 mirror="${BOUNCECAL_DEBIAN_MIRROR:-http://deb.debian.org/debian}"
 [ "$(id -u)" -eq 0 ] || { echo "fresh_machine_first_command.sh: run as root" >&2; exit 1; }
 command -v debootstrap >/dev/null || { echo "fresh_machine_first_command.sh: install debootstrap" >&2; exit 1; }
