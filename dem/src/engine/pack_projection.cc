@@ -27,8 +27,8 @@ constexpr ReferenceRow kReference[] = {
 };
 
 // Each thread past the first adds this share of one: 2 threads ran the 2000-sphere settled pack
-// 1.28x and the whole pour 1.6x as fast as 1 (docs/packing.md, seventh round); larger packs split
-// better, smaller ones worse.
+// 1.28x and the whole pour 1.6x as fast as 1 (docs/history/packing_speed_rounds.md, seventh
+// round); larger packs split better, smaller ones worse.
 constexpr double kExtraThreadShare = 0.5;
 
 // Time constant (wall seconds) of the smoothing of the measured speed: long enough to ride over
