@@ -40,6 +40,9 @@ function(bouncecal_add_tests)
   cmake_parse_arguments(ARG "" "NAME;TIER" "SOURCES;LIBRARIES;LONG_TESTS;EXTERNAL_TESTS" ${ARGN})
   if(NOT ARG_TIER)
     set(ARG_TIER unit)
+  elseif(NOT ARG_TIER MATCHES "^(unit|integration)$")
+    message(FATAL_ERROR "bouncecal_add_tests(${ARG_NAME}): TIER is unit or integration, not "
+      "'${ARG_TIER}' (long and external tests are named in LONG_TESTS / EXTERNAL_TESTS)")
   endif()
   add_executable(${ARG_NAME} ${ARG_SOURCES})
   target_link_libraries(${ARG_NAME} PRIVATE ${ARG_LIBRARIES} bouncecal::test_support GTest::gtest
