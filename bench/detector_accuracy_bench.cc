@@ -8,8 +8,8 @@
 //   build/bench/detector_accuracy_bench                  # every condition, 12 seeds each
 //   build/bench/detector_accuracy_bench --seeds 40 --only chain
 //   build/bench/detector_accuracy_bench --only table --verbose   # onsets outside 2 sigmas
-// Below 20 kHz the drops are retimed from their whole response, as DetectImpactsInFile does
-// (--response-timing-everywhere: at every rate); --dump PREFIX writes each drop and its truth.
+// The drops are retimed from their whole response, as DetectImpactsInFile does
+// (--first-lobe-only: not); --dump PREFIX writes each drop and its truth.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -247,7 +247,10 @@ struct Tally {
   std::vector<double> centred_errors_s;
   int within_two_sigma = 0;
   std::vector<double> interval_errors_s;  // |error| of intervals between consecutive matches
-  std::vector<double> eta_errors;         // |eta-bar(1-3) detected - exact|, per drop
+  // Those intervals within two sigmas of their two onsets' stated uncertainties in quadrature:
+  // what the calibration's intervals use (only relative times enter them).
+  int intervals_within_two_sigma = 0;
+  std::vector<double> eta_errors;  // |eta-bar(1-3) detected - exact|, per drop
 };
 
 constexpr double kMatchS = 1e-3;
@@ -265,9 +268,9 @@ double EtaBar(const std::vector<double>& onsets) {
 
 // Command-line switches beyond the conditions.
 struct Flags {
-  // Retime from the whole response at every rate, not only below 20 kHz (what
-  // DetectImpactsInFile does): measures what the stage would do to 44.1-96 kHz WAVs.
-  bool response_timing_everywhere = false;
+  // The detector's own onsets, without the response timing that DetectImpactsInFile applies
+  // (response_timing.h): what the first lobe alone gives.
+  bool first_lobe_only = false;
   bool verbose = false;  // print every onset outside 2 stated sigmas
   std::string dump;      // write each drop as DUMP<seed>.wav and .csv (truth)
 };
@@ -284,11 +287,8 @@ void Score(const SynthesisOptions& options, const Flags& flags, Tally& tally) {
     std::fclose(f);
   }
   auto detection = bouncecal::audio::DetectImpacts(recording.channels[0]);
-  if (options.sample_rate_hz < 20000 || flags.response_timing_everywhere) {
-    // As DetectImpactsInFile does below 20 kHz (response_timing.h): retimed from the response.
-    bouncecal::audio::ResponseTimer timer(detection);
-    timer.Process(recording.channels[0].samples);
-    timer.Apply(detection, 0.0);
+  if (!flags.first_lobe_only) {
+    bouncecal::audio::RetimeFromResponses(detection, recording.channels[0].samples);
   }
   const auto grouping = bouncecal::audio::GroupBounces(detection);
   const auto& impacts = detection.impacts;
@@ -346,6 +346,10 @@ void Score(const SynthesisOptions& options, const Flags& flags, Tally& tally) {
     const double detected = impacts[static_cast<std::size_t>(match[t])].onset_s -
                             impacts[static_cast<std::size_t>(match[t - 1])].onset_s;
     tally.interval_errors_s.push_back(std::fabs(detected - (truth[t] - truth[t - 1])));
+    const double sigma =
+        std::hypot(impacts[static_cast<std::size_t>(match[t])].onset_uncertainty_s,
+                   impacts[static_cast<std::size_t>(match[t - 1])].onset_uncertainty_s);
+    tally.intervals_within_two_sigma += tally.interval_errors_s.back() <= 2 * sigma ? 1 : 0;
   }
   if (truth.size() >= 5 && !grouping.sequences.empty()) {
     std::vector<double> detected;
@@ -385,21 +389,21 @@ int main(int argc, char** argv) {
       flags.dump = argv[++i];
     } else if (!std::strcmp(argv[i], "--verbose")) {
       flags.verbose = true;
-    } else if (!std::strcmp(argv[i], "--response-timing-everywhere")) {
-      flags.response_timing_everywhere = true;
+    } else if (!std::strcmp(argv[i], "--first-lobe-only")) {
+      flags.first_lobe_only = true;
     } else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
       only = argv[++i];
     } else {
       std::fprintf(stderr,
                    "usage: %s [--seeds N] [--only SUBSTRING] [--verbose] [--dump PREFIX] "
-                   "[--response-timing-everywhere]\n",
+                   "[--first-lobe-only]\n",
                    argv[0]);
       return 2;
     }
   }
-  std::printf("%-24s %5s %9s %5s %8s %8s %8s %8s %8s %8s %6s\n", "condition", "seq", "found",
+  std::printf("%-24s %5s %9s %5s %8s %8s %8s %8s %8s %8s %6s %6s\n", "condition", "seq", "found",
               "extra", "bias_us", "abs50_us", "abs95_us", "int50_us", "int95_us", "deta95",
-              "in2sig");
+              "in2sig", "int2sig");
   Tally all;
   for (const auto& condition : Conditions()) {
     if (!only.empty() && condition.name.find(only) == std::string::npos) continue;
@@ -411,12 +415,14 @@ int main(int argc, char** argv) {
     }
     const double bias = Quantile(tally.errors_s, 0.5);
     const auto& centred = tally.centred_errors_s;
-    std::printf("%-24s %2d/%-2d %4d/%-4d %5d %8.1f %8.1f %8.1f %8.1f %8.1f %8.4f %5.0f%%\n",
+    std::printf("%-24s %2d/%-2d %4d/%-4d %5d %8.1f %8.1f %8.1f %8.1f %8.1f %8.4f %5.0f%% %5.0f%%\n",
                 condition.name.c_str(), tally.drops_with_sequence, tally.drops, tally.found,
                 tally.truth, tally.extra, bias * 1e6, Quantile(Abs(centred), 0.5) * 1e6,
                 Quantile(Abs(centred), 0.95) * 1e6, Quantile(tally.interval_errors_s, 0.5) * 1e6,
                 Quantile(tally.interval_errors_s, 0.95) * 1e6, Quantile(tally.eta_errors, 0.95),
-                100.0 * tally.within_two_sigma / std::max<std::size_t>(1, centred.size()));
+                100.0 * tally.within_two_sigma / std::max<std::size_t>(1, centred.size()),
+                100.0 * tally.intervals_within_two_sigma /
+                    std::max<std::size_t>(1, tally.interval_errors_s.size()));
   }
   return 0;
 }

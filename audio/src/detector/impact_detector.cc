@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "bouncecal/error.h"
@@ -11,6 +12,7 @@
 #include "detector/candidate_tracker.h"
 #include "detector/detector_frames.h"
 #include "detector/event_merger.h"
+#include "detector/impact_sample_keeper.h"
 #include "detector/novelty_sources.h"
 #include "detector/onset_locator.h"
 #include "detector/ringing_residual.h"
@@ -77,9 +79,17 @@ class ImpactDetector::Impl {
     const std::size_t piece = bands_.max_latency_samples();
     for (std::size_t at = 0; at < samples.size(); at += piece) {
       const auto part = samples.subspan(at, std::min(piece, samples.size() - at));
+      if (keeper_) keeper_->Append(raw_.end(), part);
       raw_.PushBlock(part);
       Consume(bands_.Filter(part));
     }
+  }
+
+  void KeepSamplesAroundImpacts(std::int64_t before_samples, std::int64_t after_samples) {
+    keeper_.emplace(before_samples, after_samples);
+  }
+  std::vector<SampleStretch> TakeKeptSamples() {
+    return keeper_ ? keeper_->Take() : std::vector<SampleStretch>{};
   }
 
   DetectionResult Finish() {
@@ -149,7 +159,10 @@ class ImpactDetector::Impl {
   }
 
   void Locate(const Candidate& candidate) {
-    if (auto located = locator_.Locate(candidate)) merger_.Add(*located);
+    if (auto located = locator_.Locate(candidate)) {
+      if (keeper_) keeper_->Keep(located->onset_sample, raw_);
+      merger_.Add(*located);
+    }
   }
 
   // Rises of this fraction of rise_threshold_db open a candidate (see CandidateTracker).
@@ -164,6 +177,7 @@ class ImpactDetector::Impl {
   CandidateTracker tracker_;
   OnsetLocator locator_;
   EventMerger merger_;
+  std::optional<ImpactSampleKeeper> keeper_;
   std::ptrdiff_t frames_in_block_ = 0;
   DetectionResult result_;
 };
@@ -177,6 +191,13 @@ ImpactDetector::~ImpactDetector() = default;
 void ImpactDetector::Process(std::span<const float> samples) { impl_->Process(samples); }
 
 DetectionResult ImpactDetector::Finish() { return impl_->Finish(); }
+
+void ImpactDetector::KeepSamplesAroundImpacts(std::int64_t before_samples,
+                                              std::int64_t after_samples) {
+  impl_->KeepSamplesAroundImpacts(before_samples, after_samples);
+}
+
+std::vector<SampleStretch> ImpactDetector::TakeKeptSamples() { return impl_->TakeKeptSamples(); }
 
 DetectionResult DetectImpacts(const Recording& recording, const DetectorOptions& options) {
   ImpactDetector detector(recording.sample_rate_hz, options);

@@ -5,14 +5,11 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <type_traits>
 #include <utility>
 
 namespace bouncecal::audio {
 namespace {
-
-// Below this rate a click's first lobe spans one or two samples (docs/codecs.md: the steel
-// sample at 8 kHz is found only inside ringing, with one residual hop of uncertainty).
-constexpr int kLowRateHz = 20000;
 
 // Floor of an alignment's uncertainty: the contact lasts longer the slower the impact (v^-1/5), so
 // a late bounce's response is a slightly different waveform from the loudest impact's, and its
@@ -40,25 +37,30 @@ std::vector<float> FirstDifference(const std::vector<float>& samples) {
   return out;
 }
 
-// The dot products of a[0, n) with x[j, j + n) for the kLagLanes lags j, each summed over t
-// in order: lane j adds the float product a[t] x[t + j] to its float sum exactly as one lag at a
-// time would, so the correlations are bit for bit the same; the lanes are one vector (GCC's
-// vector extension), since the sum over t cannot be vectorised without reordering it. Also
-// compiled for AVX (no fused multiply-add there, which would round differently), picked when the
-// library loads where the processor has it.
+// The dot products of a[0, n) with x[j, j + n) for kLagLanes x Vectors lags j, each summed over
+// t in order: lane j adds the float product a[t] x[t + j] to its float sum exactly as one lag at
+// a time would, so the correlations are bit for bit the same; the lanes are vectors (GCC's
+// vector extension), since the sum over t cannot be vectorised without reordering it. Several
+// vectors at once, because one vector's sum waits on its previous add every step (four
+// vectors: 3.4x the lags per second of one). Also compiled for AVX (no fused multiply-add
+// there, which would round differently), picked when the library loads where the processor
+// has it.
 constexpr std::int64_t kLagLanes = 8;
+template <int Vectors>
 #if defined(__x86_64__) && defined(__GNUC__)
 [[gnu::target_clones("avx", "default")]]
 #endif
-void EightLagDots(const float* a, const float* x, std::int64_t n, float* dot) {
+void LagDots(const float* a, const float* x, std::int64_t n, float* dot) {
   using Float8 = float __attribute__((vector_size(kLagLanes * sizeof(float))));
-  Float8 sums = {};
+  Float8 sums[Vectors] = {};
   for (std::int64_t t = 0; t < n; ++t) {
-    Float8 window;
-    std::memcpy(&window, x + t, sizeof window);
-    sums += a[t] * window;
+    for (int v = 0; v < Vectors; ++v) {
+      Float8 window;
+      std::memcpy(&window, x + t + v * kLagLanes, sizeof window);
+      sums[v] += a[t] * window;
+    }
   }
-  std::memcpy(dot, &sums, sizeof sums);
+  std::memcpy(dot, sums, sizeof sums);
 }
 
 // Normalised cross-correlation of templ[lead, lead + n) with target[lead + lag, lead + lag + n)
@@ -95,14 +97,19 @@ Alignment Align(const std::vector<float>& templ, const std::vector<float>& targe
     correlation[static_cast<std::size_t>(k)] =
         energy > 0 ? dot / std::sqrt(templ_energy * energy) : 0.0;
   };
-  // kLagLanes lags at a time (EightLagDots): this loop was 27 % of analysing an AAC copy (a
+  // kLagLanes lags at a time (LagDots): this loop was 27 % of analysing an AAC copy (a
   // 10-minute file: 1.41 CPU s against its WAV's 0.56).
   std::int64_t k = 0;
-  for (; k + kLagLanes <= lags; k += kLagLanes) {
-    std::array<float, kLagLanes> dot{};
-    EightLagDots(a, target.data() + (lead + k - search), n, dot.data());
-    for (std::int64_t j = 0; j < kLagLanes; ++j) normalise(k + j, dot[static_cast<std::size_t>(j)]);
-  }
+  const auto lag_block = [&](auto vectors) {
+    constexpr std::int64_t kLags = decltype(vectors)::value * kLagLanes;
+    for (; k + kLags <= lags; k += kLags) {
+      std::array<float, kLags> dot{};
+      LagDots<decltype(vectors)::value>(a, target.data() + (lead + k - search), n, dot.data());
+      for (std::int64_t j = 0; j < kLags; ++j) normalise(k + j, dot[static_cast<std::size_t>(j)]);
+    }
+  };
+  lag_block(std::integral_constant<int, 4>{});
+  lag_block(std::integral_constant<int, 1>{});
   for (; k < lags; ++k) {
     const float* x = target.data() + (lead + k - search);
     float dot = 0;
@@ -165,24 +172,24 @@ double WeightedMedian(std::vector<std::pair<double, double>> values) {
 
 }  // namespace
 
-bool FirstLobeUnreliable(const RecordingInfo& info) {
-  if (info.sample_rate_hz < kLowRateHz) return true;
-  if (!info.lossy) return false;
-  const std::string& codec = info.codec;
-  const bool sample_by_sample = codec == "pcm_mulaw" || codec == "pcm_alaw" ||
-                                codec == "adpcm_ima" || codec == "adpcm_ima_wav" ||
-                                codec == "adpcm_ms";
-  return !sample_by_sample;
+std::int64_t ResponseTimer::SamplesBeforeOnset(int sample_rate_hz,
+                                               const ResponseTimingOptions& options) {
+  // One sample more before (the first difference) and one for the parabola's neighbour.
+  return static_cast<std::int64_t>(std::ceil(options.search_s * sample_rate_hz)) + 2;
+}
+
+std::int64_t ResponseTimer::SamplesAfterOnset(int sample_rate_hz,
+                                              const ResponseTimingOptions& options) {
+  const double rate = sample_rate_hz;
+  return static_cast<std::int64_t>(std::ceil(options.search_s * rate)) +
+         static_cast<std::int64_t>(std::ceil(options.response_s * rate)) + 2;
 }
 
 ResponseTimer::ResponseTimer(const DetectionResult& detection, const ResponseTimingOptions& options)
     : options_(options), sample_rate_hz_(detection.sample_rate_hz) {
   const double rate = sample_rate_hz_;
-  const auto search = static_cast<std::int64_t>(std::ceil(options_.search_s * rate));
-  const auto response = static_cast<std::int64_t>(std::ceil(options_.response_s * rate));
-  // One sample more before (the first difference) and after (the parabola's neighbour).
-  lead_ = search + 2;
-  length_ = lead_ + search + response + 2;
+  lead_ = SamplesBeforeOnset(sample_rate_hz_, options_);
+  length_ = lead_ + SamplesAfterOnset(sample_rate_hz_, options_);
   for (bool tentative : {false, true}) {
     const auto& impacts = tentative ? detection.tentative : detection.impacts;
     for (std::size_t i = 0; i < impacts.size(); ++i) {
@@ -216,6 +223,21 @@ void ResponseTimer::Process(std::span<const float> samples) {
     ++first_open_;
   }
   position_ = block_end;
+}
+
+void ResponseTimer::Process(const SampleStretch& stretch) {
+  const std::int64_t begin = stretch.begin;
+  const std::int64_t end = begin + static_cast<std::int64_t>(stretch.samples.size());
+  // Windows are sorted by begin and have one length: those overlapping the stretch are a run.
+  const auto first =
+      std::lower_bound(windows_.begin(), windows_.end(), begin - length_ + 1,
+                       [](const Window& w, std::int64_t at) { return w.begin < at; });
+  for (auto window = first; window != windows_.end() && window->begin < end; ++window) {
+    const std::int64_t from = std::max(window->begin, begin);
+    const std::int64_t to = std::min(window->begin + length_, end);
+    std::copy(stretch.samples.begin() + (from - begin), stretch.samples.begin() + (to - begin),
+              window->samples.begin() + (from - window->begin));
+  }
 }
 
 bool ResponseTimer::Done() const { return first_open_ >= windows_.size(); }

@@ -95,6 +95,12 @@ struct DetectionResult {
   double impact_to_noise_db = 0;
 };
 
+// Consecutive samples of a recording, from sample `begin` on.
+struct SampleStretch {
+  std::int64_t begin = 0;
+  std::vector<float> samples;
+};
+
 // Streaming impact detector: feed samples of one channel in blocks of any size, then Finish().
 // Memory is bounded (about 0.2 s of samples of history) whatever the length of the recording.
 //
@@ -114,8 +120,16 @@ class ImpactDetector {
   ImpactDetector& operator=(ImpactDetector&&) noexcept;
   ~ImpactDetector();
 
+  // Keeps the samples from before_samples before to after_samples after every located impact
+  // as the stream passes, for a stage that needs them after Finish (response_timing.h) without
+  // a second pass over the recording. Call before the first Process.
+  void KeepSamplesAroundImpacts(std::int64_t before_samples, std::int64_t after_samples);
+
   void Process(std::span<const float> samples);
   DetectionResult Finish();
+  // The stretches kept (KeepSamplesAroundImpacts), in order, one where impacts' overlap; empty
+  // if none were asked for.
+  std::vector<SampleStretch> TakeKeptSamples();
 
  private:
   class Impl;

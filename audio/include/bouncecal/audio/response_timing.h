@@ -10,12 +10,14 @@
 
 namespace bouncecal::audio {
 
-// Timing of impacts from their whole response, for recordings whose first lobe is unreliable.
+// Timing of impacts from their whole response, in every recording (DetectImpactsInFile).
 //
 // A transform codec (AAC, MP3, Vorbis, Opus) spreads quantisation noise over a short block before
 // a click (pre-echo, up to 2.7-4 ms), and at 8-16 kHz a click's first lobe is a sample or two
 // wide and often buried in the previous impact's ringing: the detector's onset, which times the
-// first lobe, then jumps by up to milliseconds on a few percent of the impacts. The response
+// first lobe, then jumps by up to milliseconds on a few percent of the impacts. Even in a clean
+// WAV the first lobe is timed to ~0.1 ms at p95 where a soft contact or a ringing plate blurs it
+// (docs/detector.md: the detector suite's median p95 39 us, 14 us with this stage). The response
 // after each impact (the plate's and the ball's ringing) survives both, and the impacts of one
 // recording excite nearly the same modes, so each impact's response is aligned to a template
 // response of the same recording (normalised cross-correlation of the first differences over the
@@ -42,11 +44,6 @@ struct ResponseTimingOptions {
   double min_peak_margin = 0.15;
 };
 
-// Whether a recording's first lobes are unreliable enough for the stage: a transform codec
-// (every lossy codec but G.711 and ADPCM, which code sample by sample and keep the lobe) or a
-// sample rate below 20 kHz.
-bool FirstLobeUnreliable(const RecordingInfo& info);
-
 struct ResponseTimingSummary {
   int considered = 0;  // impacts and tentative impacts
   int aligned = 0;     // with an unambiguous alignment
@@ -56,14 +53,25 @@ struct ResponseTimingSummary {
   std::int64_t template_onset_sample = -1;
 };
 
-// Collects the samples around each onset of a detection while the recording streams past a
-// second time (memory: ~2 x (search + response) per impact), then retimes the detection.
+// Collects the samples around each onset of a detection (memory: ~2 x (search + response) per
+// impact), from the stretches the detector kept (ImpactDetector::KeepSamplesAroundImpacts) or
+// from the whole stream, then retimes the detection.
 class ResponseTimer {
  public:
   ResponseTimer(const DetectionResult& detection, const ResponseTimingOptions& options = {});
 
+  // The samples it reads around an onset: this many before it and after it (what an
+  // ImpactDetector must keep, KeepSamplesAroundImpacts).
+  static std::int64_t SamplesBeforeOnset(int sample_rate_hz,
+                                         const ResponseTimingOptions& options = {});
+  static std::int64_t SamplesAfterOnset(int sample_rate_hz,
+                                        const ResponseTimingOptions& options = {});
+
   // Consecutive samples of the analysed channel, from sample 0 on.
   void Process(std::span<const float> samples);
+  // A stretch of them (ImpactDetector::TakeKeptSamples), in any order; samples of a window that
+  // no stretch holds read as silence.
+  void Process(const SampleStretch& stretch);
   // Whether every window is complete (the rest of the recording need not be read).
   bool Done() const;
   // Retimes the detection; first_lobe_sigma_s is the error of the detector's onsets beyond their
