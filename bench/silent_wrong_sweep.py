@@ -2,6 +2,7 @@
 """Hunts for silent wrong answers: random recordings, each with exact ground truth.
 
     bench/silent_wrong_sweep.py build/apps/bouncecal [--seed 11] [--count 60] [--workdir DIR]
+                                [--only-unreliable-lobe]
 
 Each file is a `bouncecal synth` drop with a random mix of what real recordings bring: sample
 rate 8-96 kHz, contact 35 us - 1 ms, plate or counter, restitution 0.3-0.92, noise (white or
@@ -82,6 +83,10 @@ def main():
     parser.add_argument("--seed", type=int, default=11)
     parser.add_argument("--count", type=int, default=60)
     parser.add_argument("--workdir", default=None)
+    parser.add_argument("--only-unreliable-lobe", action="store_true",
+                        help="only the files the response timing stage runs on (a transform "
+                             "codec or a rate below 20 kHz; audio/include/bouncecal/audio/"
+                             "response_timing.h): the others are analysed as before it")
     options = parser.parse_args()
     workdir = options.workdir or tempfile.mkdtemp(prefix="silent_wrong_")
     os.makedirs(workdir, exist_ok=True)
@@ -89,6 +94,9 @@ def main():
     tally = {"files": 0, "sequences": 0, "refused": 0, "silent_wrong": 0}
     for index in range(options.count):
         args, codec = random_recording(rng, index)
+        rate = int(args[args.index("--sample-rate-hz") + 1])
+        if options.only_unreliable_lobe and not codec and rate >= 20000:
+            continue
         wav = os.path.join(workdir, f"{index}.wav")
         truth_csv = os.path.join(workdir, f"{index}.csv")
         synth = subprocess.run([options.bouncecal, "synth", "-o", wav, "--truth", truth_csv] + args,

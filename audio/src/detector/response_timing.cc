@@ -11,6 +11,10 @@
 namespace bouncecal::audio {
 namespace {
 
+// Below this rate a click's first lobe spans one or two samples (docs/codecs.md: the steel
+// sample at 8 kHz is found only inside ringing, with one residual hop of uncertainty).
+constexpr int kLowRateHz = 20000;
+
 // Floor of an alignment's uncertainty: the contact lasts longer the slower the impact (v^-1/5), so
 // a late bounce's response is a slightly different waveform from the loudest impact's, and its
 // alignment is biased by a fraction of a sample (0.54 sample at the 8th bounce of the test's
@@ -171,6 +175,16 @@ double WeightedMedian(std::vector<std::pair<double, double>> values) {
 }
 
 }  // namespace
+
+bool FirstLobeUnreliable(const RecordingInfo& info) {
+  if (info.sample_rate_hz < kLowRateHz) return true;
+  if (!info.lossy) return false;
+  const std::string& codec = info.codec;
+  const bool sample_by_sample = codec == "pcm_mulaw" || codec == "pcm_alaw" ||
+                                codec == "adpcm_ima" || codec == "adpcm_ima_wav" ||
+                                codec == "adpcm_ms";
+  return !sample_by_sample;
+}
 
 std::int64_t ResponseTimer::SamplesBeforeOnset(int sample_rate_hz,
                                                const ResponseTimingOptions& options) {

@@ -198,5 +198,18 @@ TEST(ResponseTiming, AlignedImpactsAreStatedWithTheAlignmentsPrecisionOthersWith
   EXPECT_DOUBLE_EQ(noise_burst->onset_uncertainty_s, std::hypot(20e-6, kCodecSigma));
 }
 
+TEST(ResponseTiming, RunsOnlyWhereTheFirstLobeIsUnreliable) {
+  RecordingInfo info;
+  info.sample_rate_hz = 48000;
+  EXPECT_FALSE(FirstLobeUnreliable(info));
+  info.lossy = true;
+  info.codec = "aac";
+  EXPECT_TRUE(FirstLobeUnreliable(info));
+  info.codec = "pcm_mulaw";
+  EXPECT_FALSE(FirstLobeUnreliable(info));
+  info.sample_rate_hz = 8000;
+  EXPECT_TRUE(FirstLobeUnreliable(info));
+}
+
 }  // namespace
 }  // namespace bouncecal::audio

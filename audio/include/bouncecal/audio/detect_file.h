@@ -31,19 +31,19 @@ struct FileDetection {
   std::vector<double> channel_impact_to_noise_db;
   // Set for a lossy file: the codec's timing error of the detector's onsets (codec_timing.h),
   // already added in quadrature to the uncertainty of every onset of `detection` that the
-  // response timing did not time on its own.
+  // response timing did not time (all of them for G.711 and ADPCM, which it does not retime).
   std::optional<CodecTiming> codec_timing;
-  // The impacts retimed from their whole response (response_timing.h): those it aligned
-  // (own_sigma) are stated with the alignment's uncertainty instead of the first lobe's (and a
-  // lossy codec's). Always set by DetectImpactsInFile.
+  // Set where the first lobe is unreliable (FirstLobeUnreliable: a transform codec, a rate below
+  // 20 kHz): the impacts were retimed from their whole response (response_timing.h); those it
+  // aligned (own_sigma) are stated with the alignment's uncertainty instead of the codec's.
   std::optional<ResponseTimingSummary> response_timing;
   DetectionResult detection;
 };
 
-// Streams the file once through one detector per candidate channel, which keep the samples
-// around their impacts; retimes the chosen channel's impacts from their response; for a lossy
-// file, widens the uncertainty of every onset not timed from its response by the codec's
-// measured timing error. Throws InputError for an
+// Streams the file once through one detector per candidate channel; where the first lobe is
+// unreliable the detectors keep the samples around their impacts and the chosen channel's
+// impacts are retimed from their response; for a lossy file, widens the uncertainty of every
+// onset not timed from its response by the codec's measured timing error. Throws InputError for an
 // unreadable file and ConfigError for a channel the file does not have or bad detector options.
 FileDetection DetectImpactsInFile(const std::filesystem::path& path,
                                   const FileDetectionOptions& options = {});

@@ -10,14 +10,12 @@
 
 namespace bouncecal::audio {
 
-// Timing of impacts from their whole response, in every recording (DetectImpactsInFile).
+// Timing of impacts from their whole response, for recordings whose first lobe is unreliable.
 //
 // A transform codec (AAC, MP3, Vorbis, Opus) spreads quantisation noise over a short block before
 // a click (pre-echo, up to 2.7-4 ms), and at 8-16 kHz a click's first lobe is a sample or two
 // wide and often buried in the previous impact's ringing: the detector's onset, which times the
-// first lobe, then jumps by up to milliseconds on a few percent of the impacts. Even in a clean
-// WAV the first lobe is timed to ~0.1 ms at p95 where a soft contact or a ringing plate blurs it
-// (docs/detector.md: the detector suite's median p95 39 us, 14 us with this stage). The response
+// first lobe, then jumps by up to milliseconds on a few percent of the impacts. The response
 // after each impact (the plate's and the ball's ringing) survives both, and the impacts of one
 // recording excite nearly the same modes, so each impact's response is aligned to a template
 // response of the same recording (normalised cross-correlation of the first differences over the
@@ -43,6 +41,11 @@ struct ResponseTimingOptions {
   // response dominated by one mode correlates almost as well one period away.
   double min_peak_margin = 0.15;
 };
+
+// Whether a recording's first lobes are unreliable enough for the stage: a transform codec
+// (every lossy codec but G.711 and ADPCM, which code sample by sample and keep the lobe) or a
+// sample rate below 20 kHz.
+bool FirstLobeUnreliable(const RecordingInfo& info);
 
 struct ResponseTimingSummary {
   int considered = 0;  // impacts and tentative impacts
