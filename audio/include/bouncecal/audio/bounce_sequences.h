@@ -106,8 +106,11 @@ SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
 // `impacts` at its end with impacts from `tentative` (rises too weak to count on their own)
 // that fall where the next bounce is due, t_n + r dt_n with r the last interval ratio, within
 // half the usual ratio_step_tolerance, while no impact of `impacts` lies in that window and
-// flights stay above chatter_interval_ms. Returns `impacts` plus the adopted ones (flagged
-// residual_only), in time order. Deterministic. Throws ConfigError for bad options.
+// flights stay above chatter_interval_ms. After an adoption, a window holding exactly one impact
+// of `impacts` that no sequence took is passed through (that impact is the bounce due there,
+// which the sequence could not reach before) and adoption goes on after it. Returns `impacts`
+// plus the adopted ones (flagged residual_only), in time order. Deterministic. Throws
+// ConfigError for bad options.
 std::vector<Impact> ExtendSequencesWithTentative(const std::vector<Impact>& impacts,
                                                  const std::vector<Impact>& tentative,
                                                  const SequenceOptions& options = {});
