@@ -686,5 +686,65 @@ TEST(DetectorGroundTruth, WeakBouncesOfAPingPongBallOnATableStateTheLobeTheyMayH
   EXPECT_LE(late_uncovered, 2);
 }
 
+// The quiet end of a ping-pong ball's drop on a table in a drier room (direct sound 10 dB over
+// the reverberation, 40 dB re the first impact): its bounces come every 25-35 ms, each clearly
+// audible (rendered alone, its first 3 ms stand 7-12 dB over the 3.5 ms before it in the 1-4 kHz
+// band, where the ball's shell rings: the independent suite's "required"), but none rises by the
+// full threshold over the bounce before it. Their rises of half the threshold stood out of the
+// noise under the ringing, not out of the bands' own floors, which the bounces' ringing had
+// become: they were not kept as tentative impacts, and the sequence ended at the first of them.
+TEST(DetectorGroundTruth, AQuietPingPongBallsLastAudibleBouncesStayInItsSequence) {
+  int bounces = 0, in_sequence = 0;
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    SynthesisOptions options;
+    options.seed = seed;
+    options.modes = TableTopModes();
+    for (double f : {3100.0, 3240.0, 3390.0}) options.modes.push_back({f, 0.004, 0.6});
+    options.contact_duration_s = 300e-6;
+    // Loudness and restitution vary with the seed as in bench/detector_accuracy_bench.
+    const double w = std::fmod(0.7548776662 * static_cast<double>(seed), 1.0);
+    options.peak_amplitude = 0.2 + 0.5 * std::fmod(0.5698402910 * static_cast<double>(seed), 1.0);
+    options.drop.drop_height_m = 0.3;
+    options.drop.restitution.constant = 0.88 + 0.04 * w;
+    options.drop.terminal_speed_mps = 9.0;
+    options.drop.min_flight_s = 0.012;
+    options.chain = RecordingChain{};
+    options.click_gain = 0.3;
+    ReverbOptions reverb;
+    reverb.rt60_s = 0.35;
+    reverb.direct_to_reverberant_db = 10;
+    reverb.echoes = {{0.0015, -14.0}, {0.006, -10.0}};
+    options.reverb = reverb;
+    NoiseOptions noise;
+    noise.snr_db = 40;
+    noise.reference = SnrReference::kFirstImpact;
+    options.noise = noise;
+    const auto synthesized = SynthesizeBounces(options);
+    auto detection = DetectImpacts(synthesized.channels[0]);
+    const auto grouping = GroupBounces(detection);
+    ASSERT_FALSE(grouping.sequences.empty()) << seed;
+    const auto truth = synthesized.BallImpactOnsetsS();
+    for (std::size_t k = 1; k < truth.size(); ++k) {
+      if (truth[k] - truth[k - 1] < 0.025) continue;
+      ++bounces;
+      for (int i : grouping.sequences[0].impact_indices) {
+        if (std::fabs(detection.impacts[static_cast<std::size_t>(i)].onset_s - truth[k]) <
+            kMatchS) {
+          ++in_sequence;
+          break;
+        }
+      }
+    }
+  }
+  std::printf(
+      "[ figures  ] quiet ping-pong end: %d of %d bounces after flights >= 25 ms in the "
+      "sequence\n",
+      in_sequence, bounces);
+  // 92 of 102 (90 %) before the tentative rises gated on the ringing's noise were kept, 97 now.
+  // Of the 5 left, 2 are rises timed 1.7-2.1 ms late that no window takes, and the bounces after
+  // them; 93 % leaves two bounces' margin for a change in timing.
+  EXPECT_GE(in_sequence, 0.93 * bounces);
+}
+
 }  // namespace
 }  // namespace bouncecal::audio

@@ -74,7 +74,6 @@ class EventMerger {
   std::string BandName(std::size_t band) const;
 
   double rise_threshold_db_;
-  double min_snr_db_;
   double min_gap_ms_;
   double residual_hop_s_;
   int rate_hz_;

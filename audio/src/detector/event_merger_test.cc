@@ -132,3 +132,35 @@ TEST(EventMerger, ContinuationsNeverWinWeakGroupsAreTentativeAndTheOffsetMovesRe
 
 }  // namespace
 }  // namespace bouncecal::audio
+
+namespace bouncecal::audio {
+namespace {
+
+// A weak group is a tentative impact wherever it passed the onset locator's SNR gate, also where
+// it passed only against the noise under the ringing (its band's own floor being the ringing of
+// bounces every 20-30 ms: a lively ball's quiet end); but not where the picker's change point did
+// not stand out of the start of its search, which gives no onset to adopt.
+TEST(EventMerger, WeakGroupsAreTentativeWhereverGatedUnlessTheirOnsetWasNotFound) {
+  Rig rig(HitInATail(0.2));
+  EventMerger merger(DetectorOptions{}, 1.8e-3, kRate, rig.rig.bands);
+  auto gated_on_ringing = At(0.3, 0, 6.0);
+  gated_on_ringing.impact.snr_db = 7.0;  // under min_snr_db in its band
+  gated_on_ringing.impact.residual_only = true;
+  merger.Add(gated_on_ringing);
+  auto not_found = At(0.4, 0, 6.0);
+  not_found.impact.snr_db = 7.0;
+  not_found.impact.residual_only = true;
+  not_found.change_point_found = false;
+  merger.Add(not_found);
+  auto in_band = At(0.5, 0, 6.0);  // its band's SNR does not make up for it
+  in_band.change_point_found = false;
+  merger.Add(in_band);
+  merger.Flush();
+  DetectionResult result;
+  merger.Report(0.0, result);
+  ASSERT_EQ(result.tentative.size(), 1u);
+  EXPECT_DOUBLE_EQ(result.tentative[0].onset_s, 0.3);
+}
+
+}  // namespace
+}  // namespace bouncecal::audio

@@ -22,6 +22,10 @@ constexpr int kInnovationOrder = 24;
 // PredictionInnovation refuses to fit), so the innovation was skipped and the onset picked on the
 // tail itself. The fit spans at least this many samples per coefficient at every rate.
 constexpr int kInnovationFitSamplesPerCoefficient = 8;
+// The change point must stand out of the search's own start by this much in the AIC (-2
+// log-likelihood: two sigmas of its profile likelihood), or it did not find where the impact
+// began (see LocatedImpact::change_point_found).
+constexpr double kMinChangePointAicExcess = 4.0;
 // History kept for the picker and the peak level; longer than every window above together.
 constexpr double kHistoryS = 0.1;
 
@@ -231,6 +235,7 @@ std::optional<LocatedImpact> OnsetLocator::Locate(const Candidate& candidate) {
   located.band_rise_db = candidate.rise_db;
   located.band_rose = !in_ringing;
   located.continuation = continuation;
+  located.change_point_found = pick.start_aic_excess >= kMinChangePointAicExcess;
   return located;
 }
 

@@ -26,6 +26,11 @@ struct LocatedImpact {
   // False when no band rose by the full threshold: its level is then mostly the tail it is in.
   bool band_rose = true;
   bool continuation = false;  // the rest of a sound whose candidate was closed while rising
+  // False where the search's own first sample fits the window within two sigmas of the change
+  // point (PickOnset's start_aic_excess): the change point did not find where the impact began
+  // inside the search, the whole search looking alike (an impact too weak against the tail it
+  // is in, or one that began before the search), and the onset sits near the search's start.
+  bool change_point_found = true;
   // impact.onset_s is its timing reference (see ReferenceCrossing in onset_picker.h), which the
   // detector turns into the start of contact by one offset for the whole recording
   // (ReferenceToContactOffset); false where no reference could be placed and onset_s is the

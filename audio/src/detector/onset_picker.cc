@@ -407,6 +407,7 @@ double ClearOfNoiseAfter(std::span<const float> x, std::size_t from, std::size_t
 struct ContactStart {
   OnsetPick pick;
   std::size_t change_point = 0;
+  double start_aic_excess = std::numeric_limits<double>::infinity();
   double noise_rms = 0;
   bool edge_fitted = false;
 };
@@ -446,6 +447,7 @@ ContactStart PickContactStart(std::span<const float> x, std::size_t search_begin
     pick.sigma_samples = 1.0;
     return result;
   }
+  result.start_aic_excess = aic.front() - best;
   // One-sigma profile-likelihood interval of the change point.
   std::size_t lo = best_k - first;
   while (lo > 0 && aic[lo - 1] <= best + 1.0) --lo;
@@ -500,6 +502,7 @@ ContactStart PickContactStart(std::span<const float> x, std::size_t search_begin
 OnsetPick PickOnset(std::span<const float> x, std::size_t search_begin, std::size_t search_end) {
   ContactStart start = PickContactStart(x, search_begin, search_end);
   OnsetPick pick = start.pick;
+  pick.start_aic_excess = start.start_aic_excess;
   if (x.size() < 8) return pick;
   // The reference is searched from the search window's start: where the window ends at a later,
   // larger lobe, the change point may fall on that lobe's build-up rather than on the first.

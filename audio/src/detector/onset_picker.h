@@ -20,6 +20,10 @@ struct OnsetPick {
   // The fitted edge y = edge_amplitude (i - index)^edge_power; NaN where no edge was fitted.
   double edge_amplitude = std::numeric_limits<double>::quiet_NaN();
   double edge_power = std::numeric_limits<double>::quiet_NaN();
+  // How much worse the AIC is at the first sample of the search than at the change point (the
+  // AIC here is -2 log-likelihood, so 1 is the change point's one-sigma interval and 4 its two
+  // sigmas); infinity where no change point was searched.
+  double start_aic_excess = std::numeric_limits<double>::infinity();
 };
 
 // The fraction of an impact's peak at which its timing reference is taken (ReferenceCrossing).

@@ -24,9 +24,14 @@ struct SequenceOptions {
   // How far r may lie from the mean of the chain's last three ratios, on top of the change the
   // onset uncertainties allow (3 sigma).
   double ratio_step_tolerance = 0.12;
-  // Flights shorter than this are chatter: impacts merge and per-interval e is noise (the
-  // sources see it below 20-25 ms); a sequence stops there and says so.
-  double chatter_interval_ms = 20.0;
+  // Flights shorter than this are chatter: a sequence stops there and says so. The detector's
+  // default min_gap_ms: two rises closer than that are merged into one event, so shorter
+  // flights cannot be told apart, while longer ones are heard as separate bounces and time e
+  // to a few 0.1 % (a lively ball's audible bounces go on to 13-20 ms flights: the detector
+  // suite's steel anvil at e = 0.95, a ping-pong ball on a table). It was 20 ms, where the
+  // real recordings' sources see the ball chatter; there the sequence now ends where no bounce
+  // is found.
+  double chatter_interval_ms = 12.0;
   // Fewest impacts that form a sequence. Three give one ratio, which any three random sounds
   // with shrinking gaps also give; four give two ratios that must agree, which handling noise
   // and speech rarely do.
@@ -101,8 +106,11 @@ SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
 // `impacts` at its end with impacts from `tentative` (rises too weak to count on their own)
 // that fall where the next bounce is due, t_n + r dt_n with r the last interval ratio, within
 // half the usual ratio_step_tolerance, while no impact of `impacts` lies in that window and
-// flights stay above chatter_interval_ms. Returns `impacts` plus the adopted ones (flagged
-// residual_only), in time order. Deterministic. Throws ConfigError for bad options.
+// flights stay above chatter_interval_ms. After an adoption, a window holding exactly one impact
+// of `impacts` that no sequence took is passed through (that impact is the bounce due there,
+// which the sequence could not reach before) and adoption goes on after it. Returns `impacts`
+// plus the adopted ones (flagged residual_only), in time order. Deterministic. Throws
+// ConfigError for bad options.
 std::vector<Impact> ExtendSequencesWithTentative(const std::vector<Impact>& impacts,
                                                  const std::vector<Impact>& tentative,
                                                  const SequenceOptions& options = {});
