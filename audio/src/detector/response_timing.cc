@@ -44,9 +44,9 @@ std::vector<float> FirstDifference(const std::vector<float>& samples) {
 // The dot products of a[0, n) with x[j, j + n) for kLagLanes x Vectors lags j, each summed over
 // t in order: lane j adds the float product a[t] x[t + j] to its float sum exactly as one lag at
 // a time would, so the correlations are bit for bit the same; the lanes are vectors (GCC's
-// vector extension), since the sum over t cannot be vectorised without reordering it. Several
-// vectors at once, because one vector's sum waits on its previous add every step (four
-// vectors: 3.4x the lags per second of one). Also compiled for AVX (no fused multiply-add
+// vector extension), since the sum over t cannot be vectorised without reordering it. Four
+// vectors at once where the lags allow, because one vector's sum waits on its previous add
+// every step and four keep four adds in flight. Also compiled for AVX (no fused multiply-add
 // there, which would round differently), picked when the library loads where the processor
 // has it.
 constexpr std::int64_t kLagLanes = 8;
