@@ -624,6 +624,31 @@ TEST(DetectorGroundTruth, OnsetsThroughALinearPhaseChainDoNotDependOnLoudness) {
   }
 }
 
+// A ping-pong ball on a wooden table: TableTopModes plus the ball's shell ringing near 3.2 kHz
+// for 3-5 ms, a 300 us contact, air drag, a linear-phase chain, a room with two early echoes whose
+// direct sound stands direct_to_reverberant_db over its tail, and noise 40 dB under the first
+// impact. Loudness, height and restitution are the caller's.
+SynthesisOptions PingPongOnATable(std::uint64_t seed, double direct_to_reverberant_db) {
+  SynthesisOptions options;
+  options.seed = seed;
+  options.modes = TableTopModes();
+  for (double f : {3100.0, 3240.0, 3390.0}) options.modes.push_back({f, 0.004, 0.6});
+  options.contact_duration_s = 300e-6;
+  options.drop.terminal_speed_mps = 9.0;
+  options.chain = RecordingChain{};
+  options.click_gain = 0.3;
+  ReverbOptions reverb;
+  reverb.rt60_s = 0.35;
+  reverb.direct_to_reverberant_db = direct_to_reverberant_db;
+  reverb.echoes = {{0.0015, -14.0}, {0.006, -10.0}};
+  options.reverb = reverb;
+  NoiseOptions noise;
+  noise.snr_db = 40;
+  noise.reference = SnrReference::kFirstImpact;
+  options.noise = noise;
+  return options;
+}
+
 // A ping-pong ball on a wooden table (TableTopModes plus the ball's shell ringing near 3.2 kHz for
 // 3-5 ms), through a linear-phase chain, with air drag and noise 40 dB under the first impact: its
 // late bounces are weak and land in the table's low ringing. There their first lobe sinks under
@@ -636,27 +661,11 @@ TEST(DetectorGroundTruth, OnsetsThroughALinearPhaseChainDoNotDependOnLoudness) {
 TEST(DetectorGroundTruth, WeakBouncesOfAPingPongBallOnATableStateTheLobeTheyMayHaveSkipped) {
   int found = 0, covered = 0, late_uncovered = 0;
   for (std::uint64_t seed = 1; seed <= 4; ++seed) {
-    SynthesisOptions options;
-    options.seed = seed;
-    options.modes = TableTopModes();
-    for (double f : {3100.0, 3240.0, 3390.0}) options.modes.push_back({f, 0.004, 0.6});
-    options.contact_duration_s = 300e-6;
+    SynthesisOptions options = PingPongOnATable(seed, 3);
     options.peak_amplitude = 0.3 + 0.1 * static_cast<double>(seed);
     options.drop.drop_height_m = 0.25 + 0.05 * static_cast<double>(seed);
     options.drop.restitution.constant = 0.86 + 0.015 * static_cast<double>(seed);
-    options.drop.terminal_speed_mps = 9.0;
     options.drop.min_flight_s = 0.02;
-    options.chain = RecordingChain{};
-    options.click_gain = 0.3;
-    ReverbOptions reverb;
-    reverb.rt60_s = 0.35;
-    reverb.direct_to_reverberant_db = 3;
-    reverb.echoes = {{0.0015, -14.0}, {0.006, -10.0}};
-    options.reverb = reverb;
-    NoiseOptions noise;
-    noise.snr_db = 40;
-    noise.reference = SnrReference::kFirstImpact;
-    options.noise = noise;
     const auto synthesized = SynthesizeBounces(options);
     const auto detection = Detect(synthesized.channels[0]);
     const auto score = Compare(detection.impacts, synthesized.BallImpactOnsetsS());
@@ -696,29 +705,13 @@ TEST(DetectorGroundTruth, WeakBouncesOfAPingPongBallOnATableStateTheLobeTheyMayH
 TEST(DetectorGroundTruth, AQuietPingPongBallsLastAudibleBouncesStayInItsSequence) {
   int bounces = 0, in_sequence = 0;
   for (std::uint64_t seed = 1; seed <= 4; ++seed) {
-    SynthesisOptions options;
-    options.seed = seed;
-    options.modes = TableTopModes();
-    for (double f : {3100.0, 3240.0, 3390.0}) options.modes.push_back({f, 0.004, 0.6});
-    options.contact_duration_s = 300e-6;
+    SynthesisOptions options = PingPongOnATable(seed, 10);
     // Loudness and restitution vary with the seed as in bench/detector_accuracy_bench.
     const double w = std::fmod(0.7548776662 * static_cast<double>(seed), 1.0);
     options.peak_amplitude = 0.2 + 0.5 * std::fmod(0.5698402910 * static_cast<double>(seed), 1.0);
     options.drop.drop_height_m = 0.3;
     options.drop.restitution.constant = 0.88 + 0.04 * w;
-    options.drop.terminal_speed_mps = 9.0;
     options.drop.min_flight_s = 0.012;
-    options.chain = RecordingChain{};
-    options.click_gain = 0.3;
-    ReverbOptions reverb;
-    reverb.rt60_s = 0.35;
-    reverb.direct_to_reverberant_db = 10;
-    reverb.echoes = {{0.0015, -14.0}, {0.006, -10.0}};
-    options.reverb = reverb;
-    NoiseOptions noise;
-    noise.snr_db = 40;
-    noise.reference = SnrReference::kFirstImpact;
-    options.noise = noise;
     const auto synthesized = SynthesizeBounces(options);
     auto detection = DetectImpacts(synthesized.channels[0]);
     const auto grouping = GroupBounces(detection);
