@@ -142,9 +142,9 @@ class ContactStages {
       if constexpr (kWall) {
         for (int c = 0; c < Dim; ++c) nv[c] = t.normal[c][k];
       } else {
-        double dist2 = 0;
-        for (int c = 0; c < Dim; ++c) dist2 += t.normal[c][k] * t.normal[c][k];
-        const double dist = std::sqrt(dist2);
+        double d[Dim];
+        for (int c = 0; c < Dim; ++c) d[c] = t.normal[c][k];
+        const double dist = std::sqrt(SumOfSquares<Dim>(d));
         const double inverse = 1.0 / dist;
         for (int c = 0; c < Dim; ++c) nv[c] = t.normal[c][k] * inverse;
         t.overlap[k] = (t.radius_i[k] + t.radius_j[k]) - dist;

@@ -112,12 +112,15 @@ Engine<Dim, Law, Phys>::GatherFourTransposed(Scratch& t, int k, std::int64_t b,
   __m256d xj[4];
   LoadColumns(particle_i, offsetof(Record, position_radius), xi);
   LoadColumns(particle_j, offsetof(Record, position_radius), xj);
-  __m256d d2 = _mm256_setzero_pd();
+  __m256d d[3];
   for (int c = 0; c < 3; ++c) {
-    const __m256d d = _mm256_sub_pd(xi[c], xj[c]);
-    _mm256_store_pd(&t.normal[c][k], d);
-    d2 = _mm256_add_pd(d2, _mm256_mul_pd(d, d));
+    d[c] = _mm256_sub_pd(xi[c], xj[c]);
+    _mm256_store_pd(&t.normal[c][k], d[c]);
   }
+  // From the first square, as SumOfSquares.
+  const __m256d d2 =
+      _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1])),
+                    _mm256_mul_pd(d[2], d[2]));
   const __m256d cutoff = _mm256_add_pd(_mm256_add_pd(xi[3], xj[3]), _mm256_set1_pd(cutoff_gap_m));
   const __m256d within = _mm256_cmp_pd(d2, _mm256_mul_pd(cutoff, cutoff), _CMP_LT_OQ);
   _mm256_store_pd(&t.within[k], _mm256_and_pd(within, _mm256_set1_pd(1.0)));
@@ -141,12 +144,21 @@ Engine<Dim, Law, Phys>::GatherFourTransposed(Scratch& t, int k, std::int64_t b,
     }
   }
   if constexpr (Phys::kTangential) {
-    const V* shear = this->pair_shear_.data() + b + k;
-    for (int q = 0; q < 4; ++q) {
-      for (int c = 0; c < 3; ++c) t.shear[c][k + q] = shear[q][c];
-    }
+    // The four springs are 12 consecutive doubles: three loads, turned into columns.
+    static_assert(sizeof(V) == 3 * sizeof(double));
+    __m256d x;
+    __m256d y;
+    __m256d z;
+    LoadThreeColumns(reinterpret_cast<const double*>(this->pair_shear_.data() + b + k), x, y, z);
+    _mm256_store_pd(&t.shear[0][k], x);
+    _mm256_store_pd(&t.shear[1][k], y);
+    _mm256_store_pd(&t.shear[2][k], z);
   }
-  for (int q = 0; q < 4; ++q) t.pair[k + q] = static_cast<std::int32_t>(b + k + q);
+  // Only a law with a normal history looks a dense contact's pair up (the write-back indexes
+  // the pairs by position).
+  if constexpr (Law::kNeedsHistory) {
+    for (int q = 0; q < 4; ++q) t.pair[k + q] = static_cast<std::int32_t>(b + k + q);
+  }
 }
 
 // The first multiple of 4 of a dense block's n contacts written back (3D; none in 2D), four
@@ -188,17 +200,10 @@ template <int Dim, class Law, class Phys>
         _mm_storeu_pd(record + 4, yz[q]);
       }
       if constexpr (Phys::kTangential) {
-        __m256d spring[4];
-        for (int c = 0; c < 3; ++c) {
-          spring[c] = _mm256_and_pd(touching, _mm256_load_pd(&t.shear[c][k]));
-        }
-        spring[3] = zero;
-        Transpose4(spring[0], spring[1], spring[2], spring[3]);
-        for (int q = 0; q < 4; ++q) {
-          double* record = shear_out + 3 * (k + q);
-          _mm_storeu_pd(record, _mm256_castpd256_pd128(spring[q]));
-          _mm_store_sd(record + 2, _mm256_extractf128_pd(spring[q], 1));
-        }
+        StoreThreeColumns(_mm256_and_pd(touching, _mm256_load_pd(&t.shear[0][k])),
+                          _mm256_and_pd(touching, _mm256_load_pd(&t.shear[1][k])),
+                          _mm256_and_pd(touching, _mm256_load_pd(&t.shear[2][k])),
+                          shear_out + 3 * k);
       }
       const int within_bits = _mm256_movemask_pd(within);
       const int touching_bits = _mm256_movemask_pd(touching);
@@ -235,12 +240,12 @@ template <int Dim, class Law, class Phys>
     const Record& particle_j = x[j];
     const double r_i = particle_i.position_radius.s;
     const double r_j = particle_j.position_radius.s;
-    double d2 = 0;
+    double d[Dim];
     for (int c = 0; c < Dim; ++c) {
-      const double d = particle_i.position_radius.v[c] - particle_j.position_radius.v[c];
-      t.normal[c][k] = d;
-      d2 += d * d;
+      d[c] = particle_i.position_radius.v[c] - particle_j.position_radius.v[c];
+      t.normal[c][k] = d[c];
     }
+    const double d2 = SumOfSquares<Dim>(d);
     const double cutoff_m = r_i + r_j + cutoff_gap_m;
     t.within[k] = d2 < cutoff_m * cutoff_m ? 1.0 : 0.0;
     t.radius_i[k] = r_i;
@@ -260,7 +265,7 @@ template <int Dim, class Law, class Phys>
     if constexpr (Phys::kTangential) {
       for (int c = 0; c < Dim; ++c) t.shear[c][k] = shear[k][c];
     }
-    t.pair[k] = static_cast<std::int32_t>(b + k);
+    if constexpr (Law::kNeedsHistory) t.pair[k] = static_cast<std::int32_t>(b + k);
   }
 }
 

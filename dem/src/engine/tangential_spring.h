@@ -13,6 +13,16 @@
 
 namespace bouncecal::dem::scene {
 
+// Sum of the squares, started from the first square rather than from 0: 0 + x x is x x for
+// every x (a square is never -0), so the value is that of the plain sum, and the compiler,
+// which must keep the addition of a 0 it cannot prove redundant, saves one per sum.
+template <int Dim>
+[[gnu::always_inline]] inline double SumOfSquares(const double (&v)[Dim]) {
+  double sum = v[0] * v[0];
+  for (int c = 1; c < Dim; ++c) sum += v[c] * v[c];
+  return sum;
+}
+
 // Turns a contact's spring into the tangent plane of the unit normal n, keeping its length, so
 // that a rolling contact does not grow a normal component (LAMMPS gran/hooke/history projects
 // without the rescale; pair granular rescales like this). The projection is done in place; the
@@ -20,14 +30,12 @@ namespace bouncecal::dem::scene {
 // spring, or none left after the projection, the factor is 1.
 template <int Dim>
 [[gnu::always_inline]] inline double ProjectSpring(double (&spring)[Dim], const double (&n)[Dim]) {
-  double old2 = 0;
-  for (int c = 0; c < Dim; ++c) old2 += spring[c] * spring[c];
+  const double old2 = SumOfSquares<Dim>(spring);
   double along = 0;
   for (int c = 0; c < Dim; ++c) along += spring[c] * n[c];
   double projected[Dim];
   for (int c = 0; c < Dim; ++c) projected[c] = spring[c] - along * n[c];
-  double new2 = 0;
-  for (int c = 0; c < Dim; ++c) new2 += projected[c] * projected[c];
+  const double new2 = SumOfSquares<Dim>(projected);
   const bool had_spring = old2 > 0;
   for (int c = 0; c < Dim; ++c) spring[c] = had_spring ? projected[c] : spring[c];
   const bool rescale = had_spring & (new2 > 0);
@@ -61,8 +69,7 @@ template <int Dim>
     tangential[c] = shear[c] * -ks;
   }
   const double cap = friction * std::abs(normal_force);
-  double f2 = 0;
-  for (int c = 0; c < Dim; ++c) f2 += tangential[c] * tangential[c];
+  const double f2 = SumOfSquares<Dim>(tangential);
   const bool slides = f2 > cap * cap;
   const double scale = cap / std::sqrt(f2);
   for (int c = 0; c < Dim; ++c) {

@@ -84,6 +84,31 @@ class CellGrid {
     }
   }
 
+  // For points numbered in cell order (x fastest, as BinByCell sorts them): calls visit(first,
+  // last) for each row of c's neighbourhood that can hold a point numbered after one in c, as
+  // the run of cells first .. last along x: c's own row and the rows after it (in 3D the next
+  // row of c's layer and the three rows of the next layer; in 2D the next row). The other rows
+  // hold only cells of lower index, so only earlier points. Rows in increasing index.
+  template <class Visit>
+  [[gnu::always_inline]] inline void ForEachLaterRow(const Coord& c, Visit&& visit) const {
+    const std::int64_t x_lo = std::max<std::int64_t>(c[0] - 1, 0);
+    const std::int64_t x_hi = std::min<std::int64_t>(c[0] + 1, dims_[0] - 1);
+    auto row = [&](std::int64_t y, std::int64_t z) {
+      if (y < 0 || y >= dims_[1]) return;
+      if constexpr (Dim == 3) {
+        if (z >= dims_[2]) return;
+      }
+      const std::int64_t first = (z * dims_[1] + y) * dims_[0];
+      visit(first + x_lo, first + x_hi);
+    };
+    const std::int64_t z = Dim == 3 ? c[Dim - 1] : 0;
+    row(c[1], z);
+    row(c[1] + 1, z);
+    if constexpr (Dim == 3) {
+      for (std::int64_t y = c[1] - 1; y <= c[1] + 1; ++y) row(y, z + 1);
+    }
+  }
+
  private:
   bool valid_ = false;
   Vec<Dim> lo_ = Vec<Dim>::Zero();

@@ -82,8 +82,9 @@ PairList GridPairs(const std::vector<Vec<Dim>>& position_m, const std::vector<do
   const std::int32_t* cell_start = bins.start.data();
   const std::int32_t* sorted = bins.sorted.data();
   // Particles already in cell order (the engine sorts them at each rebuild with this grid): a
-  // partner j > i then lies in i's cell or a later one, so the earlier cells of the stencil
-  // need not be read (half the distance tests). The pairs found are the same.
+  // partner j > i then lies in i's cell or a later one, so only the rows of the stencil from
+  // i's own on are read, each as one run of points (ForEachLaterRow). The pairs found are the
+  // same.
   bool cell_ordered = true;
   for (std::int32_t s = 0; s < n && cell_ordered; ++s) cell_ordered = sorted[s] == s;
 
@@ -98,17 +99,27 @@ PairList GridPairs(const std::vector<Vec<Dim>>& position_m, const std::vector<do
     std::vector<std::int32_t> found;
     for (auto i = static_cast<std::int32_t>(begin); i < end; ++i) {
       found.clear();
-      grid.ForEachNeighbour(grid.CoordOf(position_m[i]), [&](std::int64_t cell) {
-        const std::int32_t from =
-            cell_ordered ? std::max(cell_start[cell], i + 1) : cell_start[cell];
-        for (std::int32_t s = from; s < cell_start[cell + 1]; ++s) {
-          const std::int32_t j = sorted[s];
-          if (j <= i) continue;
-          const double reach = radius_m[i] + radius_m[j] + reach_m;
-          if ((position_m[i] - position_m[j]).squaredNorm() < reach * reach) found.push_back(j);
-        }
-      });
-      std::sort(found.begin(), found.end());
+      auto test = [&](std::int32_t j) {
+        const double reach = radius_m[i] + radius_m[j] + reach_m;
+        if ((position_m[i] - position_m[j]).squaredNorm() < reach * reach) found.push_back(j);
+      };
+      if (cell_ordered) {
+        // Rows in increasing index and points in cell order: found comes out sorted.
+        grid.ForEachLaterRow(
+            grid.CoordOf(position_m[i]), [&](std::int64_t first_cell, std::int64_t last_cell) {
+              const std::int32_t stop = cell_start[last_cell + 1];
+              for (std::int32_t j = std::max(cell_start[first_cell], i + 1); j < stop; ++j) {
+                test(j);
+              }
+            });
+      } else {
+        grid.ForEachNeighbour(grid.CoordOf(position_m[i]), [&](std::int64_t cell) {
+          for (std::int32_t s = cell_start[cell]; s < cell_start[cell + 1]; ++s) {
+            if (sorted[s] > i) test(sorted[s]);
+          }
+        });
+        std::sort(found.begin(), found.end());
+      }
       for (std::int32_t j : found) {
         part.first.push_back(i);
         part.second.push_back(j);
