@@ -30,16 +30,19 @@ constexpr double kRestitution = 0.65;
 constexpr double kJitter = 0.03;
 constexpr double kDropHeightM = 0.20;
 
-// Ballistic flights with e_k = 0.65 (1 + 0.03 z_k), rendered (plate modes, reverb, 35 dB noise),
-// written as WAV and detected as `bouncecal calibrate` does.
-calibrate::MeasuredSequence RecordDrop(std::uint64_t seed) {
+// Ballistic flights with e_k = e (1 + jitter z_k) (by default 0.65 with 3 % from 0.20 m),
+// rendered (plate modes, reverb, 35 dB noise), written as WAV and detected as `bouncecal
+// calibrate` does.
+calibrate::MeasuredSequence RecordDrop(std::uint64_t seed, double restitution = kRestitution,
+                                       double jitter = kJitter,
+                                       double drop_height_m = kDropHeightM) {
   RandomStream draws(seed, 0, 7);
   audio::SynthesisOptions synthesis;
-  double onset = 0.3 + std::sqrt(2 * kDropHeightM / kGravity);
-  double speed = std::sqrt(2 * kGravity * kDropHeightM);
+  double onset = 0.3 + std::sqrt(2 * drop_height_m / kGravity);
+  double speed = std::sqrt(2 * kGravity * drop_height_m);
   for (int k = 0; k < 60; ++k) {
     synthesis.impacts.push_back({onset, speed, 0});
-    speed *= std::min(kRestitution * (1 + kJitter * draws.Gaussian()), 0.999);
+    speed *= std::min(restitution * (1 + jitter * draws.Gaussian()), 0.999);
     const double flight = 2 * speed / kGravity;
     if (flight < 0.004) break;
     onset += flight;
@@ -110,6 +113,29 @@ TEST(CalibrateChainCoverage, ScatteredConstantRestitutionIsCoveredWithoutFalseTr
   EXPECT_GE(covered, 20) << covered << " of " << fits;
   EXPECT_LE(trends, 1) << trends << " of " << fits;
   EXPECT_GE(widths.front(), 0.15 * median) << "median width " << median;
+}
+
+// Five recordings of a steel ball on an anvil (e = 0.8, no scatter, 0.35 m) fitted jointly: their
+// ~50 impacts make the trend test sensitive to eta_k changes of a few 1e-4, the size of the bias
+// a timing that drifts smoothly with the contact duration leaves in late eta_k. The shipped
+// first-lobe onsets claim no trend on 200 of 200 such sets (docs/calibration.md's chain table);
+// onsets timed from the whole response, which lock on the contact's centroid, claimed one on 199
+// of 200 (docs/detector.md, "Not at every rate yet"). A 1 % test claims none of these 4 sets
+// with probability 0.96; these seeds claim none.
+TEST(CalibrateChainCoverage, FiveAnvilRecordingsWithoutScatterClaimNoSpeedTrend) {
+  int trends = 0;
+  for (std::uint64_t set = 0; set < 4; ++set) {
+    std::vector<calibrate::MeasuredSequence> recordings;
+    for (std::uint64_t r = 0; r < 5; ++r)
+      recordings.push_back(RecordDrop(200 + 5 * set + r, 0.8, 0, 0.35));
+    calibrate::FitOptions options;
+    options.analytic_check = false;
+    const auto summary = calibrate::Fit(recordings, options);
+    ASSERT_TRUE(summary.adequacy.tested) << summary.adequacy.message;
+    trends += summary.adequacy.trend ? 1 : 0;
+    EXPECT_FALSE(summary.adequacy.trend) << "set " << set << ": " << summary.adequacy.message;
+  }
+  RecordProperty("trends", trends);
 }
 
 }  // namespace
