@@ -152,6 +152,35 @@ TEST(AnalyzeCli, SeveralRecordingsGiveTheSameShapeWithOneEntryEachAndASummary) {
   EXPECT_FALSE(out.contains("impacts"));  // the top-level copy is for one recording only
 }
 
+// A drop of 6 bounces (e = 0.65 from 0.20 m) followed by knocks at irregular times, which no
+// bounce sequence can hold: with more knocks than bounces analyze says the sequence may rest on
+// a few of many sounds; with fewer it does not (the rule: more left out than in, and at least 4).
+TEST(AnalyzeCli, MostImpactsOutsideEverySequenceAreAWarningFewAreNot) {
+  const auto analyze_with_knocks = [](const std::vector<double>& knocks_s) {
+    const auto csv = ScratchPath("impacts_" + std::to_string(knocks_s.size()) + ".csv");
+    std::ofstream out(csv);
+    double t = 0.5, v = std::sqrt(2 * 9.81 * 0.2);
+    for (int k = 0; k < 6; ++k, v *= 0.65, t += 2 * v / 9.81) out << t << "," << v << "\n";
+    for (std::size_t i = 0; i < knocks_s.size(); ++i)
+      out << knocks_s[i] << "," << (i % 2 ? 1.5 : 1.0) << "\n";
+    out.close();
+    const auto wav = ScratchPath("knocks_" + std::to_string(knocks_s.size()) + ".wav");
+    const auto synth = RunBouncecal("synth -o '" + wav.string() + "' --impact-times '" +
+                                    csv.string() + "' --snr-db 40 --reverb-rt60-s 0.2");
+    EXPECT_EQ(synth.exit_status, 0) << synth.output;
+    return RunBouncecal("analyze '" + wav.string() + "'");
+  };
+  const auto many = analyze_with_knocks({2.3, 2.95, 3.42, 4.61, 5.07, 5.93, 6.58, 7.44});
+  EXPECT_EQ(many.exit_status, 0) << many.output;
+  EXPECT_NE(many.output.find("1 sequence(s)"), std::string::npos) << many.output;
+  EXPECT_NE(many.output.find("8 of 14 impacts fit no bounce sequence"), std::string::npos)
+      << many.output;
+  const auto few = analyze_with_knocks({2.3, 3.42, 5.07, 6.58});
+  EXPECT_EQ(few.exit_status, 0) << few.output;
+  EXPECT_NE(few.output.find("1 sequence(s)"), std::string::npos) << few.output;
+  EXPECT_EQ(few.output.find("fit no bounce sequence"), std::string::npos) << few.output;
+}
+
 TEST(AnalyzeCli, ChannelOutsideTheFileIsABadOption) {
   const auto drop = SyntheticDrop("mono.wav", 7, 0.2);
   const auto result = RunBouncecal("analyze '" + drop.string() + "' --channel 3");
