@@ -11,8 +11,8 @@ namespace bouncecal::audio {
 namespace {
 
 // Beyond the samples the response timing reads around a located impact, kept either side: its
-// reported onset is the located one moved by the recording's reference-to-contact offset,
-// which is a fraction of a contact time (well under a millisecond for the balls measured).
+// reported onset is the located one moved by the recording's reference-to-contact offset, a
+// fraction of a contact time, which is at most ~1 ms for the balls this tool is for.
 constexpr double kKeptMarginS = 5e-3;
 
 }  // namespace

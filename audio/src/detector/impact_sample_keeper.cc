@@ -52,9 +52,9 @@ void ImpactSampleKeeper::Append(std::int64_t block_begin, std::span<const float>
   if (collected >= wanted_end_) return;
   // The newest stretch is kept current with the stream, so the block continues it.
   assert(collected == block_begin);
+  (void)block_begin;
   const auto count = static_cast<std::size_t>(
       std::min<std::int64_t>(wanted_end_ - collected, static_cast<std::int64_t>(block.size())));
-  (void)block_begin;
   auto& samples = stretches_.back().samples;
   samples.insert(samples.end(), block.begin(), block.begin() + static_cast<std::ptrdiff_t>(count));
 }

@@ -234,41 +234,25 @@ ResponseTimer::ResponseTimer(const DetectionResult& detection, const ResponseTim
 }
 
 void ResponseTimer::Process(std::span<const float> samples) {
-  const std::int64_t block_begin = position_;
-  const std::int64_t block_end = position_ + static_cast<std::int64_t>(samples.size());
-  for (std::size_t w = first_open_; w < windows_.size(); ++w) {
-    Window& window = windows_[w];
-    if (window.begin >= block_end) break;
-    const std::int64_t from = std::max(window.begin, block_begin);
-    const std::int64_t to = std::min(window.begin + length_, block_end);
-    for (std::int64_t s = from; s < to; ++s) {
-      window.samples[static_cast<std::size_t>(s - window.begin)] =
-          samples[static_cast<std::size_t>(s - block_begin)];
-    }
-  }
-  // Windows have one length, so they close in the order they open.
-  while (first_open_ < windows_.size() && windows_[first_open_].begin + length_ <= block_end) {
-    ++first_open_;
-  }
-  position_ = block_end;
+  Fill(position_, samples);
+  position_ += static_cast<std::int64_t>(samples.size());
 }
 
-void ResponseTimer::Process(const SampleStretch& stretch) {
-  const std::int64_t begin = stretch.begin;
-  const std::int64_t end = begin + static_cast<std::int64_t>(stretch.samples.size());
-  // Windows are sorted by begin and have one length: those overlapping the stretch are a run.
+void ResponseTimer::Process(const SampleStretch& stretch) { Fill(stretch.begin, stretch.samples); }
+
+void ResponseTimer::Fill(std::int64_t begin, std::span<const float> samples) {
+  const std::int64_t end = begin + static_cast<std::int64_t>(samples.size());
+  // Windows are sorted by begin and have one length: those overlapping the samples are a run.
   const auto first =
       std::lower_bound(windows_.begin(), windows_.end(), begin - length_ + 1,
                        [](const Window& w, std::int64_t at) { return w.begin < at; });
   for (auto window = first; window != windows_.end() && window->begin < end; ++window) {
     const std::int64_t from = std::max(window->begin, begin);
     const std::int64_t to = std::min(window->begin + length_, end);
-    std::copy(stretch.samples.begin() + (from - begin), stretch.samples.begin() + (to - begin),
+    std::copy(samples.begin() + (from - begin), samples.begin() + (to - begin),
               window->samples.begin() + (from - window->begin));
   }
 }
-
-bool ResponseTimer::Done() const { return first_open_ >= windows_.size(); }
 
 ResponseTimingSummary ResponseTimer::Apply(DetectionResult& detection,
                                            double first_lobe_sigma_s) const {

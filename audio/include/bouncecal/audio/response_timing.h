@@ -75,8 +75,6 @@ class ResponseTimer {
   // A stretch of them (ImpactDetector::TakeKeptSamples), in any order; samples of a window that
   // no stretch holds read as silence.
   void Process(const SampleStretch& stretch);
-  // Whether every window is complete (the rest of the recording need not be read).
-  bool Done() const;
   // Retimes the detection; first_lobe_sigma_s is the error of the detector's onsets beyond their
   // own uncertainty (a lossy codec's, codec_timing.h; 0 for PCM): it is added in quadrature to
   // every onset but those the alignment times on its own.
@@ -96,8 +94,9 @@ class ResponseTimer {
   std::vector<Window> windows_;  // by begin
   ResponseTimingSummary Retime(DetectionResult& detection, double first_lobe_sigma_s,
                                std::vector<bool>& own) const;
-  std::int64_t position_ = 0;
-  std::size_t first_open_ = 0;
+  // Copies samples[i], the recording's sample begin + i, into every window that holds it.
+  void Fill(std::int64_t begin, std::span<const float> samples);
+  std::int64_t position_ = 0;  // where the next consecutive block (Process) starts
 };
 
 // Convenience for a recording in memory.
