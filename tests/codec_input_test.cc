@@ -21,6 +21,7 @@
 #include "bouncecal/audio/response_timing.h"
 #include "bouncecal/audio/synthesize.h"
 #include "bouncecal/audio/write_recording.h"
+#include "bouncecal/calibrate/recording_analysis.h"
 #include "bouncecal/calibrate/sequence_input.h"
 #include "bouncecal/testing/scratch_folder.h"
 #include "cli_runner.h"
@@ -399,6 +400,36 @@ TEST_F(CodecInput, TelephoneRateCopiesOfTheSteelSampleKeepItsSequenceAndEtaBar) 
     ASSERT_FALSE(analysis["sequences"].empty()) << name << "\n" << result.output;
     const double eta = analysis["sequences"][0]["energy_loss_mean_first_n"];
     EXPECT_NEAR(eta, eta_wav, 0.005) << name;
+  }
+}
+
+// Samples handed over in memory (the Python module's numpy path) take the response timing where
+// a file of the same samples does (below 20 kHz), so both give the same onsets and sigmas. A
+// float WAV holds the samples exactly, so the two agree bit for bit. Needs no ffmpeg.
+TEST(RecordingAnalysisSamples, BelowTwentyKilohertzTheyAreRetimedAsTheirWavIs) {
+  audio::SynthesisOptions options;
+  options.sample_rate_hz = 16000;
+  options.drop.drop_height_m = 0.25;
+  options.drop.restitution.constant = 0.7;
+  audio::NoiseOptions noise;
+  noise.snr_db = 35;
+  options.noise = noise;
+  const auto synthesized = audio::SynthesizeBounces(options);
+  const ScratchFolder folder;
+  const auto wav = folder / "drop_16k.wav";
+  audio::WriteRecording(wav, synthesized.channels,
+                        {audio::AudioContainer::kWav, audio::SampleEncoding::kFloat});
+  const auto from_file = calibrate::AnalyzeRecording(wav, {});
+  const auto in_memory = calibrate::AnalyzeRecordingSamples(synthesized.channels[0], {});
+  ASSERT_TRUE(from_file.detection.response_timing.has_value());
+  ASSERT_TRUE(in_memory.detection.response_timing.has_value());
+  EXPECT_GT(in_memory.detection.response_timing->aligned, 0);
+  const auto& file_impacts = from_file.detection.detection.impacts;
+  const auto& memory_impacts = in_memory.detection.detection.impacts;
+  ASSERT_EQ(memory_impacts.size(), file_impacts.size());
+  for (std::size_t i = 0; i < file_impacts.size(); ++i) {
+    EXPECT_EQ(memory_impacts[i].onset_s, file_impacts[i].onset_s) << i;
+    EXPECT_EQ(memory_impacts[i].onset_uncertainty_s, file_impacts[i].onset_uncertainty_s) << i;
   }
 }
 
