@@ -10,7 +10,8 @@
 
 namespace bouncecal::audio {
 
-// Timing of impacts from their whole response, for recordings whose first lobe is unreliable.
+// Timing of impacts from their whole response: for recordings whose first lobe is unreliable,
+// and for every other recording whose contact durations it determines.
 //
 // A transform codec (AAC, MP3, Vorbis, Opus) spreads quantisation noise over a short block before
 // a click (pre-echo, up to 2.7-4 ms), and at 8-16 kHz a click's first lobe is a sample or two
@@ -32,6 +33,14 @@ namespace bouncecal::audio {
 // impact is stated with the alignment's precision, not the codec's; an impact without a usable
 // alignment (weak or ambiguous correlation: another kind of sound, a double hit, a response cut
 // short) keeps the detector's onset with the first lobe's error added.
+//
+// The alignment locks on the centroid of each impact's contact force, t0 + tau_k / 2, and a
+// slower impact's contact lasts longer (tau ~ v^-1/5): the aligned onsets are moved back to the
+// start of contact by half of each contact's lengthening over the template's, estimated from the
+// spectra of the aligned responses (contact_duration.h). Where that estimate exists, the
+// alignment alone gives the onset (the first lobe's pick drifts with the contact too); PCM at 20
+// kHz and above is retimed only then (require_contact_durations), since its first lobe is right
+// to a sample and the uncorrected drift would read as a speed trend.
 struct ResponseTimingOptions {
   double search_s = 5e-3;        // largest lag tried either side of the detector's onset
   double response_s = 12e-3;     // length of response compared
@@ -40,12 +49,20 @@ struct ResponseTimingOptions {
   // A peak must stand this far (in correlation) above the best lag outside its own lobe: a
   // response dominated by one mode correlates almost as well one period away.
   double min_peak_margin = 0.15;
+  // Leave the onsets as detected unless the recording determines its contact durations. Where
+  // the first lobe is reliable (PCM at 20 kHz and above) the stage is worth it only with the
+  // centroid correction (contact_duration.h): uncorrected, the aligned onsets drift with the
+  // contact's duration and, stated with the alignment's precision, read as a speed trend.
+  bool require_contact_durations = false;
 };
 
 // Whether a recording's first lobes are unreliable enough for the stage: a transform codec
 // (every lossy codec but G.711 and ADPCM, which code sample by sample and keep the lobe) or a
 // sample rate below 20 kHz.
 bool FirstLobeUnreliable(const RecordingInfo& info);
+// The stage's options for a recording: where its first lobe is reliable, the onsets are retimed
+// only with the centroid correction (require_contact_durations).
+ResponseTimingOptions ResponseTimingFor(const RecordingInfo& info);
 
 struct ResponseTimingSummary {
   int considered = 0;  // impacts and tentative impacts
@@ -54,6 +71,11 @@ struct ResponseTimingSummary {
   int replaced = 0;    // the detector's onset jumped; the alignment's replaced it
   int own_sigma = 0;   // stated with the alignment's sigma, without the first lobe's error
   std::int64_t template_onset_sample = -1;
+  // The template impact's contact duration (s) and the jackknife sd of its log, from the spectra
+  // of the aligned responses; the aligned onsets were moved from their force's centroid to the
+  // start of contact with it. 0 where the recording does not determine it (no correction).
+  double contact_duration_s = 0;
+  double contact_duration_log_sd = 0;
 };
 
 // Collects the samples around each onset of a detection (memory: ~2 x (search + response) per
