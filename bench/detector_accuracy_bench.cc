@@ -8,8 +8,10 @@
 //   build/bench/detector_accuracy_bench                  # every condition, 12 seeds each
 //   build/bench/detector_accuracy_bench --seeds 40 --only chain
 //   build/bench/detector_accuracy_bench --only table --verbose   # onsets outside 2 sigmas
-// Below 20 kHz the drops are retimed from their whole response, as DetectImpactsInFile does
-// (--response-timing-everywhere: at every rate); --dump PREFIX writes each drop and its truth.
+// The drops are retimed from their whole response as DetectImpactsInFile does: below 20 kHz
+// always, above it where the drop determines its contact durations (response_timing.h);
+// --response-timing-everywhere retimes every drop even without them, --first-lobe-at-pcm none
+// at 20 kHz and above (before 2026-12-02); --dump PREFIX writes each drop and its truth.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -271,6 +273,7 @@ struct Flags {
   // Retime from the whole response at every rate, not only below 20 kHz (what
   // DetectImpactsInFile does): measures what the stage would do to 44.1-96 kHz WAVs.
   bool response_timing_everywhere = false;
+  bool first_lobe_at_pcm = false;
   bool verbose = false;  // print every onset outside 2 stated sigmas
   std::string dump;      // write each drop as DUMP<seed>.wav and .csv (truth)
 };
@@ -287,9 +290,14 @@ void Score(const SynthesisOptions& options, const Flags& flags, Tally& tally) {
     std::fclose(f);
   }
   auto detection = bouncecal::audio::DetectImpacts(recording.channels[0]);
-  if (options.sample_rate_hz < 20000 || flags.response_timing_everywhere) {
-    // As DetectImpactsInFile does below 20 kHz (response_timing.h): retimed from the response.
-    bouncecal::audio::RetimeFromResponses(detection, recording.channels[0].samples);
+  // As DetectImpactsInFile does (response_timing.h): retimed from the response, at 20 kHz and
+  // above only where the drop determines its contact durations.
+  bouncecal::audio::RecordingInfo info;
+  info.sample_rate_hz = options.sample_rate_hz;
+  auto timing = bouncecal::audio::ResponseTimingFor(info);
+  if (flags.response_timing_everywhere) timing.require_contact_durations = false;
+  if (!flags.first_lobe_at_pcm || !timing.require_contact_durations) {
+    bouncecal::audio::RetimeFromResponses(detection, recording.channels[0].samples, 0, timing);
   }
   const auto grouping = bouncecal::audio::GroupBounces(detection);
   const auto& impacts = detection.impacts;
@@ -392,12 +400,14 @@ int main(int argc, char** argv) {
       flags.verbose = true;
     } else if (!std::strcmp(argv[i], "--response-timing-everywhere")) {
       flags.response_timing_everywhere = true;
+    } else if (!std::strcmp(argv[i], "--first-lobe-at-pcm")) {
+      flags.first_lobe_at_pcm = true;
     } else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
       only = argv[++i];
     } else {
       std::fprintf(stderr,
                    "usage: %s [--seeds N] [--only SUBSTRING] [--verbose] [--dump PREFIX] "
-                   "[--response-timing-everywhere]\n",
+                   "[--response-timing-everywhere] [--first-lobe-at-pcm]\n",
                    argv[0]);
       return 2;
     }

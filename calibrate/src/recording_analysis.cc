@@ -120,9 +120,8 @@ RecordingAnalysis AnalyzeRecordingSamples(const audio::Recording& recording,
   detection.duration_s = recording.duration_s();
   detection.detection = audio::DetectImpacts(recording, options.detector);
   // As DetectImpactsInFile does, so samples in memory and the same samples in a WAV agree.
-  if (audio::FirstLobeUnreliable(detection.info)) {
-    detection.response_timing = audio::RetimeFromResponses(detection.detection, recording.samples);
-  }
+  detection.response_timing = audio::RetimeFromResponses(detection.detection, recording.samples, 0,
+                                                         audio::ResponseTimingFor(detection.info));
   detection.channel_impact_to_noise_db = {detection.detection.impact_to_noise_db};
   analysis.grouping = audio::GroupBounces(detection.detection, sequences);
   AnalyzeSequences(analysis, options);

@@ -34,16 +34,14 @@ FileDetection DetectImpactsInFile(const std::filesystem::path& path,
   } else {
     for (int c = 0; c < info.channel_count; ++c) channels.push_back(c);
   }
-  // Where the impacts will be retimed from their response, every channel keeps its impacts'
-  // samples, since which one is analysed is known only at the end. The margin covers the step
-  // from where an impact was located to its reported onset (the timing reference's lead over the
-  // start of contact, ReferenceToContactOffset).
-  const bool retime = FirstLobeUnreliable(info);
+  // Every channel keeps its impacts' samples for the response timing, since which one is
+  // analysed is known only at the end. The margin covers the step from where an impact was
+  // located to its reported onset (the timing reference's lead over the start of contact,
+  // ReferenceToContactOffset).
   const auto margin = static_cast<std::int64_t>(std::ceil(kKeptMarginS * info.sample_rate_hz));
   std::vector<ImpactDetector> detectors;
   for (std::size_t i = 0; i < channels.size(); ++i) {
     detectors.emplace_back(info.sample_rate_hz, options.detector);
-    if (!retime) continue;
     detectors.back().KeepSamplesAroundImpacts(
         ResponseTimer::SamplesBeforeOnset(info.sample_rate_hz) + margin,
         ResponseTimer::SamplesAfterOnset(info.sample_rate_hz) + margin);
@@ -72,18 +70,14 @@ FileDetection DetectImpactsInFile(const std::filesystem::path& path,
   // AnalyzeBounces' other callers) carries it once, and the sequence search's tolerances see it.
   result.codec_timing = CodecTimingOf(info);
   const double codec_sigma_s = result.codec_timing ? result.codec_timing->onset_uncertainty_s : 0;
-  if (retime) {
-    ResponseTimer timer(result.detection);
-    {
-      // Released before the timer's own working copies are made (Apply).
-      const std::vector<SampleStretch> stretches = detectors[best].TakeKeptSamples();
-      for (const SampleStretch& stretch : stretches) timer.Process(stretch);
-    }
-    detectors.clear();
-    result.response_timing = timer.Apply(result.detection, codec_sigma_s);
-  } else if (result.codec_timing) {
-    WidenOnsetUncertainties(result.detection, codec_sigma_s);
+  ResponseTimer timer(result.detection, ResponseTimingFor(info));
+  {
+    // Released before the timer's own working copies are made (Apply).
+    const std::vector<SampleStretch> stretches = detectors[best].TakeKeptSamples();
+    for (const SampleStretch& stretch : stretches) timer.Process(stretch);
   }
+  detectors.clear();
+  result.response_timing = timer.Apply(result.detection, codec_sigma_s);
   return result;
 }
 

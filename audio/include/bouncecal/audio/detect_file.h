@@ -33,18 +33,20 @@ struct FileDetection {
   // already added in quadrature to the uncertainty of every onset of `detection` that the
   // response timing did not time (all of them for G.711 and ADPCM, which it does not retime).
   std::optional<CodecTiming> codec_timing;
-  // Set where the first lobe is unreliable (FirstLobeUnreliable: a transform codec, a rate below
-  // 20 kHz): the impacts were retimed from their whole response (response_timing.h); those it
-  // aligned (own_sigma) are stated with the alignment's uncertainty instead of the codec's.
+  // The response timing (response_timing.h): where the first lobe is unreliable
+  // (FirstLobeUnreliable: a transform codec, a rate below 20 kHz) the impacts were retimed from
+  // their whole response, elsewhere only where the recording determined its contact durations
+  // (contact_duration_s > 0); those it aligned (own_sigma) are stated with the alignment's
+  // uncertainty instead of the first lobe's.
   std::optional<ResponseTimingSummary> response_timing;
   DetectionResult detection;
 };
 
-// Streams the file once through one detector per candidate channel; where the first lobe is
-// unreliable the detectors keep the samples around their impacts and the chosen channel's
-// impacts are retimed from their response; for a lossy file, widens the uncertainty of every
-// onset not timed from its response by the codec's measured timing error. Throws InputError for an
-// unreadable file and ConfigError for a channel the file does not have or bad detector options.
+// Streams the file once through one detector per candidate channel, which keep the samples around
+// their impacts; the chosen channel's impacts are retimed from their response
+// (ResponseTimingFor); for a lossy file, widens the uncertainty of every onset not timed from its
+// response by the codec's measured timing error. Throws InputError for an unreadable file and
+// ConfigError for a channel the file does not have or bad detector options.
 FileDetection DetectImpactsInFile(const std::filesystem::path& path,
                                   const FileDetectionOptions& options = {});
 
