@@ -6,6 +6,7 @@
 #include <limits>
 #include <string>
 
+#include "bouncecal/calibrate/contact_stiffness.h"
 #include "bouncecal/error.h"
 #include "sandwich.h"
 #include "student_t.h"
@@ -244,6 +245,31 @@ double EquivalentDof(double t, double tail) {
 
 }  // namespace
 
+namespace {
+
+// The contact made this much longer, to see how the drop's eta_k depend on its duration.
+constexpr double kContactLengthening = 1.5;
+
+// The drop's eta_k with the law's contact lengthened (its elastic parameter softened,
+// WithContactDuration); empty where the law has no closed-form duration or the softer parameter
+// is outside its range.
+std::vector<double> SimulateWithLongerContact(const dem::ContactLawConfig& law,
+                                              const SequencePlan& plan, const FitOptions& options) {
+  const double speed =
+      IncomingSpeedMps(plan, plan.first_matched_impact, options.drop.gravity_mps2);
+  const auto duration = ContactDurationS(law, options.drop.ball, speed);
+  if (!duration || !(*duration > 0)) return {};
+  try {
+    const auto softer =
+        WithContactDuration(law, options.drop.ball, speed, *duration * kContactLengthening);
+    return SimulateSequence(softer, plan, options).energy_loss;
+  } catch (const ConfigError&) {
+    return {};
+  }
+}
+
+}  // namespace
+
 std::vector<AdequacyImpact> EveryImpactResiduals(const std::vector<SequencePlan>& plans,
                                                  const FitOptions& options,
                                                  const dem::ContactLawConfig& law) {
@@ -252,12 +278,17 @@ std::vector<AdequacyImpact> EveryImpactResiduals(const std::vector<SequencePlan>
     SequencePlan whole = plans[r];
     whole.impacts_needed = static_cast<int>(whole.impacts.size()) - whole.first_matched_impact;
     const auto simulated = SimulateSequence(law, whole, options).energy_loss;
+    const auto longer = SimulateWithLongerContact(law, whole, options);
     const auto& measured = whole.measured;
     for (size_t j = 0; j < measured.energy_loss.size() && j < simulated.size(); ++j) {
       const int k = measured.impact_index[j];
       const double speed = IncomingSpeedMps(whole, k, options.drop.gravity_mps2);
-      impacts.push_back({static_cast<int>(r), speed, measured.energy_loss[j] - simulated[j],
-                         std::pow(measured.energy_loss_uncertainty[j], 2)});
+      AdequacyImpact impact{static_cast<int>(r), speed, measured.energy_loss[j] - simulated[j],
+                            std::pow(measured.energy_loss_uncertainty[j], 2)};
+      if (j < longer.size()) {
+        impact.contact_sensitivity = (longer[j] - simulated[j]) / std::log(kContactLengthening);
+      }
+      impacts.push_back(impact);
     }
   }
   return impacts;

@@ -15,6 +15,11 @@ struct AdequacyImpact {
   double speed_mps = 0;
   double residual = 0;
   double timing_variance = 0;
+  // d(simulated eta_k) / d(ln contact duration) of the fitted law's drop: where the drop
+  // simulates a contact of another duration than the ball's, its eta_k (from onset intervals
+  // that hold the contact, with gravity acting during it) differ from the measured ones in this
+  // pattern, which is the stiffness's, not the damping's. 0: not known.
+  double contact_sensitivity = 0;
 };
 
 // How the message names the law and its next step.
