@@ -255,8 +255,7 @@ constexpr double kContactLengthening = 1.5;
 // is outside its range.
 std::vector<double> SimulateWithLongerContact(const dem::ContactLawConfig& law,
                                               const SequencePlan& plan, const FitOptions& options) {
-  const double speed =
-      IncomingSpeedMps(plan, plan.first_matched_impact, options.drop.gravity_mps2);
+  const double speed = IncomingSpeedMps(plan, plan.first_matched_impact, options.drop.gravity_mps2);
   const auto duration = ContactDurationS(law, options.drop.ball, speed);
   if (!duration || !(*duration > 0)) return {};
   try {
