@@ -747,9 +747,9 @@ TEST(DetectorGroundTruth, AQuietPingPongBallsLastAudibleBouncesStayInItsSequence
 // impact began; the impact's rest opened the next candidate, whose onset cannot be picked before
 // the previous candidate's peak, and the merger kept that later, louder part: the onset 1.2 ms
 // late at a stated 53 us (seed 6's 8th impact; bench/detector_accuracy_bench "rubber on table").
-// Now a candidate closed while the band that rose most was at its loudest so far, with its onset
-// just before its window's end, does not bound the next candidate's pick window
-// (Candidate::closed_rising, onset_locator.cc).
+// Now a candidate that rose by the full threshold and closed while that band was at its loudest
+// so far, with its onset just before its window's end, does not bound the next candidate's pick
+// window (Candidate::closed_rising, onset_locator.cc).
 TEST(DetectorGroundTruth, ASoftBallsImpactRisingInASubBandIsNotSplitFromItsFirstMillisecond) {
   int band_detected = 0, late_unstated = 0;
   for (std::uint64_t seed = 1; seed <= 8; ++seed) {

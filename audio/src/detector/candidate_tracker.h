@@ -33,7 +33,8 @@ struct Candidate {
   // Closed while the band that rose most was at its loudest so far (band 0 can have closed it,
   // held by a louder tail): its sound was still rising in that band, so its pick window ended
   // inside a rising edge, not at a peak (the onset locator lets the next candidate's pick window
-  // reach back past that end where this one's onset lies just before it).
+  // reach back past that end where this one rose by the full threshold and its onset lies just
+  // before it).
   bool closed_rising = false;
 };
 

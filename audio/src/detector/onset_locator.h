@@ -109,7 +109,8 @@ class OnsetLocator {
   // rising (Candidate::continues) whose search starts before it is the rest of that sound.
   std::int64_t last_peak_sample_ = -1;
   // A pick window never reaches back past this sample: the peak of the last candidate, unless
-  // that one closed while its band was still rising with its onset just before its peak.
+  // that one rose by the full threshold and closed while its band was still rising, with its
+  // onset just before its peak.
   std::int64_t pick_floor_sample_ = -1;
   std::vector<float> window_;  // scratch
 };
