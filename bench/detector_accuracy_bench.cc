@@ -8,6 +8,7 @@
 //   build/bench/detector_accuracy_bench                  # every condition, 12 seeds each
 //   build/bench/detector_accuracy_bench --seeds 40 --only chain
 //   build/bench/detector_accuracy_bench --only table --verbose   # onsets outside 2 sigmas
+//   build/bench/detector_accuracy_bench --only "=rubber on table"  # that condition alone
 // The drops are retimed from their whole response as DetectImpactsInFile does: below 20 kHz
 // always, above it where the drop determines its contact durations (response_timing.h);
 // --response-timing-everywhere retimes every drop even without them, --first-lobe-at-pcm none
@@ -417,7 +418,10 @@ int main(int argc, char** argv) {
               "in2sig", "int2sig");
   Tally all;
   for (const auto& condition : Conditions()) {
-    if (!only.empty() && condition.name.find(only) == std::string::npos) continue;
+    if (!only.empty() && (only[0] == '=' ? condition.name != only.substr(1)
+                                         : condition.name.find(only) == std::string::npos)) {
+      continue;
+    }
     Tally tally;
     for (int seed = 1; seed <= seeds; ++seed) {
       auto options = Base(seed);

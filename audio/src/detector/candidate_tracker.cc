@@ -64,6 +64,7 @@ std::optional<Candidate> CandidateTracker::Step(std::int64_t n, std::ptrdiff_t k
       // the sound's peak so far and found its onset; a candidate opening right after is the
       // rest of the same sound, whose own window cannot reach back past that peak.
       still_rising_until_ = n - candidate_.peak_frame < frames_.peak ? n + frames_.peak : -1;
+      candidate_.closed_rising = n - candidate_.band_peak_frame <= frames_.skip;
       open_ = false;
       candidate_.closed_at = n;
       candidate_.closed_in_block = k;

@@ -30,6 +30,12 @@ struct Candidate {
   std::int64_t later_sound_frame = -1;
   std::int64_t closed_at = 0;           // the frame n that closed it
   std::ptrdiff_t closed_in_block = -1;  // its index in its block (-1: at the end of the stream)
+  // Closed while the band that rose most was at its loudest so far (band 0 can have closed it,
+  // held by a louder tail): its sound was still rising in that band, so its pick window ended
+  // inside a rising edge, not at a peak (the onset locator lets the next candidate's pick window
+  // reach back past that end where this one rose by the full threshold and its onset lies just
+  // before it).
+  bool closed_rising = false;
 };
 
 // Stage 3 of the impact detector: opens a candidate where a novelty source rises by half the

@@ -105,8 +105,13 @@ class OnsetLocator {
   BandEnvelopes& bands_;
   const RingingResidualNovelty& residual_;
   const SampleHistory<float>& raw_;
-  // The previous candidate's peak sample: a pick window never reaches back past it.
+  // The previous candidate's peak sample: a candidate opened right after one closed while still
+  // rising (Candidate::continues) whose search starts before it is the rest of that sound.
   std::int64_t last_peak_sample_ = -1;
+  // A pick window never reaches back past this sample: the peak of the last candidate, unless
+  // that one rose by the full threshold and closed while its band was still rising, with its
+  // onset just before its peak.
+  std::int64_t pick_floor_sample_ = -1;
   std::vector<float> window_;  // scratch
 };
 

@@ -33,16 +33,6 @@ constexpr double kReferenceShapeFraction = 0.5;
 constexpr double kReferenceLeadFraction = 0.5;
 // The same, in samples, where no lobe top is measured (a reference from the fitted edge).
 constexpr double kReferenceShapeSamples = 0.9;
-// How far ahead the peak that sets an impact's reference level is sought. Long enough to span a
-// linear-phase chain's pre-ringing (a resampler's or sigma-delta decimator's filter reaches
-// 20-30 output samples each side of its centre at any rate), so that the ringing before a lobe
-// is measured against that lobe and stays below the level. Short enough that a soft impact
-// (a rubber ball's 0.8 ms contact is 40 samples at 48 kHz) whose plate response keeps growing
-// for milliseconds after a weak first lobe (its contact click) is timed on that first lobe: a
-// fraction of the window's largest sample falls on the first lobe or the next one depending on
-// the ratio of the two, which changes from impact to impact, and the intervals then jump by a
-// lobe's width (the detector suite's rubber ball: +150..+190 us on 4 of 10 impacts).
-constexpr std::size_t kReferenceHorizonSamples = 24;
 // A lobe next to the one the reference was taken on is a rival when it comes this close to the
 // level: the earlier one within this fraction under it, or the crossing lobe's top within the
 // inverse over it. Then a little more noise, tail or another mix of modes moves the crossing a

@@ -28,6 +28,16 @@ struct OnsetPick {
 
 // The fraction of an impact's peak at which its timing reference is taken (ReferenceCrossing).
 inline constexpr double kReferenceFraction = 0.12;
+// How far ahead the peak that sets an impact's reference level is sought. Long enough to span a
+// linear-phase chain's pre-ringing (a resampler's or sigma-delta decimator's filter reaches
+// 20-30 output samples each side of its centre at any rate), so that the ringing before a lobe
+// is measured against that lobe and stays below the level. Short enough that a soft impact
+// (a rubber ball's 0.8 ms contact is 40 samples at 48 kHz) whose plate response keeps growing
+// for milliseconds after a weak first lobe (its contact click) is timed on that first lobe: a
+// fraction of the window's largest sample falls on the first lobe or the next one depending on
+// the ratio of the two, which changes from impact to impact, and the intervals then jump by a
+// lobe's width (the detector suite's rubber ball: +150..+190 us on 4 of 10 impacts).
+inline constexpr std::size_t kReferenceHorizonSamples = 24;
 
 // Start of contact inside a window of band-passed samples that holds noise (or the tail of an
 // earlier impact) followed by the rising edge of one impact, up to its first peak.
