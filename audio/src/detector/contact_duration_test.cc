@@ -32,6 +32,14 @@ SynthesizedRecording AnvilDrop(int seed, double contact_duration_s) {
   return SynthesizeBounces(options);
 }
 
+// Retimes the drop's detection as DetectImpactsInFile does a PCM file of its rate.
+ResponseTimingSummary RetimeAsItsFile(DetectionResult& detection,
+                                      const SynthesizedRecording& drop) {
+  RecordingInfo info;
+  info.sample_rate_hz = drop.channels[0].sample_rate_hz;
+  return RetimeFromResponses(detection, drop.channels[0].samples, 0, ResponseTimingFor(info));
+}
+
 double TrueDuration(const SynthesisOptions& options, double speed_mps) {
   return options.contact_duration_s *
          std::pow(speed_mps / options.reference_speed_mps, options.contact_duration_speed_exponent);
@@ -64,10 +72,7 @@ TEST(ContactDurations, TheTemplatesDurationIsRecoveredFromTheSpectra) {
     for (int seed = 1; seed <= 2; ++seed) {
       const auto drop = AnvilDrop(seed, duration);
       auto detection = DetectImpacts(drop.channels[0]);
-      RecordingInfo info;
-      info.sample_rate_hz = 48000;
-      const auto summary =
-          RetimeFromResponses(detection, drop.channels[0].samples, 0, ResponseTimingFor(info));
+      const auto summary = RetimeAsItsFile(detection, drop);
       ASSERT_GT(summary.contact_duration_s, 0) << duration << " seed " << seed;
       // The template is the loudest impact: the first, at the release speed.
       const auto& first = *std::find_if(
@@ -94,10 +99,7 @@ TEST(ContactDurations, RetimedOnsetsOfAWavDoNotDriftWithTheContactsDuration) {
     const auto drop = AnvilDrop(seed, 70e-6);
     const auto truth = drop.BallImpactOnsetsS();
     auto detection = DetectImpacts(drop.channels[0]);
-    RecordingInfo info;
-    info.sample_rate_hz = 48000;
-    const auto summary =
-        RetimeFromResponses(detection, drop.channels[0].samples, 0, ResponseTimingFor(info));
+    const auto summary = RetimeAsItsFile(detection, drop);
     ASSERT_GT(summary.aligned, 8);
     const auto errors = RelativeErrors(detection, truth);
     ASSERT_GE(errors.size(), 10u);
@@ -136,10 +138,7 @@ TEST(ContactDurations, BelowTwentyKilohertzNoneIsClaimed) {
   options.noise = noise;
   const auto drop = SynthesizeBounces(options);
   auto detection = DetectImpacts(drop.channels[0]);
-  RecordingInfo info;
-  info.sample_rate_hz = 16000;
-  const auto summary =
-      RetimeFromResponses(detection, drop.channels[0].samples, 0, ResponseTimingFor(info));
+  const auto summary = RetimeAsItsFile(detection, drop);
   EXPECT_GT(summary.aligned, 3);
   EXPECT_EQ(summary.contact_duration_s, 0.0);
 }
