@@ -17,7 +17,8 @@ namespace {
 // x = f tau and frozen beyond: its first zero is at 1.5, and past it the ratio of two such
 // spectra is a ratio of sidelobes that depends on the exact shape of a real pulse (Hertz's is
 // not quite a half-sine), not on its duration. A duration so long that the whole band lies beyond
-// it leaves every ratio flat, as one too short to matter does.
+// it leaves every ratio flat, as one too short to matter does. Frozen at 1.2 instead, the steel
+// plate's modes above it read a 142 us contact as 108 us (131 us at 1.45).
 constexpr double kShapeLimit = 1.45;
 constexpr int kShapeTableSteps = 1200;
 
