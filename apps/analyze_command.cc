@@ -52,15 +52,20 @@ void PrintTable(std::FILE* out, const RecordingAnalysis& analysis) {
   }
   fmt::print(out, "{}\n  {} Hz, {:.3f} s, channel {} of {}{}\n", d.info.path.string(),
              d.info.sample_rate_hz, d.duration_s, d.channel, d.info.channel_count, channel_note);
-  fmt::print(out, "  {} in {}, {}{}\n", d.info.codec, d.info.container,
-             d.info.lossy ? "lossy" : "lossless",
-             d.codec_timing
-                 ? fmt::format(": onset uncertainties include +-{:.0f} us of codec timing{}",
-                               d.codec_timing->onset_uncertainty_s * 1e6,
-                               d.response_timing && d.response_timing->own_sigma > 0
-                                   ? " except where timed from the impact's response"
-                                   : "")
-                 : std::string());
+  // Which timing the onsets have: a user comparing runs (or a WAV with its phone copy) needs to
+  // know whether the first lobe or the whole response timed them.
+  const int timed_from_response = d.response_timing ? d.response_timing->own_sigma : 0;
+  fmt::print(
+      out, "  {} in {}, {}{}\n", d.info.codec, d.info.container,
+      d.info.lossy ? "lossy" : "lossless",
+      d.codec_timing
+          ? fmt::format(
+                ": onset uncertainties include +-{:.0f} us of codec timing{}",
+                d.codec_timing->onset_uncertainty_s * 1e6,
+                timed_from_response > 0 ? " except where timed from the impact's response" : "")
+      : timed_from_response > 0
+          ? fmt::format("; {} onsets timed from their impact's whole response", timed_from_response)
+          : std::string());
   fmt::print(out, "  {} impacts, {} sequence(s), {} rejected events\n", d.detection.impacts.size(),
              analysis.sequences.size(), analysis.rejected.size());
   for (size_t s = 0; s < analysis.sequences.size(); ++s) {

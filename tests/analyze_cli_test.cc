@@ -181,6 +181,30 @@ TEST(AnalyzeCli, MostImpactsOutsideEverySequenceAreAWarningFewAreNot) {
   EXPECT_EQ(few.output.find("fit no bounce sequence"), std::string::npos) << few.output;
 }
 
+// The codec line says which timing a lossless file's onsets have: timed from their whole
+// response where the drop determined its contact durations (docs/detector.md), otherwise nothing
+// is added (a drop of three impacts fixes no duration).
+TEST(AnalyzeCli, ALosslessFileSaysWhenItsOnsetsWereTimedFromTheirResponse) {
+  const auto drop = RunBouncecal("synth -o '" + ScratchPath("anvil.wav").string() +
+                                 "' --drop-height-m 0.35 --restitution 0.8 --min-flight-s 0.03 "
+                                 "--reverb-rt60-s 0.3 --snr-db 35 --seed 1");
+  ASSERT_EQ(drop.exit_status, 0) << drop.output;
+  const auto timed = RunBouncecal("analyze '" + ScratchPath("anvil.wav").string() + "'");
+  EXPECT_EQ(timed.exit_status, 0) << timed.output;
+  EXPECT_NE(timed.output.find("lossless; "), std::string::npos) << timed.output;
+  EXPECT_NE(timed.output.find("onsets timed from their impact's whole response"), std::string::npos)
+      << timed.output;
+  const auto csv = ScratchPath("three.csv");
+  std::ofstream(csv) << "0.5,2.0\n1.0,1.4\n1.35,1.0\n";
+  const auto three = RunBouncecal("synth -o '" + ScratchPath("three.wav").string() +
+                                  "' --impact-times '" + csv.string() + "' --snr-db 40");
+  ASSERT_EQ(three.exit_status, 0) << three.output;
+  const auto first_lobe = RunBouncecal("analyze '" + ScratchPath("three.wav").string() + "'");
+  EXPECT_EQ(first_lobe.exit_status, 0) << first_lobe.output;
+  EXPECT_EQ(first_lobe.output.find("timed from their impact's whole response"), std::string::npos)
+      << first_lobe.output;
+}
+
 TEST(AnalyzeCli, ChannelOutsideTheFileIsABadOption) {
   const auto drop = SyntheticDrop("mono.wav", 7, 0.2);
   const auto result = RunBouncecal("analyze '" + drop.string() + "' --channel 3");
