@@ -629,6 +629,22 @@ TEST(DetectorGroundTruth, OnsetsThroughALinearPhaseChainDoNotDependOnLoudness) {
 // for 3-5 ms, a 300 us contact, air drag, a linear-phase chain, a room with two early echoes whose
 // direct sound stands direct_to_reverberant_db over its tail, and noise 40 dB under the first
 // impact. Loudness, height and restitution are the caller's.
+// The table's room, recorded through a linear-phase chain: two early echoes (1.5 ms and 6 ms)
+// and a diffuse tail, and noise at snr_db against the reference impact.
+void RecordInTheTablesRoom(SynthesisOptions& options, double rt60_s,
+                           double direct_to_reverberant_db, double snr_db, SnrReference reference) {
+  options.chain = RecordingChain{};
+  ReverbOptions reverb;
+  reverb.rt60_s = rt60_s;
+  reverb.direct_to_reverberant_db = direct_to_reverberant_db;
+  reverb.echoes = {{0.0015, -14.0}, {0.006, -10.0}};
+  options.reverb = reverb;
+  NoiseOptions noise;
+  noise.snr_db = snr_db;
+  noise.reference = reference;
+  options.noise = noise;
+}
+
 SynthesisOptions PingPongOnATable(std::uint64_t seed, double direct_to_reverberant_db) {
   SynthesisOptions options;
   options.seed = seed;
@@ -636,17 +652,8 @@ SynthesisOptions PingPongOnATable(std::uint64_t seed, double direct_to_reverbera
   for (double f : {3100.0, 3240.0, 3390.0}) options.modes.push_back({f, 0.004, 0.6});
   options.contact_duration_s = 300e-6;
   options.drop.terminal_speed_mps = 9.0;
-  options.chain = RecordingChain{};
   options.click_gain = 0.3;
-  ReverbOptions reverb;
-  reverb.rt60_s = 0.35;
-  reverb.direct_to_reverberant_db = direct_to_reverberant_db;
-  reverb.echoes = {{0.0015, -14.0}, {0.006, -10.0}};
-  options.reverb = reverb;
-  NoiseOptions noise;
-  noise.snr_db = 40;
-  noise.reference = SnrReference::kFirstImpact;
-  options.noise = noise;
+  RecordInTheTablesRoom(options, 0.35, direct_to_reverberant_db, 40, SnrReference::kFirstImpact);
   return options;
 }
 
@@ -755,17 +762,8 @@ SynthesisOptions SoftBallOnATable(std::uint64_t seed) {
   options.drop.drop_height_m = 0.5;
   options.drop.restitution.constant = 0.74 + 0.06 * std::fmod(0.7548776662 * s, 1.0);
   options.drop.min_flight_s = 0.03;
-  options.chain = RecordingChain{};
   options.click_gain = 0.15;
-  ReverbOptions reverb;
-  reverb.rt60_s = 0.3;
-  reverb.direct_to_reverberant_db = 4;
-  reverb.echoes = {{0.0015, -14.0}, {0.006, -10.0}};
-  options.reverb = reverb;
-  NoiseOptions noise;
-  noise.snr_db = 30;
-  noise.reference = SnrReference::kWeakestImpact;
-  options.noise = noise;
+  RecordInTheTablesRoom(options, 0.3, 4, 30, SnrReference::kWeakestImpact);
   return options;
 }
 
