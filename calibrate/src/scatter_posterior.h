@@ -11,9 +11,9 @@ namespace bouncecal::calibrate::internal {
 // "Uncertainty model"):
 //   residual_i = a_sequence + b ln(speed_i) + eps_i + timing_i,
 // eps_i ~ N(0, tau^2) the per-impact scatter, timing_i ~ N(0, s_i^2) with s_i the stated timing
-// uncertainty of that eta_k, one intercept per sequence and, with a slope, a common b (and, where
-// the impacts carry a contact_sensitivity d_i, a term c d_i with c ~ N(0, 1): the simulated
-// drop's contact duration as a nuisance of the trend, model_adequacy.h). The
+// uncertainty of that eta_k, one intercept per sequence, with a slope a common b, and, where the
+// impacts carry a contact_sensitivity d_i, a term c d_i with c ~ N(0, 1) (the simulated drop's
+// contact duration as a nuisance of both the trend and the scatter, model_adequacy.h). The
 // intercepts and slope have a flat prior and are integrated out, which leaves the restricted
 // (REML) likelihood of tau (Patterson & Thompson 1971; Harville 1974); tau has the Jeffreys
 // prior of that likelihood, p(tau^2) ~ sqrt(tr(P^2)), P = W - W X (X'WX)^-1 X'W, W = V^-1
