@@ -180,7 +180,7 @@ ScatterPosterior FitScatterPosterior(const std::vector<AdequacyImpact>& impacts,
   // The contact's duration as a nuisance (AdequacyImpact::contact_sensitivity): one more column,
   // integrated out over its normal prior (kContactLogSd), for the trend test and the interval's
   // scatter alike. Without it the simulated drop's contact, a smooth pattern in k, is read as
-  // per-impact scatter: on drops without scatter tau_w's median was 1e-4 to 2e-4 in eta and made
+  // per-impact scatter: on drops without scatter tau_w's median was 7e-5 to 1.7e-4 in eta and made
   // 76-99 % of the interval's variance (calibrate_chain_coverage_bench, docs/calibration.md).
   const bool contact_column =
       std::any_of(impacts.begin(), impacts.end(),
