@@ -52,6 +52,7 @@ void RunPack(const PackArgs& args) {
   options.skin_diameters = args.skin_diameters;
   options.min_skin_diameters = args.min_skin_diameters;
   options.allow_unstable_step = args.allow_unstable_step;
+  options.single_precision_contacts = args.precision == "single";
   dem::CheckDurationOverride(scene, args.duration_s);
   options.duration_s = args.duration_s;
   if (!args.resume.empty()) options.resume_checkpoint = ReadCheckpoint(args.resume);

@@ -19,6 +19,7 @@ struct PackArgs {
   double skin_diameters = bouncecal::dem::PackOptions{}.skin_diameters;
   double min_skin_diameters = bouncecal::dem::PackOptions{}.min_skin_diameters;
   bool allow_unstable_step = false;
+  std::string precision = "double";  // --precision: "double" or "single" (contacts only)
   bool plot = false;
   double checkpoint_every_s = 0;  // simulated seconds; 0: no periodic checkpoint
   std::string resume;             // a checkpoint file to continue from

@@ -11,8 +11,11 @@
 //
 //   pack_bench [SCENE.json] [--duration S] [--threads N] [--settle S] [--skin D] [--min-skin D]
 //   [--poll-stop] [--no-lammps] [--no-liggghts]
-//   [--lammps-ranks N] [--work DIR]
+//   [--lammps-ranks N] [--work DIR] [--precision double|single]
 //
+// --precision single times bouncecal with single-precision contacts (PackOptions::
+// single_precision_contacts); the start and the settling stay double, so both precisions are
+// timed from the same state.
 // --settle S first runs the start for S seconds (untimed) and times both engines from that
 // state instead: a settled pack has ~5 contacts per sphere, the costly regime of a pour.
 // --poll-stop asks for a stop every step as `bouncecal pack` does (a flag that stays unset), to
@@ -189,6 +192,7 @@ int main(int argc, char** argv) {
   bool run_lammps = true;
   bool run_liggghts = true;
   bool poll_stop = false;
+  bool single_precision = false;  // only the timed run: both precisions time from the same start
   int lammps_ranks = 2;
   std::filesystem::path work = std::filesystem::temp_directory_path() / "bouncecal_pack_bench";
   for (int a = 1; a < argc; ++a) {
@@ -207,6 +211,8 @@ int main(int argc, char** argv) {
       skin_rebuild_steps = std::atof(argv[++a]);
     } else if (arg == "--checkpoint-every" && a + 1 < argc) {
       checkpoint_every_s = std::atof(argv[++a]);
+    } else if (arg == "--precision" && a + 1 < argc) {
+      single_precision = std::string(argv[++a]) == "single";
     } else if (arg == "--poll-stop") {
       poll_stop = true;
     } else if (arg == "--no-lammps") {
@@ -273,6 +279,7 @@ int main(int argc, char** argv) {
     options.skin_diameters = skin_diameters;
     options.min_skin_diameters = min_skin_diameters;
     options.skin_rebuild_steps = skin_rebuild_steps;
+    options.single_precision_contacts = single_precision;
     // What bouncecal pack's StopSignals::requested() reads: a flag a signal handler would set.
     static volatile std::sig_atomic_t stop_flag = 0;
     if (poll_stop) options.stop_requested = [] { return stop_flag != 0; };

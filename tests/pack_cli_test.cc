@@ -191,6 +191,25 @@ TEST(PackCli, NanDurationIsAnOptionErrorNamingTheOption) {
   EXPECT_FALSE(std::filesystem::exists(out / "summary.json"));
 }
 
+// --precision single runs the pairs in float and says so; double is the default and says
+// nothing; any other value is an option error naming the choices.
+TEST(PackCli, PrecisionSingleSaysSoAndOtherValuesAreOptionErrors) {
+  const auto dir = ScratchPath("precision");
+  const auto scene = WriteTinyScene(dir);
+  const auto single =
+      RunBouncecal("pack " + scene.string() + " --precision single -o " + (dir / "s").string());
+  ASSERT_EQ(single.exit_status, 0) << single.output;
+  EXPECT_NE(single.output.find("single precision"), std::string::npos) << single.output;
+  const auto plain = RunBouncecal("pack " + scene.string() + " -o " + (dir / "d").string());
+  ASSERT_EQ(plain.exit_status, 0) << plain.output;
+  EXPECT_EQ(plain.output.find("single precision"), std::string::npos) << plain.output;
+  const auto half =
+      RunBouncecal("pack " + scene.string() + " --precision half -o " + (dir / "h").string());
+  EXPECT_EQ(half.exit_status, 3) << half.output;
+  EXPECT_NE(half.output.find("--precision"), std::string::npos) << half.output;
+  EXPECT_NE(half.output.find("single"), std::string::npos) << half.output;
+}
+
 // 1e-7 s at a 1e-5 s step ran 0 steps and reported the start state as the result. 0 itself is
 // the documented way to measure the start state and stays allowed.
 TEST(PackCli, DurationBelowOneTimeStepIsAnOptionErrorButZeroMeasuresTheStart) {

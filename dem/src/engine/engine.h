@@ -62,6 +62,12 @@ struct EngineSettings {
   // The widest build of the contact arithmetic the engine may run; it runs the widest one this
   // CPU has up to this. The results are the same bit for bit (tests compare the builds).
   ContactSimd max_contact_simd = ContactSimd::kAvx512;
+  // The contact arithmetic of the particle pairs in float instead of double: not the same bits,
+  // each contact force carries float's rounding, and it was measured only about 5 % faster (0-10 %)
+  // (docs/packing.md, "Single precision: the speed/accuracy trade"). Positions, velocities, springs
+  // between steps, force sums and wall contacts stay double; the results are still the same for any
+  // thread count. Off by default.
+  bool single_precision_contacts = false;
   int threads = 1;
 };
 

@@ -46,7 +46,13 @@ class Engine final : public EngineBase<Dim> {
         stages_(std::move(law), settings),
         gravity_(this->Gravity()),
         simd_(std::min(settings.max_contact_simd, CpuContactSimd())),
-        scratch_(static_cast<std::size_t>(this->pool_->chunks())) {}
+        scratch_(static_cast<std::size_t>(this->pool_->chunks())),
+        single_scratch_(settings.single_precision_contacts
+                            ? static_cast<std::size_t>(this->pool_->chunks())
+                            : 0) {
+    for (std::size_t c = 0; c < single_scratch_.size(); ++c)
+      scratch_[c].single = &single_scratch_[c];
+  }
 
   void ComputeForces() override {
     this->DropPendingKick();  // the pending kick belongs to the forces of the stopped step
@@ -206,8 +212,16 @@ class Engine final : public EngineBase<Dim> {
       auto& t = scratch_[static_cast<std::size_t>(chunk)];
       const std::int64_t pair_begin = begin * pair_count / items;
       const std::int64_t pair_end = end * pair_count / items;
-      const std::int64_t interacting = t.dense ? PairRangeDense(t, pair_begin, pair_end)
-                                               : PairRangeCompacted(t, pair_begin, pair_end);
+      std::int64_t interacting = 0;
+      if (!t.dense) {
+        interacting = PairRangeCompacted(t, pair_begin, pair_end);
+      } else if (t.single == nullptr) {
+        // With single-precision contacts the dense blocks run in the chunk's float block and
+        // the compacted ones convert into it (ContactBlock).
+        interacting = PairRangeDense(t, pair_begin, pair_end);
+      } else {
+        interacting = PairRangeDense(*t.single, pair_begin, pair_end);
+      }
       // Next step's choice for this chunk (its range hardly moves between steps).
       t.dense = static_cast<double>(interacting) >=
                 this->settings_.dense_pair_fraction * static_cast<double>(pair_end - pair_begin);
@@ -217,24 +231,37 @@ class Engine final : public EngineBase<Dim> {
 
   // The pair pass (engine_pair_pass.h). Declared inline like the members defined in the class,
   // so the compiler weighs inlining them the same way.
-  inline std::int64_t PairRangeDense(Scratch& t, std::int64_t begin, std::int64_t end);
-  inline std::int64_t DenseBlockBaseline(Scratch& t, std::int64_t b, int n);
+  // The dense pair pass is a template on the precision of its block (Real: double, or float for
+  // single-precision contacts); the compacted one and the walls are double only.
+  template <class Real>
+  inline std::int64_t PairRangeDense(ContactScratch<Dim, Real>& t, std::int64_t begin,
+                                     std::int64_t end);
+  template <class Real>
+  inline std::int64_t DenseBlockBaseline(ContactScratch<Dim, Real>& t, std::int64_t b, int n);
 #if BOUNCECAL_SCENE_HAS_SIMD_PATHS
-  [[gnu::target("avx2")]] inline std::int64_t DenseBlockAvx2(Scratch& t, std::int64_t b, int n);
-  [[BOUNCECAL_SCENE_AVX512]] inline std::int64_t DenseBlockAvx512(Scratch& t, std::int64_t b,
-                                                                  int n);
-  [[gnu::always_inline, gnu::target("avx2")]] inline int GatherTransposed(Scratch& t,
-                                                                          std::int64_t b,
-                                                                          int n) const;
+  template <class Real>
+  [[gnu::target("avx2")]] inline std::int64_t DenseBlockAvx2(ContactScratch<Dim, Real>& t,
+                                                             std::int64_t b, int n);
+  template <class Real>
+  [[BOUNCECAL_SCENE_AVX512]] inline std::int64_t DenseBlockAvx512(ContactScratch<Dim, Real>& t,
+                                                                  std::int64_t b, int n);
+  template <class Real>
+  [[gnu::always_inline, gnu::target("avx2")]] inline int GatherTransposed(
+      ContactScratch<Dim, Real>& t, std::int64_t b, int n) const;
+  template <class Real>
   [[gnu::always_inline, gnu::target("avx2")]] inline void GatherFourTransposed(
-      Scratch& t, int k, std::int64_t b, const std::int32_t* first, const std::int32_t* second,
-      double cutoff_gap_m) const;
+      ContactScratch<Dim, Real>& t, int k, std::int64_t b, const std::int32_t* first,
+      const std::int32_t* second, double cutoff_gap_m) const;
+  template <class Real>
   [[gnu::always_inline, gnu::target("avx2")]] inline int ScatterTransposed(
-      const Scratch& t, std::int64_t b, int n, std::int64_t& interacting);
+      const ContactScratch<Dim, Real>& t, std::int64_t b, int n, std::int64_t& interacting);
 #endif
-  [[gnu::always_inline]] inline void DenseGather(Scratch& t, std::int64_t b, int k, int n) const;
-  [[gnu::always_inline]] inline std::int64_t DenseScatter(const Scratch& t, std::int64_t b, int k,
-                                                          int n);
+  template <class Real>
+  [[gnu::always_inline]] inline void DenseGather(ContactScratch<Dim, Real>& t, std::int64_t b,
+                                                 int k, int n) const;
+  template <class Real>
+  [[gnu::always_inline]] inline std::int64_t DenseScatter(const ContactScratch<Dim, Real>& t,
+                                                          std::int64_t b, int k, int n);
   inline std::int64_t PairRangeCompacted(Scratch& t, std::int64_t begin, std::int64_t end);
   inline void ContactBlock(int n, Scratch& t);
   inline void GatherBlock(int n, Scratch& t) const;
@@ -283,7 +310,9 @@ class Engine final : public EngineBase<Dim> {
   V gravity_;
   ContactSimd simd_;              // the build of the contact arithmetic (same results)
   std::vector<Scratch> scratch_;  // one per pool chunk
-  std::vector<Record> records_;   // see LoadRecords
+  // The dense blocks' scratch per pool chunk with single-precision contacts; empty otherwise.
+  std::vector<ContactScratch<Dim, float>> single_scratch_;
+  std::vector<Record> records_;  // see LoadRecords
   // Force on the particle and n x F_t of each (particle, wall) contact, particle * walls + wall;
   // written every step for the walls a particle is near (WallRange), zero when not touching.
   std::vector<PairResult> wall_result_;

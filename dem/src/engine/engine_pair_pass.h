@@ -27,8 +27,9 @@ namespace bouncecal::dem::scene {
 // (PairRangeCompacted), which spares the stages the others. A pair's arithmetic is the same
 // either way, so the choice changes no bit. Both return the number of interacting pairs.
 template <int Dim, class Law, class Phys>
-inline std::int64_t Engine<Dim, Law, Phys>::PairRangeDense(Scratch& t, std::int64_t begin,
-                                                           std::int64_t end) {
+template <class Real>
+inline std::int64_t Engine<Dim, Law, Phys>::PairRangeDense(ContactScratch<Dim, Real>& t,
+                                                           std::int64_t begin, std::int64_t end) {
   std::int64_t interacting = 0;
   for (std::int64_t b = begin; b < end; b += kBlock) {
     const int n = static_cast<int>(std::min<std::int64_t>(kBlock, end - b));
@@ -52,16 +53,18 @@ inline std::int64_t Engine<Dim, Law, Phys>::PairRangeDense(Scratch& t, std::int6
 }
 // Each returns the number of interacting pairs in the block.
 template <int Dim, class Law, class Phys>
-inline std::int64_t Engine<Dim, Law, Phys>::DenseBlockBaseline(Scratch& t, std::int64_t b, int n) {
+template <class Real>
+inline std::int64_t Engine<Dim, Law, Phys>::DenseBlockBaseline(ContactScratch<Dim, Real>& t,
+                                                               std::int64_t b, int n) {
   DenseGather(t, b, 0, n);
   stages_.template Arithmetic<false>(t, n, this->pair_normal_history_);
   return DenseScatter(t, b, 0, n);
 }
 #if BOUNCECAL_SCENE_HAS_SIMD_PATHS
 template <int Dim, class Law, class Phys>
-[[gnu::target("avx2")]] inline std::int64_t Engine<Dim, Law, Phys>::DenseBlockAvx2(Scratch& t,
-                                                                                   std::int64_t b,
-                                                                                   int n) {
+template <class Real>
+[[gnu::target("avx2")]] inline std::int64_t Engine<Dim, Law, Phys>::DenseBlockAvx2(
+    ContactScratch<Dim, Real>& t, std::int64_t b, int n) {
   DenseGather(t, b, GatherTransposed(t, b, n), n);
   stages_.template Arithmetic<false>(t, n, this->pair_normal_history_);
   std::int64_t interacting = 0;
@@ -69,8 +72,9 @@ template <int Dim, class Law, class Phys>
   return interacting + DenseScatter(t, b, written, n);
 }
 template <int Dim, class Law, class Phys>
+template <class Real>
 [[BOUNCECAL_SCENE_AVX512]] inline std::int64_t Engine<Dim, Law, Phys>::DenseBlockAvx512(
-    Scratch& t, std::int64_t b, int n) {
+    ContactScratch<Dim, Real>& t, std::int64_t b, int n) {
   DenseGather(t, b, GatherTransposed(t, b, n), n);
   stages_.template Arithmetic<false>(t, n, this->pair_normal_history_);
   std::int64_t interacting = 0;
@@ -82,8 +86,9 @@ template <int Dim, class Law, class Phys>
 #if BOUNCECAL_SCENE_HAS_SIMD_PATHS
 // The first multiple of 4 of a dense block's n contacts (3D; none in 2D); returns how many.
 template <int Dim, class Law, class Phys>
+template <class Real>
 [[gnu::always_inline, gnu::target("avx2")]] inline int Engine<Dim, Law, Phys>::GatherTransposed(
-    Scratch& t, std::int64_t b, int n) const {
+    ContactScratch<Dim, Real>& t, std::int64_t b, int n) const {
   int k = 0;
   if constexpr (Dim == 3) {
     const std::int32_t* first = this->pairs_.first.data() + b;
@@ -99,8 +104,9 @@ template <int Dim, class Law, class Phys>
 // transposed, instead of one scalar load and store per component (the scalar gather was
 // load/store bound).
 template <int Dim, class Law, class Phys>
+template <class Real>
 [[gnu::always_inline, gnu::target("avx2")]] inline void
-Engine<Dim, Law, Phys>::GatherFourTransposed(Scratch& t, int k, std::int64_t b,
+Engine<Dim, Law, Phys>::GatherFourTransposed(ContactScratch<Dim, Real>& t, int k, std::int64_t b,
                                              const std::int32_t* first, const std::int32_t* second,
                                              double cutoff_gap_m) const {
   const Record* const records = records_.data();
@@ -115,7 +121,7 @@ Engine<Dim, Law, Phys>::GatherFourTransposed(Scratch& t, int k, std::int64_t b,
   __m256d d[3];
   for (int c = 0; c < 3; ++c) {
     d[c] = _mm256_sub_pd(xi[c], xj[c]);
-    _mm256_store_pd(&t.normal[c][k], d[c]);
+    StoreColumn(&t.normal[c][k], d[c]);
   }
   // From the first square, as SumOfSquares.
   const __m256d d2 =
@@ -123,24 +129,28 @@ Engine<Dim, Law, Phys>::GatherFourTransposed(Scratch& t, int k, std::int64_t b,
                     _mm256_mul_pd(d[2], d[2]));
   const __m256d cutoff = _mm256_add_pd(_mm256_add_pd(xi[3], xj[3]), _mm256_set1_pd(cutoff_gap_m));
   const __m256d within = _mm256_cmp_pd(d2, _mm256_mul_pd(cutoff, cutoff), _CMP_LT_OQ);
-  _mm256_store_pd(&t.within[k], _mm256_and_pd(within, _mm256_set1_pd(1.0)));
-  _mm256_store_pd(&t.radius_i[k], xi[3]);
-  _mm256_store_pd(&t.radius_j[k], xj[3]);
+  StoreColumn(&t.within[k], _mm256_and_pd(within, _mm256_set1_pd(1.0)));
+  StoreColumn(&t.radius_i[k], xi[3]);
+  StoreColumn(&t.radius_j[k], xj[3]);
+  if constexpr (ContactScratch<Dim, Real>::kSingle) {
+    const __m256d touch = _mm256_add_pd(xi[3], xj[3]);
+    StoreColumn(&t.square_gap[k], _mm256_sub_pd(_mm256_mul_pd(touch, touch), d2));
+  }
   __m256d vi[4];
   __m256d vj[4];
   LoadColumns(particle_i, offsetof(Record, velocity_mass), vi);
   LoadColumns(particle_j, offsetof(Record, velocity_mass), vj);
-  for (int c = 0; c < 3; ++c) _mm256_store_pd(&t.velocity[c][k], _mm256_sub_pd(vi[c], vj[c]));
-  _mm256_store_pd(&t.mass_i[k], vi[3]);
-  _mm256_store_pd(&t.mass_j[k], vj[3]);
+  for (int c = 0; c < 3; ++c) StoreColumn(&t.velocity[c][k], _mm256_sub_pd(vi[c], vj[c]));
+  StoreColumn(&t.mass_i[k], vi[3]);
+  StoreColumn(&t.mass_j[k], vj[3]);
   if constexpr (Phys::kRotation) {
     __m256d wi[4];
     __m256d wj[4];
     LoadColumns(particle_i, offsetof(Record, spin_inertia), wi);
     LoadColumns(particle_j, offsetof(Record, spin_inertia), wj);
     for (int c = 0; c < 3; ++c) {
-      _mm256_store_pd(&t.spin[c][k],
-                      _mm256_add_pd(_mm256_mul_pd(xi[3], wi[c]), _mm256_mul_pd(xj[3], wj[c])));
+      StoreColumn(&t.spin[c][k],
+                  _mm256_add_pd(_mm256_mul_pd(xi[3], wi[c]), _mm256_mul_pd(xj[3], wj[c])));
     }
   }
   if constexpr (Phys::kTangential) {
@@ -150,9 +160,9 @@ Engine<Dim, Law, Phys>::GatherFourTransposed(Scratch& t, int k, std::int64_t b,
     __m256d y;
     __m256d z;
     LoadThreeColumns(reinterpret_cast<const double*>(this->pair_shear_.data() + b + k), x, y, z);
-    _mm256_store_pd(&t.shear[0][k], x);
-    _mm256_store_pd(&t.shear[1][k], y);
-    _mm256_store_pd(&t.shear[2][k], z);
+    StoreColumn(&t.shear[0][k], x);
+    StoreColumn(&t.shear[1][k], y);
+    StoreColumn(&t.shear[2][k], z);
   }
   // Only a law with a normal history looks a dense contact's pair up (the write-back indexes
   // the pairs by position).
@@ -167,8 +177,9 @@ Engine<Dim, Law, Phys>::GatherFourTransposed(Scratch& t, int k, std::int64_t b,
 // with an all-ones or all-zeros mask is the select `mask ? x : +0.0`). Returns how many were
 // written; adds the interacting ones to `interacting`.
 template <int Dim, class Law, class Phys>
+template <class Real>
 [[gnu::always_inline, gnu::target("avx2")]] inline int Engine<Dim, Law, Phys>::ScatterTransposed(
-    const Scratch& t, std::int64_t b, int n, std::int64_t& interacting) {
+    const ContactScratch<Dim, Real>& t, std::int64_t b, int n, std::int64_t& interacting) {
   int k = 0;
   if constexpr (Dim == 3) {
     static_assert(sizeof(PairResult) == 6 * sizeof(double) && sizeof(V) == 3 * sizeof(double));
@@ -177,15 +188,15 @@ template <int Dim, class Law, class Phys>
     std::uint8_t* live = this->pair_live_.data() + b;
     const __m256d zero = _mm256_setzero_pd();
     for (; k + 4 <= n; k += 4) {
-      const __m256d within = _mm256_cmp_pd(_mm256_load_pd(&t.within[k]), zero, _CMP_NEQ_OQ);
+      const __m256d within = _mm256_cmp_pd(LoadColumn(&t.within[k]), zero, _CMP_NEQ_OQ);
       const __m256d touching =
-          _mm256_and_pd(within, _mm256_cmp_pd(_mm256_load_pd(&t.overlap[k]), zero, _CMP_GT_OQ));
+          _mm256_and_pd(within, _mm256_cmp_pd(LoadColumn(&t.overlap[k]), zero, _CMP_GT_OQ));
       __m256d row[4];
-      for (int c = 0; c < 3; ++c) row[c] = _mm256_and_pd(within, _mm256_load_pd(&t.force[c][k]));
+      for (int c = 0; c < 3; ++c) row[c] = _mm256_and_pd(within, LoadColumn(&t.force[c][k]));
       __m256d twist[3] = {zero, zero, zero};
       if constexpr (Phys::kRotation) {
         for (int c = 0; c < 3; ++c) {
-          twist[c] = _mm256_and_pd(touching, _mm256_load_pd(&t.twist[c][k]));
+          twist[c] = _mm256_and_pd(touching, LoadColumn(&t.twist[c][k]));
         }
       }
       row[3] = twist[0];
@@ -200,10 +211,9 @@ template <int Dim, class Law, class Phys>
         _mm_storeu_pd(record + 4, yz[q]);
       }
       if constexpr (Phys::kTangential) {
-        StoreThreeColumns(_mm256_and_pd(touching, _mm256_load_pd(&t.shear[0][k])),
-                          _mm256_and_pd(touching, _mm256_load_pd(&t.shear[1][k])),
-                          _mm256_and_pd(touching, _mm256_load_pd(&t.shear[2][k])),
-                          shear_out + 3 * k);
+        StoreThreeColumns(_mm256_and_pd(touching, LoadColumn(&t.shear[0][k])),
+                          _mm256_and_pd(touching, LoadColumn(&t.shear[1][k])),
+                          _mm256_and_pd(touching, LoadColumn(&t.shear[2][k])), shear_out + 3 * k);
       }
       const int within_bits = _mm256_movemask_pd(within);
       const int touching_bits = _mm256_movemask_pd(touching);
@@ -226,8 +236,10 @@ template <int Dim, class Law, class Phys>
 // results and springs written in pair order. Pairs beyond the cutoff come out zero by the same
 // selects as a separating contact (and `within` for the van der Waals pull).
 template <int Dim, class Law, class Phys>
-[[gnu::always_inline]] inline void Engine<Dim, Law, Phys>::DenseGather(Scratch& t, std::int64_t b,
-                                                                       int k, int n) const {
+template <class Real>
+[[gnu::always_inline]] inline void Engine<Dim, Law, Phys>::DenseGather(ContactScratch<Dim, Real>& t,
+                                                                       std::int64_t b, int k,
+                                                                       int n) const {
   const Record* x = records_.data();
   const std::int32_t* first = this->pairs_.first.data() + b;
   const std::int32_t* second = this->pairs_.second.data() + b;
@@ -243,27 +255,36 @@ template <int Dim, class Law, class Phys>
     double d[Dim];
     for (int c = 0; c < Dim; ++c) {
       d[c] = particle_i.position_radius.v[c] - particle_j.position_radius.v[c];
-      t.normal[c][k] = d[c];
+      t.normal[c][k] = static_cast<Real>(d[c]);
     }
     const double d2 = SumOfSquares<Dim>(d);
     const double cutoff_m = r_i + r_j + cutoff_gap_m;
-    t.within[k] = d2 < cutoff_m * cutoff_m ? 1.0 : 0.0;
-    t.radius_i[k] = r_i;
-    t.radius_j[k] = r_j;
-    t.mass_i[k] = particle_i.velocity_mass.s;
-    t.mass_j[k] = particle_j.velocity_mass.s;
-    for (int c = 0; c < Dim; ++c)
-      t.velocity[c][k] = particle_i.velocity_mass.v[c] - particle_j.velocity_mass.v[c];
+    t.within[k] = d2 < cutoff_m * cutoff_m ? Real{1} : Real{0};
+    t.radius_i[k] = static_cast<Real>(r_i);
+    t.radius_j[k] = static_cast<Real>(r_j);
+    if constexpr (ContactScratch<Dim, Real>::kSingle) {
+      const double touch = r_i + r_j;
+      t.square_gap[k] = static_cast<Real>(touch * touch - d2);
+    }
+    t.mass_i[k] = static_cast<Real>(particle_i.velocity_mass.s);
+    t.mass_j[k] = static_cast<Real>(particle_j.velocity_mass.s);
+    for (int c = 0; c < Dim; ++c) {
+      t.velocity[c][k] =
+          static_cast<Real>(particle_i.velocity_mass.v[c] - particle_j.velocity_mass.v[c]);
+    }
     if constexpr (Phys::kRotation) {
       if constexpr (Dim == 3) {
-        for (int c = 0; c < 3; ++c)
-          t.spin[c][k] = r_i * particle_i.spin_inertia.w[c] + r_j * particle_j.spin_inertia.w[c];
+        for (int c = 0; c < 3; ++c) {
+          t.spin[c][k] = static_cast<Real>(r_i * particle_i.spin_inertia.w[c] +
+                                           r_j * particle_j.spin_inertia.w[c]);
+        }
       } else {
-        t.spin[0][k] = r_i * particle_i.spin_inertia.w + r_j * particle_j.spin_inertia.w;
+        t.spin[0][k] =
+            static_cast<Real>(r_i * particle_i.spin_inertia.w + r_j * particle_j.spin_inertia.w);
       }
     }
     if constexpr (Phys::kTangential) {
-      for (int c = 0; c < Dim; ++c) t.shear[c][k] = shear[k][c];
+      for (int c = 0; c < Dim; ++c) t.shear[c][k] = static_cast<Real>(shear[k][c]);
     }
     if constexpr (Law::kNeedsHistory) t.pair[k] = static_cast<std::int32_t>(b + k);
   }
@@ -272,9 +293,9 @@ template <int Dim, class Law, class Phys>
 // Writes the results, springs and live flags of dense-block contacts k .. n-1; returns how
 // many interact.
 template <int Dim, class Law, class Phys>
-[[gnu::always_inline]] inline std::int64_t Engine<Dim, Law, Phys>::DenseScatter(const Scratch& t,
-                                                                                std::int64_t b,
-                                                                                int k, int n) {
+template <class Real>
+[[gnu::always_inline]] inline std::int64_t Engine<Dim, Law, Phys>::DenseScatter(
+    const ContactScratch<Dim, Real>& t, std::int64_t b, int k, int n) {
   auto* results = this->pair_result_.data() + b;
   V* shear_out = this->pair_shear_.data() + b;
   std::uint8_t* live = this->pair_live_.data() + b;
@@ -284,16 +305,22 @@ template <int Dim, class Law, class Phys>
     // the last-ulp case where its overlap reads positive.
     const bool within = t.within[k] != 0;
     const bool touching = within & (t.overlap[k] > 0);
-    for (int c = 0; c < Dim; ++c) results[k].force_n[c] = within ? t.force[c][k] : 0.0;
+    for (int c = 0; c < Dim; ++c) {
+      results[k].force_n[c] = within ? static_cast<double>(t.force[c][k]) : 0.0;
+    }
     if constexpr (Phys::kRotation) {
       if constexpr (Dim == 3) {
-        for (int c = 0; c < 3; ++c) results[k].twist_n[c] = touching ? t.twist[c][k] : 0.0;
+        for (int c = 0; c < 3; ++c) {
+          results[k].twist_n[c] = touching ? static_cast<double>(t.twist[c][k]) : 0.0;
+        }
       } else {
-        results[k].twist_n = touching ? t.twist[0][k] : 0.0;
+        results[k].twist_n = touching ? static_cast<double>(t.twist[0][k]) : 0.0;
       }
     }
     if constexpr (Phys::kTangential) {
-      for (int c = 0; c < Dim; ++c) shear_out[k][c] = touching ? t.shear[c][k] : 0.0;
+      for (int c = 0; c < Dim; ++c) {
+        shear_out[k][c] = touching ? static_cast<double>(t.shear[c][k]) : 0.0;
+      }
     }
     if constexpr (Law::kNeedsHistory) {
       if (!touching) {
@@ -366,7 +393,11 @@ inline std::int64_t Engine<Dim, Law, Phys>::PairRangeCompacted(Scratch& t, std::
 template <int Dim, class Law, class Phys>
 inline void Engine<Dim, Law, Phys>::ContactBlock(int n, Scratch& t) {
   GatherBlock(n, t);
-  stages_.template Run<false>(simd_, t, n, this->pair_normal_history_);
+  if (t.single == nullptr) {
+    stages_.template Run<false>(simd_, t, n, this->pair_normal_history_);
+  } else {
+    stages_.RunSingle(simd_, t, n, this->pair_normal_history_);
+  }
   ScatterBlock(n, t);
 }
 

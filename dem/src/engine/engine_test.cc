@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <variant>
 
@@ -665,6 +666,87 @@ TEST(PackingEngine, DenseAndCompactedPairPassesGiveIdenticalTrajectories) {
     }
   }
   ExpectSameDiskTrajectories(dense_settings, compacted_settings, 13, "2D");
+}
+
+// Single-precision contacts (EngineSettings::single_precision_contacts) must still resolve the
+// overlaps of a settled pack: about 4e-9 m per sphere weight in paper 000 (k = 1e7 N/m, 4.1 g),
+// below float's spacing of 9.3e-10 m at a 1 cm centre distance, so r_i + r_j - |d| in float
+// would be wrong by 10-100 %. Five separate pairs of 1 cm spheres at rest, overlapping by
+// 1e-9 .. 1e-5 m (four through the four-wide gather, one through the scalar tail), no gravity:
+// each sphere feels k delta along the line of centres. The expected force is exact in double
+// (the centre distance and the overlap are differences of doubles within a factor of two of each
+// other: Sterbenz), and the single path rounds four times on the way (the difference of squares,
+// the sum and the quotient of the overlap, the force back to float), so within 4 float epsilons.
+TEST(PackingEngine, SinglePrecisionContactsResolveOverlapsBelowFloatSpacingOfTheDistance) {
+  const double stiffness = 1e7;
+  EngineSettings settings = Settings(false, 1);
+  settings.gravity_mps2 = 0;
+  settings.dense_pair_fraction = 0;  // every step after the first runs the dense blocks
+  settings.single_precision_contacts = true;
+  auto engine = MakeEngine<3>(settings, {}, WaltonBraunLaw(stiffness, 0.5), AllPhysics(false));
+  const double r = 0.005;
+  const std::vector<double> overlaps = {1e-9, 1e-8, 1e-7, 1e-6, 1e-5};
+  for (std::size_t p = 0; p < overlaps.size(); ++p) {
+    const double y = 0.05 * static_cast<double>(p);
+    engine->AddParticle(V3(0.02, y, 0.02), V3(0, 0, 0), r, 7800, 0);
+    engine->AddParticle(V3(0.02 + 2 * r - overlaps[p], y, 0.02), V3(0, 0, 0), r, 7800, 0);
+  }
+  // The first pass runs the compacted (double) blocks: a chunk picks dense from its previous step.
+  engine->ComputeForces();
+  engine->ComputeForces();
+  const auto& s = engine->state();
+  for (std::size_t p = 0; p < overlaps.size(); ++p) {
+    const auto i = static_cast<std::int32_t>(2 * p);
+    const double overlap = 2 * r - (s.position_m[i + 1][0] - s.position_m[i][0]);
+    const double expected = stiffness * overlap;
+    const double tolerance = 4 * std::numeric_limits<float>::epsilon() * expected;
+    EXPECT_NEAR(s.force_n[i][0], -expected, tolerance) << overlaps[p];
+    EXPECT_NEAR(s.force_n[i + 1][0], expected, tolerance) << overlaps[p];
+    EXPECT_EQ(s.force_n[i][1], 0.0);
+    EXPECT_EQ(s.force_n[i][2], 0.0);
+  }
+}
+
+// With single-precision contacts a chunk that runs its pairs compacted converts them into the
+// same float arithmetic as a dense one, so that choice (which depends on how the pairs fall into
+// chunks, hence on the thread count) and the build change no bit, as in double: dense blocks on
+// two threads with the widest build against compacted blocks on one thread with the baseline
+// build, for a law with and without a normal history, with and without the van der Waals cutoff.
+TEST(PackingEngine, SinglePrecisionContactsAreTheSameForEveryPassThreadCountAndBuild) {
+  ContactLawConfig plastic;
+  plastic.kind = ContactLawKind::kWaltonBraunPlastic;
+  plastic.parameters = {{"stiffness_n_per_m", 1e6},
+                        {"unloading_stiffness_n_per_m", 3e6},
+                        {"plastic_flow_overlap_m", 0.0}};
+  EngineSettings dense_settings = Settings(false, 2);
+  dense_settings.dense_pair_fraction = 0;
+  dense_settings.single_precision_contacts = true;
+  EngineSettings compacted_settings = Settings(false, 1);
+  compacted_settings.dense_pair_fraction = 2;
+  compacted_settings.single_precision_contacts = true;
+  compacted_settings.max_contact_simd = ContactSimd::kBaseline;
+  for (const ContactLawConfig& law : {WaltonBraunLaw(1e6, 0.4), plastic}) {
+    for (bool vdw : {false, true}) {
+      auto dense = MakeEngine<3>(dense_settings, BoxWalls(0.05), law, AllPhysics(vdw));
+      auto compacted = MakeEngine<3>(compacted_settings, BoxWalls(0.05), law, AllPhysics(vdw));
+      auto reference = MakeEngine<3>(Settings(false, 1), BoxWalls(0.05), law, AllPhysics(vdw));
+      for (auto* engine : {dense.get(), compacted.get(), reference.get()}) {
+        FillRandomCloud(*engine, 300, 0.05, 0.0035, 9);
+        engine->Advance(600);
+      }
+      bool differs_from_double = false;
+      for (std::int32_t i = 0; i < dense->state().size(); ++i) {
+        ASSERT_TRUE(dense->state().position_m[i] == compacted->state().position_m[i])
+            << ToString(law.kind) << " vdw " << vdw << " particle " << i;
+        ASSERT_TRUE(dense->state().angular_velocity_radps[i] ==
+                    compacted->state().angular_velocity_radps[i])
+            << ToString(law.kind) << " vdw " << vdw << " particle " << i;
+        differs_from_double |= !(dense->state().position_m[i] == reference->state().position_m[i]);
+      }
+      // The float arithmetic did run: the double engine took other bits.
+      EXPECT_TRUE(differs_from_double) << ToString(law.kind) << " vdw " << vdw;
+    }
+  }
 }
 
 TEST(PackingEngine, VanDerWaalsAttractsNearbyParticlesWithTheHamakerForce) {

@@ -269,6 +269,8 @@ std::uint64_t SetupFingerprint(const Scene& scene, const scene::EngineSettings& 
     out.Put(static_cast<std::uint8_t>(flag));
   }
   out.PutString(DescribePhysics(scene));
+  // Only when on, so that a double run's fingerprint (and its checkpoints) stay as they were.
+  if (settings.single_precision_contacts) out.PutString("single-precision contacts");
   for (const auto& [name, value] : scene.material.law.parameters) {
     out.PutString(name);
     out.Put(value);
@@ -348,6 +350,7 @@ scene::EngineSettings EngineSettingsFor(const Scene& scene, const PackOptions& o
   settings.min_skin_m = options.min_skin_diameters * scene.particles.diameter.MaxDiameterM();
   settings.skin_rebuild_steps = options.skin_rebuild_steps;
   settings.brute_force_pairs = options.brute_force_pairs;
+  settings.single_precision_contacts = options.single_precision_contacts;
   settings.threads = options.threads;
   return settings;
 }
@@ -412,6 +415,12 @@ PackingRun<Dim>::PackingRun(const Scene& scene, const PackOptions& options)
   }
   limits_ = scene::CheckTimeStep(scene_, bodies, options_.allow_unstable_step, summary_.warnings,
                                  summary_.notes);
+  if (options_.single_precision_contacts) {
+    summary_.notes.push_back(
+        "the particle-particle contacts were computed in single precision (--precision single): "
+        "not the double engine's bits (docs/packing.md, 'Single precision: the speed/accuracy "
+        "trade')");
+  }
   budget_.emplace(scene_, *engine_,
                   engine_->state().size() + static_cast<std::int64_t>(pending_.size()));
   runaway_speed_mps_ = 0.5 * SmallestRadiusM(*engine_, pending_) / dt_;

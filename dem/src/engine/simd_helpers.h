@@ -83,6 +83,22 @@ template <class Record>
   _mm256_storeu_pd(rows + 4, _mm256_blend_pd(r, p, 0xC));
   _mm256_storeu_pd(rows + 8, _mm256_permute2f128_pd(q, r, 0x31));
 }
+
+// Four contacts' column of a block scratch (16-byte aligned) to and from doubles: the dense pair
+// pass gathers and writes back in double, and a single-precision block (ContactScratch<Dim,
+// float>) converts at this boundary. For a double block they are the plain load and store.
+[[gnu::always_inline, gnu::target("avx2")]] inline void StoreColumn(double* to, __m256d v) {
+  _mm256_store_pd(to, v);
+}
+[[gnu::always_inline, gnu::target("avx2")]] inline void StoreColumn(float* to, __m256d v) {
+  _mm_store_ps(to, _mm256_cvtpd_ps(v));
+}
+[[gnu::always_inline, gnu::target("avx2")]] inline __m256d LoadColumn(const double* from) {
+  return _mm256_load_pd(from);
+}
+[[gnu::always_inline, gnu::target("avx2")]] inline __m256d LoadColumn(const float* from) {
+  return _mm256_cvtps_pd(_mm_load_ps(from));
+}
 #endif
 
 }  // namespace bouncecal::dem::scene

@@ -16,9 +16,9 @@ namespace bouncecal::dem::scene {
 // Sum of the squares, started from the first square rather than from 0: 0 + x x is x x for
 // every x (a square is never -0), so the value is that of the plain sum, and the compiler,
 // which must keep the addition of a 0 it cannot prove redundant, saves one per sum.
-template <int Dim>
-[[gnu::always_inline]] inline double SumOfSquares(const double (&v)[Dim]) {
-  double sum = v[0] * v[0];
+template <int Dim, class Real>
+[[gnu::always_inline]] inline Real SumOfSquares(const Real (&v)[Dim]) {
+  Real sum = v[0] * v[0];
   for (int c = 1; c < Dim; ++c) sum += v[c] * v[c];
   return sum;
 }
@@ -28,52 +28,55 @@ template <int Dim>
 // without the rescale; pair granular rescales like this). The projection is done in place; the
 // factor that restores the length is returned, to be applied by CoulombSpringForce. With no
 // spring, or none left after the projection, the factor is 1.
-template <int Dim>
-[[gnu::always_inline]] inline double ProjectSpring(double (&spring)[Dim], const double (&n)[Dim]) {
-  const double old2 = SumOfSquares<Dim>(spring);
-  double along = 0;
+template <int Dim, class Real>
+[[gnu::always_inline]] inline Real ProjectSpring(Real (&spring)[Dim], const Real (&n)[Dim]) {
+  const Real old2 = SumOfSquares<Dim>(spring);
+  Real along = 0;
   for (int c = 0; c < Dim; ++c) along += spring[c] * n[c];
-  double projected[Dim];
+  Real projected[Dim];
   for (int c = 0; c < Dim; ++c) projected[c] = spring[c] - along * n[c];
-  const double new2 = SumOfSquares<Dim>(projected);
+  const Real new2 = SumOfSquares<Dim>(projected);
   const bool had_spring = old2 > 0;
   for (int c = 0; c < Dim; ++c) spring[c] = had_spring ? projected[c] : spring[c];
   const bool rescale = had_spring & (new2 > 0);
-  return std::sqrt((rescale ? old2 : 1.0) / (rescale ? new2 : 1.0));
+  return std::sqrt((rescale ? old2 : Real{1}) / (rescale ? new2 : Real{1}));
 }
 
-// The spring's constants for a run.
-struct SpringConstants {
-  double time_step_s;
-  double stiffness_n_per_m;        // k_t
-  double shear_per_force_m_per_n;  // 1 / -k_t: the spring of a sliding contact from its force
+// The spring's constants for a run, in the precision of the contact arithmetic (double, or
+// float for EngineSettings::single_precision_contacts).
+template <class Real>
+struct BasicSpringConstants {
+  Real time_step_s;
+  Real stiffness_n_per_m;        // k_t
+  Real shear_per_force_m_per_n;  // 1 / -k_t: the spring of a sliding contact from its force
 };
+using SpringConstants = BasicSpringConstants<double>;
 
 // One step of the spring: its projected length restored (length_factor from ProjectSpring), the
 // step's tangential displacement dt v_t added, and the force -k_t s. When that force exceeds
 // friction |F_n| the contact slides: the force is scaled back to the Coulomb cap and the spring
 // reset to match it, so |F_t| never exceeds mu |F_n|. Writes the new spring back and returns the
 // tangential force in `tangential`.
-template <int Dim>
-[[gnu::always_inline]] inline void CoulombSpringForce(double (&spring)[Dim], double length_factor,
-                                                      const double (&tangential_velocity)[Dim],
-                                                      double normal_force, double friction,
-                                                      const SpringConstants& constants,
-                                                      double (&tangential)[Dim]) {
-  const double dt = constants.time_step_s;
-  const double ks = constants.stiffness_n_per_m;
-  double shear[Dim];
+template <int Dim, class Real>
+[[gnu::always_inline]] inline void CoulombSpringForce(Real (&spring)[Dim], Real length_factor,
+                                                      const Real (&tangential_velocity)[Dim],
+                                                      Real normal_force, Real friction,
+                                                      const BasicSpringConstants<Real>& constants,
+                                                      Real (&tangential)[Dim]) {
+  const Real dt = constants.time_step_s;
+  const Real ks = constants.stiffness_n_per_m;
+  Real shear[Dim];
   for (int c = 0; c < Dim; ++c) {
     shear[c] = spring[c] * length_factor;
     shear[c] += dt * tangential_velocity[c];
     tangential[c] = shear[c] * -ks;
   }
-  const double cap = friction * std::abs(normal_force);
-  const double f2 = SumOfSquares<Dim>(tangential);
+  const Real cap = friction * std::abs(normal_force);
+  const Real f2 = SumOfSquares<Dim>(tangential);
   const bool slides = f2 > cap * cap;
-  const double scale = cap / std::sqrt(f2);
+  const Real scale = cap / std::sqrt(f2);
   for (int c = 0; c < Dim; ++c) {
-    const double capped = tangential[c] * scale;
+    const Real capped = tangential[c] * scale;
     tangential[c] = slides ? capped : tangential[c];
     spring[c] = slides ? capped * constants.shear_per_force_m_per_n : shear[c];
   }
@@ -82,10 +85,9 @@ template <int Dim>
 // n x F_t, the twist of the tangential force: the torque on either body of a contact is
 // -r (n x F_t) with r its radius (for the second body of a pair both the normal and the force
 // change sign). In 2D the twist is its z component.
-template <int Dim>
-[[gnu::always_inline]] inline void SpringTwist(const double (&n)[Dim],
-                                               const double (&tangential)[Dim],
-                                               double (&twist)[Dim == 3 ? 3 : 1]) {
+template <int Dim, class Real>
+[[gnu::always_inline]] inline void SpringTwist(const Real (&n)[Dim], const Real (&tangential)[Dim],
+                                               Real (&twist)[Dim == 3 ? 3 : 1]) {
   if constexpr (Dim == 3) {
     twist[0] = n[1] * tangential[2] - n[2] * tangential[1];
     twist[1] = n[2] * tangential[0] - n[0] * tangential[2];

@@ -13,10 +13,12 @@ namespace bouncecal::dem::scene {
 // Hamaker (1937) sphere-sphere attraction for gaps h << R: F = A R_eff / (6 h^2), i.e.
 // A R / (12 h^2) for equal spheres (paper 004 eq. 2). It diverges at contact, so the gap is
 // floored at min_gap_m (vdw_min_gap_m: an interatomic distance, Israelachvili ch. 13); an
-// overlap (> 0) counts as contact. Magnitude, towards the other particle.
-inline double VanDerWaalsForceN(double overlap_m, double effective_radius_m, double hamaker_j,
-                                double min_gap_m) {
-  const double gap = std::max(-overlap_m, min_gap_m);
+// overlap (> 0) counts as contact. Magnitude, towards the other particle. Real: double, or float
+// in the packing engine's single-precision contacts (EngineSettings::single_precision_contacts).
+template <class Real>
+inline Real VanDerWaalsForceN(Real overlap_m, Real effective_radius_m, Real hamaker_j,
+                              Real min_gap_m) {
+  const Real gap = std::max(-overlap_m, min_gap_m);
   return hamaker_j * effective_radius_m / (6 * gap * gap);
 }
 
