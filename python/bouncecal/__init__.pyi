@@ -162,6 +162,7 @@ def pack(
     skin_diameters: float = ...,
     min_skin_diameters: float = ...,
     allow_unstable_step: bool = ...,
+    precision: str = ...,
 ) -> Result: ...
 
 def export(

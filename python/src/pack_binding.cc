@@ -100,9 +100,15 @@ void BindPack(py::module_& module) {
   module.def(
       "pack",
       [](py::object scene_argument, int threads, std::optional<double> duration_s,
-         double skin_diameters, double min_skin_diameters, bool allow_unstable_step) {
+         double skin_diameters, double min_skin_diameters, bool allow_unstable_step,
+         const std::string& precision) {
+        if (precision != "double" && precision != "single") {
+          throw ConfigError("precision must be \"double\" or \"single\", got \"" + precision +
+                            "\"");
+        }
         const dem::Scene scene = SceneFromPython(scene_argument);
         dem::PackOptions options;
+        options.single_precision_contacts = precision == "single";
         options.threads = threads;
         options.skin_diameters = skin_diameters;
         options.min_skin_diameters = min_skin_diameters;
@@ -138,6 +144,7 @@ void BindPack(py::module_& module) {
       py::arg("duration_s") = py::none(), py::arg("skin_diameters") = defaults.skin_diameters,
       py::arg("min_skin_diameters") = defaults.min_skin_diameters,
       py::arg("allow_unstable_step") = defaults.allow_unstable_step,
+      py::arg("precision") = "double",
       R"doc(Run a packing scene (dem::RunPacking) and measure it: the fields of the summary
 `bouncecal pack` writes, plus history (a Table: time_s, packing_density, kinetic_energy_j,
 max_speed_mps, particles), profile (a Table: height_m, density) and final_state (position_m and
@@ -146,7 +153,9 @@ velocity_mps as (n, dimension) arrays, radius_m, species).
 scene: a scene file's path or a scene dict (docs/scenes.md); relative paths inside a dict
     resolve against the working folder. Writes no files (no outputs folder, no dumps).
 threads: the engine's worker threads (results are identical for any count). duration_s: the
-    simulated time, overriding the scene's (0 measures the start state).
+    simulated time, overriding the scene's (0 measures the start state). precision: "double"
+    (the default, bit for bit reproducible) or "single" (the particle pairs' contact arithmetic
+    in float, `pack --precision single`; docs/packing.md, "Single precision").
 Raises InputError for a bad scene, ConfigError when the run becomes unstable (with the
 command line's message) or an option is out of range. A run that ends boiling (the command's
 exit status 3) returns its result with boiling true and a RuntimeWarning saying why.)doc");

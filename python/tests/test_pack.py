@@ -67,6 +67,23 @@ def test_pack_gives_the_summary_the_command_writes(cli, tmp_path):
     assert expected["particles"] == 40 and expected["packing_density"] > 0
 
 
+def test_single_precision_gives_the_summary_pack_precision_single_writes(cli, tmp_path):
+    # The same option as the command's: the same bits (the run is deterministic in either
+    # precision) and a summary that says which arithmetic made it.
+    scene = tmp_path / "pour.json"
+    scene.write_text(json.dumps(SMALL_POUR))
+    expected = cli.json("pack", scene, "--precision", "single", "--output", tmp_path / "out",
+                        output=tmp_path / "s.json")
+    result = bouncecal.pack(str(scene), precision="single").to_dict()
+    for extra in ("history", "profile", "final_state"):
+        del result[extra]
+    for timing in ("wall_s", "total_wall_s", "particle_steps_per_s", "threads"):
+        del result[timing], expected[timing]
+    assert result == expected
+    assert expected["contact_precision"] == "single"
+    assert bouncecal.pack(FREE_FALL).contact_precision == "double"
+
+
 def test_a_scene_dict_runs_like_the_same_scene_file(tmp_path):
     scene = tmp_path / "pour.json"
     scene.write_text(json.dumps(SMALL_POUR))
@@ -98,6 +115,7 @@ def test_a_bad_scene_file_raises_the_commands_message(cli, tmp_path):
     ({"duration_s": 1e-6}, "below the scene's time_step_s"),
     ({"duration_s": -1.0}, "duration_s must be in [0, 1e6]"),
     ({"threads": 0}, "threads"),
+    ({"precision": "half"}, 'precision must be "double" or "single"'),
 ])
 def test_bad_options_raise_config_errors(arguments, words):
     with pytest.raises(bouncecal.ConfigError) as raised:

@@ -416,8 +416,10 @@ PackingRun<Dim>::PackingRun(const Scene& scene, const PackOptions& options)
   limits_ = scene::CheckTimeStep(scene_, bodies, options_.allow_unstable_step, summary_.warnings,
                                  summary_.notes);
   if (options_.single_precision_contacts) {
+    // Named as both front ends name the option (`pack --precision single`, bouncecal.pack's
+    // precision="single"), not as the struct's bool.
     summary_.notes.push_back(
-        "the particle-particle contacts were computed in single precision (--precision single): "
+        "the particle-particle contacts were computed in single precision (`precision=single`): "
         "not the double engine's bits (docs/packing.md, 'Single precision: the speed/accuracy "
         "trade')");
   }
@@ -430,6 +432,7 @@ PackingRun<Dim>::PackingRun(const Scene& scene, const PackOptions& options)
   summary_.time_step_limit_s = limits_.normal.limit_s;
   summary_.tangential_time_step_limit_s = limits_.tangential.limit_s;
   summary_.threads = options_.threads;
+  summary_.single_precision_contacts = options_.single_precision_contacts;
   summary_.history.push_back(Sample(Snapshot(*engine_), scene_, engine_->KineticEnergyJ()));
   fingerprint_ = Fingerprint();
 }

@@ -48,6 +48,7 @@ nlohmann::json ToJson(const Scene& scene, const PackSummary& s) {
   j["kinetic_energy_j"] = measured ? FiniteOrNull(s.kinetic_energy_j) : nullptr;
   j["neighbor_rebuilds"] = s.neighbor_rebuilds;
   j["threads"] = s.threads;
+  j["contact_precision"] = s.single_precision_contacts ? "single" : "double";
   j["wall_s"] = FiniteOrNull(s.wall_s);
   j["total_wall_s"] = FiniteOrNull(s.total_wall_s);
   j["particle_steps_per_s"] = FiniteOrNull(s.particle_steps_per_s);

@@ -112,6 +112,9 @@ struct PackSummary {
   double total_wall_s = 0;
   double particle_steps_per_s = 0;
   int threads = 1;
+  // The contacts' arithmetic, PackOptions::single_precision_contacts: a single-precision run is
+  // not double's trajectory, so its summary must say which it is.
+  bool single_precision_contacts = false;
   double packing_density = 0;
   double packing_density_by_count = 0;  // CentreCountDensity: paper 004's estimator
   double kinetic_energy_j = 0;
