@@ -34,6 +34,39 @@ constexpr std::array<FamilyTiming, 6> kMeasured = {{
     {"adpcm", 0, 220e-6, 220e-6},
 }};
 
+// The frame each transform codec draws its quantisation noise for (CodecTiming::frame_s), in
+// samples of the decoded rate, long blocks: AAC-LC 1024; MP3 a granule of 576 (two per MPEG-1
+// frame, one per MPEG-2 frame); Vorbis the hop of libvorbis's long block, 2048 / 2; Opus the
+// encoders' 20 ms (libopus's default; its own lengths run 2.5-60 ms). A codec whose frame is not
+// known here (AMR, WMA, AC-3, ...) takes the longest of these at its rate: the onsets any of
+// them could have moved are widened.
+struct FamilyFrame {
+  std::string_view family;
+  double samples;  // 0: a fixed duration, `seconds`
+  double seconds;
+};
+
+constexpr std::array<FamilyFrame, 4> kFrames = {{
+    {"aac", 1024, 0},
+    {"mp3", 576, 0},
+    {"vorbis", 1024, 0},
+    {"opus", 0, 20e-3},
+}};
+
+double FrameSeconds(const FamilyFrame& frame, int sample_rate_hz) {
+  return frame.samples > 0 ? frame.samples / sample_rate_hz : frame.seconds;
+}
+
+std::optional<double> FrameOf(std::string_view family, int sample_rate_hz) {
+  if (family == "g711" || family == "adpcm" || sample_rate_hz <= 0) return std::nullopt;
+  double longest = 0;
+  for (const auto& frame : kFrames) {
+    if (frame.family == family) return FrameSeconds(frame, sample_rate_hz);
+    longest = std::max(longest, FrameSeconds(frame, sample_rate_hz));
+  }
+  return longest;
+}
+
 std::string_view FamilyOf(const std::string& codec) {
   if (codec == "aac" || codec == "aac_latm") return "aac";
   if (codec == "mp3") return "mp3";
@@ -51,6 +84,7 @@ std::optional<CodecTiming> CodecTimingOf(const RecordingInfo& info) {
   if (!info.lossy) return std::nullopt;
   CodecTiming timing;
   timing.family = FamilyOf(info.codec);
+  timing.frame_s = FrameOf(timing.family, info.sample_rate_hz);
   const auto found = std::find_if(kMeasured.begin(), kMeasured.end(),
                                   [&](const auto& row) { return row.family == timing.family; });
   if (found == kMeasured.end()) {

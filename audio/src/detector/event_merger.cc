@@ -158,7 +158,9 @@ void EventMerger::Report(double reference_to_contact_s, DetectionResult& result)
                     gap_ms, winner_s, merge.level_difference_db, merge.span_ms, where.c_str(),
                     min_gap_ms_);
     }
-    result.merged.push_back({merged_s, merge.merged.impact.peak_dbfs, text});
+    result.merged.push_back({merged_s, merge.merged.impact.peak_dbfs, text, winner_s,
+                             !merge.precursor && merge.merged.continuation,
+                             merge.level_difference_db});
   }
 }
 

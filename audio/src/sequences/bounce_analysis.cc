@@ -19,7 +19,12 @@ BounceAnalysis AnalyzeBounces(const std::filesystem::path& path,
   options.sequences.Validate();
   BounceAnalysis analysis;
   analysis.detection = DetectImpactsInFile(path, options.detection);
-  analysis.grouping = GroupBounces(analysis.detection.detection, options.sequences);
+  // The reader knows the codec, so the chance test knows how densely it makes events.
+  SequenceOptions sequences = options.sequences;
+  if (!sequences.codec_frame_s && analysis.detection.codec_timing) {
+    sequences.codec_frame_s = analysis.detection.codec_timing->frame_s;
+  }
+  analysis.grouping = GroupBounces(analysis.detection.detection, sequences);
   return analysis;
 }
 

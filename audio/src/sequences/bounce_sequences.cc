@@ -349,7 +349,12 @@ class ChanceAlignment {
       // likely by chance at its second such bounce as at its first.
       const bool weak = impacts_[static_cast<size_t>(members[k])].residual_only;
       const int available = weak ? weak_count_ - weak_taken : strong_count_ - strong_taken;
-      const double rate_hz = std::max(available, 1) / span_s_;
+      double rate_hz = std::max(available, 1) / span_s_;
+      // Inside the ringing tails, where a chain's predictions land, a transform codec's
+      // residual-only events come about once a frame (SequenceOptions::codec_frame_s).
+      if (weak && options_.codec_frame_s) {
+        rate_hz = std::max(rate_hz, 1.0 / *options_.codec_frame_s);
+      }
       (weak ? weak_taken : strong_taken) += 1;
       const double deviation_s = std::max(std::fabs(onset(k) - predicted_s), 1e-7);
       fisher += -std::log(std::max(-std::expm1(-2.0 * rate_hz * deviation_s), 1e-300));
@@ -629,6 +634,8 @@ void SequenceOptions::Validate() const {
               std::to_string(min_impacts));
   require(max_chance_alignment >= 0 && max_chance_alignment <= 1, {"max_chance_alignment"},
           "max_chance_alignment must be in [0, 1], got " + std::to_string(max_chance_alignment));
+  require(!codec_frame_s || (*codec_frame_s > 0 && *codec_frame_s <= 1), {"codec_frame_s"},
+          "codec_frame_s must be in (0, 1] s, got " + std::to_string(codec_frame_s.value_or(0)));
   require(!release_flight_s || (*release_flight_s > 0 && *release_flight_s <= max_interval_s),
           {"drop_height_m", "max_interval_s"},
           "the release flight (from drop_height_m) must be in (0, max_interval_s], got " +

@@ -43,6 +43,17 @@ struct SequenceOptions {
   // This is the probability, over all the chains the search tries in the file, that random
   // events line up as well (see FindBounceSequences).
   double max_chance_alignment = 1e-2;
+  // The frame of the lossy transform codec the recording went through (CodecTiming::frame_s;
+  // AnalyzeBounces sets it from the file). The codec draws its quantisation noise anew every
+  // frame, and through an impact's ringing tail the ringing residual can rise at each: alessia
+  // rimbalzi as AAC at 64 kbit/s per channel had 347 impacts (the WAV 46), ~300 residual-only,
+  // 19-27 ms apart through the tails (the frame is 23.2 ms), 24-29 per s averaged over the file.
+  // A chain through them beside the real bounces (36 impacts, 27 residual-only, 6 of the WAV's
+  // bounces among the rest) passed the chance test at 3e-4 at that average; its predictions land
+  // in the tails, where the events come once a frame (43 per s): 0.035-0.04 there, and the real
+  // sequence is found. So the chance test counts residual-only events at no less than one per
+  // frame: the conservative side, it refuses some right answers too (docs/codecs.md).
+  std::optional<double> codec_frame_s;
   // The flight that would have preceded the first impact, 2 sqrt(2 h0 / g), when the drop
   // height h0 is known (--drop-height-m). It gives the first impact's restitution dt_1 / dt_0, so
   // a lossy ball (e ~ 0.3: lead, clay, wood on sand) that makes only 2 or 3 audible impacts still

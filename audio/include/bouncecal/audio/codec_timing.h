@@ -29,6 +29,12 @@ struct CodecTiming {
   // False for a lossy codec the bench did not measure (AMR, WMA, AC-3, MP2, G.726, ...):
   // the largest measured sigma stands in for it.
   bool measured = true;
+  // How often a transform codec draws its quantisation noise anew (its frame, or MP3's granule,
+  // at the decoded rate; long blocks): pre-echo reaches at most this far ahead of an attack
+  // (DetectImpactsInFile widens the onsets a merge may have taken from it), and through a ringing
+  // tail the ringing residual can rise once a frame (SequenceOptions::codec_frame_s). nullopt
+  // for a codec that codes sample by sample (G.711, ADPCM).
+  std::optional<double> frame_s;
 };
 
 // The codec timing error of a recording, or nullopt for lossless input.

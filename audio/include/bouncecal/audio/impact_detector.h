@@ -78,6 +78,12 @@ struct MergedEvent {
   double time_s = 0;
   double peak_dbfs = 0;
   std::string reason;
+  double winner_s = 0;  // onset of the member it lost to
+  // Later than the winner and the rest of its sound (the winner's candidate closed while still
+  // rising), so it kept the winner's onset whatever its level.
+  bool rest_of_sound = false;
+  // The winner's level minus this one's, each over the same span from its own onset (dB).
+  double level_difference_db = 0;
 };
 
 struct DetectionResult {
