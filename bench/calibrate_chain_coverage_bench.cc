@@ -138,11 +138,11 @@ calibrate::FitOptions Options(bool known_height, double drop_height_m) {
 // contacts in the intervals) with the material's mean energy loss.
 double MaterialGamma(const Material& material, double jitter, bool known_height) {
   const double e = std::sqrt(material.restitution * material.restitution * (1 + jitter * jitter));
-  bouncecal::RandomStream unused(0, 0, 0);
+  bouncecal::RandomStream draws(0, 0, 0);  // drawn, but times a jitter of 0
   calibrate::MeasuredSequence exact;
   exact.source = "exact";
   for (const auto& impact : DropImpacts(
-           audio::SynthesisOptions{}, [e](double) { return e; }, material.drop_height_m, 0, unused))
+           audio::SynthesisOptions{}, [e](double) { return e; }, material.drop_height_m, 0, draws))
     exact.impacts.push_back({impact.onset_s, 0.0});
   return calibrate::Fit({exact}, Options(known_height, material.drop_height_m)).parameters[0].value;
 }
