@@ -21,6 +21,16 @@ ContactLawConfig WaltonBraunLaw(double stiffness, double gamma) {
   return law;
 }
 
+// A law with a normal history (the plastic overlap each pair carries between steps).
+ContactLawConfig WaltonBraunPlasticLaw() {
+  ContactLawConfig law;
+  law.kind = ContactLawKind::kWaltonBraunPlastic;
+  law.parameters = {{"stiffness_n_per_m", 1e6},
+                    {"unloading_stiffness_n_per_m", 3e6},
+                    {"plastic_flow_overlap_m", 0.0}};
+  return law;
+}
+
 PhysicsSpec AllPhysics(bool vdw) {
   PhysicsSpec physics;
   physics.tangential = true;
@@ -575,10 +585,7 @@ TEST(PackingEngine, WideAndBaselineContactArithmeticGiveIdenticalTrajectories) {
   if (builds.empty()) GTEST_SKIP() << "this CPU has no AVX2: only the baseline build can run";
   std::vector<ContactLawConfig> laws(5);
   laws[0] = WaltonBraunLaw(1e6, 0.4);
-  laws[1].kind = ContactLawKind::kWaltonBraunPlastic;
-  laws[1].parameters = {{"stiffness_n_per_m", 1e6},
-                        {"unloading_stiffness_n_per_m", 3e6},
-                        {"plastic_flow_overlap_m", 0.0}};
+  laws[1] = WaltonBraunPlasticLaw();
   laws[2].kind = ContactLawKind::kLinearDashpot;
   laws[2].parameters = {{"stiffness_n_per_m", 1e6}, {"damping_ratio", 0.2}};
   laws[3].kind = ContactLawKind::kHertz;
@@ -626,16 +633,11 @@ TEST(PackingEngine, WideAndBaselineContactArithmeticGiveIdenticalTrajectories) {
 // the same bits, for every law (the history law included), with and without the van der Waals
 // cutoff (which lists pairs that do not touch), in 3D and in 2D.
 TEST(PackingEngine, DenseAndCompactedPairPassesGiveIdenticalTrajectories) {
-  ContactLawConfig plastic;
-  plastic.kind = ContactLawKind::kWaltonBraunPlastic;
-  plastic.parameters = {{"stiffness_n_per_m", 1e6},
-                        {"unloading_stiffness_n_per_m", 3e6},
-                        {"plastic_flow_overlap_m", 0.0}};
   EngineSettings dense_settings = Settings(false, 2);
   dense_settings.dense_pair_fraction = 0;
   EngineSettings compacted_settings = Settings(false, 2);
   compacted_settings.dense_pair_fraction = 2;
-  for (const ContactLawConfig& law : {WaltonBraunLaw(1e6, 0.4), plastic}) {
+  for (const ContactLawConfig& law : {WaltonBraunLaw(1e6, 0.4), WaltonBraunPlasticLaw()}) {
     for (bool vdw : {false, true}) {
       auto dense = MakeEngine<3>(dense_settings, BoxWalls(0.05), law, AllPhysics(vdw));
       auto compacted = MakeEngine<3>(compacted_settings, BoxWalls(0.05), law, AllPhysics(vdw));
@@ -713,11 +715,6 @@ TEST(PackingEngine, SinglePrecisionContactsResolveOverlapsBelowFloatSpacingOfThe
 // two threads with the widest build against compacted blocks on one thread with the baseline
 // build, for a law with and without a normal history, with and without the van der Waals cutoff.
 TEST(PackingEngine, SinglePrecisionContactsAreTheSameForEveryPassThreadCountAndBuild) {
-  ContactLawConfig plastic;
-  plastic.kind = ContactLawKind::kWaltonBraunPlastic;
-  plastic.parameters = {{"stiffness_n_per_m", 1e6},
-                        {"unloading_stiffness_n_per_m", 3e6},
-                        {"plastic_flow_overlap_m", 0.0}};
   EngineSettings dense_settings = Settings(false, 2);
   dense_settings.dense_pair_fraction = 0;
   dense_settings.single_precision_contacts = true;
@@ -725,7 +722,7 @@ TEST(PackingEngine, SinglePrecisionContactsAreTheSameForEveryPassThreadCountAndB
   compacted_settings.dense_pair_fraction = 2;
   compacted_settings.single_precision_contacts = true;
   compacted_settings.max_contact_simd = ContactSimd::kBaseline;
-  for (const ContactLawConfig& law : {WaltonBraunLaw(1e6, 0.4), plastic}) {
+  for (const ContactLawConfig& law : {WaltonBraunLaw(1e6, 0.4), WaltonBraunPlasticLaw()}) {
     for (bool vdw : {false, true}) {
       auto dense = MakeEngine<3>(dense_settings, BoxWalls(0.05), law, AllPhysics(vdw));
       auto compacted = MakeEngine<3>(compacted_settings, BoxWalls(0.05), law, AllPhysics(vdw));
