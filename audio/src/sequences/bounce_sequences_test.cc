@@ -168,6 +168,32 @@ TEST(BounceSequences, ARestitutionThatScattersFromImpactToImpactStaysOneSequence
   EXPECT_TRUE(result.rejected.empty());
 }
 
+// The steel-on-anvil drop of the chain bench (5 % scatter of e, seed 5109) whose fourth ratio
+// (0.694) lies 0.126 from the mean of the three before it, beyond ratio_step_tolerance (0.12):
+// the longest chain starts at the fourth impact, and the chains from the first three stop at the
+// step or take every other bounce. Tracked backwards from the longest chain, the drop is one
+// sequence from its first impact; a knock 0.2 s before it, where no flight of this drop fits
+// (ratio 0.384 / 0.2 > max_ratio), stays out.
+TEST(BounceSequences, ADropSplitByOneScatteredRatioIsOneSequenceFromItsFirstImpact) {
+  std::vector<double> times = {0.567160, 0.951381};
+  for (double ratio : {0.7797, 0.8156, 0.8650, 0.6944, 0.7737, 0.8321, 0.8083, 0.8099, 0.8172}) {
+    const double flight = times[times.size() - 1] - times[times.size() - 2];
+    times.push_back(times.back() + ratio * flight);
+  }
+  const auto drop = FindBounceSequences(ToImpacts(times));
+  ASSERT_EQ(drop.sequences.size(), 1u);
+  EXPECT_EQ(drop.sequences[0].impact_indices.size(), times.size());
+  EXPECT_TRUE(drop.rejected.empty());
+
+  times.push_back(0.367160);
+  const auto knocked = FindBounceSequences(ToImpacts(times));
+  ASSERT_EQ(knocked.sequences.size(), 1u);
+  EXPECT_EQ(knocked.sequences[0].impact_indices.front(), 1);
+  EXPECT_EQ(knocked.sequences[0].impact_indices.size(), times.size() - 1);
+  ASSERT_EQ(knocked.rejected.size(), 1u);
+  EXPECT_EQ(knocked.rejected[0].impact_index, 0);
+}
+
 // Nothing predicts a chain's first ratio, and for a lossy ball (e = 0.5: steel on lead) the
 // bounce after next (ratio 0.49 + 0.24 = 0.73 of the flight) lies as near the middle of the
 // ratio window as the next bounce (0.49). The drop is one sequence from its first impact:
