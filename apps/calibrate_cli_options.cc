@@ -51,7 +51,10 @@ void CalibrateCliOptions::AddFitOptions(CLI::App& command) {
                      "What the drops must reproduce: mean-energy-loss (eta-bar of the first N "
                      "impacts, the paper's method), intervals (every flight time, weighted) or "
                      "heights (bounce heights)");
-  command.add_option("--first", first_n, "Impacts averaged by mean-energy-loss (count, default 3)");
+  command.add_option(
+      "--first", first_n,
+      "Impacts averaged by mean-energy-loss (count, default 3, or 2 when a recording "
+      "gives only 2, with a warning)");
   command.add_option("--max-intervals", max_intervals,
                      "Flight intervals per recording fitted by intervals/heights (count, 0: all)");
   command.add_option("--fit", fitted,
@@ -122,7 +125,10 @@ calibrate::FitOptions CalibrateCliOptions::FitOptions(bool validate_law) const {
   }
   options.fitted_parameters = cli.fitted;
   options.objective = calibrate::FitObjectiveFromString(cli.objective);
-  options.first_n = cli.first_n;
+  if (cli.first_n) {
+    options.first_n = *cli.first_n;
+    options.first_n_given = true;
+  }
   options.max_intervals = cli.max_intervals;
   options.minimizer.local_method = calibrate::LocalMethodFromString(cli.optimizer);
   options.minimizer.max_evaluations = cli.max_evaluations;

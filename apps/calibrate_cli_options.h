@@ -31,7 +31,8 @@ struct CalibrateCliOptions {
   std::vector<double> drop_height_uncertainties_m;
   double drop_height_uncertainty_m = 0;
   std::string objective = "mean-energy-loss";
-  int first_n = 3;
+  // Unset: FitOptions' default, lowered to what a short recording gives (first_n_given).
+  std::optional<int> first_n;
   int max_intervals = 0;
   std::vector<std::string> fitted;
   std::string optimizer = "bobyqa";

@@ -109,7 +109,7 @@ void PrintFit(std::FILE* out, const calibrate::FitSummary& summary,
   fmt::print(out, "bouncecal calibrate: {} sequence(s), law {}, objective {}{}\n", sequence_count,
              dem::ToString(summary.law.kind), ToString(summary.objective),
              summary.objective == calibrate::FitObjective::kMeanEnergyLoss
-                 ? fmt::format(" (first {} impacts)", options.first_n)
+                 ? fmt::format(" (first {} impacts)", summary.first_n)
                  : "");
   fmt::print(out, "{}\n{}; integrator {}{}\n", BallLine(summary, options),
              DropHeightLine(summary, options), dem::ToString(options.drop.integrator),
@@ -136,7 +136,7 @@ void PrintFit(std::FILE* out, const calibrate::FitSummary& summary,
       const double timing = *measured.energy_loss_mean_first_n_uncertainty;
       eta_bar = fmt::format(
           "{:.4f} +- {:.2g} (timing alone +- {:.2g})", *measured.energy_loss_mean_first_n,
-          std::sqrt(scatter * scatter / options.first_n + timing * timing), timing);
+          std::sqrt(scatter * scatter / summary.first_n + timing * timing), timing);
     }
     std::string spread;
     if (r < summary.uncertainty.recordings.size() &&
@@ -146,7 +146,7 @@ void PrintFit(std::FILE* out, const calibrate::FitSummary& summary,
                            recording.energy_loss_scatter, recording.impacts_used);
     }
     fmt::print(out, "  {}: {} impacts, eta-bar(first {}) = {}{}\n", summary.sequences[r].source,
-               measured.intervals_s.size() + 1, options.first_n, eta_bar, spread);
+               measured.intervals_s.size() + 1, summary.first_n, eta_bar, spread);
   }
   fmt::print(out, "fitted parameters ({}):\n", FixedParameters(summary));
   PrintParameters(out, summary, options.uncertainty.confidence_level);

@@ -143,8 +143,8 @@ std::string ImpactsSection(const CalibrationReportContent& content) {
       html += fmt::format(
           "<p>Mean energy loss of the first {} impacts: {} &plusmn; {} (timing alone &plusmn; "
           "{}; per-impact scatter sd {})</p>\n",
-          content.options.first_n, Number(*measured.energy_loss_mean_first_n, 4),
-          Number(std::sqrt(scatter * scatter / content.options.first_n + timing * timing), 2),
+          content.summary.first_n, Number(*measured.energy_loss_mean_first_n, 4),
+          Number(std::sqrt(scatter * scatter / content.summary.first_n + timing * timing), 2),
           Number(timing, 2), Number(scatter, 2));
     }
   }

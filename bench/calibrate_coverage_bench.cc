@@ -41,6 +41,7 @@ struct Row {
 calibrate::FitOptions Options(const Row& row) {
   calibrate::FitOptions options;
   options.first_n = row.first_n;
+  options.first_n_given = true;
   options.analytic_check = false;
   options.uncertainty.threads = 1;
   options.drop.drop_height_m = 0.2;  // unused unless given

@@ -133,7 +133,20 @@ TEST(DropHeightCli, AShortDropWithItsHeightIsToldToLowerFirstNotToGiveTheHeight)
                        << 0.5 << "\n"
                        << 0.5 + fall << "\n"
                        << 0.5 + 1.5 * fall << "\n";
-  const auto result = RunBouncecal("calibrate " + times.string() + " --drop-height-m 0.30");
+  // Without --first the default 3 falls to the 2 losses the recording gives, and says so.
+  const auto fallback = RunBouncecal("calibrate " + times.string() + " --drop-height-m 0.30");
+  EXPECT_EQ(fallback.exit_status, 0) << fallback.output;
+  EXPECT_NE(fallback.output.find("objective mean-energy-loss (first 2 impacts)"), std::string::npos)
+      << fallback.output;
+  EXPECT_NE(fallback.output.find("WARNING: recording lead.csv gives 2 energy losses, fewer than "
+                                 "the 3 eta-bar averages by default"),
+            std::string::npos)
+      << fallback.output;
+  EXPECT_NE(fallback.output.find("give --first 2 to choose this"), std::string::npos)
+      << fallback.output;
+  // Asked for 3, it is refused and told what would help.
+  const auto result =
+      RunBouncecal("calibrate " + times.string() + " --drop-height-m 0.30 --first 3");
   EXPECT_EQ(result.exit_status, 3) << result.output;
   EXPECT_NE(result.output.find("gives 2 energy losses but --first 3 needs that many; set --first "
                                "to 2 or use a recording with more audible impacts"),

@@ -53,6 +53,11 @@ void ValidateOptions(const FitOptions& options) {
         "FitOptions: drop.ball is set but ball_given is false; set ball_given = true for the "
         "experiment's ball, or leave drop.ball at ReferenceBall()");
   }
+  if (!options.first_n_given && options.first_n != FitOptions{}.first_n) {
+    throw ConfigError(
+        "FitOptions: first_n is set but first_n_given is false; set first_n_given = true for the "
+        "impacts to average, or leave first_n at its default");
+  }
   if (!options.drop_height_given && drop.drop_height_m != dem::DropOptions{}.drop_height_m) {
     throw ConfigError(
         "FitOptions: drop.drop_height_m is set but drop_height_given is false; set "
@@ -305,15 +310,53 @@ bool ResultDependsOnBall(const FitOptions& options) {
 
 namespace {
 
-FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOptions& options,
+// FitOptions::first_n_given: the default first_n, lowered to the fewest energy losses a recording
+// gives when that is still kFewestDefaultFirstN or more (below it MakePlan refuses, naming the
+// count). The recordings' heights are the plans' (AnalyzeRestitution counts e_1 only with one).
+FitOptions WithFirstNTheRecordingsGive(const std::vector<MeasuredSequence>& sequences,
+                                       const FitOptions& options,
+                                       std::vector<std::string>& warnings) {
+  if (options.first_n_given || options.objective != FitObjective::kMeanEnergyLoss) return options;
+  int fewest = options.first_n;
+  std::string limiting;
+  for (const auto& sequence : sequences) {
+    RestitutionOptions restitution;
+    restitution.gravity_mps2 = options.drop.gravity_mps2;
+    restitution.drop_height_m =
+        sequence.drop_height_m ? sequence.drop_height_m : options.GivenDropHeightM();
+    const auto losses =
+        static_cast<int>(AnalyzeRestitution(sequence.impacts, restitution).energy_loss.size());
+    if (losses < fewest) {
+      fewest = losses;
+      limiting = sequence.source;
+    }
+  }
+  if (fewest == options.first_n || fewest < kFewestDefaultFirstN) return options;
+  FitOptions lowered = options;
+  lowered.first_n = fewest;
+  const std::string count = std::to_string(fewest);
+  warnings.push_back("recording " + limiting + " gives " + count +
+                     " energy losses, fewer than the " + std::to_string(options.first_n) +
+                     " eta-bar averages by default, so every recording's eta-bar averages its "
+                     "first " +
+                     count +
+                     " (the impacts' scatter is then known less well and the interval is wider); "
+                     "record more audible bounces, or give `first_n=" +
+                     count + "` to choose this");
+  return lowered;
+}
+
+FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOptions& requested,
                         bool comparing) {
   const auto start = Clock::now();
-  ValidateOptions(options);
+  ValidateOptions(requested);
   if (input.empty()) throw ConfigError("no recording to fit; give at least one");
   FitSummary summary;
-  summary.ball_given = options.ball_given;
-  summary.objective = options.objective;
+  summary.ball_given = requested.ball_given;
+  summary.objective = requested.objective;
   const auto sequences = DistinctSequences(input, summary.warnings, summary.uncertainty.duplicates);
+  const FitOptions options = WithFirstNTheRecordingsGive(sequences, requested, summary.warnings);
+  summary.first_n = options.first_n;
   const ParameterMap map(options);
   const auto plans = MakePlans(sequences, options);
   const Problem problem(options, map, plans);

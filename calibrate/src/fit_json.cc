@@ -164,6 +164,7 @@ nlohmann::json ToJson(const FitSummary& summary) {
           {"warnings", summary.warnings},
           {"analytic", analytic},
           {"objective", ToString(summary.objective)},
+          {"first_n", summary.first_n},
           {"residual", summary.residual},
           {"data_points", summary.data_points},
           {"degrees_of_freedom", summary.degrees_of_freedom},

@@ -418,8 +418,76 @@ TEST(CompareLaws, ResultsAreIndependentOfThreads) {
 TEST(Fit, TooFewImpactsForFirstNIsAConfigError) {
   auto options = QuickOptions();
   options.first_n = 5;
+  options.first_n_given = true;
   const auto recording = SimulatedRecording(WaltonBraun(0.5), 4, 10e-6, 2);
   EXPECT_THROW(Fit({recording}, options), ConfigError);
+}
+
+TEST(Fit, AFirstNWithoutItsFlagIsAConfigError) {
+  auto options = QuickOptions();
+  options.first_n = 2;
+  const auto recording = SimulatedRecording(WaltonBraun(0.5), 6, 10e-6, 2);
+  try {
+    Fit({recording}, options);
+    FAIL() << "a first_n without first_n_given was fitted";
+  } catch (const ConfigError& error) {
+    EXPECT_NE(std::string(error.what()).find("first_n_given"), std::string::npos) << error.what();
+  }
+}
+
+// A lossy ball's drop whose third bounce is too faint to hear: 3 impacts, so 2 energy losses with
+// the height. The default first_n (3) falls to the 2 the recording gives and says so; a chosen
+// first_n of 3 is refused as before, and the fallback fits what an explicit first_n of 2 fits.
+TEST(Fit, TheDefaultFirstNFallsToTheTwoLossesAShortRecordingGives) {
+  const auto recording = SimulatedRecording(WaltonBraun(0.5), 3, 10e-6, 2);
+  const auto fallback = Fit({recording}, QuickOptions());
+  EXPECT_EQ(fallback.first_n, 2);
+  ASSERT_FALSE(fallback.warnings.empty());
+  EXPECT_NE(fallback.warnings.front().find("gives 2 energy losses"), std::string::npos)
+      << fallback.warnings.front();
+  EXPECT_NE(fallback.warnings.front().find("`first_n=2`"), std::string::npos);
+
+  auto chosen = QuickOptions();
+  chosen.first_n = 2;
+  chosen.first_n_given = true;
+  const auto explicit_two = Fit({recording}, chosen);
+  EXPECT_EQ(explicit_two.first_n, 2);
+  EXPECT_EQ(fallback.parameters[0].value, explicit_two.parameters[0].value);
+  EXPECT_EQ(fallback.parameters[0].confidence_interval,
+            explicit_two.parameters[0].confidence_interval);
+  // The fitted value is the law's: timing noise of 10 us moves eta-bar by ~1e-4 here, gamma_n by
+  // less than 1e-3.
+  EXPECT_NEAR(fallback.parameters[0].value, 0.5, 2e-3);
+
+  chosen.first_n = 3;
+  EXPECT_THROW(Fit({recording}, chosen), ConfigError);
+}
+
+// One energy loss is never the default: its scatter cannot be estimated and the interval would
+// hold timing alone (kFewestDefaultFirstN). Without the height 3 impacts give one loss.
+TEST(Fit, TheDefaultFirstNNeverFallsToOneLoss) {
+  const auto recording = SimulatedRecording(WaltonBraun(0.5), 3, 10e-6, 2);
+  FitOptions options;
+  options.analytic_check = false;
+  EXPECT_THROW(Fit({recording}, options), ConfigError);
+}
+
+// With several recordings the shortest one sets the count for all, and the warning names it.
+TEST(Fit, TheShortestRecordingSetsTheDefaultFirstN) {
+  auto long_one = SimulatedRecording(WaltonBraun(0.5), 8, 10e-6, 3);
+  long_one.source = "long";
+  auto short_one = SimulatedRecording(WaltonBraun(0.5), 3, 10e-6, 4);
+  short_one.source = "short";
+  const auto fit = Fit({long_one, short_one}, QuickOptions());
+  EXPECT_EQ(fit.first_n, 2);
+  ASSERT_FALSE(fit.warnings.empty());
+  EXPECT_NE(fit.warnings.front().find("recording short gives 2"), std::string::npos)
+      << fit.warnings.front();
+  for (const auto& sequence : fit.sequences) {
+    ASSERT_TRUE(sequence.measured.energy_loss_mean_first_n.has_value());
+    EXPECT_NEAR(*sequence.measured.energy_loss_mean_first_n,
+                (sequence.measured.energy_loss[0] + sequence.measured.energy_loss[1]) / 2, 1e-12);
+  }
 }
 
 TEST(Fit, UnknownParameterOrBadRangeIsAConfigError) {

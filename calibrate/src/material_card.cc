@@ -125,7 +125,7 @@ MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& optio
   if (summary.contact_speed_mps > 0) card.implied_contact_speed_mps = summary.contact_speed_mps;
   auto& fit = card.fit;
   fit.objective = std::string(ToString(summary.objective));
-  fit.first_n = options.first_n;
+  fit.first_n = summary.first_n;
   fit.residual = summary.residual;
   fit.data_points = summary.data_points;
   fit.evaluations = summary.evaluations;

@@ -143,7 +143,7 @@ def calibrate(
     drag_coefficient: float = ...,
     air_density_kg_per_m3: float = ...,
     objective: str = ...,
-    first_n: int = ...,
+    first_n: Optional[int] = ...,
     max_intervals: int = ...,
     optimizer: str = ...,
     max_evaluations: int = ...,

@@ -244,9 +244,9 @@ void BindCalibrate(py::module_& module) {
          const std::string& integrator, std::optional<double> time_step_s,
          std::optional<double> steps_per_contact, bool fixed_step_grid, bool drag,
          double drag_coefficient, double air_density_kg_per_m3, const std::string& objective,
-         int first_n, int max_intervals, const std::string& optimizer, int max_evaluations,
-         int global_evaluations, double confidence_level, int threads, bool analytic_check,
-         double onset_uncertainty_s) {
+         std::optional<int> first_n, int max_intervals, const std::string& optimizer,
+         int max_evaluations, int global_evaluations, double confidence_level, int threads,
+         bool analytic_check, double onset_uncertainty_s) {
         auto source = std::make_shared<CardSource>();
         calibrate::FitOptions& options = source->options;
         dem::DropOptions& drop = options.drop;
@@ -285,7 +285,10 @@ void BindCalibrate(py::module_& module) {
         options.fitted_parameters = std::move(fitted_parameters);
         options.ranges = RangesFromPython(ranges);
         options.objective = calibrate::FitObjectiveFromString(objective);
-        options.first_n = first_n;
+        if (first_n) {
+          options.first_n = *first_n;
+          options.first_n_given = true;
+        }
         options.max_intervals = max_intervals;
         options.minimizer.local_method = calibrate::LocalMethodFromString(optimizer);
         options.minimizer.max_evaluations = max_evaluations;
@@ -352,7 +355,7 @@ void BindCalibrate(py::module_& module) {
       py::arg("drag_coefficient") = defaults.drop.drag.drag_coefficient,
       py::arg("air_density_kg_per_m3") = defaults.drop.drag.air_density_kg_per_m3,
       py::arg("objective") = std::string(calibrate::ToString(defaults.objective)),
-      py::arg("first_n") = defaults.first_n, py::arg("max_intervals") = defaults.max_intervals,
+      py::arg("first_n") = py::none(), py::arg("max_intervals") = defaults.max_intervals,
       py::arg("optimizer") = std::string(calibrate::ToString(defaults.minimizer.local_method)),
       py::arg("max_evaluations") = defaults.minimizer.max_evaluations,
       py::arg("global_evaluations") = defaults.minimizer.global_evaluations,

@@ -68,6 +68,11 @@ struct UncertaintyOptions {
 // steel ball): see ResultDependsOnBall.
 dem::Ball ReferenceBall();
 
+// The fewest energy losses a fit averages when first_n was not chosen. One is not enough: its
+// per-impact scatter cannot be estimated, so the interval of one recording would hold timing
+// noise alone and miss a ball whose impacts scatter by a few per cent.
+inline constexpr int kFewestDefaultFirstN = 2;
+
 struct FitOptions {
   // The simulated drop set-up, declared once for the fit, sweep and compare (dem::DropOptions):
   //  - drop.law: the law, its fixed parameters and the start values of the fitted ones;
@@ -101,6 +106,14 @@ struct FitOptions {
 
   FitObjective objective = FitObjective::kMeanEnergyLoss;
   int first_n = 3;  // impacts averaged by kMeanEnergyLoss
+  // Whether first_n was chosen. Not chosen (the default 3), a recording whose sequence gives
+  // fewer energy losses, but at least kFewestDefaultFirstN, lowers it for the whole fit to the
+  // fewest any recording gives, and FitSummary::first_n and a warning say so: a lossy ball's short
+  // sequence gets a wider interval (fewer degrees of freedom for its scatter) instead of a
+  // refusal. Chosen, a recording that gives fewer is refused (ConfigError naming the count and
+  // what to do). Fit refuses a first_n other than 3 without the flag, as it does the ball's and the
+  // height's.
+  bool first_n_given = false;
   // Intervals fitted by kIntervals/kHeights per recording (0: all). Late intervals of a long
   // chatter add little information and cost simulated time.
   int max_intervals = 0;
@@ -208,6 +221,9 @@ struct FitSummary {
   dem::ContactLawConfig law;  // fixed + fitted values
   std::vector<FittedParameter> parameters;
   FitObjective objective = FitObjective::kMeanEnergyLoss;
+  // The impacts kMeanEnergyLoss averaged: FitOptions::first_n, or fewer when it was not chosen and
+  // a recording gave fewer (FitOptions::first_n_given; a warning then names the recording).
+  int first_n = 3;
   double residual = 0;  // chi-square at the fit
   int data_points = 0;
   int degrees_of_freedom = 0;     // data_points - fitted parameters (may be <= 0)
