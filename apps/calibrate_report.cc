@@ -130,13 +130,15 @@ void PrintFit(std::FILE* out, const calibrate::FitSummary& summary,
   const double scatter = summary.uncertainty.per_impact_scatter;
   for (size_t r = 0; r < summary.sequences.size(); ++r) {
     const auto& measured = summary.sequences[r].measured;
+    const int first_n =
+        summary.sequences[r].first_n > 0 ? summary.sequences[r].first_n : summary.first_n;
     std::string eta_bar = "n/a";
     if (measured.energy_loss_mean_first_n) {
       // Scatter and timing, as the uncertainty model combines them for the first N.
       const double timing = *measured.energy_loss_mean_first_n_uncertainty;
-      eta_bar = fmt::format(
-          "{:.4f} +- {:.2g} (timing alone +- {:.2g})", *measured.energy_loss_mean_first_n,
-          std::sqrt(scatter * scatter / summary.first_n + timing * timing), timing);
+      eta_bar = fmt::format("{:.4f} +- {:.2g} (timing alone +- {:.2g})",
+                            *measured.energy_loss_mean_first_n,
+                            std::sqrt(scatter * scatter / first_n + timing * timing), timing);
     }
     std::string spread;
     if (r < summary.uncertainty.recordings.size() &&
@@ -146,7 +148,7 @@ void PrintFit(std::FILE* out, const calibrate::FitSummary& summary,
                            recording.energy_loss_scatter, recording.impacts_used);
     }
     fmt::print(out, "  {}: {} impacts, eta-bar(first {}) = {}{}\n", summary.sequences[r].source,
-               measured.intervals_s.size() + 1, summary.first_n, eta_bar, spread);
+               measured.intervals_s.size() + 1, first_n, eta_bar, spread);
   }
   fmt::print(out, "fitted parameters ({}):\n", FixedParameters(summary));
   PrintParameters(out, summary, options.uncertainty.confidence_level);

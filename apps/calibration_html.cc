@@ -140,12 +140,13 @@ std::string ImpactsSection(const CalibrationReportContent& content) {
       // Scatter and timing, as the uncertainty model combines them for the first N.
       const double timing = *measured.energy_loss_mean_first_n_uncertainty;
       const double scatter = content.summary.uncertainty.per_impact_scatter;
+      const int first_n = sequence.first_n > 0 ? sequence.first_n : content.summary.first_n;
       html += fmt::format(
           "<p>Mean energy loss of the first {} impacts: {} &plusmn; {} (timing alone &plusmn; "
           "{}; per-impact scatter sd {})</p>\n",
-          content.summary.first_n, Number(*measured.energy_loss_mean_first_n, 4),
-          Number(std::sqrt(scatter * scatter / content.summary.first_n + timing * timing), 2),
-          Number(timing, 2), Number(scatter, 2));
+          first_n, Number(*measured.energy_loss_mean_first_n, 4),
+          Number(std::sqrt(scatter * scatter / first_n + timing * timing), 2), Number(timing, 2),
+          Number(scatter, 2));
     }
   }
   return html;

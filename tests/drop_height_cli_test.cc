@@ -136,13 +136,15 @@ TEST(DropHeightCli, AShortDropWithItsHeightIsToldToLowerFirstNotToGiveTheHeight)
   // Without --first the default 3 falls to the 2 losses the recording gives, and says so.
   const auto fallback = RunBouncecal("calibrate " + times.string() + " --drop-height-m 0.30");
   EXPECT_EQ(fallback.exit_status, 0) << fallback.output;
-  EXPECT_NE(fallback.output.find("objective mean-energy-loss (first 2 impacts)"), std::string::npos)
+  EXPECT_NE(fallback.output.find("lead.csv: 3 impacts, eta-bar(first 2) = 0.7500"),
+            std::string::npos)
       << fallback.output;
   EXPECT_NE(fallback.output.find("WARNING: recording lead.csv gives 2 energy losses, fewer than "
                                  "the 3 eta-bar averages by default"),
             std::string::npos)
       << fallback.output;
-  EXPECT_NE(fallback.output.find("give --first 2 to choose this"), std::string::npos)
+  EXPECT_NE(fallback.output.find("or give --first 2 for that many in every recording"),
+            std::string::npos)
       << fallback.output;
   // Asked for 3, it is refused and told what would help.
   const auto result =

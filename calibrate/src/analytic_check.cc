@@ -27,7 +27,8 @@ double SimulatedEnergyLossMean(const FitOptions& options, const dem::ContactLawC
   FitOptions variant = options;
   variant.drop.drag.enabled = drag && options.drop.drag.enabled;
   return internal::MeanOfFirst(
-      internal::SimulateSequence(law, plan, variant, integrator).energy_loss, options.first_n);
+      internal::SimulateSequence(law, plan, variant, integrator).energy_loss,
+      internal::EtaBarCount(plan, options));
 }
 
 // The incoming speeds of the impacts in a recording's measured eta-bar (its first N energy
@@ -35,7 +36,8 @@ double SimulatedEnergyLossMean(const FitOptions& options, const dem::ContactLawC
 std::vector<double> EnergyLossMeanSpeeds(const SequencePlan& plan, const FitOptions& options) {
   std::vector<double> speeds;
   const auto& measured = plan.measured;
-  for (size_t j = 0; j < measured.energy_loss.size() && static_cast<int>(j) < options.first_n; ++j)
+  const int count = internal::EtaBarCount(plan, options);
+  for (size_t j = 0; j < measured.energy_loss.size() && static_cast<int>(j) < count; ++j)
     speeds.push_back(
         internal::IncomingSpeedMps(plan, measured.impact_index[j], options.drop.gravity_mps2));
   return speeds;
@@ -119,6 +121,7 @@ struct MeasuredEtaBar {
   double mean = 0;
   double timing_variance = 0;
   int recordings = 0;
+  double mean_inverse_count = 0;  // of 1 / (the energy losses each eta-bar averages)
   std::vector<std::vector<double>> speeds;
 };
 
@@ -130,9 +133,13 @@ MeasuredEtaBar MeasureEtaBar(const std::vector<SequencePlan>& plans, const FitOp
     sum += *plan.measured.energy_loss_mean_first_n;
     measured.timing_variance += std::pow(*plan.measured.energy_loss_mean_first_n_uncertainty, 2);
     measured.speeds.push_back(EnergyLossMeanSpeeds(plan, options));
+    measured.mean_inverse_count += 1.0 / internal::EtaBarCount(plan, options);
     ++measured.recordings;
   }
-  if (measured.recordings > 0) measured.mean = sum / measured.recordings;
+  if (measured.recordings > 0) {
+    measured.mean = sum / measured.recordings;
+    measured.mean_inverse_count /= measured.recordings;
+  }
   return measured;
 }
 
@@ -311,7 +318,7 @@ AnalyticCheck MakeCheck(const FitOptions& options, const ParameterMap& map,
   check.energy_loss_mean = eta;
   // The uncertainty model's components for the mean of the first N of each recording.
   const double count = measured.recordings;
-  const double scatter = std::pow(uncertainty.per_impact_scatter, 2) / options.first_n;
+  const double scatter = std::pow(uncertainty.per_impact_scatter, 2) * measured.mean_inverse_count;
   const double between = std::pow(uncertainty.between_recording_sd, 2);
   check.energy_loss_mean_uncertainty =
       std::sqrt(measured.timing_variance / (count * count) + (scatter + between) / count);

@@ -310,55 +310,48 @@ bool ResultDependsOnBall(const FitOptions& options) {
 
 namespace {
 
-// FitOptions::first_n_given: the default first_n, lowered to the fewest energy losses a recording
-// gives when that is still kFewestDefaultFirstN or more (below it MakePlan refuses, naming the
-// count). The recordings' heights are the plans' (AnalyzeRestitution counts e_1 only with one).
-FitOptions WithFirstNTheRecordingsGive(const std::vector<MeasuredSequence>& sequences,
-                                       const FitOptions& options,
-                                       std::vector<std::string>& warnings) {
-  if (options.first_n_given || options.objective != FitObjective::kMeanEnergyLoss) return options;
+// FitOptions::first_n_given: MakePlan let each recording that gives fewer energy losses than the
+// default first_n average all it gives. One loss is enough only beside a recording that shows the
+// impacts' scatter (kFewestDefaultFirstN); the warning names the recordings that averaged fewer.
+void CheckFewerEnergyLosses(const std::vector<internal::SequencePlan>& plans,
+                            const FitOptions& options, std::vector<std::string>& warnings) {
+  if (options.objective != FitObjective::kMeanEnergyLoss) return;
+  int most = 0;
   int fewest = options.first_n;
-  std::string limiting;
-  for (const auto& sequence : sequences) {
-    RestitutionOptions restitution;
-    restitution.gravity_mps2 = options.drop.gravity_mps2;
-    restitution.drop_height_m =
-        sequence.drop_height_m ? sequence.drop_height_m : options.GivenDropHeightM();
-    const auto losses =
-        static_cast<int>(AnalyzeRestitution(sequence.impacts, restitution).energy_loss.size());
-    if (losses < fewest) {
-      fewest = losses;
-      limiting = sequence.source;
-    }
+  int shorter = 0;
+  std::string names;
+  for (const auto& plan : plans) {
+    most = std::max(most, plan.first_n);
+    fewest = std::min(fewest, plan.first_n);
+    if (plan.first_n == options.first_n) continue;
+    names += (shorter++ > 0 ? ", " : "") + plan.source + " gives " + std::to_string(plan.first_n);
   }
-  if (fewest == options.first_n || fewest < kFewestDefaultFirstN) return options;
-  FitOptions lowered = options;
-  lowered.first_n = fewest;
-  const std::string count = std::to_string(fewest);
-  warnings.push_back("recording " + limiting + " gives " + count +
-                     " energy losses, fewer than the " + std::to_string(options.first_n) +
-                     " eta-bar averages by default, so every recording's eta-bar averages its "
-                     "first " +
-                     count +
-                     " (the impacts' scatter is then known less well and the interval is wider); "
-                     "record more audible bounces, or give `first_n=" +
-                     count + "` to choose this");
-  return lowered;
+  if (shorter == 0) return;
+  if (most < kFewestDefaultFirstN) {
+    throw internal::TooFewEnergyLosses(plans.front(), plans.front().first_n, options.first_n);
+  }
+  warnings.push_back(
+      std::string(shorter > 1 ? "recordings " : "recording ") + names +
+      " energy losses, fewer than the " + std::to_string(options.first_n) +
+      " eta-bar averages by default, so " + (shorter > 1 ? "each of their" : "its") +
+      " eta-bar averages all it gives (the impacts' scatter is then known less well and the "
+      "interval is wider); record more audible bounces, or give `first_n=" +
+      std::to_string(fewest) + "` for that many in every recording");
 }
 
-FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOptions& requested,
+FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOptions& options,
                         bool comparing) {
   const auto start = Clock::now();
-  ValidateOptions(requested);
+  ValidateOptions(options);
   if (input.empty()) throw ConfigError("no recording to fit; give at least one");
   FitSummary summary;
-  summary.ball_given = requested.ball_given;
-  summary.objective = requested.objective;
+  summary.ball_given = options.ball_given;
+  summary.objective = options.objective;
   const auto sequences = DistinctSequences(input, summary.warnings, summary.uncertainty.duplicates);
-  const FitOptions options = WithFirstNTheRecordingsGive(sequences, requested, summary.warnings);
   summary.first_n = options.first_n;
   const ParameterMap map(options);
   const auto plans = MakePlans(sequences, options);
+  CheckFewerEnergyLosses(plans, options, summary.warnings);
   const Problem problem(options, map, plans);
 
   auto minimized =
@@ -372,7 +365,7 @@ FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOpt
   if (options.objective == FitObjective::kMeanEnergyLoss && plans.size() >= 2) {
     const auto scatter = internal::ScatterAt(plans, options, map, minimized.x);
     for (auto& plan : weighted) {
-      plan.extra_variance = scatter.within_variance / options.first_n + scatter.between_variance;
+      plan.extra_variance = scatter.within_variance / plan.first_n + scatter.between_variance;
     }
     MinimizerOptions local = options.minimizer;
     local.global_evaluations = 0;
@@ -408,6 +401,7 @@ FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOpt
     fit.path = plan.path;
     if (plan.known_drop_height) fit.drop_height_m = plan.release_height_m;
     fit.measured = plan.measured;
+    fit.first_n = plan.first_n;
     int points = 0;
     fit.residual = internal::SequenceResidual(
         plan, internal::SimulateSequence(summary.law, plan, options), options, &points);
@@ -423,7 +417,7 @@ FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOpt
     for (double onset : simulated.onsets_s) fit.simulated_onsets_s.push_back(onset + shift);
     RestitutionOptions restitution;
     restitution.gravity_mps2 = options.drop.gravity_mps2;
-    restitution.first_n = options.first_n;
+    restitution.first_n = internal::EtaBarCount(plan, options);
     restitution.drop_height_m = plan.release_height_m;
     if (fit.simulated_onsets_s.size() >= 2) {
       std::vector<TimedImpact> timed;

@@ -148,6 +148,7 @@ nlohmann::json ToJson(const FitSummary& summary) {
          {"drop_height_m", sequence.drop_height_m ? nlohmann::json(*sequence.drop_height_m)
                                                   : nlohmann::json(nullptr)},
          {"residual", sequence.residual},
+         {"first_n", sequence.first_n},
          {"measured", ToJson(sequence.measured)},
          {"simulated_onsets_s", sequence.simulated_onsets_s},
          {"simulated", ToJson(sequence.simulated)}});

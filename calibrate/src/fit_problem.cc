@@ -18,6 +18,19 @@ constexpr double kMinSigmaS = 1e-7;
 
 }  // namespace
 
+OptionError TooFewEnergyLosses(const SequencePlan& plan, int available, int first_n) {
+  // With the height given, only more audible impacts or a smaller first_n help.
+  const std::string more = plan.known_drop_height
+                               ? std::string("use a recording with more audible impacts")
+                               : std::string("give drop_height_m");
+  const std::string fix =
+      available == 0 ? more : "set first_n to " + std::to_string(available) + " or " + more;
+  return OptionError({"first_n", "drop_height_m"},
+                     "recording " + plan.source + " gives " + std::to_string(available) +
+                         " energy losses but first_n " + std::to_string(first_n) +
+                         " needs that many; " + fix);
+}
+
 SequencePlan MakePlan(const MeasuredSequence& sequence, const FitOptions& options,
                       std::optional<double> drop_height_m) {
   SequencePlan plan;
@@ -54,20 +67,16 @@ SequencePlan MakePlan(const MeasuredSequence& sequence, const FitOptions& option
   int intervals = measured_impacts - 1 - plan.first_matched_impact;
   if (options.max_intervals > 0) intervals = std::min(intervals, options.max_intervals);
   if (options.objective == FitObjective::kMeanEnergyLoss) {
-    if (static_cast<int>(plan.measured.energy_loss.size()) < options.first_n) {
-      const auto available = plan.measured.energy_loss.size();
-      // With the height given, only more audible impacts or a smaller first_n help.
-      const std::string more = plan.known_drop_height
-                                   ? std::string("use a recording with more audible impacts")
-                                   : std::string("give drop_height_m");
-      const std::string fix =
-          available == 0 ? more : "set first_n to " + std::to_string(available) + " or " + more;
-      throw OptionError({"first_n", "drop_height_m"},
-                        "recording " + sequence.source + " gives " + std::to_string(available) +
-                            " energy losses but first_n " + std::to_string(options.first_n) +
-                            " needs that many; " + fix);
+    const auto available = static_cast<int>(plan.measured.energy_loss.size());
+    if (available < options.first_n && (options.first_n_given || available == 0)) {
+      throw TooFewEnergyLosses(plan, available, options.first_n);
     }
-    plan.impacts_needed = options.first_n + 1;
+    plan.first_n = std::min(options.first_n, available);
+    if (plan.first_n < options.first_n) {
+      restitution.first_n = plan.first_n;
+      plan.measured = AnalyzeRestitution(sequence.impacts, restitution);
+    }
+    plan.impacts_needed = plan.first_n + 1;
   } else {
     if (intervals < 1) {
       throw ConfigError("recording " + sequence.source + " has no flight interval to fit after " +
@@ -183,7 +192,7 @@ ObjectiveTerms Terms(const SequencePlan& plan, const SimulatedSequence& simulate
   const auto& measured = plan.measured;
   ObjectiveTerms terms;
   if (options.objective == FitObjective::kMeanEnergyLoss) {
-    terms.model.push_back(MeanOfFirst(simulated.energy_loss, options.first_n));
+    terms.model.push_back(MeanOfFirst(simulated.energy_loss, plan.first_n));
     terms.data.push_back(*measured.energy_loss_mean_first_n);
     const double timing =
         std::max(*measured.energy_loss_mean_first_n_uncertainty, kMinSigmaS);  // dimensionless

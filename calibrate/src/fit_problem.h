@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "bouncecal/calibrate/fit.h"
+#include "bouncecal/option_error.h"
 
 namespace bouncecal::calibrate::internal {
 
@@ -27,6 +28,9 @@ struct SequencePlan {
   int drop_height_group = 0;
   int first_matched_impact = 0;
   int impacts_needed = 0;  // simulated impacts the objective compares
+  // The energy losses this recording's eta-bar averages under kMeanEnergyLoss: FitOptions::first_n,
+  // or all the recording gives when fewer and first_n was not chosen (first_n_given).
+  int first_n = 0;
   double max_time_s = 0;
   // Added to the timing variance of eta-bar under kMeanEnergyLoss: the per-impact scatter the
   // uncertainty model found (tau^2 / n), so a joint fit weights recordings by what they are
@@ -34,7 +38,18 @@ struct SequencePlan {
   double extra_variance = 0;
 };
 
-// Builds the plan. Throws ConfigError when the sequence is too short for the objective, and when
+// The energy losses a plan's eta-bar averages: its own count under kMeanEnergyLoss, first_n
+// under the other objectives (which report eta-bar but do not fit it).
+inline int EtaBarCount(const SequencePlan& plan, const FitOptions& options) {
+  return plan.first_n > 0 ? plan.first_n : options.first_n;
+}
+
+// The refusal of a recording whose sequence gives `available` energy losses where `first_n` are
+// needed, naming what would help.
+OptionError TooFewEnergyLosses(const SequencePlan& plan, int available, int first_n);
+
+// Builds the plan. Throws ConfigError when the sequence is too short for the objective (under
+// kMeanEnergyLoss: fewer energy losses than a chosen first_n, or none), and when
 // the first measured rebound rose higher than the given drop height (a wrong height, or the
 // first impact was missed): no restitution above 1 is ever fitted.
 SequencePlan MakePlan(const MeasuredSequence& sequence, const FitOptions& options,

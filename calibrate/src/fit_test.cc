@@ -436,14 +436,17 @@ TEST(Fit, AFirstNWithoutItsFlagIsAConfigError) {
 }
 
 // A lossy ball's drop whose third bounce is too faint to hear: 3 impacts, so 2 energy losses with
-// the height. The default first_n (3) falls to the 2 the recording gives and says so; a chosen
-// first_n of 3 is refused as before, and the fallback fits what an explicit first_n of 2 fits.
-TEST(Fit, TheDefaultFirstNFallsToTheTwoLossesAShortRecordingGives) {
+// the height. Without a chosen first_n its eta-bar averages the 2 it gives, and a warning says
+// so; a chosen first_n of 3 is refused as before, and the fallback fits what a chosen 2 fits.
+TEST(Fit, AShortRecordingAveragesTheTwoLossesItGivesByDefault) {
   const auto recording = SimulatedRecording(WaltonBraun(0.5), 3, 10e-6, 2);
   const auto fallback = Fit({recording}, QuickOptions());
-  EXPECT_EQ(fallback.first_n, 2);
+  EXPECT_EQ(fallback.first_n, 3);
+  ASSERT_EQ(fallback.sequences.size(), 1u);
+  EXPECT_EQ(fallback.sequences[0].first_n, 2);
   ASSERT_FALSE(fallback.warnings.empty());
-  EXPECT_NE(fallback.warnings.front().find("gives 2 energy losses"), std::string::npos)
+  EXPECT_NE(fallback.warnings.front().find("recording simulated gives 2 energy losses"),
+            std::string::npos)
       << fallback.warnings.front();
   EXPECT_NE(fallback.warnings.front().find("`first_n=2`"), std::string::npos);
 
@@ -451,7 +454,8 @@ TEST(Fit, TheDefaultFirstNFallsToTheTwoLossesAShortRecordingGives) {
   chosen.first_n = 2;
   chosen.first_n_given = true;
   const auto explicit_two = Fit({recording}, chosen);
-  EXPECT_EQ(explicit_two.first_n, 2);
+  EXPECT_EQ(explicit_two.sequences[0].first_n, 2);
+  EXPECT_TRUE(explicit_two.warnings.empty());
   EXPECT_EQ(fallback.parameters[0].value, explicit_two.parameters[0].value);
   EXPECT_EQ(fallback.parameters[0].confidence_interval,
             explicit_two.parameters[0].confidence_interval);
@@ -463,31 +467,40 @@ TEST(Fit, TheDefaultFirstNFallsToTheTwoLossesAShortRecordingGives) {
   EXPECT_THROW(Fit({recording}, chosen), ConfigError);
 }
 
-// One energy loss is never the default: its scatter cannot be estimated and the interval would
+// One energy loss is never enough alone: its scatter cannot be estimated and the interval would
 // hold timing alone (kFewestDefaultFirstN). Without the height 3 impacts give one loss.
-TEST(Fit, TheDefaultFirstNNeverFallsToOneLoss) {
+TEST(Fit, OneRecordingOfOneEnergyLossIsRefusedByDefault) {
   const auto recording = SimulatedRecording(WaltonBraun(0.5), 3, 10e-6, 2);
   FitOptions options;
   options.analytic_check = false;
   EXPECT_THROW(Fit({recording}, options), ConfigError);
 }
 
-// With several recordings the shortest one sets the count for all, and the warning names it.
-TEST(Fit, TheShortestRecordingSetsTheDefaultFirstN) {
+// Beside recordings that show the scatter, a short one averages what it gives (even one loss)
+// and the others keep first_n: one short recording no longer refuses them all. Each eta-bar is
+// the mean of its own first N, and the fit recovers the law.
+TEST(Fit, AShortRecordingAmongSeveralAveragesWhatItGivesAndTheOthersKeepFirstN) {
   auto long_one = SimulatedRecording(WaltonBraun(0.5), 8, 10e-6, 3);
   long_one.source = "long";
   auto short_one = SimulatedRecording(WaltonBraun(0.5), 3, 10e-6, 4);
   short_one.source = "short";
-  const auto fit = Fit({long_one, short_one}, QuickOptions());
-  EXPECT_EQ(fit.first_n, 2);
+  FitOptions options;  // no height: 3 impacts give one energy loss
+  options.analytic_check = false;
+  const auto fit = Fit({long_one, short_one}, options);
+  ASSERT_EQ(fit.sequences.size(), 2u);
+  EXPECT_EQ(fit.sequences[0].first_n, 3);
+  EXPECT_EQ(fit.sequences[1].first_n, 1);
   ASSERT_FALSE(fit.warnings.empty());
-  EXPECT_NE(fit.warnings.front().find("recording short gives 2"), std::string::npos)
+  EXPECT_NE(fit.warnings.front().find("recording short gives 1 energy losses"), std::string::npos)
       << fit.warnings.front();
   for (const auto& sequence : fit.sequences) {
     ASSERT_TRUE(sequence.measured.energy_loss_mean_first_n.has_value());
-    EXPECT_NEAR(*sequence.measured.energy_loss_mean_first_n,
-                (sequence.measured.energy_loss[0] + sequence.measured.energy_loss[1]) / 2, 1e-12);
+    double mean = 0;
+    for (int k = 0; k < sequence.first_n; ++k) mean += sequence.measured.energy_loss[k];
+    EXPECT_NEAR(*sequence.measured.energy_loss_mean_first_n, mean / sequence.first_n, 1e-12);
   }
+  EXPECT_NEAR(fit.parameters[0].value, 0.5, 2e-3);
+  ASSERT_TRUE(fit.parameters[0].confidence_interval.has_value());
 }
 
 TEST(Fit, UnknownParameterOrBadRangeIsAConfigError) {

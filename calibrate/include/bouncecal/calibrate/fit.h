@@ -68,9 +68,9 @@ struct UncertaintyOptions {
 // steel ball): see ResultDependsOnBall.
 dem::Ball ReferenceBall();
 
-// The fewest energy losses a fit averages when first_n was not chosen. One is not enough: its
-// per-impact scatter cannot be estimated, so the interval of one recording would hold timing
-// noise alone and miss a ball whose impacts scatter by a few per cent.
+// The energy losses at least one recording must give when first_n was not chosen. One is not
+// enough: its per-impact scatter cannot be estimated, so the interval of one recording would hold
+// timing noise alone and miss a ball whose impacts scatter by a few per cent.
 inline constexpr int kFewestDefaultFirstN = 2;
 
 struct FitOptions {
@@ -107,12 +107,12 @@ struct FitOptions {
   FitObjective objective = FitObjective::kMeanEnergyLoss;
   int first_n = 3;  // impacts averaged by kMeanEnergyLoss
   // Whether first_n was chosen. Not chosen (the default 3), a recording whose sequence gives
-  // fewer energy losses, but at least kFewestDefaultFirstN, lowers it for the whole fit to the
-  // fewest any recording gives, and FitSummary::first_n and a warning say so: a lossy ball's short
-  // sequence gets a wider interval (fewer degrees of freedom for its scatter) instead of a
-  // refusal. Chosen, a recording that gives fewer is refused (ConfigError naming the count and
-  // what to do). Fit refuses a first_n other than 3 without the flag, as it does the ball's and the
-  // height's.
+  // fewer energy losses averages all it gives (SequenceFit::first_n), and a warning names it: a
+  // lossy ball's short sequence gets a wider interval (fewer impacts to show its scatter) instead
+  // of a refusal, and one short recording among several no longer refuses them all. At least one
+  // recording must give kFewestDefaultFirstN. Chosen, a recording that gives fewer is refused
+  // (ConfigError naming the count and what to do). Fit refuses a first_n other than 3 without the
+  // flag, as it does the ball's and the height's.
   bool first_n_given = false;
   // Intervals fitted by kIntervals/kHeights per recording (0: all). Late intervals of a long
   // chatter add little information and cost simulated time.
@@ -209,6 +209,9 @@ struct SequenceFit {
   // started from the apex of its first measured flight).
   std::optional<double> drop_height_m;
   RestitutionAnalysis measured;
+  // The energy losses its eta-bar averages under kMeanEnergyLoss (FitSummary::first_n, or all the
+  // recording gives when fewer); 0 under the other objectives.
+  int first_n = 0;
   std::vector<double> simulated_onsets_s;  // at the fit, on the measured time axis
   // The fitted drop analysed as the measurement is. Its impact_index numbers the measured
   // impacts, as measured.impact_index does: without a drop height its first entry is 1, the
@@ -221,8 +224,8 @@ struct FitSummary {
   dem::ContactLawConfig law;  // fixed + fitted values
   std::vector<FittedParameter> parameters;
   FitObjective objective = FitObjective::kMeanEnergyLoss;
-  // The impacts kMeanEnergyLoss averaged: FitOptions::first_n, or fewer when it was not chosen and
-  // a recording gave fewer (FitOptions::first_n_given; a warning then names the recording).
+  // The impacts kMeanEnergyLoss averages per recording, FitOptions::first_n; a recording that gave
+  // fewer averaged all it gave (SequenceFit::first_n, FitOptions::first_n_given).
   int first_n = 3;
   double residual = 0;  // chi-square at the fit
   int data_points = 0;
