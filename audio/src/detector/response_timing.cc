@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "detector/contact_duration.h"
+#include "detector/envelope_alignment.h"
 
 namespace bouncecal::audio {
 namespace {
@@ -238,10 +239,98 @@ ContactDurations CorrectForContactDurations(const std::vector<std::vector<float>
   return durations;
 }
 
+// Combines an impact's detector onset with an alignment's (aligned_onset, sigma_a); returns
+// whether the two agreed (within kAgreementSigmas combined sigmas) and were combined, or the
+// detector's onset had jumped and the alignment's replaced it. The detector's onset enters with
+// the first lobe's error in quadrature, and only where weigh_detector.
+bool Merge(Impact& impact, double aligned_onset, double sigma_a, double first_lobe_sigma_s,
+           bool weigh_detector) {
+  const double sigma_d = std::hypot(impact.onset_uncertainty_s, first_lobe_sigma_s);
+  // Two measurements of one onset that differ by d leave d / 2 unexplained whichever is
+  // right: a codec's pre-echo moves the detector's, but a response unlike the template's (a
+  // real ball's spin or contact point) can lock the alignment a ring period away, and a
+  // stated 11 us against a 2.7 ms slip would be a silent wrong answer (rubber ball, AAC 128k,
+  // impact at 4.49 s, against the WAV's onset and its neighbours' ratios).
+  const double disagreement_s = 0.5 * std::fabs(aligned_onset - impact.onset_s);
+  if (std::fabs(aligned_onset - impact.onset_s) <=
+      kAgreementSigmas * std::hypot(sigma_a, sigma_d)) {
+    const double wa = 1.0 / (sigma_a * sigma_a);
+    const double wd = sigma_d > 0 && weigh_detector ? 1.0 / (sigma_d * sigma_d) : 0.0;
+    impact.onset_s = (wa * aligned_onset + wd * impact.onset_s) / (wa + wd);
+    impact.onset_uncertainty_s = std::hypot(1.0 / std::sqrt(wa + wd), disagreement_s);
+    return true;
+  }
+  impact.onset_s = aligned_onset;
+  impact.onset_uncertainty_s = std::hypot(sigma_a, disagreement_s);
+  return false;
+}
+
+// The envelopes' constant (response start minus onset) near an onset, and its scatter: the
+// weighted median over the kLocalImpacts impacts nearest in time whose envelopes align, and
+// 1.4826 times their median absolute deviation from it (a standard deviation robust to the few
+// onsets that jumped). Local, not the recording's: an envelope rises with the contact force,
+// whose duration grows as the impacts slow (tau ~ v^-1/5), so envelope and first lobe drift
+// apart over a drop (ub-mth337 pingpong.wav as AAC 128k: +50 us over its first 23 bounces, +300
+// us over its last 30), and an impact's jump must be told from that drift. The scatter is how
+// well the envelopes reproduce the first lobe's timing in this recording, impact to impact: a
+// real ball's different contact spots and a long contact (Fr4nci's ball: 0.4 ms) reshape the
+// envelope's rise more than the correlation alone shows. offsets: (onset, constant, weight), by
+// onset.
+constexpr std::size_t kLocalImpacts = 9;
+std::pair<double, double> LocalOffset(const std::vector<std::array<double, 3>>& offsets,
+                                      double onset_s) {
+  std::size_t hi = static_cast<std::size_t>(
+      std::lower_bound(offsets.begin(), offsets.end(), onset_s,
+                       [](const std::array<double, 3>& o, double t) { return o[0] < t; }) -
+      offsets.begin());
+  std::size_t lo = hi;
+  while (hi - lo < std::min(kLocalImpacts, offsets.size())) {
+    if (lo == 0 ||
+        (hi < offsets.size() && offsets[hi][0] - onset_s < onset_s - offsets[lo - 1][0])) {
+      ++hi;
+    } else {
+      --lo;
+    }
+  }
+  std::vector<std::pair<double, double>> near;
+  for (std::size_t k = lo; k < hi; ++k) near.emplace_back(offsets[k][1], offsets[k][2]);
+  const double median = WeightedMedian(near);
+  std::vector<double> deviations;
+  for (const auto& n : near) deviations.push_back(std::fabs(n.first - median));
+  std::nth_element(deviations.begin(), deviations.begin() + deviations.size() / 2,
+                   deviations.end());
+  return {median, 1.4826 * deviations[deviations.size() / 2]};
+}
+
+// An impact's detector onset checked against its envelopes' (onset_s, sigma_s), which resolve no
+// better than tens of us but do not jump. Where the two agree within kAgreementSigmas combined
+// sigmas (the detector's own, without the codec's, and the envelopes'), they are combined by
+// those variances; where not, the detector's onset jumped and the envelopes' replaces it. Either
+// way the onset is stated with at least the envelopes' sigma (a pre-echo shift smaller than that
+// goes unseen), and half of the distance that the detector's own uncertainty does not explain is
+// added in quadrature, as for the waveform (Merge): a pre-echo merge already states its doubt
+// (codecs.md), and a first lobe the envelopes move by 3.9 ms with a stated 2 ms (ub-mth337
+// pingpong.wav as Opus 64k, impact 5; the WAV agrees with the envelopes within 2 us) leaves
+// nothing unexplained. Returns whether they agreed.
+bool ConfirmOrReplace(Impact& impact, double onset_s, double sigma_s) {
+  const double own = impact.onset_uncertainty_s;
+  const double distance = std::fabs(onset_s - impact.onset_s);
+  const double unexplained = 0.5 * std::max(0.0, distance - 2 * own);
+  const bool agree = distance <= kAgreementSigmas * std::hypot(sigma_s, own);
+  if (agree) {
+    const double wa = 1.0 / (sigma_s * sigma_s);
+    const double wd = own > 0 ? 1.0 / (own * own) : 0.0;
+    impact.onset_s = (wa * onset_s + wd * impact.onset_s) / (wa + wd);
+  } else {
+    impact.onset_s = onset_s;
+  }
+  impact.onset_uncertainty_s = std::hypot(sigma_s, unexplained);
+  return agree;
+}
+
 }  // namespace
 
-bool FirstLobeUnreliable(const RecordingInfo& info) {
-  if (info.sample_rate_hz < kLowRateHz) return true;
+bool TransformCodec(const RecordingInfo& info) {
   if (!info.lossy) return false;
   const std::string& codec = info.codec;
   const bool sample_by_sample = codec == "pcm_mulaw" || codec == "pcm_alaw" ||
@@ -250,9 +339,14 @@ bool FirstLobeUnreliable(const RecordingInfo& info) {
   return !sample_by_sample;
 }
 
+bool FirstLobeUnreliable(const RecordingInfo& info) {
+  return info.sample_rate_hz < kLowRateHz || TransformCodec(info);
+}
+
 ResponseTimingOptions ResponseTimingFor(const RecordingInfo& info) {
   ResponseTimingOptions options;
   options.require_contact_durations = !FirstLobeUnreliable(info);
+  options.envelope_alignment = TransformCodec(info);
   return options;
 }
 
@@ -401,47 +495,74 @@ ResponseTimingSummary ResponseTimer::Retime(DetectionResult& detection, double f
     offsets.emplace_back(impact.onset_s - alignments[w].response_sample / rate,
                          1.0 / (sigma * sigma));
   }
-  if (offsets.size() < 2) return summary;
-  const double offset = WeightedMedian(std::move(offsets));
+  // The detector's onsets as they were, for the envelope stage's own constant below.
+  std::vector<std::pair<double, double>> detected(windows_.size());
   for (std::size_t w = 0; w < windows_.size(); ++w) {
-    const Alignment& alignment = alignments[w];
-    if (!alignment.usable) continue;
-    ++summary.aligned;
-    Impact& impact = impact_of(windows_[w]);
-    // A response this much like the recording's loudest impact's, with the ringing before it
-    // removed, is an impact of the same ball on the same surface, not speech or handling
-    // noise: the evidence that residual_only stands for is no longer weak.
-    if (alignment.correlation >= kConfirmingCorrelation) impact.residual_only = false;
-    const double aligned_onset = alignment.response_sample / rate + offset;
-    const double sigma_a = alignment.sigma_samples / rate;
-    // The alignment's sigma covers its own error (codec bench: 100 % of the errors within 1.96
-    // sigma at AAC 128k, Opus 64k, MP3 128k and Vorbis q4, docs/codecs.md), so an aligned
-    // impact's onset is stated with it; the detector's onset enters with the first lobe's error,
-    // which leaves it little weight where that error is a codec's.
-    own[w] = true;
-    ++summary.own_sigma;
-    const double sigma_d = std::hypot(impact.onset_uncertainty_s, first_lobe_sigma_s);
-    // Two measurements of one onset that differ by d leave d / 2 unexplained whichever is
-    // right: a codec's pre-echo moves the detector's, but a response unlike the template's (a
-    // real ball's spin or contact point) can lock the alignment a ring period away, and a
-    // stated 11 us against a 2.7 ms slip would be a silent wrong answer (rubber ball, AAC 128k,
-    // impact at 4.49 s, against the WAV's onset and its neighbours' ratios).
-    const double disagreement_s = 0.5 * std::fabs(aligned_onset - impact.onset_s);
-    if (std::fabs(aligned_onset - impact.onset_s) <=
-        kAgreementSigmas * std::hypot(sigma_a, sigma_d)) {
-      const double wa = 1.0 / (sigma_a * sigma_a);
+    const Impact& impact = impact_of(windows_[w]);
+    detected[w] = {impact.onset_s, impact.onset_uncertainty_s};
+  }
+  if (offsets.size() >= 2) {
+    const double offset = WeightedMedian(std::move(offsets));
+    for (std::size_t w = 0; w < windows_.size(); ++w) {
+      const Alignment& alignment = alignments[w];
+      if (!alignment.usable) continue;
+      ++summary.aligned;
+      Impact& impact = impact_of(windows_[w]);
+      // A response this much like the recording's loudest impact's, with the ringing before it
+      // removed, is an impact of the same ball on the same surface, not speech or handling
+      // noise: the evidence that residual_only stands for is no longer weak.
+      if (alignment.correlation >= kConfirmingCorrelation) impact.residual_only = false;
+      // The alignment's sigma covers its own error (codec bench: 100 % of the errors within
+      // 1.96 sigma at AAC 128k, Opus 64k, MP3 128k and Vorbis q4, docs/codecs.md), so an
+      // aligned impact's onset is stated with it; the detector's onset enters with the first
+      // lobe's error, which leaves it little weight where that error is a codec's.
+      own[w] = true;
+      ++summary.own_sigma;
       // Corrected alignments are not combined with the detector's onset: a first lobe's pick
       // drifts with the contact's duration too (+30 to +80 us over 8 bounces of a steel ball on
       // an anvil, where the corrected alignments stay within 1 us), and even the tenth of the
       // weight it would get passed 3 us of that drift on, a 2.6 sigma speed trend over five
       // such recordings.
-      const double wd = sigma_d > 0 && !corrected ? 1.0 / (sigma_d * sigma_d) : 0.0;
-      impact.onset_s = (wa * aligned_onset + wd * impact.onset_s) / (wa + wd);
-      impact.onset_uncertainty_s = std::hypot(1.0 / std::sqrt(wa + wd), disagreement_s);
+      if (Merge(impact, alignment.response_sample / rate + offset, alignment.sigma_samples / rate,
+                first_lobe_sigma_s, !corrected)) {
+        ++summary.combined;
+      } else {
+        ++summary.replaced;
+      }
+    }
+  }
+  if (!options_.envelope_alignment) return summary;
+  // The impacts whose waveform did not align, from their band envelopes (envelope_alignment.h).
+  const EnvelopeAligner aligner(sample_rate_hz_, windows_[templ].samples, lead_, search - 1);
+  std::vector<EnvelopeAlignment> envelopes(windows_.size());
+  // (onset, envelope's constant, weight) of every impact whose envelopes align, by onset.
+  std::vector<std::array<double, 3>> envelope_offsets;
+  for (std::size_t w = 0; w < windows_.size(); ++w) {
+    const std::int64_t n = std::min(lengths[w], lengths[templ]);
+    if (n < shortest) continue;
+    envelopes[w] = aligner.Align(windows_[w].samples, n);
+    if (!envelopes[w].usable || windows_[w].tentative) continue;
+    const double sigma = std::max(detected[w].second, 1.0 / rate);
+    envelope_offsets.push_back({detected[w].first,
+                                detected[w].first -
+                                    static_cast<double>(windows_[w].begin + lead_) / rate -
+                                    envelopes[w].lag_samples / rate,
+                                1.0 / (sigma * sigma)});
+  }
+  // Three at least: with two, the median is one of them and a jumped onset would set it.
+  if (envelope_offsets.size() < 3) return summary;
+  for (std::size_t w = 0; w < windows_.size(); ++w) {
+    if (own[w] || !envelopes[w].usable) continue;
+    const auto [offset, scatter] = LocalOffset(envelope_offsets, detected[w].first);
+    const double envelope_onset =
+        (static_cast<double>(windows_[w].begin + lead_) + envelopes[w].lag_samples) / rate + offset;
+    const double envelope_sigma = std::hypot(envelopes[w].sigma_samples / rate, scatter);
+    ++summary.envelope_aligned;
+    own[w] = true;
+    ++summary.own_sigma;
+    if (ConfirmOrReplace(impact_of(windows_[w]), envelope_onset, envelope_sigma)) {
       ++summary.combined;
     } else {
-      impact.onset_s = aligned_onset;
-      impact.onset_uncertainty_s = std::hypot(sigma_a, disagreement_s);
       ++summary.replaced;
     }
   }

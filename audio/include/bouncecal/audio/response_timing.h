@@ -34,6 +34,14 @@ namespace bouncecal::audio {
 // alignment (weak or ambiguous correlation: another kind of sound, a double hit, a response cut
 // short) keeps the detector's onset with the first lobe's error added.
 //
+// A real ball's impacts excite its modes in a different mix and phase from one contact spot to
+// the next, so their waveforms rarely align (rho 0.2-0.5). In a transform-codec file those
+// impacts are timed from their band envelopes instead (detector/envelope_alignment.h), which do
+// not depend on the phases: relative to the detector's onsets of the neighbouring impacts (a
+// local median, since envelope and first lobe drift apart as contacts lengthen), they confirm
+// the detector's onset or, where it jumped, replace it, stated with the envelopes' own sigma and
+// their scatter against the first lobe over those neighbours.
+//
 // The alignment locks on the centroid of each impact's contact force, t0 + tau_k / 2, and a
 // slower impact's contact lasts longer (tau ~ v^-1/5): the aligned onsets are moved back to the
 // start of contact by half of each contact's lengthening over the template's, estimated from the
@@ -54,22 +62,32 @@ struct ResponseTimingOptions {
   // centroid correction (contact_duration.h): uncorrected, the aligned onsets drift with the
   // contact's duration and, stated with the alignment's precision, read as a speed trend.
   bool require_contact_durations = false;
+  // Time the impacts whose waveform does not align from their band envelopes
+  // (detector/envelope_alignment.h), which do not depend on the modes' phases: a real ball's
+  // impacts excite its modes in a different mix and phase from one spot to the next, and a
+  // transform codec's pre-echo moves the first lobe that times them otherwise. Only for
+  // transform codecs, where the alternative is the codec table's sigma; a WAV keeps its first
+  // lobe.
+  bool envelope_alignment = false;
 };
 
 // Whether a recording's first lobes are unreliable enough for the stage: a transform codec
 // (every lossy codec but G.711 and ADPCM, which code sample by sample and keep the lobe) or a
 // sample rate below 20 kHz.
 bool FirstLobeUnreliable(const RecordingInfo& info);
+// Whether a recording is coded by a transform codec (lossy, but not G.711 or ADPCM).
+bool TransformCodec(const RecordingInfo& info);
 // The stage's options for a recording: where its first lobe is reliable, the onsets are retimed
 // only with the centroid correction (require_contact_durations).
 ResponseTimingOptions ResponseTimingFor(const RecordingInfo& info);
 
 struct ResponseTimingSummary {
-  int considered = 0;  // impacts and tentative impacts
-  int aligned = 0;     // with an unambiguous alignment
-  int combined = 0;    // detector and alignment agreed and were combined
-  int replaced = 0;    // the detector's onset jumped; the alignment's replaced it
-  int own_sigma = 0;   // stated with the alignment's sigma, without the first lobe's error
+  int considered = 0;        // impacts and tentative impacts
+  int aligned = 0;           // with an unambiguous alignment
+  int combined = 0;          // detector and alignment agreed and were combined
+  int replaced = 0;          // the detector's onset jumped; the alignment's replaced it
+  int own_sigma = 0;         // stated with the alignment's sigma, without the first lobe's error
+  int envelope_aligned = 0;  // of those, aligned by their band envelopes (not their waveform)
   std::int64_t template_onset_sample = -1;
   // The template impact's contact duration (s) and the jackknife sd of its log, from the spectra
   // of the aligned responses; the aligned onsets were moved from their force's centroid to the

@@ -1,0 +1,246 @@
+#include "detector/envelope_alignment.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace bouncecal::audio {
+namespace {
+
+// Octave band edges; a band is used where its upper edge is below 0.45 of the rate.
+constexpr double kBandEdgesHz[] = {250, 500, 1000, 2000, 4000, 8000, 16000};
+// Rate of the decimated envelopes: a band's envelope varies no faster than its width allows,
+// and the lag is refined below a step by the parabola.
+constexpr double kEnvelopeRateHz = 12000;
+// Share of the strongest band's energy a band of the template needs to be compared (a codec
+// drops the bands it cannot afford; their envelopes are then noise).
+constexpr double kMinBandShare = 0.01;
+
+// Second-order band-pass (RBJ cookbook, 0 dB at the centre), run twice for steeper skirts.
+void BandPass(std::span<const float> in, double low_hz, double high_hz, int rate_hz,
+              std::vector<double>& out) {
+  const double f0 = std::sqrt(low_hz * high_hz);
+  const double q = f0 / (high_hz - low_hz);
+  const double w0 = 2 * std::numbers::pi * f0 / rate_hz;
+  const double alpha = std::sin(w0) / (2 * q);
+  const double a0 = 1 + alpha;
+  const double b0 = alpha / a0;
+  const double b2 = -alpha / a0;
+  const double a1 = -2 * std::cos(w0) / a0;
+  const double a2 = (1 - alpha) / a0;
+  out.assign(in.begin(), in.end());
+  for (int pass = 0; pass < 2; ++pass) {
+    double x1 = 0, x2 = 0, y1 = 0, y2 = 0;
+    for (double& v : out) {
+      const double y = b0 * v + b2 * x2 - a1 * y1 - a2 * y2;
+      x2 = x1;
+      x1 = v;
+      y2 = y1;
+      y1 = y;
+      v = y;
+    }
+  }
+}
+
+// Pearson correlation of a[a_start, a_start + n) with b[b_start + k, b_start + k + n) for k in
+// [0, lags): the template centred once, the target's windowed mean and energy from prefix sums,
+// so each lag costs one product a sample.
+std::vector<double> PearsonCurve(const std::vector<float>& a, std::int64_t a_start,
+                                 const std::vector<float>& b, std::int64_t b_start, std::int64_t n,
+                                 std::int64_t lags) {
+  std::vector<double> centred(static_cast<std::size_t>(n));
+  double mean_a = 0;
+  for (std::int64_t t = 0; t < n; ++t) mean_a += a[static_cast<std::size_t>(a_start + t)];
+  mean_a /= static_cast<double>(n);
+  double var_a = 0;
+  for (std::int64_t t = 0; t < n; ++t) {
+    centred[static_cast<std::size_t>(t)] = a[static_cast<std::size_t>(a_start + t)] - mean_a;
+    var_a += centred[static_cast<std::size_t>(t)] * centred[static_cast<std::size_t>(t)];
+  }
+  const auto span = static_cast<std::size_t>(n + lags - 1);
+  std::vector<double> sum(span + 1, 0.0);
+  std::vector<double> squares(span + 1, 0.0);
+  for (std::size_t i = 0; i < span; ++i) {
+    const double y = b[static_cast<std::size_t>(b_start) + i];
+    sum[i + 1] = sum[i] + y;
+    squares[i + 1] = squares[i] + y * y;
+  }
+  std::vector<double> curve(static_cast<std::size_t>(lags), 0.0);
+  if (var_a <= 0) return curve;
+  for (std::int64_t k = 0; k < lags; ++k) {
+    const auto from = static_cast<std::size_t>(k);
+    const auto to = static_cast<std::size_t>(k + n);
+    const double sb = sum[to] - sum[from];
+    const double var_b = squares[to] - squares[from] - sb * sb / static_cast<double>(n);
+    if (var_b <= 0) continue;
+    double dot = 0;
+    const float* y = b.data() + b_start + k;
+    for (std::int64_t t = 0; t < n; ++t) dot += centred[static_cast<std::size_t>(t)] * y[t];
+    curve[from] = dot / std::sqrt(var_a * var_b);
+  }
+  return curve;
+}
+
+// The peak's own lobe in a curve: indices where it keeps falling away from best.
+std::pair<std::int64_t, std::int64_t> Lobe(const std::vector<double>& c, std::int64_t best) {
+  std::int64_t lo = best;
+  while (lo > 0 && c[static_cast<std::size_t>(lo - 1)] < c[static_cast<std::size_t>(lo)]) --lo;
+  std::int64_t hi = best;
+  const auto size = static_cast<std::int64_t>(c.size());
+  while (hi + 1 < size && c[static_cast<std::size_t>(hi + 1)] < c[static_cast<std::size_t>(hi)]) {
+    ++hi;
+  }
+  return {lo, hi};
+}
+
+// A curve's peak refined by a parabola through it and its neighbours (best not at an edge).
+double Refine(const std::vector<double>& c, std::int64_t best, double* curvature) {
+  const double left = c[static_cast<std::size_t>(best - 1)];
+  const double mid = c[static_cast<std::size_t>(best)];
+  const double right = c[static_cast<std::size_t>(best + 1)];
+  *curvature = left - 2 * mid + right;
+  return static_cast<double>(best) +
+         (*curvature < 0 ? std::clamp(0.5 * (left - right) / *curvature, -0.5, 0.5) : 0.0);
+}
+
+}  // namespace
+
+EnvelopeAligner::EnvelopeAligner(int sample_rate_hz, std::span<const float> templ,
+                                 std::int64_t lead, std::int64_t search,
+                                 const EnvelopeAlignmentOptions& options)
+    : options_(options), sample_rate_hz_(sample_rate_hz) {
+  step_ = std::max<std::int64_t>(1, std::llround(sample_rate_hz / kEnvelopeRateHz));
+  lead_ = lead / step_;
+  pre_ = static_cast<std::int64_t>(std::ceil(options_.pre_s * sample_rate_hz / step_));
+  // A pre-echo moves the detector's onset early, so the response may start up to the whole
+  // search after it; before it, the window ends the envelope compared before the onset.
+  after_ = search / step_;
+  before_ = std::min(after_, lead_ - pre_ - 1);
+  for (std::size_t b = 0; b + 1 < std::size(kBandEdgesHz); ++b) {
+    if (kBandEdgesHz[b + 1] > 0.45 * sample_rate_hz) break;
+    bands_.push_back(Band{kBandEdgesHz[b], kBandEdgesHz[b + 1], {}});
+  }
+  auto envelopes = Envelopes(templ);
+  std::vector<double> energy(bands_.size(), 0.0);
+  double strongest = 0;
+  for (std::size_t b = 0; b < bands_.size(); ++b) {
+    bands_[b].templ = std::move(envelopes[b]);
+    for (std::size_t t = static_cast<std::size_t>(lead_ - pre_); t < bands_[b].templ.size(); ++t) {
+      energy[b] += bands_[b].templ[t];
+    }
+    strongest = std::max(strongest, energy[b]);
+  }
+  used_.assign(bands_.size(), false);
+  for (std::size_t b = 0; b < bands_.size(); ++b) {
+    used_[b] = strongest > 0 && energy[b] >= kMinBandShare * strongest;
+  }
+}
+
+std::vector<std::vector<float>> EnvelopeAligner::Envelopes(std::span<const float> window) const {
+  std::vector<std::vector<float>> out;
+  std::vector<double> band;
+  const auto decimated = static_cast<std::int64_t>(window.size()) / step_;
+  for (const Band& b : bands_) {
+    BandPass(window, b.low_hz, b.high_hz, sample_rate_hz_, band);
+    // Box over half a period of the band's lowest frequency (the square's ripple), at least one
+    // decimation step; centred, so the smoothing delays every impact alike (none).
+    const auto box = std::max<std::int64_t>(step_, std::llround(0.5 * sample_rate_hz_ / b.low_hz));
+    std::vector<double> prefix(band.size() + 1, 0.0);
+    for (std::size_t i = 0; i < band.size(); ++i) prefix[i + 1] = prefix[i] + band[i] * band[i];
+    std::vector<float> envelope(static_cast<std::size_t>(decimated), 0.0f);
+    const auto size = static_cast<std::int64_t>(band.size());
+    for (std::int64_t k = 0; k < decimated; ++k) {
+      const std::int64_t centre = k * step_ + step_ / 2;
+      const std::int64_t from = std::clamp<std::int64_t>(centre - box / 2, 0, size);
+      const std::int64_t to = std::clamp<std::int64_t>(centre - box / 2 + box, 0, size);
+      envelope[static_cast<std::size_t>(k)] = static_cast<float>(
+          (prefix[static_cast<std::size_t>(to)] - prefix[static_cast<std::size_t>(from)]) /
+          static_cast<double>(std::max<std::int64_t>(1, to - from)));
+    }
+    out.push_back(std::move(envelope));
+  }
+  return out;
+}
+
+EnvelopeAlignment EnvelopeAligner::Align(std::span<const float> target, std::int64_t n) const {
+  EnvelopeAlignment result;
+  if (before_ < 2 || after_ < 2) return result;
+  const std::int64_t length = pre_ + n / step_;
+  const auto envelopes = Envelopes(target);
+  const std::int64_t lags = before_ + after_ + 1;
+  const std::int64_t templ_start = lead_ - pre_;
+  for (std::size_t b = 0; b < bands_.size(); ++b) {
+    if (used_[b] && static_cast<std::int64_t>(bands_[b].templ.size()) < templ_start + length) {
+      return result;
+    }
+  }
+  if (static_cast<std::int64_t>(envelopes.empty() ? 0 : envelopes[0].size()) <
+      templ_start + after_ + length) {
+    return result;
+  }
+  std::vector<std::vector<double>> curves;
+  for (std::size_t b = 0; b < bands_.size(); ++b) {
+    if (!used_[b]) continue;
+    curves.push_back(PearsonCurve(bands_[b].templ, templ_start, envelopes[b], templ_start - before_,
+                                  length, lags));
+  }
+  if (curves.empty()) return result;
+  std::vector<double> mean(static_cast<std::size_t>(lags), 0.0);
+  for (const auto& curve : curves) {
+    for (std::size_t k = 0; k < mean.size(); ++k) mean[k] += curve[k] / curves.size();
+  }
+  const std::int64_t best = std::max_element(mean.begin(), mean.end()) - mean.begin();
+  const double rho = mean[static_cast<std::size_t>(best)];
+  if (best == 0 || best == lags - 1) return result;
+  const auto [lo, hi] = Lobe(mean, best);
+  double rival = -1;
+  for (std::int64_t k = 0; k < lags; ++k) {
+    if (k < lo || k > hi) rival = std::max(rival, mean[static_cast<std::size_t>(k)]);
+  }
+  double curvature = 0;
+  const double peak = Refine(mean, best, &curvature);
+  // Each band votes with its own peak inside the mean's lobe, where it correlates there. A
+  // band's best lag elsewhere does not veto: one band's envelope can hold two bumps (a room
+  // echo, two modes beating), which the other bands resolve; the mean's margin is the test of
+  // ambiguity.
+  std::vector<double> band_peaks;
+  for (const auto& curve : curves) {
+    std::int64_t own = std::max(lo, std::int64_t{1});
+    for (std::int64_t k = own; k <= std::min(hi, lags - 2); ++k) {
+      if (curve[static_cast<std::size_t>(k)] > curve[static_cast<std::size_t>(own)]) own = k;
+    }
+    const double at = curve[static_cast<std::size_t>(own)];
+    const bool local_peak = at >= curve[static_cast<std::size_t>(own - 1)] &&
+                            at >= curve[static_cast<std::size_t>(own + 1)];
+    if (at < options_.band_correlation || !local_peak) continue;
+    double band_curvature = 0;
+    band_peaks.push_back(Refine(curve, own, &band_curvature));
+  }
+  result.bands = static_cast<int>(band_peaks.size());
+  result.correlation = rho;
+  result.lag_samples = (peak - static_cast<double>(before_)) * static_cast<double>(step_);
+  // Time-delay estimation from the mean correlation: its curvature sets the correlation time
+  // T = sqrt(rho / -c) (steps), the compared envelope holds about length / T independent
+  // values, and the residual 1 - rho^2 spreads over them: var = T^2 (1 - rho^2) /
+  // (rho^2 length / T).
+  const double correlation_time =
+      curvature < 0 ? std::sqrt(rho / -curvature) : static_cast<double>(lags);
+  const double independent = std::max(1.0, static_cast<double>(length) / correlation_time);
+  const double r2 = std::clamp(rho * rho, 1e-6, 1.0);
+  const double width = correlation_time * std::sqrt((1 - r2) / (r2 * independent));
+  double spread = 0;
+  if (band_peaks.size() >= 2) {
+    double m = 0;
+    for (double p : band_peaks) m += p / band_peaks.size();
+    double ss = 0;
+    for (double p : band_peaks) ss += (p - m) * (p - m);
+    // The standard error of the bands' mean peak.
+    spread = std::sqrt(ss / (band_peaks.size() - 1) / band_peaks.size());
+  }
+  result.sigma_samples = std::max(1.0, std::hypot(width, spread)) * static_cast<double>(step_);
+  result.usable = rho >= options_.min_correlation && rho - rival >= options_.min_peak_margin &&
+                  result.bands >= options_.min_bands;
+  return result;
+}
+
+}  // namespace bouncecal::audio
