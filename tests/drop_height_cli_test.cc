@@ -133,8 +133,12 @@ TEST(DropHeightCli, AShortDropWithItsHeightIsToldToLowerFirstNotToGiveTheHeight)
                        << 0.5 << "\n"
                        << 0.5 + fall << "\n"
                        << 0.5 + 1.5 * fall << "\n";
-  // Without --first the default 3 falls to the 2 losses the recording gives, and says so.
-  const auto fallback = RunBouncecal("calibrate " + times.string() + " --drop-height-m 0.30");
+  // Without --first the default 3 falls to the 2 losses the recording gives, and says so; the
+  // card records the count.
+  const auto card = ScratchPath("lead_card.json");
+  const auto fallback =
+      RunBouncecal("calibrate " + times.string() +
+                   " --drop-height-m 0.30 --ball steel-10mm --card " + card.string());
   EXPECT_EQ(fallback.exit_status, 0) << fallback.output;
   EXPECT_NE(fallback.output.find("lead.csv: 3 impacts, eta-bar(first 2) = 0.7500"),
             std::string::npos)
@@ -146,6 +150,9 @@ TEST(DropHeightCli, AShortDropWithItsHeightIsToldToLowerFirstNotToGiveTheHeight)
   EXPECT_NE(fallback.output.find("or give --first 2 for that many in every recording"),
             std::string::npos)
       << fallback.output;
+  const auto written = ReadJsonFile(card);
+  EXPECT_EQ(written["fit"]["first_n"], 3);
+  EXPECT_EQ(written["recordings"][0]["first_n"], 2);
   // Asked for 3, it is refused and told what would help.
   const auto result =
       RunBouncecal("calibrate " + times.string() + " --drop-height-m 0.30 --first 3");

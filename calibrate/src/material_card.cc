@@ -171,11 +171,16 @@ MaterialCard MakeMaterialCard(const FitSummary& summary, const FitOptions& optio
     }
   }
   for (const auto& path : recordings) {
-    RecordingReference reference{path.filename().string(), FileContentHash(path), std::nullopt};
+    RecordingReference reference{path.filename().string(), FileContentHash(path), std::nullopt,
+                                 std::nullopt};
     for (const auto& sequence : summary.sequences) {
-      if (sequence.path == path && sequence.drop_height_m) {
+      if (sequence.path != path) continue;
+      if (sequence.drop_height_m && !reference.drop_height_m) {
         reference.drop_height_m = sequence.drop_height_m;
-        break;
+      }
+      if (sequence.first_n > 0) {
+        reference.first_n =
+            std::min(reference.first_n.value_or(sequence.first_n), sequence.first_n);
       }
     }
     if (!reference.drop_height_m) reference.drop_height_m = options.GivenDropHeightM();
@@ -200,9 +205,11 @@ nlohmann::json ToJson(const MaterialCard& card) {
     intervals[name] = {interval.first, interval.second};
   nlohmann::json recordings = nlohmann::json::array();
   for (const auto& recording : card.recordings)
-    recordings.push_back({{"file", recording.file},
-                          {"content_hash", recording.content_hash},
-                          {"drop_height_m", Optional(recording.drop_height_m)}});
+    recordings.push_back(
+        {{"file", recording.file},
+         {"content_hash", recording.content_hash},
+         {"drop_height_m", Optional(recording.drop_height_m)},
+         {"first_n", recording.first_n ? nlohmann::json(*recording.first_n) : nlohmann::json()}});
   const auto& fit = card.fit;
   nlohmann::json ball = {{"diameter_m", card.ball.diameter_m},
                          {"density_kg_per_m3", card.ball.DensityKgPerM3()},
@@ -380,10 +387,11 @@ MaterialCard MaterialCardFromJson(const nlohmann::json& object, std::string_view
       if (!recording.is_object()) {
         throw InputError(at + " entries must be objects {\"file\", \"content_hash\"}");
       }
-      RejectUnknownKeys(recording, at, {"file", "content_hash", "drop_height_m"});
+      RejectUnknownKeys(recording, at, {"file", "content_hash", "drop_height_m", "first_n"});
       card.recordings.push_back({StringAt(recording, "file", at).value_or(""),
                                  StringAt(recording, "content_hash", at).value_or(""),
-                                 NumberAt(recording, "drop_height_m", at)});
+                                 NumberAt(recording, "drop_height_m", at),
+                                 IntegerAt(recording, "first_n", at)});
     }
   }
   card.tool_version = StringAt(object, "tool_version", where).value_or("");

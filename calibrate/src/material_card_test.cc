@@ -29,7 +29,7 @@ MaterialCard ExampleCard() {
   card.fit.confidence_interval["gamma_n"] = {0.40, 0.42};
   card.fit.drop_height_m = 0.3;
   card.fit.gamma_n_formula = 0.408;
-  card.recordings.push_back({"drop.wav", "fnv1a64:0123456789abcdef", 0.3});
+  card.recordings.push_back({"drop.wav", "fnv1a64:0123456789abcdef", 0.3, 2});
   card.tool_version = "0.1.0";
   card.created_utc = "2026-11-21T18:00:00Z";
   return card;
@@ -47,6 +47,7 @@ TEST(MaterialCard, WriteThenReadGivesTheSameCard) {
   EXPECT_DOUBLE_EQ(*card.fit.drop_height_m, 0.3);
   ASSERT_EQ(card.recordings.size(), 1u);
   EXPECT_EQ(card.recordings[0].content_hash, "fnv1a64:0123456789abcdef");
+  EXPECT_EQ(card.recordings[0].first_n, 2);
   EXPECT_EQ(card.created_utc, "2026-11-21T18:00:00Z");
 }
 

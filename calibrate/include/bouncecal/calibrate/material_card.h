@@ -24,6 +24,10 @@ struct RecordingReference {
   std::string content_hash;  // "fnv1a64:<16 hex digits>"
   // The release height its drops were fitted with; unset when unknown.
   std::optional<double> drop_height_m;
+  // The energy losses its eta-bar averaged under mean-energy-loss (the fewest of its sequences):
+  // fit.first_n, or fewer where it gave fewer (FitOptions::first_n_given); unset under the other
+  // objectives and in older cards.
+  std::optional<int> first_n;
 };
 
 // What the card's confidence intervals include (uncertainty.h), and how many distinct
