@@ -215,3 +215,19 @@ def test_contact_duration_sets_the_stiffness_as_on_the_command_line(cli, steel_s
     assert fit.to_dict() == expected
     with pytest.raises(bouncecal.ConfigError, match="contact_duration_s needs the ball"):
         bouncecal.calibrate(steel_sample, drop_height_m=0.2, contact_duration_s=1e-4)
+
+
+def test_a_short_recording_averages_what_it_gives_unless_first_n_is_given():
+    # A steel-on-lead drop (e = 0.5) from 0.30 m of which three impacts were heard: 2 energy
+    # losses with the height. As on the command line (DropHeightCli), first_n left out averages
+    # the 2 with a warning, first_n=3 refuses, first_n=2 fits the same without the warning.
+    fall = 0.2473  # sqrt(2 * 0.30 / 9.81)
+    onsets = numpy.array([0.5, 0.5 + fall, 0.5 + 1.5 * fall])
+    default = bouncecal.calibrate([onsets], drop_height_m=0.3, analytic_check=False)
+    assert default.sequences[0].first_n == 2
+    assert any("gives 2 energy losses" in w and "first_n=2" in w for w in default.warnings)
+    chosen = bouncecal.calibrate([onsets], drop_height_m=0.3, analytic_check=False, first_n=2)
+    assert chosen.parameters.to_dict() == default.parameters.to_dict()
+    assert not chosen.warnings
+    with pytest.raises(bouncecal.ConfigError, match="first_n 3 needs that many"):
+        bouncecal.calibrate([onsets], drop_height_m=0.3, first_n=3)
