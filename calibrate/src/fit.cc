@@ -335,8 +335,11 @@ void CheckFewerEnergyLosses(const std::vector<internal::SequencePlan>& plans,
       " energy losses, fewer than the " + std::to_string(options.first_n) +
       " eta-bar averages by default, so " + (shorter > 1 ? "each of their" : "its") +
       " eta-bar averages all it gives (the impacts' scatter is then known less well and the "
-      "interval is wider); record more audible bounces, or give `first_n=" +
-      std::to_string(fewest) + "` for that many in every recording");
+      "interval is wider); record more audible bounces" +
+      // One loss in every recording would leave the scatter to the spread between recordings.
+      (fewest >= kFewestDefaultFirstN
+           ? ", or give `first_n=" + std::to_string(fewest) + "` for that many in every recording"
+           : std::string()));
 }
 
 FitSummary FitSequences(const std::vector<MeasuredSequence>& input, const FitOptions& options,

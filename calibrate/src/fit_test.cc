@@ -493,6 +493,8 @@ TEST(Fit, AShortRecordingAmongSeveralAveragesWhatItGivesAndTheOthersKeepFirstN) 
   ASSERT_FALSE(fit.warnings.empty());
   EXPECT_NE(fit.warnings.front().find("recording short gives 1 energy losses"), std::string::npos)
       << fit.warnings.front();
+  // One loss in every recording is not a choice to suggest.
+  EXPECT_EQ(fit.warnings.front().find("first_n=1"), std::string::npos) << fit.warnings.front();
   for (const auto& sequence : fit.sequences) {
     ASSERT_TRUE(sequence.measured.energy_loss_mean_first_n.has_value());
     double mean = 0;
