@@ -9,6 +9,7 @@
 
 #include "detector/contact_duration.h"
 #include "detector/envelope_alignment.h"
+#include "detector/lag_dots.h"
 
 namespace bouncecal::audio {
 namespace {
@@ -44,45 +45,6 @@ std::vector<float> FirstDifference(const std::vector<float>& samples) {
   std::vector<float> out(samples.size() > 0 ? samples.size() - 1 : 0);
   for (std::size_t i = 0; i + 1 < samples.size(); ++i) out[i] = samples[i + 1] - samples[i];
   return out;
-}
-
-// The dot products of a[0, n) with x[j, j + n) for kLagLanes x Vectors lags j, each summed over
-// t in order: lane j adds the float product a[t] x[t + j] to its float sum exactly as one lag at
-// a time would, so the correlations are bit for bit the same; the lanes are vectors (GCC's
-// vector extension), since the sum over t cannot be vectorised without reordering it. Four
-// vectors at once where the lags allow, because one vector's sum waits on its previous add
-// every step and four keep four adds in flight. Also compiled for AVX (no fused multiply-add
-// there, which would round differently), picked when the library loads where the processor
-// has it.
-constexpr std::int64_t kLagLanes = 8;
-template <int Vectors>
-[[gnu::always_inline]] inline void LagDots(const float* a, const float* x, std::int64_t n,
-                                           float* dot) {
-  using Float8 = float __attribute__((vector_size(kLagLanes * sizeof(float))));
-  Float8 sums[Vectors] = {};
-  for (std::int64_t t = 0; t < n; ++t) {
-    for (int v = 0; v < Vectors; ++v) {
-      Float8 window;
-      std::memcpy(&window, x + t + v * kLagLanes, sizeof window);
-      sums[v] += a[t] * window;
-    }
-  }
-  std::memcpy(dot, sums, sizeof sums);
-}
-
-// The multiversioned entry points (Clang cannot multiversion a template).
-#if defined(__x86_64__) && defined(__GNUC__)
-[[gnu::target_clones("avx", "default")]]
-#endif
-void EightLagDots(const float* a, const float* x, std::int64_t n, float* dot) {
-  LagDots<1>(a, x, n, dot);
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-[[gnu::target_clones("avx", "default")]]
-#endif
-void ThirtyTwoLagDots(const float* a, const float* x, std::int64_t n, float* dot) {
-  LagDots<4>(a, x, n, dot);
 }
 
 // Normalised cross-correlation of templ[lead, lead + n) with target[lead + lag, lead + lag + n)
