@@ -494,6 +494,12 @@ ResponseTimingSummary ResponseTimer::Retime(DetectionResult& detection, double f
     }
   }
   if (!options_.envelope_alignment) return summary;
+  // Where every impact's waveform aligned, the envelopes would only be references: nothing to do.
+  bool unaligned = false;
+  for (std::size_t w = 0; w < windows_.size() && !unaligned; ++w) {
+    unaligned = !own[w] && std::min(lengths[w], lengths[templ]) >= shortest;
+  }
+  if (!unaligned) return summary;
   // The impacts whose waveform did not align, from their band envelopes (envelope_alignment.h).
   const EnvelopeAligner aligner(sample_rate_hz_, windows_[templ].samples, lead_, search - 1);
   std::vector<EnvelopeAlignment> envelopes(windows_.size());
