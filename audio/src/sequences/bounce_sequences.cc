@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <limits>
 #include <numbers>
 #include <queue>
@@ -674,10 +675,13 @@ std::optional<Chain> ShortSequence(const std::vector<Impact>& impacts,
   return std::nullopt;
 }
 
-// Two-sided 1e-4 quantiles of Student's t with 2..6 degrees of freedom.
-constexpr double kLeadingOutlierT[] = {99.99, 28.0, 15.54, 11.18, 9.08};
+// Two-sided 1e-4 quantiles of Student's t with 2, 3 and 4 degrees of freedom (4-6 reference
+// ratios less the line's two parameters).
+constexpr double kLeadingOutlierT[] = {99.99, 28.0, 15.54};
 // The ratios after a leading one that judge it, and how many leading ones are judged.
 constexpr std::size_t kLeadingReferenceRatios = 6;
+static_assert(std::size(kLeadingOutlierT) == kLeadingReferenceRatios - 3,
+              "one quantile per number of reference ratios from 4 up");
 constexpr std::size_t kLeadingRatiosJudged = 4;
 
 // How many of a chain's first members are sounds before the drop, not bounces: a knock, a thump
@@ -766,7 +770,7 @@ std::size_t LeadingSoundsBeforeTheDrop(const std::vector<Impact>& impacts,
     // At least 1e-6: exact onsets (a CSV of simulated times) would otherwise judge rounding.
     const double spread =
         std::max(std::sqrt(residual_variance * (1 + leverage) + variances[j]), 1e-6);
-    const double limit = kLeadingOutlierT[std::min<std::size_t>(m - 2, 6) - 2];
+    const double limit = kLeadingOutlierT[m - 4];
     if (std::fabs(ratios[j] - at_j) > limit * spread) leading = j + 1;
   }
   return leading;

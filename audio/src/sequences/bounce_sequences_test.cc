@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <random>
 
 #include "bouncecal/error.h"
@@ -34,6 +35,16 @@ std::vector<Impact> ToImpacts(std::vector<double> times, double level_dbfs = -10
     impacts.push_back(impact);
   }
   return impacts;
+}
+
+// Impact times from the first two and each later flight's ratio to the one before it.
+std::vector<double> FromRatios(double t1_s, double t2_s, std::initializer_list<double> ratios) {
+  std::vector<double> times = {t1_s, t2_s};
+  for (double ratio : ratios) {
+    const double flight = times[times.size() - 1] - times[times.size() - 2];
+    times.push_back(times.back() + ratio * flight);
+  }
+  return times;
 }
 
 TEST(BounceSequences, DefaultOptionsAreValid) { EXPECT_NO_THROW(SequenceOptions{}.Validate()); }
@@ -157,11 +168,7 @@ TEST(BounceSequences, ResidualOnlyImpactsContinueASequenceButNeverMakeOne) {
 // whole drop is one sequence; against the last ratio alone it split at 0.74 and the calibration
 // lost the first impacts ("knock before the drop"), and with them the drop height's e_1.
 TEST(BounceSequences, ARestitutionThatScattersFromImpactToImpactStaysOneSequence) {
-  std::vector<double> times = {0.567, 0.991};
-  for (double ratio : {0.79, 0.87, 0.74, 0.91, 0.80, 0.79, 0.72, 0.83}) {
-    const double flight = times[times.size() - 1] - times[times.size() - 2];
-    times.push_back(times.back() + ratio * flight);
-  }
+  const auto times = FromRatios(0.567, 0.991, {0.79, 0.87, 0.74, 0.91, 0.80, 0.79, 0.72, 0.83});
   const auto result = FindBounceSequences(ToImpacts(times));
   ASSERT_EQ(result.sequences.size(), 1u);
   EXPECT_EQ(result.sequences[0].impact_indices.size(), times.size());
@@ -175,11 +182,8 @@ TEST(BounceSequences, ARestitutionThatScattersFromImpactToImpactStaysOneSequence
 // sequence from its first impact; a knock 0.2 s before it, where no flight of this drop fits
 // (ratio 0.384 / 0.2 > max_ratio), stays out.
 TEST(BounceSequences, ADropSplitByOneScatteredRatioIsOneSequenceFromItsFirstImpact) {
-  std::vector<double> times = {0.567160, 0.951381};
-  for (double ratio : {0.7797, 0.8156, 0.8650, 0.6944, 0.7737, 0.8321, 0.8083, 0.8099, 0.8172}) {
-    const double flight = times[times.size() - 1] - times[times.size() - 2];
-    times.push_back(times.back() + ratio * flight);
-  }
+  auto times = FromRatios(0.567160, 0.951381,
+                          {0.7797, 0.8156, 0.8650, 0.6944, 0.7737, 0.8321, 0.8083, 0.8099, 0.8172});
   const auto drop = FindBounceSequences(ToImpacts(times));
   ASSERT_EQ(drop.sequences.size(), 1u);
   EXPECT_EQ(drop.sequences[0].impact_indices.size(), times.size());
