@@ -11,6 +11,7 @@
 
 #include "bouncecal/error.h"
 #include "bouncecal/option_error.h"
+#include "leading_sounds.h"
 
 namespace bouncecal::audio {
 namespace {
@@ -675,107 +676,6 @@ std::optional<Chain> ShortSequence(const std::vector<Impact>& impacts,
   return std::nullopt;
 }
 
-// Two-sided 1e-4 quantiles of Student's t with 2, 3 and 4 degrees of freedom (4-6 reference
-// ratios less the line's two parameters).
-constexpr double kLeadingOutlierT[] = {99.99, 28.0, 15.54};
-// The ratios after a leading one that judge it, and how many leading ones are judged.
-constexpr std::size_t kLeadingReferenceRatios = 6;
-static_assert(std::size(kLeadingOutlierT) == kLeadingReferenceRatios - 3,
-              "one quantile per number of reference ratios from 4 up");
-constexpr std::size_t kLeadingRatiosJudged = 4;
-
-// How many of a chain's first members are sounds before the drop, not bounces: a knock, a thump
-// or speech before a drop lands inside ratio_step_tolerance of where a bounce before the first
-// would be often enough (bench/knock_sweep.py, 2-6 knocks, thumps and strays before each of 150
-// drops of e 0.5-0.92: 41 of 124 sequences started at one, eta-bar off by up to 0.05 at exit 0;
-// 21 with this), yet a ball's own ratios vary smoothly with impact speed plus its scatter, which
-// the ratios after a leading one show. Ratio j (of flights j and j + 1) is judged against a line
-// through the next kLeadingReferenceRatios (at least 4): its distance from the line's value at j,
-// over the residual sd (at least the scatter the later ratios' steps show) times
-// sqrt(1 + leverage) and its own timing noise in quadrature, beyond Student's t at 1e-4
-// (two-sided) makes its first member a sound before the drop; the chain then starts after the
-// last such ratio among the first kLeadingRatiosJudged. At 1e-3 without the floor, drops whose e
-// scatters by 5 % lost their first impact in 8 of 1000 more recordings (the chain bench's anvil
-// with its height, then refused by the drop-height check); as it is, in none, and the
-// silent-wrong sweep's seed 101 #195 (an 8 kHz drop whose sequence began 0.5 s before its first
-// bounce) starts right. The 11 shared recordings, the detector suite's 20 and the coverage
-// suite's 40 keep their first impacts. The rest of the knock sweep's come before balls whose few
-// ratios (low e) or poorly timed late ones cannot judge them.
-std::size_t LeadingSoundsBeforeTheDrop(const std::vector<Impact>& impacts,
-                                       const std::vector<int>& members) {
-  const auto onset = [&](std::size_t k) {
-    return impacts[static_cast<size_t>(members[k])].onset_s;
-  };
-  const auto sigma = [&](std::size_t k) {
-    return impacts[static_cast<size_t>(members[k])].onset_uncertainty_s;
-  };
-  std::vector<double> ratios, variances;
-  for (std::size_t k = 0; k + 2 < members.size(); ++k) {
-    const double dt0 = onset(k + 1) - onset(k);
-    const double r = (onset(k + 2) - onset(k + 1)) / dt0;
-    ratios.push_back(r);
-    variances.push_back(std::pow(r * sigma(k) / dt0, 2) +
-                        std::pow((1 + r) * sigma(k + 1) / dt0, 2) +
-                        std::pow(sigma(k + 2) / dt0, 2));
-  }
-  std::size_t leading = 0;
-  for (std::size_t j = 0; j < kLeadingRatiosJudged && j < ratios.size(); ++j) {
-    const std::size_t m = std::min(kLeadingReferenceRatios, ratios.size() - j - 1);
-    if (m < 4) break;
-    // The line y = a + b x through the references at x = 1..m; ratio j sits at x = 0.
-    double x_mean = 0, y_mean = 0;
-    for (std::size_t i = 1; i <= m; ++i) {
-      x_mean += static_cast<double>(i) / static_cast<double>(m);
-      y_mean += ratios[j + i] / static_cast<double>(m);
-    }
-    double sxx = 0, sxy = 0;
-    for (std::size_t i = 1; i <= m; ++i) {
-      sxx += std::pow(static_cast<double>(i) - x_mean, 2);
-      sxy += (static_cast<double>(i) - x_mean) * (ratios[j + i] - y_mean);
-    }
-    const double slope = sxy / sxx;
-    const double at_j = y_mean - slope * x_mean;
-    double residual_squares = 0;
-    for (std::size_t i = 1; i <= m; ++i) {
-      residual_squares += std::pow(ratios[j + i] - (at_j + slope * static_cast<double>(i)), 2);
-    }
-    // A line through 4-6 ratios can pass close to all of them by chance (the chain bench's
-    // anvil with 1 % and 3 % scatter of e lost real first impacts so in 1-2 of 200 drop sets,
-    // then refused by the drop-height check), so the later ratios' steps bound the scatter from
-    // below: over the better-timed half of the steps, (1.4826 MAD)^2 / 2 less half their median
-    // timing variance. Timing is taken out because a drop's quiet end (onsets of 0.7-2.6 ms on
-    // flights of 0.15 s) steps by its timing noise, which made the knock of the sweep's seed 101
-    // #195 look like scatter.
-    std::vector<std::pair<double, double>> steps;  // timing variance, size
-    for (std::size_t i = j + 1; i + 1 < ratios.size(); ++i) {
-      steps.emplace_back(variances[i] + variances[i + 1], std::fabs(ratios[i + 1] - ratios[i]));
-    }
-    std::sort(steps.begin(), steps.end());
-    steps.resize((steps.size() + 1) / 2);
-    std::vector<double> sizes, timing;
-    for (const auto& [variance, size] : steps) {
-      timing.push_back(variance);
-      sizes.push_back(size);
-    }
-    const auto median = [](std::vector<double>& values) {
-      std::nth_element(values.begin(), values.begin() + static_cast<long>(values.size() / 2),
-                       values.end());
-      return values[values.size() / 2];
-    };
-    const double step_scatter =
-        std::max(0.0, std::pow(1.4826 * median(sizes), 2) / 2 - median(timing) / 2);
-    const double residual_variance =
-        std::max(residual_squares / static_cast<double>(m - 2), step_scatter);
-    const double leverage = 1.0 / static_cast<double>(m) + x_mean * x_mean / sxx;
-    // At least 1e-6: exact onsets (a CSV of simulated times) would otherwise judge rounding.
-    const double spread =
-        std::max(std::sqrt(residual_variance * (1 + leverage) + variances[j]), 1e-6);
-    const double limit = kLeadingOutlierT[m - 4];
-    if (std::fabs(ratios[j] - at_j) > limit * spread) leading = j + 1;
-  }
-  return leading;
-}
-
 }  // namespace
 
 void SequenceOptions::Validate() const {
@@ -832,21 +732,25 @@ SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
   std::vector<std::string> skipped_bounce_reason(static_cast<size_t>(n));
   int epoch = 0;
   for (int first = 0; first < n; ++first) heap.push(finder.BestFrom(first));
+  // Impacts found only by the ringing residual extend a sequence; they make one only where
+  // the chain's timing could hardly be chance (its first two impacts always rose in a band).
+  const auto passes_the_chance_test = [&](Chain& chain) {
+    const auto strong = std::count_if(chain.members.begin(), chain.members.end(), [&](int i) {
+      return !impacts[static_cast<size_t>(i)].residual_only;
+    });
+    if (strong < options.min_impacts || PassesOverLouderSounds(impacts, free, chain.members)) {
+      chain.chance_alignment = chance.ExpectedChanceChains(chain.members);
+      return chain.chance_alignment < options.max_chance_alignment;
+    }
+    return true;
+  };
   while (!heap.empty()) {
     Chain best = heap.top();
     heap.pop();
     if (static_cast<int>(best.members.size()) < options.min_impacts) break;
     const int first = best.members.front();
     if (!free[static_cast<size_t>(first)]) continue;
-    // Impacts found only by the ringing residual extend a sequence; they make one only where
-    // the chain's timing could hardly be chance (its first two impacts always rose in a band).
-    const auto strong = std::count_if(best.members.begin(), best.members.end(), [&](int i) {
-      return !impacts[static_cast<size_t>(i)].residual_only;
-    });
-    if (strong < options.min_impacts || PassesOverLouderSounds(impacts, free, best.members)) {
-      best.chance_alignment = chance.ExpectedChanceChains(best.members);
-      if (!(best.chance_alignment < options.max_chance_alignment)) continue;
-    }
+    if (!passes_the_chance_test(best)) continue;
     bool valid = true;
     for (int i = first; i <= std::min(best.reach, n - 1) && valid; ++i) {
       valid = assigned_in_epoch[static_cast<size_t>(i)] <= best.epoch;
@@ -882,6 +786,15 @@ SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
     }
     if (const auto leading = LeadingSoundsBeforeTheDrop(impacts, best.members); leading > 0) {
       best.members.erase(best.members.begin(), best.members.begin() + static_cast<long>(leading));
+    }
+    if (const auto quieter = LeadingSoundsQuieterThanTheDrop(
+            impacts, best.members, static_cast<std::size_t>(options.min_impacts));
+        quieter > 0) {
+      // What is left answers to the chance test as if it had been found so: a random chain of
+      // 4 band-detected events with a quiet first one would otherwise leave 3 untested.
+      best.members.erase(best.members.begin(), best.members.begin() + static_cast<long>(quieter));
+      best.chance_alignment = std::numeric_limits<double>::quiet_NaN();
+      if (!passes_the_chance_test(best)) continue;
     }
     ++epoch;
     // After its last accepted flight the ball only flies shorter, so impacts that follow at

@@ -220,6 +220,27 @@ TEST(BounceSequences, KnocksThatTimeLikeBouncesBeforeAConstantRestitutionDropAre
       << knocked.rejected[0].reason;
 }
 
+// A sound where a bounce before the first would be, to the microsecond, cannot be told by its
+// timing; it is 12 dB quieter than the first bounce, which a faster earlier bounce would not be
+// (leading_sounds.h), and the sequence starts at the first bounce.
+TEST(BounceSequences, AQuietSoundThatTimesExactlyLikeABounceBeforeTheDropIsNotItsBounce) {
+  const double e = 0.74;
+  auto impacts = ToImpacts(Drop(1.4936, 0.42264, e, 14));
+  for (std::size_t k = 0; k < impacts.size(); ++k) {
+    impacts[k].peak_dbfs = -6 + 20 * static_cast<double>(k) * std::log10(e);
+  }
+  Impact knock = impacts[0];
+  knock.onset_s = impacts[0].onset_s - 0.42264 / e;
+  knock.peak_dbfs = -18;
+  impacts.insert(impacts.begin(), knock);
+  const auto result = FindBounceSequences(impacts);
+  ASSERT_EQ(result.sequences.size(), 1u);
+  EXPECT_EQ(result.sequences[0].impact_indices.front(), 1);
+  ASSERT_FALSE(result.rejected.empty());
+  EXPECT_NE(result.rejected[0].reason.find("before sequence 0 starts"), std::string::npos)
+      << result.rejected[0].reason;
+}
+
 // Nothing predicts a chain's first ratio, and for a lossy ball (e = 0.5: steel on lead) the
 // bounce after next (ratio 0.49 + 0.24 = 0.73 of the flight) lies as near the middle of the
 // ratio window as the next bounce (0.49). The drop is one sequence from its first impact:

@@ -1,0 +1,89 @@
+#include "leading_sounds.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+
+namespace bouncecal::audio {
+namespace {
+
+// A ball of constant restitution e whose first bounce lands at 1 s after a 0.5 s flight from
+// the bounce before, each impact's peak level falling with its speed (20 log10 e per bounce, as
+// the synthesiser's peak that grows linearly with speed), `levels_db` added to the levels from
+// the first impact on. With `sound_before`, a sound where a bounce before the first would have
+// been (exactly: the timing cannot tell it), `sound_below_db` quieter than the first bounce.
+std::vector<Impact> Drop(double e, int bounces, std::vector<double> levels_db = {},
+                         bool sound_before = false, double sound_below_db = 0) {
+  std::vector<Impact> impacts;
+  const double first_level_dbfs = -6;
+  double t = 1.0, flight = 0.5 * e;
+  if (sound_before) {
+    impacts.push_back({.onset_s = 1.0 - 0.5,
+                       .onset_uncertainty_s = 20e-6,
+                       .peak_dbfs = first_level_dbfs - sound_below_db});
+  }
+  for (int k = 0; k < bounces; ++k) {
+    const double extra = k < static_cast<int>(levels_db.size()) ? levels_db[k] : 0.0;
+    impacts.push_back({.onset_s = t,
+                       .onset_uncertainty_s = 20e-6,
+                       .peak_dbfs = first_level_dbfs + 20 * k * std::log10(e) + extra});
+    t += flight;
+    flight *= e;
+  }
+  return impacts;
+}
+
+std::vector<int> All(const std::vector<Impact>& impacts) {
+  std::vector<int> members(impacts.size());
+  std::iota(members.begin(), members.end(), 0);
+  return members;
+}
+
+TEST(LeadingSounds, AQuieterSoundThatTimesExactlyLikeABounceBeforeTheDropIsNotOne) {
+  // 10 dB below the first bounce where a bounce before it would have hit 3.1 dB louder.
+  const auto impacts = Drop(0.7, 10, {}, true, 10);
+  EXPECT_EQ(LeadingSoundsBeforeTheDrop(impacts, All(impacts)), 0u);
+  EXPECT_EQ(LeadingSoundsQuieterThanTheDrop(impacts, All(impacts), 3), 1u);
+}
+
+TEST(LeadingSounds, AFirstBounceUpToSixDbQuieterThanItsNextIsKept) {
+  // Level scatter of real balls (a spot on the plate, the microphone's pattern): the first
+  // bounce 5.9 dB quieter than the second, the later ones on their line.
+  const double below_its_line = 5.9 - 20 * std::log10(0.7);  // its line is 3.1 dB above
+  const auto impacts = Drop(0.7, 10, {-below_its_line});
+  EXPECT_EQ(LeadingSoundsQuieterThanTheDrop(impacts, All(impacts), 3), 0u);
+  const auto knocked = Drop(0.7, 10, {}, true, 6.1);
+  EXPECT_EQ(LeadingSoundsQuieterThanTheDrop(knocked, All(knocked), 3), 1u);
+}
+
+TEST(LeadingSounds, LevelsThatScatterWidenTheMargin) {
+  // Later levels alternating +-3 dB about their line: residual sd about 3.3 dB, a margin of
+  // 3.1 sqrt(2) 3.3 = 14.5 dB, so a sound 9 dB quieter than the first bounce (which the scatter
+  // makes 3 dB louder than its line) is kept; on a line it is not.
+  const std::vector<double> alternating = {3, -3, 3, -3, 3, -3, 3, -3, 3, -3};
+  const auto scattering = Drop(0.7, 10, alternating, true, 9);
+  EXPECT_EQ(LeadingSoundsQuieterThanTheDrop(scattering, All(scattering), 3), 0u);
+  const auto smooth = Drop(0.7, 10, {}, true, 9);
+  EXPECT_EQ(LeadingSoundsQuieterThanTheDrop(smooth, All(smooth), 3), 1u);
+}
+
+TEST(LeadingSounds, AShortChainNeedsEightDbAndKeepsItsFewestMembers) {
+  // Three bounces: two reference levels, no scatter to judge, so the fixed 8 dB.
+  const auto seven = Drop(0.5, 3, {}, true, 7);
+  EXPECT_EQ(LeadingSoundsQuieterThanTheDrop(seven, All(seven), 3), 0u);
+  const auto nine = Drop(0.5, 3, {}, true, 9);
+  EXPECT_EQ(LeadingSoundsQuieterThanTheDrop(nine, All(nine), 3), 1u);
+  // Never fewer members left than a sequence needs: the chain stays as it is.
+  EXPECT_EQ(LeadingSoundsQuieterThanTheDrop(nine, All(nine), 4), 0u);
+}
+
+TEST(LeadingSounds, UnknownLevelsJudgeNothing) {
+  // Onsets read from a CSV carry no level.
+  auto impacts = Drop(0.7, 10, {}, true, 20);
+  impacts[0].peak_dbfs = std::nan("");
+  EXPECT_EQ(LeadingSoundsQuieterThanTheDrop(impacts, All(impacts), 3), 0u);
+}
+
+}  // namespace
+}  // namespace bouncecal::audio
