@@ -37,11 +37,10 @@ namespace bouncecal::audio {
 // under min_correlation (real balls' bounces read 0.52-0.9 against their recording's template,
 // other sounds 0.0-0.4), another lag within min_peak_margin of it beyond a dip the bands resolve
 // (the mean rising out of it by more than the bands' standard error of that rise: a wiggle on
-// the peak's own flank is no rival), a
-// peak at the edge of the search, or fewer than min_bands bands with a peak of their own in the
-// mean's lobe. A band whose best lag lies elsewhere does not veto: one band's envelope can hold
-// two bumps (a room echo, two modes beating; ub-mth337 pingpong.wav's 1-2 kHz band peaks 2.7 ms
-// late at every bounce), which the other bands resolve.
+// the peak's own flank is no rival), a peak at the edge of the search, or fewer than min_bands
+// bands with a peak of their own in the mean's lobe. A band whose best lag lies elsewhere does
+// not veto: one band's envelope can hold two bumps (a room echo, two modes beating; ub-mth337
+// pingpong.wav's 1-2 kHz band peaks 2.7 ms late at every bounce), which the other bands resolve.
 struct EnvelopeAlignmentOptions {
   double pre_s = 1e-3;           // envelope compared before the onset
   double min_correlation = 0.5;  // the bands' mean at the peak
