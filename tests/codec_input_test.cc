@@ -603,5 +603,31 @@ TEST_F(CodecInput, AnMp3CopyOfZakyPingpongRetimesTheBounceItsPickWindowTookEarly
   EXPECT_LE(difference, 3 * combined) << difference << " vs " << combined;
 }
 
+// Issue 30: an impact timed from its band envelopes combined them with the detector's onset
+// weighted by the detector's own sigma alone (+-30 us), so in eeps-pingpong.wav as Vorbis q4 the
+// first bounce kept its pre-echo-shifted first lobe (746 us before the WAV's onset, stated
+// +-428 us) and eta-bar lay 0.0024 from the WAV's. With the codec table's sigma in quadrature, as
+// the waveform stage weighs it, the first onset is 286 us early and eta-bar 0.0003 off.
+TEST_F(CodecInput, AVorbisCopyOfEepsPingpongWeighsItsPreEchoedOnsetsByTheCodecsError) {
+  const fs::path wav = SharedDir() / "recordings" / "eeps-pingpong" / "pingpong.wav";
+  if (!fs::exists(wav)) GTEST_SKIP() << wav << " is absent (BOUNCECAL_SHARED_DIR)";
+  const auto ogg = Encode(wav, "pingpong_q4.ogg", {"-c:a", "libvorbis", "-q:a", "4"});
+  const auto sequence = [&](const fs::path& file) {
+    const auto json = folder_.path() / (file.filename().string() + ".json");
+    const auto run = RunBouncecal("analyze '" + file.string() + "' --json '" + json.string() + "'");
+    EXPECT_EQ(run.exit_status, 0) << file;
+    return ReadJson(json)["sequences"][0];
+  };
+  const auto reference = sequence(wav), lossy = sequence(ogg);
+  ASSERT_FALSE(lossy["onsets_s"].empty());
+  ASSERT_FALSE(reference["onsets_s"].empty());
+  const double error = lossy["onsets_s"][0].get<double>() - reference["onsets_s"][0].get<double>();
+  const double stated = lossy["onset_uncertainty_s"][0].get<double>();
+  EXPECT_LE(std::fabs(error), stated) << error << " vs " << stated;
+  const auto [difference, combined] = CompareCopyWithItsWav(wav, ogg, folder_.path());
+  // The issue's line for a lossy copy.
+  EXPECT_LE(difference, 0.002) << difference << " vs " << combined;
+}
+
 }  // namespace
 }  // namespace bouncecal::testing
