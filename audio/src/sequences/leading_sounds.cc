@@ -120,12 +120,14 @@ namespace {
 // margin is the larger of a floor and kLeadingQuieterZ (one-sided 1e-3) times the spread of a
 // difference of two levels, each with the scatter the next kLevelReferenceImpacts show about a
 // line in bounce number. Chains with fewer reference levels use kShortChainQuieterDb. Measured
-// (2026-12-02) on the sequences of silent_wrong_sweep.py seeds 101, 23, 11 and 7 (3 dB level
-// jitter in 30 % of files) and knock_sweep.py: no real first impact of 509 is 6 dB plus that
-// margin quieter than its next (the largest, 6.3 dB at a scatter of 1.9 dB); 7 of 29 sounds
-// before a drop are (knocks 7-44 dB quieter). Among the shared recordings only zaky-ptv's
-// first "impact" is, at 0.0115 s in a clip with speech throughout, 12.7 dB quieter than the
-// next and its ratio 0.786 against the ball's 0.85-0.87.
+// (2026-12-02) on the sequences of silent_wrong_sweep.py seeds 101, 23, 11, 7, 3 and 5 (3 dB
+// level jitter in 30 % of files) and knock_sweep.py: no real first impact of 702 is quieter than
+// its next by more than the margin (the largest rise, 6.3 dB at a level scatter of 1.9 dB,
+// against a margin of 8.5 dB); 7 of 29 sounds before a drop that began a sequence are (7-44 dB
+// quieter). knock_sweep.py's sequences starting at such a sound: 21 -> 17 of 122 (seed 1000),
+// 24 -> 23 (seed 5000). Among the shared recordings only zaky-ptv's first "impact" is, at
+// 0.0115 s in a clip with speech throughout, 12.7 dB quieter than the next and its ratio 0.786
+// against the ball's 0.85-0.87.
 constexpr double kLeadingQuieterFloorDb = 6.0;
 constexpr double kLeadingQuieterZ = 3.1;
 constexpr double kShortChainQuieterDb = 8.0;
