@@ -85,5 +85,16 @@ TEST(LeadingSounds, UnknownLevelsJudgeNothing) {
   EXPECT_EQ(LeadingSoundsQuieterThanTheDrop(impacts, All(impacts), 3), 0u);
 }
 
+TEST(LeadingSounds, OnlyOnsetsWhoseWindowReachesTheirSoundTwoSigmasEarlyAreJudgedByLevel) {
+  // The level is the peak in the 5 ms after the onset: an onset stated +-1.6 ms (a speech sound
+  // in an AAC copy, the codec's 0.97 ms in it) is judged, one stated +-4.1 ms (a pre-echo onset
+  // 4 ms early in an MP3, whose window holds little of its bounce) is not.
+  auto impacts = Drop(0.7, 10, {}, true, 12);
+  impacts[0].onset_uncertainty_s = 1.6e-3;
+  EXPECT_EQ(LeadingSoundsQuieterThanTheDrop(impacts, All(impacts), 3), 1u);
+  impacts[0].onset_uncertainty_s = 4.1e-3;
+  EXPECT_EQ(LeadingSoundsQuieterThanTheDrop(impacts, All(impacts), 3), 0u);
+}
+
 }  // namespace
 }  // namespace bouncecal::audio
