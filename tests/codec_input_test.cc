@@ -645,7 +645,7 @@ TEST_F(CodecInput, AnAacCopyOfZakyPingpongIsTheChainThroughTheBouncesItsLongestC
 // match these chatter chains 8.9-407 times over): both copies now report no eta-bar (the Opus
 // copy three of the WAV's bounces). A right eta-bar or none is honest; a confident wrong one is
 // not.
-TEST_F(CodecInput, OpusAndVorbisCopiesOfZakyPingpongGiveNoEtaBarRatherThanTheirChatter) {
+TEST_F(CodecInput, OpusAndVorbisCopiesOfZakyPingpongGiveTheWavsEtaBarOrNoneNotTheirChatters) {
   const fs::path wav =
       SharedDir() / "recordings" / "zaky-ptv-pingpong" / "pingpongvid2_48k_mono.wav";
   if (!fs::exists(wav)) GTEST_SKIP() << wav << " is absent (BOUNCECAL_SHARED_DIR)";
