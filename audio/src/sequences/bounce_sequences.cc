@@ -519,7 +519,6 @@ bool PassesOverLouderSounds(const std::vector<Impact>& impacts, const std::vecto
 // sounds fill as many of those windows).
 constexpr double kSkippedBounceWindow = 0.03;
 constexpr double kSkippedBounceChance = 1e-4;
-
 // How much fainter than the quieter member of its flight a sound may be and still be taken for a
 // bounce there: level jitter between consecutive bounces of a few dB, and a codec's or a room's
 // changes to the peak.
