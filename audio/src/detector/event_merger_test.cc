@@ -101,6 +101,43 @@ TEST(EventMerger, AnEchoAfterTheHitIsMergedIntoIt) {
       << result.merged[0].reason;
 }
 
+// A sound whose band rise stayed under the threshold sits in the tail of the hit before it and
+// does not take the onset from it, unless it is louder than that hit's own sound by the full
+// threshold over the same span: a tail decays, so the earlier rise was a precursor whose ringing
+// in the later sound's lookback kept that rise under the threshold (silent_wrong_sweep seed 3
+// #62: a bounce 13.6 dB louder than its precursor 6.2 ms before it lost to it, timed 6.2 ms
+// early at a stated 73 us). 14 dB louder wins; 4.4 dB louder is still the hit's tail.
+TEST(EventMerger, ALaterSoundWithoutABandRiseWinsOnlyWhenLouderByTheFullThreshold) {
+  for (const double later_amplitude : {0.5, 0.12}) {
+    SCOPED_TRACE(later_amplitude);
+    std::vector<float> x(kRate / 2, 0.0f);
+    testing::AddNoise(x, 1e-4, 5);
+    testing::AddImpact(x, kRate, 0.194, 0.1);
+    testing::AddImpact(x, kRate, 0.2, later_amplitude);
+    Rig rig(x);
+    EventMerger merger(DetectorOptions{}, 1.8e-3, kRate, rig.rig.bands);
+    auto later = At(0.2);
+    later.band_rose = false;
+    merger.Add(At(0.194));
+    merger.Add(later);
+    merger.Flush();
+    DetectionResult result;
+    merger.Report(0.0, result);
+    ASSERT_EQ(result.impacts.size(), 1u);
+    ASSERT_EQ(result.merged.size(), 1u);
+    if (later_amplitude > 0.3) {
+      EXPECT_DOUBLE_EQ(result.impacts[0].onset_s, 0.2);
+      EXPECT_NE(result.merged[0].reason.find("precursor 6.0 ms before"), std::string::npos)
+          << result.merged[0].reason;
+    } else {
+      EXPECT_DOUBLE_EQ(result.impacts[0].onset_s, 0.194);
+      EXPECT_NE(result.merged[0].reason.find("no band rose by the full threshold"),
+                std::string::npos)
+          << result.merged[0].reason;
+    }
+  }
+}
+
 // The rest of a sound whose candidate closed while still rising never takes the onset, however
 // loud; a group whose rises all stayed under the full threshold is a tentative impact; and the
 // recording's reference-to-contact offset moves every reported onset but not an onset that is
