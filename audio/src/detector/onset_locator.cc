@@ -233,7 +233,10 @@ std::optional<LocatedImpact> OnsetLocator::Locate(const Candidate& candidate) {
   const bool edge_cut_off = candidate.closed_rising && !in_ringing &&
                             static_cast<double>(window.peak) - start_index <
                                 static_cast<double>(kReferenceHorizonSamples);
-  if (!edge_cut_off) pick_floor_sample_ = window.peak;
+  if (!edge_cut_off) {
+    pick_floor_sample_ =
+        in_ringing ? static_cast<std::int64_t>(std::ceil(start_index)) : window.peak;
+  }
 
   LocatedImpact located;
   const double onset_index = PlaceOnset(candidate, pick, window.begin, frames_, located);
