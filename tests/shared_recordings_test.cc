@@ -93,7 +93,10 @@ TEST_F(SharedRecordings, ImpactCountsAreWithinWhatTheSourcesReport) {
   // found in the predicted bounce windows continue e = 0.81 within 0.02; one more for Audio_1:
   // its 9th and 10th, rises of half the threshold that stand out of the noise under the ringing
   // (not out of the band's floor) adopted in the predicted windows, continue it with 0.82 and
-  // 0.78, within the +-0.03 their 1.9 ms onsets allow on 100 ms flights; for Palla one beyond
+  // 0.78, within the +-0.03 their 1.9 ms onsets allow on 100 ms flights; two more for Audio_1
+  // since a later in-ringing sound must also raise the residual as much to take a merged pair's
+  // onset: its 11th and 12th, 85 and 69 ms flights, continue it with 0.86 +- 0.04 and 0.81 +-
+  // 0.05 (flight ratios 0.86 and 0.81 after 0.79-0.82); for Palla one beyond
   // the 12 of the source notes' tracker: its 13th, found in the predicted window once impacts in
   // ringing are picked on the prediction innovation at every sample rate, gives e = 0.75 +- 0.05,
   // continuing the sequence's 0.79).
@@ -101,7 +104,7 @@ TEST_F(SharedRecordings, ImpactCountsAreWithinWhatTheSourcesReport) {
       {"eeps-pingpong/pingpong.wav", 30, 55},      {"ub-mth337/pingpong.wav", 45, 66},
       {"ub-mth337/rubberball.wav", 14, 30},        {"ub-mth337/basketball.wav", 14, 18},
       {"ub-mth337/atomic_trampoline.wav", 70, 85}, {"ub-mth337/steel_surface.wav", 6, 12},
-      {"fr4nci-rimbalzi/Audio.wav", 10, 16},       {"fr4nci-rimbalzi/Audio_1.wav", 5, 10},
+      {"fr4nci-rimbalzi/Audio.wav", 10, 16},       {"fr4nci-rimbalzi/Audio_1.wav", 5, 12},
       {"alessia-rimbalzi/rimbalzi.wav", 12, 34},   {"alessia-rimbalzi/Palla-audio.wav", 9, 13}};
   for (const auto& [file, low, high] : expected) {
     const auto analysis = Analyze(file);

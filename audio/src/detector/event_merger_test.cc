@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "detector/stage_test_support.h"
@@ -135,6 +137,39 @@ TEST(EventMerger, ALaterSoundWithoutABandRiseWinsOnlyWhenLouderByTheFullThreshol
                 std::string::npos)
           << result.merged[0].reason;
     }
+  }
+}
+
+// Where neither member rose by the full threshold in a band, both sit in a tail, and a later one
+// a little louder keeps the onset only if the ringing residual rose at least as much at it
+// (silent_wrong_sweep seed 7 #54: 0.9 dB louder, residual rise 0.4 dB against the bounce's 5.5
+// dB, and the bounce timed 11 ms late). A novelty not measured decides nothing.
+TEST(EventMerger, InRingingTheLaterMemberNeedsTheResidualsRiseToo) {
+  std::vector<float> x(kRate / 2, 0.0f);
+  testing::AddNoise(x, 1e-4, 5);
+  testing::AddImpact(x, kRate, 0.2, 0.3);
+  testing::AddImpact(x, kRate, 0.209, 0.5);  // louder over its own span
+  Rig rig(x);
+  const std::vector<std::pair<double, double>> novelties = {
+      {5.5, 0.4}, {0.4, 0.4}, {0.4, 5.5}, {std::nan(""), 0.4}};
+  for (const auto& [first_novelty, later_novelty] : novelties) {
+    SCOPED_TRACE(first_novelty);
+    SCOPED_TRACE(later_novelty);
+    EventMerger merger(DetectorOptions{}, 1.8e-3, kRate, rig.rig.bands);
+    auto first = At(0.2);
+    auto later = At(0.209);
+    first.band_rose = false;
+    later.band_rose = false;
+    first.impact.ringing_novelty_db = first_novelty;
+    later.impact.ringing_novelty_db = later_novelty;
+    merger.Add(first);
+    merger.Add(later);
+    merger.Flush();
+    DetectionResult result;
+    merger.Report(0.0, result);
+    ASSERT_EQ(result.impacts.size(), 1u);
+    const bool first_kept = first_novelty > later_novelty;
+    EXPECT_DOUBLE_EQ(result.impacts[0].onset_s, first_kept ? 0.2 : 0.209);
   }
 }
 
