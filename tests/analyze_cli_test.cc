@@ -210,13 +210,14 @@ TEST(AnalyzeCli, ALosslessFileSaysWhenItsOnsetsWereTimedFromTheirResponse) {
 }
 
 // A faint precursor 5.5 ms before every bounce (-21 dB), an echo 2.8 ms after it (-8 dB) and a
-// 1 ms contact on the plate at 44.1 kHz, written as 16-bit PCM (bench/silent_wrong_sweep.py seed
-// 11 #146). A precursor inside the previous bounce's ringing is found on the prediction
-// innovation, whose window ends at the candidate's largest innovation sample: that sample was the
-// 5th bounce's own first lobe, and as the floor of the next pick window it left the bounce's
-// picker 0.15 ms before the bounce. The onset was picked 1.36 ms late at a stated 54 us, and
-// eta-bar lay 17.7 combined sigmas from the exact onsets'. An onset found inside ringing now
-// bounds the next pick only at itself (this one: 229 us early at a stated 104 us).
+// 1 ms contact on the plate at 44.1 kHz, written as 16-bit PCM whose first bounce clips (136
+// samples), as the sweep's file does (bench/silent_wrong_sweep.py seed 11 #146). A precursor inside
+// the previous bounce's ringing is found on the prediction innovation, whose window ends at the
+// candidate's largest innovation sample: that sample was the 5th bounce's own first lobe, and as
+// the floor of the next pick window it left the bounce's picker 0.15 ms before the bounce. The
+// onset was picked 1.36 ms late at a stated 54 us, and eta-bar lay 17.7 combined sigmas from the
+// exact onsets'. An onset found inside ringing now bounds the next pick only at itself (this one:
+// 229 us early at a stated 104 us).
 TEST(AnalyzeCli, APrecursorInRingingDoesNotCutTheNextBouncesPickWindow) {
   const auto wav = ScratchPath("precursor.wav");
   const auto truth_csv = ScratchPath("precursor.csv");
@@ -250,8 +251,9 @@ TEST(AnalyzeCli, APrecursorInRingingDoesNotCutTheNextBouncesPickWindow) {
   ASSERT_GE(errors.size(), 5u);
   // Intervals see the onsets less the recording's common offset: that of the most precisely
   // stated onset (the late bounces here are residual-only, stated +-1.9 ms).
-  const auto reference = std::min_element(errors.begin(), errors.end(),
-                                          [](auto& a, auto& b) { return a.second < b.second; });
+  const auto reference =
+      std::min_element(errors.begin(), errors.end(),
+                       [](const auto& a, const auto& b) { return a.second < b.second; });
   const double offset = reference->first;
   for (std::size_t k = 0; k < errors.size(); ++k) {
     const double error = errors[k].first - offset;
