@@ -6,6 +6,7 @@
 #include <cmath>
 #include <initializer_list>
 #include <random>
+#include <tuple>
 
 #include "bouncecal/error.h"
 
@@ -644,6 +645,77 @@ TEST(BounceSequences, ADropsLaterBouncesAreNotTheirOwnEvidenceOfChance) {
   const auto band = FindBounceSequences(ToImpacts(Drop(0.5, 0.4, 0.7, 6)));
   ASSERT_EQ(band.sequences.size(), 1u);
   EXPECT_TRUE(std::isnan(band.sequences[0].chance_alignment));
+}
+
+// The detector suite's pingpong_table as AAC 128k: a room's reflection 15.7 ms after the first
+// bounce, beyond the detector's merge gap and 1.5 dB louder than it, was detected as a sound of
+// its own, and the chain from it (as long as the chain from the bounce, and louder) took the
+// sequence: e_1 0.8925 against 0.8616. The first ratio chooses: the bounce's continues the
+// line through the next ratios (restitution rising as the ball slows), the reflection's does not.
+TEST(BounceSequences, AReflectionLouderThanTheFirstBounceDoesNotStartTheSequence) {
+  std::vector<double> times = {0.4846};
+  double flight = 0.4546;
+  for (int k = 0; k < 14; ++k) {
+    times.push_back(times.back() + flight);
+    flight *= 0.861 + 0.006 * k;
+  }
+  auto impacts = ToImpacts(times);
+  for (std::size_t k = 0; k < impacts.size(); ++k) {
+    impacts[k].peak_dbfs = -9.0 - 0.5 * static_cast<double>(k);
+  }
+  Impact reflection = impacts[0];
+  reflection.onset_s += 15.7e-3;
+  reflection.peak_dbfs = -7.5;
+  impacts.insert(impacts.begin() + 1, reflection);
+  const auto result = FindBounceSequences(impacts);
+  ASSERT_EQ(result.sequences.size(), 1u);
+  const auto& members = result.sequences[0].impact_indices;
+  EXPECT_EQ(members.front(), 0);
+  EXPECT_EQ(members.size(), times.size());
+  EXPECT_EQ(std::count(members.begin(), members.end(), 1), 0);
+}
+
+// The detector suite's multi_drop_30s as Opus 64k: its first drop's 4 band-detected bounces time
+// like a ball (ratios 0.656, 0.677, 0.696), the ringing residual alone found the 5th where it was
+// due and, where the 6th went unheard, a codec sound 10.8 ms before it, which tracking took. With
+// it the chain read as chance (1.4 expected chance chains against the codec file's limit of 1)
+// and the drop had no sequence; it now ends before that sound, with every version tried counted
+// against it, and says why.
+TEST(BounceSequences, AChainThatFailsTheChanceTestByItsLastResidualOnlySoundEndsBeforeIt) {
+  // The copy's impacts as the detector gave them: onset s, sigma s, peak dBFS, residual-only.
+  const std::vector<std::tuple<double, double, double, int>> detected = {
+      {1.502385, 0.000241, -9.85, 0},   {1.723227, 1.09e-05, -13.27, 0},
+      {1.868094, 1.19e-05, -17.20, 0},  {1.966184, 1.05e-05, -19.15, 0},
+      {2.034409, 4.01e-05, -24.77, 1},  {2.072031, 0.00179, -26.63, 1},
+      {2.118233, 0.00179, -31.43, 1},   {2.251490, 0.00179, -38.81, 1},
+      {2.283073, 0.00374, -42.03, 1},   {2.358823, 0.00179, -43.98, 1},
+      {2.743490, 0.00179, -55.95, 1},   {11.241021, 0.000239, -6.09, 0},
+      {11.534292, 0.00024, -10.85, 0},  {11.722282, 1.16e-05, -13.92, 0},
+      {11.847144, 1.04e-05, -20.59, 0}, {11.932581, 1.05e-05, -23.25, 0},
+      {11.992545, 1.46e-05, -24.18, 1}, {12.035552, 0.00179, -28.26, 1},
+      {12.067020, 0.00179, -32.66, 1},  {12.353323, 0.00179, -41.08, 1},
+      {18.720045, 0.000251, -10.43, 0}, {18.891406, 0.00211, -26.45, 1},
+      {18.903520, 2.31e-05, -17.30, 0}, {19.007906, 0.00179, -27.79, 1},
+      {19.025610, 1.31e-05, -19.79, 0}, {19.109281, 1.69e-05, -21.14, 0},
+      {19.168074, 2.39e-05, -25.35, 0}, {19.210302, 0.000334, -30.61, 1},
+      {19.241205, 1.05e-05, -29.75, 1}, {19.485156, 0.00179, -40.17, 1},
+      {19.654698, 0.00179, -47.46, 1},  {19.851281, 0.00179, -51.38, 1},
+      {19.909719, 0.00263, -54.49, 1},  {19.974719, 0.00179, -56.01, 1}};
+  std::vector<Impact> impacts;
+  for (const auto& [onset_s, sigma_s, peak_dbfs, residual_only] : detected) {
+    impacts.push_back({.onset_s = onset_s,
+                       .onset_uncertainty_s = sigma_s,
+                       .peak_dbfs = peak_dbfs,
+                       .residual_only = residual_only != 0});
+  }
+  SequenceOptions codec;
+  codec.codec_frame_s = 0.02;  // Opus
+  const auto result = FindBounceSequences(impacts, codec);
+  ASSERT_EQ(result.sequences.size(), 3u);
+  // The first drop: its four band-detected bounces and the 5th, not the codec's sound.
+  EXPECT_EQ(result.sequences[0].impact_indices, (std::vector<int>{0, 1, 2, 3, 4}));
+  EXPECT_NE(result.sequences[0].end_reason.find("2.0720 s"), std::string::npos)
+      << result.sequences[0].end_reason;
 }
 
 // Random events must still almost never make a sequence through the chance test. Each file's

@@ -96,5 +96,65 @@ TEST(LeadingSounds, OnlyOnsetsWhoseWindowReachesTheirSoundTwoSigmasEarlyAreJudge
   EXPECT_EQ(LeadingSoundsQuieterThanTheDrop(impacts, All(impacts), 3), 0u);
 }
 
+// A ping-pong ball whose restitution rises as it slows (0.861 at the first ratio, +0.006 per
+// bounce: the detector suite's pingpong_table), onsets stated +-20 us, with a sound
+// `echo_after_s` after its first bounce (a room's reflection) 1.5 dB louder than it.
+std::vector<Impact> DropWithAnEcho(double echo_after_s) {
+  std::vector<Impact> impacts;
+  double t = 0.4846, flight = 0.4546;
+  for (int k = 0; k < 12; ++k) {
+    impacts.push_back({.onset_s = t, .onset_uncertainty_s = 20e-6, .peak_dbfs = -9.0 - 0.5 * k});
+    t += flight;
+    flight *= 0.861 + 0.006 * k;
+  }
+  impacts.insert(impacts.begin() + 1, {.onset_s = impacts[0].onset_s + echo_after_s,
+                                       .onset_uncertainty_s = 20e-6,
+                                       .peak_dbfs = -7.5});
+  return impacts;
+}
+
+// The chain from the echo: the echo, then the bounces from the second on.
+std::vector<int> FromTheEcho(const std::vector<Impact>& impacts) {
+  std::vector<int> members = {1};
+  for (int i = 2; i < static_cast<int>(impacts.size()); ++i) members.push_back(i);
+  return members;
+}
+
+TEST(LeadingSounds, AnEchoThatStartsTheChainGivesWayToTheBounceWhoseRatioFitsTheDrop) {
+  const auto impacts = DropWithAnEcho(15.7e-3);
+  const std::vector<bool> free(impacts.size(), true);
+  // Its first ratio, 0.8925 against the line's 0.861, is the misfit; the bounce's is on the line.
+  EXPECT_EQ(FirstMemberThatFitsTheDrop(impacts, free, FromTheEcho(impacts)), 0);
+  // Starting at the bounce, the chain keeps it.
+  std::vector<int> from_the_bounce = FromTheEcho(impacts);
+  from_the_bounce.front() = 0;
+  EXPECT_EQ(FirstMemberThatFitsTheDrop(impacts, free, from_the_bounce), 0);
+  // A bounce another sequence holds is no alternative.
+  std::vector<bool> taken = free;
+  taken[0] = false;
+  EXPECT_EQ(FirstMemberThatFitsTheDrop(impacts, taken, FromTheEcho(impacts)), 1);
+  // Nor is one found only by the ringing residual.
+  auto weak = impacts;
+  weak[0].residual_only = true;
+  EXPECT_EQ(FirstMemberThatFitsTheDrop(weak, free, FromTheEcho(weak)), 1);
+}
+
+TEST(LeadingSounds, OnlySoundsWithinThirtyMsOfTheFirstMemberAreAlternatives) {
+  // 40 ms after the first bounce the sound is another event, and with it as the first member the
+  // bounce is not considered: the chain keeps it (the ratio rule, LeadingSoundsBeforeTheDrop,
+  // judges it on its own).
+  const auto impacts = DropWithAnEcho(40e-3);
+  const std::vector<bool> free(impacts.size(), true);
+  EXPECT_EQ(FirstMemberThatFitsTheDrop(impacts, free, FromTheEcho(impacts)), 1);
+}
+
+TEST(LeadingSounds, AFirstRatioWithinThreeSigmasOfTheLineKeepsItsMember) {
+  // An echo only 0.3 ms after the bounce moves the first ratio by ~0.0006, well within the
+  // later ratios' scatter about their line: nothing to choose, the chain keeps what it has.
+  const auto impacts = DropWithAnEcho(0.3e-3);
+  const std::vector<bool> free(impacts.size(), true);
+  EXPECT_EQ(FirstMemberThatFitsTheDrop(impacts, free, FromTheEcho(impacts)), 1);
+}
+
 }  // namespace
 }  // namespace bouncecal::audio
