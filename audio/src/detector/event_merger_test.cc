@@ -173,6 +173,31 @@ TEST(EventMerger, InRingingTheLaterMemberNeedsTheResidualsRiseToo) {
   }
 }
 
+// The residual's rise decides only between members of close levels: a later member louder by
+// half the rise threshold or more is a new hit and keeps the onset however little the residual
+// rose at it (a transform codec's pre-echo before a bounce out-rises the bounce there).
+TEST(EventMerger, InRingingALaterMemberLouderByHalfTheThresholdWinsWhateverItsResidualRise) {
+  std::vector<float> x(kRate / 2, 0.0f);
+  testing::AddNoise(x, 1e-4, 5);
+  testing::AddImpact(x, kRate, 0.2, 0.2);
+  testing::AddImpact(x, kRate, 0.209, 0.9);  // ~13 dB louder over its own span
+  Rig rig(x);
+  EventMerger merger(DetectorOptions{}, 1.8e-3, kRate, rig.rig.bands);
+  auto first = At(0.2);
+  auto later = At(0.209);
+  first.band_rose = false;
+  later.band_rose = false;
+  first.impact.ringing_novelty_db = 5.5;
+  later.impact.ringing_novelty_db = 0.4;
+  merger.Add(first);
+  merger.Add(later);
+  merger.Flush();
+  DetectionResult result;
+  merger.Report(0.0, result);
+  ASSERT_EQ(result.impacts.size(), 1u);
+  EXPECT_DOUBLE_EQ(result.impacts[0].onset_s, 0.209);
+}
+
 // The rest of a sound whose candidate closed while still rising never takes the onset, however
 // loud; a group whose rises all stayed under the full threshold is a tentative impact; and the
 // recording's reference-to-contact offset moves every reported onset but not an onset that is
