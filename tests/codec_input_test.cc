@@ -737,5 +737,23 @@ TEST_F(CodecInput, AnAacCopyAtSixteenKilohertzTimesABounceNotThePreEchoBeforeIt)
   EXPECT_LE(difference, 0.002) << difference << " vs " << combined;
 }
 
+// Issue 30 (sequences at 16 kHz): the suite's sr96000 resampled to 16 kHz formed no sequence:
+// every bounce after the first was heard only in the ringing residual, and such a sound never
+// made a chain's second member. It does now where no band-detected one does
+// (FindBounceSequences, a chance-test family of its own at a hundredth of the level).
+TEST_F(CodecInput, ASixteenKilohertzCopyOfARingingDropKeepsItsSequence) {
+  const fs::path wav = DetectorSuiteRecording("sr96000.wav");
+  if (!fs::exists(wav)) GTEST_SKIP() << wav << " is absent (BOUNCECAL_SHARED_DIR)";
+  const auto copy = Encode(wav, "sr96000_16k.wav", {"-ar", "16000", "-c:a", "pcm_s16le"});
+  const auto reference = FirstSequence(wav, folder_.path());
+  const auto resampled = FirstSequence(copy, folder_.path());
+  ASSERT_FALSE(resampled.is_null());
+  EXPECT_NEAR(resampled["onsets_s"][0].get<double>(), reference["onsets_s"][0].get<double>(), 1e-3);
+  const auto [difference, combined] = CompareSequences(reference, resampled);
+  EXPECT_LE(difference, 3 * combined) << difference << " vs " << combined;
+  // The issue's line for telephone-rate copies.
+  EXPECT_LE(difference, 0.005) << difference << " vs " << combined;
+}
+
 }  // namespace
 }  // namespace bouncecal::testing

@@ -98,7 +98,10 @@ struct SequenceResult {
 // the window the mean of the last three ratios predicts, the loudest one there is taken), then
 // rejects what lies inside it (stray sounds), before it (knocks, handling) and after it (chatter,
 // rolling, noise), each with a reason. A chain counts when min_impacts of its impacts rose in
-// a band, or when it starts with two that did and its timing passes max_chance_alignment:
+// a band, or when it starts with two that did and its timing passes max_chance_alignment, or,
+// where no band-detected second impact makes a chain from a first that rose, with a second only
+// the ringing residual found and its timing passes a hundredth of max_chance_alignment (a chain
+// family of its own, counted apart):
 // impact k >= 4 lands |t_k - t_pred| from t_pred = t_{k-1} + r dt_{k-1} (r that mean), which a
 // random event of its kind (band or residual-only, at the rate of the file's events of that kind
 // the chain has not taken before impact k) beats with probability
@@ -109,7 +112,10 @@ struct SequenceResult {
 // bounded by prod(2 rate w_k) times the volume of the m-ball of radius sqrt(q) over 2^m). Twice the
 // smaller chance (one chance alone for m = 1), times the number of chains tried (pairs of
 // band-detected impacts times the third impacts the first ratio's window offers), must stay below
-// max_chance_alignment. Deterministic. Throws ConfigError for bad options.
+// max_chance_alignment (the residual-only-second family: pairs of a band-detected first and a
+// residual-only second). A chain that fails may drop residual-only members from its end while
+// min_impacts are left, its chance multiplied by the versions tried. Deterministic. Throws
+// ConfigError for bad options.
 SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
                                    const SequenceOptions& options = {});
 

@@ -69,7 +69,8 @@ struct Impact {
   // sequence where the next bounce was due (ExtendSequencesWithTentative). That is how an impact
   // buried in the tail of earlier ones looks, and also how handling noise and speech can look,
   // so FindBounceSequences takes such an impact only where a bounce sequence predicts one, never
-  // to start a sequence. Its onset is less precise (up to ~1.5 ms off in tests).
+  // as its first (as its second only under a stricter chance test). Its onset is less precise
+  // (up to ~1.5 ms off in tests).
   bool residual_only = false;
 };
 
