@@ -5,11 +5,13 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <span>
 #include <utility>
 
 #include "detector/contact_duration.h"
 #include "detector/envelope_alignment.h"
 #include "detector/lag_dots.h"
+#include "detector/later_attack.h"
 
 namespace bouncecal::audio {
 namespace {
@@ -314,6 +316,7 @@ ResponseTimingOptions ResponseTimingFor(const RecordingInfo& info) {
   ResponseTimingOptions options;
   options.require_contact_durations = !FirstLobeUnreliable(info);
   options.envelope_alignment = TransformCodec(info);
+  options.pre_echo = TransformCodec(info);
   return options;
 }
 
@@ -377,11 +380,28 @@ ResponseTimingSummary ResponseTimer::Apply(DetectionResult& detection,
   // first lobe's error.
   std::vector<bool> own(windows_.size(), false);
   const ResponseTimingSummary summary = Retime(detection, first_lobe_sigma_s, own);
+  // Where the next impact's onset lies, for the pre-echo's later attack: not past it.
+  std::vector<std::int64_t> impact_starts;
+  for (const auto& w : windows_) {
+    if (!w.tentative) impact_starts.push_back(w.begin + lead_);
+  }
+  std::sort(impact_starts.begin(), impact_starts.end());
   for (std::size_t w = 0; w < windows_.size(); ++w) {
     if (own[w]) continue;
     Impact& impact = windows_[w].tentative ? detection.tentative[windows_[w].index]
                                            : detection.impacts[windows_[w].index];
     impact.onset_uncertainty_s = std::hypot(impact.onset_uncertainty_s, first_lobe_sigma_s);
+    if (options_.pre_echo) {
+      const std::int64_t onset = windows_[w].begin + lead_;
+      const auto next = std::upper_bound(impact_starts.begin(), impact_starts.end(), onset);
+      auto available = static_cast<std::int64_t>(windows_[w].samples.size()) - lead_;
+      if (next != impact_starts.end()) available = std::min(available, *next - onset);
+      const std::span<const float> after_onset(
+          windows_[w].samples.data() + lead_,
+          static_cast<std::size_t>(std::max<std::int64_t>(available, 0)));
+      impact.onset_uncertainty_s =
+          std::hypot(impact.onset_uncertainty_s, 0.5 * LaterAttackS(after_onset, sample_rate_hz_));
+    }
   }
   const auto by_onset = [](const Impact& a, const Impact& b) { return a.onset_s < b.onset_s; };
   std::stable_sort(detection.impacts.begin(), detection.impacts.end(), by_onset);

@@ -69,6 +69,10 @@ struct ResponseTimingOptions {
   // transform codecs, where the alternative is the codec table's sigma; a WAV keeps its first
   // lobe.
   bool envelope_alignment = false;
+  // A transform codec's pre-echo can rise into an attack without a break, so the detector's
+  // onset may be the noise's start: an impact stated with the first lobe's error (not its own
+  // alignment) also states half the distance to a later attack in its window (later_attack.h).
+  bool pre_echo = false;
 };
 
 // Whether a recording's first lobes are unreliable enough for the stage: a transform codec

@@ -1,0 +1,58 @@
+#include "detector/later_attack.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace bouncecal::audio {
+namespace {
+
+constexpr int kRate = 48000;
+
+// A plate's response to a hit `at_s` after the onset: a 3 kHz mode decaying over 10 ms, peak
+// `amplitude`.
+void AddHit(std::vector<float>& x, double at_s, double amplitude) {
+  const auto start = static_cast<std::size_t>(at_s * kRate);
+  for (std::size_t i = start; i < x.size(); ++i) {
+    const double t = static_cast<double>(i - start) / kRate;
+    x[i] += static_cast<float>(amplitude * std::exp(-t / 10e-3) *
+                               std::sin(2 * std::numbers::pi * 3000 * t + 0.5));
+  }
+}
+
+TEST(LaterAttack, AHitAtTheOnsetHasNoLaterAttack) {
+  std::vector<float> x(17 * kRate / 1000, 0.0f);
+  AddHit(x, 0.0, 0.5);
+  EXPECT_EQ(LaterAttackS(x, kRate), 0.0);
+}
+
+// Pre-echo: the codec's noise 20 dB under the attack for 6 ms, then the attack. The onset the
+// detector took is the noise's start, and the attack is 6 ms later.
+TEST(LaterAttack, NoiseWellBelowALaterHitPointsToTheHit) {
+  std::vector<float> x(17 * kRate / 1000, 0.0f);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    x[i] = static_cast<float>(0.05 * std::sin(2 * std::numbers::pi * 9000 * i / kRate));
+  }
+  AddHit(x, 6e-3, 0.5);
+  EXPECT_NEAR(LaterAttackS(x, kRate), 6e-3, 0.2e-3);
+}
+
+// The early part less than the rise threshold (10 dB) under the peak is the attack: nothing to
+// say.
+TEST(LaterAttack, AnEarlyPartWithinTheRiseThresholdOfThePeakIsTheAttack) {
+  std::vector<float> x(17 * kRate / 1000, 0.0f);
+  AddHit(x, 0.0, 0.2);
+  AddHit(x, 6e-3, 0.5);
+  EXPECT_EQ(LaterAttackS(x, kRate), 0.0);
+}
+
+TEST(LaterAttack, SilenceAndNothingGiveNoAttack) {
+  const std::vector<float> silence(800, 0.0f);
+  EXPECT_EQ(LaterAttackS(silence, kRate), 0.0);
+  EXPECT_EQ(LaterAttackS({}, kRate), 0.0);
+}
+
+}  // namespace
+}  // namespace bouncecal::audio
