@@ -680,13 +680,15 @@ TEST(BounceSequences, AReflectionLouderThanTheFirstBounceDoesNotStartTheSequence
 // due and, where the 6th went unheard, a codec sound 10.8 ms before it, which tracking took. With
 // it the chain read as chance (1.4 expected chance chains against the codec file's limit of 1)
 // and the drop had no sequence; it now ends before that sound, with every version tried counted
-// against it, and says why.
+// against it, and says why. (Residual-only sounds now join only within the ratio's scatter and
+// timing in quadrature, which leaves that one out; the fixture moves it to 10.0 ms before the
+// bounce, inside that window, where it still reads as chance.)
 TEST(BounceSequences, AChainThatFailsTheChanceTestByItsLastResidualOnlySoundEndsBeforeIt) {
   // The copy's impacts as the detector gave them: onset s, sigma s, peak dBFS, residual-only.
   const std::vector<std::tuple<double, double, double, int>> detected = {
       {1.502385, 0.000241, -9.85, 0},   {1.723227, 1.09e-05, -13.27, 0},
       {1.868094, 1.19e-05, -17.20, 0},  {1.966184, 1.05e-05, -19.15, 0},
-      {2.034409, 4.01e-05, -24.77, 1},  {2.072031, 0.00179, -26.63, 1},
+      {2.034409, 4.01e-05, -24.77, 1},  {2.073031, 0.00179, -26.63, 1},
       {2.118233, 0.00179, -31.43, 1},   {2.251490, 0.00179, -38.81, 1},
       {2.283073, 0.00374, -42.03, 1},   {2.358823, 0.00179, -43.98, 1},
       {2.743490, 0.00179, -55.95, 1},   {11.241021, 0.000239, -6.09, 0},
@@ -714,7 +716,7 @@ TEST(BounceSequences, AChainThatFailsTheChanceTestByItsLastResidualOnlySoundEnds
   ASSERT_EQ(result.sequences.size(), 3u);
   // The first drop: its four band-detected bounces and the 5th, not the codec's sound.
   EXPECT_EQ(result.sequences[0].impact_indices, (std::vector<int>{0, 1, 2, 3, 4}));
-  EXPECT_NE(result.sequences[0].end_reason.find("2.0720 s"), std::string::npos)
+  EXPECT_NE(result.sequences[0].end_reason.find("2.0730 s"), std::string::npos)
       << result.sequences[0].end_reason;
 }
 
@@ -748,6 +750,26 @@ TEST(BounceSequences, ADropHeardInABandOnlyAtItsFirstBounceIsASequence) {
   }
   for (const auto& sequence : FindBounceSequences(impacts).sequences) {
     EXPECT_LT(sequence.impact_indices.size(), 4u);
+  }
+}
+
+// The detector suite's stereo as AAC 96k: after ratios 0.65 and 0.67, with the last bounce's
+// onset stated to +-1.4 ms (the codec table's share), a residual-only sound 28 ms before the next
+// bounce (ratio 0.44) lay inside the window the ratio's tolerance and that timing noise give
+// when added, and the sequence took it (eta-bar 14 sigmas off). Combined in quadrature, as the
+// independent errors they are, the window leaves it out; a band-detected sound there is still
+// taken.
+TEST(BounceSequences, AResidualOnlySoundJoinsOnlyWithinScatterAndTimingInQuadrature) {
+  const std::vector<double> times = {0.660687, 0.912438, 1.076955, 1.186552, 1.234719};
+  for (const bool band_detected : {false, true}) {
+    SCOPED_TRACE(band_detected);
+    auto impacts = ToImpacts(times);
+    impacts[3].onset_uncertainty_s = 1.445e-3;
+    impacts[4].residual_only = !band_detected;
+    impacts[4].onset_uncertainty_s = 2.26e-3;
+    const auto result = FindBounceSequences(impacts);
+    ASSERT_EQ(result.sequences.size(), 1u);
+    EXPECT_EQ(result.sequences[0].impact_indices.size(), band_detected ? 5u : 4u);
   }
 }
 
