@@ -94,24 +94,11 @@ class ChainFinder {
       best.reach = reach;
       return best;
     }
-    int tried = 0;
-    for (int second = first + 1; second < n && tried < kSecondImpactCandidates; ++second) {
-      if (!free_[static_cast<size_t>(second)] || Weak(second)) continue;
-      const double gap_s = Onset(second) - Onset(first);
-      if (gap_s > options_.max_interval_s) break;
-      ++tried;
-      if (gap_s < 1e-3 * options_.chatter_interval_ms) continue;
-      Chain chain = Track(first, second);
-      reach = std::max({reach, chain.reach, second});
-      if (Better(chain, best)) best = std::move(chain);
-    }
-    // Where no band-detected second impact makes a chain, a residual-only one may: a plate that
-    // rings through the next bounce in every band keeps every later bounce's band rise under the
-    // threshold. Such chains are their own family in the chance test (weak_second).
-    if (static_cast<int>(best.members.size()) < options_.min_impacts) {
-      tried = 0;
+    // The best chain over up to kSecondImpactCandidates free second impacts of one kind.
+    const auto track_seconds = [&](bool weak_second) {
+      int tried = 0;
       for (int second = first + 1; second < n && tried < kSecondImpactCandidates; ++second) {
-        if (!free_[static_cast<size_t>(second)] || !Weak(second)) continue;
+        if (!free_[static_cast<size_t>(second)] || Weak(second) != weak_second) continue;
         const double gap_s = Onset(second) - Onset(first);
         if (gap_s > options_.max_interval_s) break;
         ++tried;
@@ -120,6 +107,13 @@ class ChainFinder {
         reach = std::max({reach, chain.reach, second});
         if (Better(chain, best)) best = std::move(chain);
       }
+    };
+    track_seconds(/*weak_second=*/false);
+    // Where no band-detected second impact makes a chain, a residual-only one may: a plate that
+    // rings through the next bounce in every band keeps every later bounce's band rise under the
+    // threshold. Such chains are their own family in the chance test (weak_second).
+    if (static_cast<int>(best.members.size()) < options_.min_impacts) {
+      track_seconds(/*weak_second=*/true);
     }
     best.reach = reach;
     return best;

@@ -48,6 +48,19 @@ std::vector<double> FromRatios(double t1_s, double t2_s, std::initializer_list<d
   return times;
 }
 
+// Impacts as a detector gave them: onset s, sigma s, peak dBFS, residual-only (0 or 1).
+std::vector<Impact> FromDetected(
+    const std::vector<std::tuple<double, double, double, int>>& detected) {
+  std::vector<Impact> impacts;
+  for (const auto& [onset_s, sigma_s, peak_dbfs, residual_only] : detected) {
+    impacts.push_back({.onset_s = onset_s,
+                       .onset_uncertainty_s = sigma_s,
+                       .peak_dbfs = peak_dbfs,
+                       .residual_only = residual_only != 0});
+  }
+  return impacts;
+}
+
 TEST(BounceSequences, DefaultOptionsAreValid) { EXPECT_NO_THROW(SequenceOptions{}.Validate()); }
 
 TEST(BounceSequences, AnIdealDropIsOneSequenceEndingInChatter) {
@@ -703,13 +716,7 @@ TEST(BounceSequences, AChainThatFailsTheChanceTestByItsLastResidualOnlySoundEnds
       {19.241205, 1.05e-05, -29.75, 1}, {19.485156, 0.00179, -40.17, 1},
       {19.654698, 0.00179, -47.46, 1},  {19.851281, 0.00179, -51.38, 1},
       {19.909719, 0.00263, -54.49, 1},  {19.974719, 0.00179, -56.01, 1}};
-  std::vector<Impact> impacts;
-  for (const auto& [onset_s, sigma_s, peak_dbfs, residual_only] : detected) {
-    impacts.push_back({.onset_s = onset_s,
-                       .onset_uncertainty_s = sigma_s,
-                       .peak_dbfs = peak_dbfs,
-                       .residual_only = residual_only != 0});
-  }
+  const auto impacts = FromDetected(detected);
   SequenceOptions codec;
   codec.codec_frame_s = 0.02;  // Opus
   const auto result = FindBounceSequences(impacts, codec);
@@ -733,13 +740,7 @@ TEST(BounceSequences, ADropHeardInABandOnlyAtItsFirstBounceIsASequence) {
       {1.731008, 0.00131, -19.97, 1},  {1.779621, 0.00131, -20.83, 1},
       {1.814719, 0.00131, -22.97, 1},  {1.840882, 0.00131, -21.43, 1},
       {2.757531, 0.00131, -56.16, 1}};
-  std::vector<Impact> impacts;
-  for (const auto& [onset_s, sigma_s, peak_dbfs, residual_only] : detected) {
-    impacts.push_back({.onset_s = onset_s,
-                       .onset_uncertainty_s = sigma_s,
-                       .peak_dbfs = peak_dbfs,
-                       .residual_only = residual_only != 0});
-  }
+  auto impacts = FromDetected(detected);
   const auto result = FindBounceSequences(impacts);
   ASSERT_EQ(result.sequences.size(), 1u);
   EXPECT_EQ(result.sequences[0].impact_indices, (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7}));
