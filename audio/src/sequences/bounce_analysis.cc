@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "sequences/weak_member_doubt.h"
+
 namespace bouncecal::audio {
 
 SequenceResult GroupBounces(DetectionResult& detection, const SequenceOptions& options) {
@@ -11,7 +13,9 @@ SequenceResult GroupBounces(DetectionResult& detection, const SequenceOptions& o
         ExtendSequencesWithTentative(detection.impacts, detection.tentative, options);
   }
   detection.tentative.clear();
-  return FindBounceSequences(detection.impacts, options);
+  SequenceResult grouping = FindBounceSequences(detection.impacts, options);
+  StateDoubtOfWeakMembers(detection.impacts, grouping.sequences);
+  return grouping;
 }
 
 BounceAnalysis AnalyzeBounces(const std::filesystem::path& path,

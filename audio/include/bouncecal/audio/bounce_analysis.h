@@ -11,8 +11,10 @@ namespace bouncecal::audio {
 
 // The one path from a recording to its bounce sequences, shared by `bouncecal analyze`, the
 // calibration input and the tests: detect impacts (detect_file.h), adopt the tentative ones
-// where a bounce sequence predicts the next bounce (ExtendSequencesWithTentative), and group
-// the impacts into sequences (FindBounceSequences), all with the caller's sequence options.
+// where a bounce sequence predicts the next bounce (ExtendSequencesWithTentative), group the
+// impacts into sequences (FindBounceSequences), and widen the stated onset uncertainty of
+// residual-only members that miss where their sequence puts the bounce (docs/detector.md), all
+// with the caller's sequence options.
 struct BounceAnalysisOptions {
   FileDetectionOptions detection;
   SequenceOptions sequences;
@@ -30,7 +32,7 @@ BounceAnalysis AnalyzeBounces(const std::filesystem::path& path,
 
 // The same for impacts already detected (a stream, a synthetic recording): moves the tentative
 // impacts that continue a sequence into detection.impacts (and clears detection.tentative),
-// then groups them.
+// then groups them and widens the doubtful members' uncertainties in detection.impacts.
 SequenceResult GroupBounces(DetectionResult& detection, const SequenceOptions& options = {});
 
 }  // namespace bouncecal::audio
