@@ -5,7 +5,8 @@
 //   long files (10 min) and in short ones (a drop's few seconds), grouped by
 //   audio::FindBounceSequences; every sequence with fewer than min_impacts band-detected
 //   impacts that is not a short sequence was admitted by the chance test, and the test states
-//   at most max_chance_alignment (1 %) such files;
+//   at most max_chance_alignment (1 %) such files; with --codec-frame-s, as events of a
+//   transform codec's file with that frame (SequenceOptions::codec_frame_s);
 // - scattered drops: the chain-coverage bench's drops (calibrate_chain_coverage_bench: steel on
 //   copper and on an anvil, e_k = e (1 + j z_k), synthesised with reverb and noise, written as
 //   WAV, detected and grouped as `calibrate` does), and a lossy steel-on-lead drop (e = 0.5 from
@@ -14,6 +15,7 @@
 //
 //   sequence_chance_bench [--files N (20)] [--short-files M (20000)] [--drops D (200)]
 //                         [--skip-random] [--skip-drops] [--only DROP] [--jitter J] [--verbose]
+//                         [--codec-frame-s F]
 //
 // It prints figures and asserts nothing.
 #include <algorithm>
@@ -68,9 +70,10 @@ std::vector<audio::Impact> RandomEvents(double band_hz, double residual_hz, doub
 }
 
 // Chains the chance test admitted: sequences with fewer than min_impacts band-detected impacts.
-int AdmittedChains(const std::vector<audio::Impact>& impacts, bool verbose) {
+// `options` carries the codec's frame where the events stand for a lossy file's.
+int AdmittedChains(const std::vector<audio::Impact>& impacts, const audio::SequenceOptions& options,
+                   bool verbose) {
   int admitted = 0;
-  const audio::SequenceOptions options;
   for (const auto& sequence : audio::FindBounceSequences(impacts, options).sequences) {
     int band = 0;
     for (int i : sequence.impact_indices) {
@@ -89,7 +92,8 @@ int AdmittedChains(const std::vector<audio::Impact>& impacts, bool verbose) {
   return admitted;
 }
 
-void RandomEventsTable(int long_files, int short_files, bool verbose) {
+void RandomEventsTable(int long_files, int short_files, const audio::SequenceOptions& options,
+                       bool verbose) {
   struct Mix {
     double band_hz, residual_hz;
   };
@@ -113,7 +117,7 @@ void RandomEventsTable(int long_files, int short_files, bool verbose) {
             RandomEvents(mix.band_hz, mix.residual_hz, 60 * minutes,
                          static_cast<std::uint64_t>(9000 + f) * 7919 +
                              static_cast<std::uint64_t>(mix.band_hz * 100 + mix.residual_hz));
-        const int chains = AdmittedChains(impacts, verbose);
+        const int chains = AdmittedChains(impacts, options, verbose);
         admitted += chains;
         with_one += chains > 0 ? 1 : 0;
       }
@@ -238,6 +242,7 @@ int main(int argc, char** argv) {
   std::string only;
   double only_jitter = -1;
   bool random = true, scattered = true, verbose = false;
+  audio::SequenceOptions options;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const auto next = [&]() { return i + 1 < argc ? std::atoi(argv[++i]) : 0; };
@@ -257,14 +262,17 @@ int main(int argc, char** argv) {
       only_jitter = std::atof(argv[++i]);
     } else if (arg == "--verbose") {
       verbose = true;
+    } else if (arg == "--codec-frame-s" && i + 1 < argc) {
+      options.codec_frame_s = std::atof(argv[++i]);
     } else {
       std::fprintf(stderr,
                    "usage: sequence_chance_bench [--files N] [--short-files M] [--drops D] "
-                   "[--skip-random] [--skip-drops] [--only DROP] [--jitter J] [--verbose]\n");
+                   "[--skip-random] [--skip-drops] [--only DROP] [--jitter J] [--verbose] "
+                   "[--codec-frame-s F]\n");
       return 2;
     }
   }
-  if (random) RandomEventsTable(files, short_files, verbose);
+  if (random) RandomEventsTable(files, short_files, options, verbose);
   if (scattered) DropsTable(drops, verbose, only, only_jitter);
   return 0;
 }

@@ -51,8 +51,10 @@ struct SequenceOptions {
   // A chain through them beside the real bounces (36 impacts, 27 residual-only, 6 of the WAV's
   // bounces among the rest) passed the chance test at 3e-4 at that average; its predictions land
   // in the tails, where the events come once a frame (43 per s): 0.035-0.04 there, and the real
-  // sequence is found. So the chance test counts residual-only events at no less than one per
-  // frame: the conservative side, it refuses some right answers too (docs/codecs.md).
+  // sequence is found. So the chance test counts residual-only events at the rate the chain's
+  // own span shows (its count's upper end, ChanceAlignment::WeakRateOverTheSpan) up to one per
+  // frame: where the codec made few such events (the detector suite's reverb_strong as Opus 64k,
+  // 3 beside its drop over 0.7 s) one per frame refused the right chain (docs/codecs.md).
   std::optional<double> codec_frame_s;
   // The flight that would have preceded the first impact, 2 sqrt(2 h0 / g), when the drop
   // height h0 is known (--drop-height-m). It gives the first impact's restitution dt_1 / dt_0, so
