@@ -209,6 +209,21 @@ TEST(AnalyzeCli, ALosslessFileSaysWhenItsOnsetsWereTimedFromTheirResponse) {
       << first_lobe.output;
 }
 
+// Renders `bouncecal synth` with `options` to `wav` and returns its ball's impact times (the truth
+// CSV's ball_impact rows); empty, with a test failure, where synth fails.
+std::vector<double> SynthesizedBounceTimes(const fs::path& wav, const std::string& options) {
+  const auto truth_csv = fs::path(wav).replace_extension(".csv");
+  const auto synth = RunBouncecal("synth -o '" + wav.string() + "' --truth '" + truth_csv.string() +
+                                  "' " + options);
+  EXPECT_EQ(synth.exit_status, 0) << synth.output;
+  std::vector<double> truth;
+  std::ifstream in(truth_csv);
+  for (std::string line; std::getline(in, line);) {
+    if (line.find(",ball_impact,") != std::string::npos) truth.push_back(std::stod(line));
+  }
+  return truth;
+}
+
 // A faint precursor 5.5 ms before every bounce (-21 dB), an echo 2.8 ms after it (-8 dB) and a
 // 1 ms contact on the plate at 44.1 kHz, written as 16-bit PCM whose first bounce clips (136
 // samples), as the sweep's file does (bench/silent_wrong_sweep.py seed 11 #146). A precursor inside
@@ -220,18 +235,11 @@ TEST(AnalyzeCli, ALosslessFileSaysWhenItsOnsetsWereTimedFromTheirResponse) {
 // 229 us early at a stated 104 us).
 TEST(AnalyzeCli, APrecursorInRingingDoesNotCutTheNextBouncesPickWindow) {
   const auto wav = ScratchPath("precursor.wav");
-  const auto truth_csv = ScratchPath("precursor.csv");
-  const auto synth = RunBouncecal(
-      "synth -o '" + wav.string() + "' --truth '" + truth_csv.string() +
-      "' --sample-rate-hz 44100 --contact-duration-s 0.001 --surface plate --restitution 0.681 "
-      "--drop-height-m 0.564 --click-gain 0.27 --precursor-lead-s 0.0055 --precursor-gain-db -21 "
-      "--echo-delay-s 0.0028 --echo-gain-db -8 --seed 147");
-  ASSERT_EQ(synth.exit_status, 0) << synth.output;
-  std::vector<double> truth;
-  std::ifstream in(truth_csv);
-  for (std::string line; std::getline(in, line);) {
-    if (line.find(",ball_impact,") != std::string::npos) truth.push_back(std::stod(line));
-  }
+  const auto truth = SynthesizedBounceTimes(
+      wav,
+      "--sample-rate-hz 44100 --contact-duration-s 0.001 --surface plate --restitution 0.681 "
+      "--drop-height-m 0.564 --click-gain 0.27 --precursor-lead-s 0.0055 "
+      "--precursor-gain-db -21 --echo-delay-s 0.0028 --echo-gain-db -8 --seed 147");
   ASSERT_GE(truth.size(), 5u);
   const auto json = ScratchPath("precursor.json");
   const auto analyzed =
@@ -273,18 +281,11 @@ TEST(AnalyzeCli, APrecursorInRingingDoesNotCutTheNextBouncesPickWindow) {
 // (docs/detector.md, "A residual-only member that misses its prediction").
 TEST(AnalyzeCli, AResidualOnlyMemberFarFromItsPredictionStatesItsDoubt) {
   const auto wav = ScratchPath("buried.wav");
-  const auto truth_csv = ScratchPath("buried.csv");
-  const auto synth = RunBouncecal(
-      "synth -o '" + wav.string() + "' --truth '" + truth_csv.string() +
-      "' --sample-rate-hz 32000 --contact-duration-s 7e-05 --surface counter --restitution 0.531 "
+  const auto truth = SynthesizedBounceTimes(
+      wav,
+      "--sample-rate-hz 32000 --contact-duration-s 7e-05 --surface counter --restitution 0.531 "
       "--drop-height-m 0.375 --seed 69 --snr-db 30 --snr-reference weakest --click-gain 0.15 "
       "--reverb-rt60-s 0.29 --hum-hz 60 --hum-dbfs -27");
-  ASSERT_EQ(synth.exit_status, 0) << synth.output;
-  std::vector<double> truth;
-  std::ifstream in(truth_csv);
-  for (std::string line; std::getline(in, line);) {
-    if (line.find(",ball_impact,") != std::string::npos) truth.push_back(std::stod(line));
-  }
   const auto json = ScratchPath("buried.json");
   const auto analyzed =
       RunBouncecal("analyze '" + wav.string() + "' --json '" + json.string() + "'");
