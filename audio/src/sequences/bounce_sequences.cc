@@ -12,26 +12,11 @@
 
 #include "bouncecal/error.h"
 #include "bouncecal/option_error.h"
-#include "leading_sounds.h"
+#include "sequences/expected_ratio.h"
+#include "sequences/leading_sounds.h"
 
 namespace bouncecal::audio {
 namespace {
-
-// The interval ratio expected next in a chain: the mean of its last kRatiosPredicting ratios (0
-// for none). A restitution that scatters from impact to impact by sd s makes consecutive ratios
-// differ by s sqrt(2) but a ratio differ from the mean of the three before it by s sqrt(4/3):
-// against the last ratio alone, ratio_step_tolerance split a steel-on-anvil drop with 5 %
-// scatter of e (s = 0.04) at 2.1 sd, about one flight in 30, and the knock rule then rejected
-// the drop's first impacts. Three, not more: e drifts with impact speed (a ping-pong ball's
-// 0.907 -> 0.95 over 60 bounces), and a mean over few recent flights follows it.
-constexpr std::size_t kRatiosPredicting = 3;
-double ExpectedRatio(const std::vector<double>& ratios) {
-  if (ratios.empty()) return 0;
-  const std::size_t count = std::min(ratios.size(), kRatiosPredicting);
-  double sum = 0;
-  for (std::size_t i = ratios.size() - count; i < ratios.size(); ++i) sum += ratios[i];
-  return sum / static_cast<double>(count);
-}
 
 // How many later impacts may follow the first one of a chain before its second impact (noise
 // or an echo that survived detection can sit in between).
@@ -438,6 +423,7 @@ class ChanceAlignment {
   // apart), but the detector suite's reverb_strong as Opus 64k had 3 beside its drop's 6 bounces
   // over 0.7 s, and at one a frame (50 per s) its 4 residual-only bounces, each 3-4 ms from a
   // prediction that its rising e (0.649 -> 0.708) moves, timed like chance (0.44).
+  // `members` in time order, as every chain's are.
   double WeakRateOverTheSpan(const std::vector<int>& members) const {
     const auto onset = [&](std::size_t k) {
       return impacts_[static_cast<size_t>(members[k])].onset_s;
@@ -450,7 +436,7 @@ class ChanceAlignment {
       const Impact& impact = impacts_[static_cast<size_t>(i)];
       if (impact.onset_s > to_s) break;
       if (impact.residual_only && impact.onset_s >= from_s &&
-          std::find(members.begin(), members.end(), i) == members.end()) {
+          !std::binary_search(members.begin(), members.end(), i)) {
         ++others;
       }
     }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstddef>
 
+#include "sequences/expected_ratio.h"
+
 namespace bouncecal::audio {
 namespace {
 
@@ -13,9 +15,6 @@ constexpr double kRatioScatter = 0.03;
 
 // How far beyond its combined sigma a residual-only member may miss its prediction.
 constexpr double kDoubtSigmas = 2.0;
-
-// The tracker's prediction uses the mean of this many last ratios (bounce_sequences.cc).
-constexpr std::size_t kRatiosPredicting = 3;
 
 }  // namespace
 
@@ -33,10 +32,8 @@ void StateDoubtOfWeakMembers(std::vector<Impact>& impacts,
       if (dt0 <= 0 || dt1 <= 0) break;
       ratios.push_back(dt1 / dt0);
       if (!member(k).residual_only) continue;
+      const double ratio = ExpectedRatio(ratios);
       const std::size_t used = std::min(ratios.size(), kRatiosPredicting);
-      double ratio = 0;
-      for (std::size_t j = ratios.size() - used; j < ratios.size(); ++j) ratio += ratios[j];
-      ratio /= static_cast<double>(used);
       const double deviation_s = member(k).onset_s - (member(k - 1).onset_s + ratio * dt1);
       // The mean of n ratios misses the next by the scatter times sqrt(1 + 1 / n); the last two
       // members' timing moves the prediction by (1 + r) and r times their errors.
