@@ -8,10 +8,15 @@
 //   calibrate_chain_coverage_bench [--seeds N (200)] [--threads T (2)] [--power-seeds M (N)]
 //                                  [--skip-coverage] [--skip-power] [--material copper|anvil|glass]
 //                                  [--jitters 0,1,3,5] [--recordings 1,3,5]
+//                                  [--between-percent B (0)]
 //
 // --material, --jitters (percent) and --recordings select rows of the coverage table (by default
 // copper and anvil, every jitter and count), so a change that concerns some rows can be measured
 // on them with many seeds; only the selected materials' and jitters' recordings are synthesised.
+// --between-percent makes the recordings of one seed differ: each recording's e is the material's
+// times (1 + B z_r), z_r standard normal per recording (a ball dropped on another day or another
+// spot of the plate), and the truth is then the gamma_n of the population's mean energy loss,
+// 1 - e^2 (1 + j^2) (1 + B^2); its rows of one recording cannot cover it and are not meaningful.
 //
 // Each recording is synthesised and detected once and reused by every row that needs it (the
 // 1-, 3- and 5-recording rows of a seed share their first recordings; both height options share
@@ -136,8 +141,9 @@ calibrate::FitOptions Options(bool known_height, double drop_height_m) {
 
 // What the same fit returns for the drop's exact onsets (no scatter, no timing noise, the same
 // contacts in the intervals) with the material's mean energy loss.
-double MaterialGamma(const Material& material, double jitter, bool known_height) {
-  const double e = std::sqrt(material.restitution * material.restitution * (1 + jitter * jitter));
+double MaterialGamma(const Material& material, double jitter, double between, bool known_height) {
+  const double e = std::sqrt(material.restitution * material.restitution * (1 + jitter * jitter) *
+                             (1 + between * between));
   bouncecal::RandomStream draws(0, 0, 0);  // drawn, but times a jitter of 0
   calibrate::MeasuredSequence exact;
   exact.source = "exact";
@@ -178,6 +184,7 @@ struct RowSelection {
   std::vector<int> materials{0, 1};
   std::vector<int> jitters{0, 1, 2, 3};
   std::vector<int> counts{1, 3, 5};
+  double between = 0;  // relative sd of e between recordings
 };
 
 bool Contains(const std::vector<int>& values, int value) {
@@ -198,7 +205,8 @@ void Coverage(int seeds, const RowSelection& rows, bouncecal::WorkerPool& pool) 
     const int m = static_cast<int>(item / kMaxRecordings / seeds / jitters);
     if (!Contains(rows.materials, m) || !Contains(rows.jitters, j)) return;
     const auto& material = kMaterials[m];
-    const double e = material.restitution;
+    bouncecal::RandomStream recording_draw(5000 + s, r, 11);
+    const double e = material.restitution * (1 + rows.between * recording_draw.Gaussian());
     recordings[static_cast<size_t>(item)] =
         RecordDrop([e](double) { return e; }, material.drop_height_m, kJitters[j], 5000 + s, r,
                    "coverage_" + std::to_string(m) + "_" + std::to_string(j));
@@ -217,7 +225,7 @@ void Coverage(int seeds, const RowSelection& rows, bouncecal::WorkerPool& pool) 
     for (int j : rows.jitters) {
       for (bool known_height : {false, true}) {
         const auto& material = kMaterials[m];
-        const double truth = MaterialGamma(material, kJitters[j], known_height);
+        const double truth = MaterialGamma(material, kJitters[j], rows.between, known_height);
         const auto options = Options(known_height, material.drop_height_m);
         for (int count : rows.counts) {
           std::vector<Outcome> outcomes(static_cast<size_t>(seeds));
@@ -421,17 +429,21 @@ int main(int argc, char** argv) {
     } else if (arg == "--jitters" && i + 1 < argc) {
       rows.jitters = JitterIndices(ParseList(argv[++i]));
       rows_ok = rows_ok && !rows.jitters.empty();
+    } else if (arg == "--between-percent" && i + 1 < argc) {
+      rows.between = std::atof(argv[++i]) / 100;
+      rows_ok = rows_ok && rows.between >= 0 && rows.between < 0.2;
     } else if (arg == "--recordings" && i + 1 < argc) {
       rows.counts = ParseList(argv[++i]);
       rows_ok = rows_ok && !rows.counts.empty() &&
                 std::all_of(rows.counts.begin(), rows.counts.end(),
                             [](int count) { return count >= 1 && count <= kMaxRecordings; });
     } else {
-      std::fprintf(stderr,
-                   "calibrate_chain_coverage_bench: unknown argument '%s'; use --seeds N, "
-                   "--threads T, --power-seeds M, --skip-coverage, --skip-power, --material "
-                   "copper|anvil|glass, --jitters 0,1,3,5, --recordings 1,3,5\n",
-                   arg.c_str());
+      std::fprintf(
+          stderr,
+          "calibrate_chain_coverage_bench: unknown argument '%s'; use --seeds N, "
+          "--threads T, --power-seeds M, --skip-coverage, --skip-power, --material "
+          "copper|anvil|glass, --jitters 0,1,3,5, --recordings 1,3,5, --between-percent B\n",
+          arg.c_str());
       return 2;
     }
   }
@@ -439,7 +451,7 @@ int main(int argc, char** argv) {
     std::fprintf(
         stderr,
         "calibrate_chain_coverage_bench: --material is copper, anvil or glass, --jitters a "
-        "comma list of 0, 1, 3, 5 and --recordings of 1 to %d\n",
+        "comma list of 0, 1, 3, 5, --recordings of 1 to %d and --between-percent in [0, 20)\n",
         kMaxRecordings);
     return 2;
   }
@@ -452,8 +464,9 @@ int main(int argc, char** argv) {
       "# whole chain: drop with scattered e (each interval a Hertz contact and a ballistic flight) "
       "-> SynthesizeBounces (steel plate modes, "
       "reverb RT60 0.3 s, 35 dB SNR) -> 48 kHz PCM16 WAV -> LoadSequences -> calibrate::Fit "
-      "(walton-braun, eta-bar of the first 3); %d seeds per row, %d threads\n",
-      seeds, threads);
+      "(walton-braun, eta-bar of the first 3); %d seeds per row, %d threads; recordings' e differ "
+      "by %.2f %%\n",
+      seeds, threads, 100 * rows.between);
   bouncecal::WorkerPool pool(threads);
   if (coverage) Coverage(seeds, rows, pool);
   if (power) Power(power_seeds, pool);
