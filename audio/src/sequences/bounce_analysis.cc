@@ -2,6 +2,7 @@
 
 #include <utility>
 
+#include "sequences/merged_alternatives.h"
 #include "sequences/weak_member_doubt.h"
 
 namespace bouncecal::audio {
@@ -14,6 +15,9 @@ SequenceResult GroupBounces(DetectionResult& detection, const SequenceOptions& o
   }
   detection.tentative.clear();
   SequenceResult grouping = FindBounceSequences(detection.impacts, options);
+  if (options.codec_frame_s) {
+    TakeMergedOnsetsThatFitTheSequence(detection.impacts, detection.merged, grouping.sequences);
+  }
   StateDoubtOfWeakMembers(detection.impacts, grouping.sequences);
   return grouping;
 }
