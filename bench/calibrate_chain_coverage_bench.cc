@@ -430,8 +430,10 @@ int main(int argc, char** argv) {
       rows.jitters = JitterIndices(ParseList(argv[++i]));
       rows_ok = rows_ok && !rows.jitters.empty();
     } else if (arg == "--between-percent" && i + 1 < argc) {
-      rows.between = std::atof(argv[++i]) / 100;
-      rows_ok = rows_ok && rows.between >= 0 && rows.between < 0.2;
+      char* rest = nullptr;
+      const char* text = argv[++i];
+      rows.between = std::strtod(text, &rest) / 100;
+      rows_ok = rows_ok && rest != text && *rest == '\0' && rows.between >= 0 && rows.between < 0.2;
     } else if (arg == "--recordings" && i + 1 < argc) {
       rows.counts = ParseList(argv[++i]);
       rows_ok = rows_ok && !rows.counts.empty() &&

@@ -85,12 +85,16 @@ void TakeMergedOnsetsThatFitTheSequence(std::vector<Impact>& impacts,
     for (int index : members) times.push_back(impacts[static_cast<std::size_t>(index)].onset_s);
     for (std::size_t k = 1; k + 1 < members.size(); ++k) {
       Impact& member = impacts[static_cast<std::size_t>(members[k])];
-      const auto now = Misfit(times, static_cast<int>(k));
-      if (!now) continue;
-      double best_time = member.onset_s, best_misfit = now->misfit;
+      std::optional<RatioFit> now;
+      double best_time = member.onset_s, best_misfit = 0;
       for (const MergedEvent& event : merged) {
         if (event.winner_s != member.onset_s || !(event.time_s < member.onset_s)) continue;
         if (!(event.time_s > times[k - 1])) continue;
+        if (!now) {
+          now = Misfit(times, static_cast<int>(k));
+          if (!now) break;
+          best_misfit = now->misfit;
+        }
         std::vector<double> moved = times;
         moved[k] = event.time_s;
         const auto alternative = Misfit(moved, static_cast<int>(k));

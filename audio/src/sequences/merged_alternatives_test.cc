@@ -4,12 +4,14 @@
 
 #include <cmath>
 #include <cstdint>
-#include <numeric>
 
 #include "bouncecal/random_stream.h"
+#include "sequence_test_support.h"
 
 namespace bouncecal::audio {
 namespace {
+
+using testing::OneSequence;
 
 // Bounces of a ball of restitution 0.75 after a 0.4 s flight, each flight's ratio times
 // (1 + scatter) on odd bounces and (1 - scatter) on even ones, all in one sequence.
@@ -22,13 +24,6 @@ std::vector<Impact> Drop(int bounces, double scatter) {
     flight *= 0.75 * (1 + (k % 2 ? scatter : -scatter));
   }
   return impacts;
-}
-
-std::vector<BounceSequence> OneSequence(const std::vector<Impact>& impacts) {
-  BounceSequence sequence;
-  sequence.impact_indices.resize(impacts.size());
-  std::iota(sequence.impact_indices.begin(), sequence.impact_indices.end(), 0);
-  return {sequence};
 }
 
 MergedEvent Lost(double time_s, double winner_s) {

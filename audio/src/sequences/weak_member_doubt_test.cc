@@ -3,10 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numeric>
+
+#include "sequence_test_support.h"
 
 namespace bouncecal::audio {
 namespace {
+
+using testing::OneSequence;
 
 // Bounces of a ball of constant restitution 0.6 after a 0.3 s flight, band-detected and stated
 // +-30 us, all in one sequence.
@@ -24,13 +27,6 @@ std::vector<Impact> Drop(int bounces) {
     flight *= kRestitution;
   }
   return impacts;
-}
-
-std::vector<BounceSequence> OneSequence(const std::vector<Impact>& impacts) {
-  BounceSequence sequence;
-  sequence.impact_indices.resize(impacts.size());
-  std::iota(sequence.impact_indices.begin(), sequence.impact_indices.end(), 0);
-  return {sequence};
 }
 
 // Impact k found only in the ringing, its onset `shift_s` late.
