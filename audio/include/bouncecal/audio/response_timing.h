@@ -138,6 +138,10 @@ class ResponseTimer {
   std::vector<Window> windows_;  // by begin
   ResponseTimingSummary Retime(DetectionResult& detection, double first_lobe_sigma_s,
                                std::vector<bool>& own) const;
+  // The window whose response the others are aligned to; windows_.size() where none can be.
+  std::size_t ChooseTemplate(const DetectionResult& detection,
+                             const std::vector<std::int64_t>& lengths,
+                             const std::vector<std::vector<float>>& differences) const;
   // Copies samples[i], the recording's sample begin + i, into every window that holds it.
   void Fill(std::int64_t begin, std::span<const float> samples);
   std::int64_t position_ = 0;  // where the next consecutive block (Process) starts
