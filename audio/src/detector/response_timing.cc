@@ -321,7 +321,7 @@ ResponseTimingOptions ResponseTimingFor(const RecordingInfo& info) {
   ResponseTimingOptions options;
   options.require_contact_durations = !FirstLobeUnreliable(info);
   options.envelope_alignment = TransformCodec(info);
-  options.pre_echo = TransformCodec(info);
+  options.pre_echo = FirstLobeUnreliable(info);
   return options;
 }
 
