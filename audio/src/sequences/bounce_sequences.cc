@@ -74,9 +74,11 @@ class ChainFinder {
               const std::vector<bool>& free)
       : impacts_(impacts), options_(options), free_(free) {}
 
-  // The best chain that starts at `first`, over the next few possible second impacts; with
-  // `rank` > 0 the rank-th next best of them (Chain::alternative), empty where there is none.
-  Chain BestFrom(int first, int rank = 0) const {
+  // The best chain that starts at `first`, over the next few possible second impacts; the next
+  // best ones, up to kChainsTriedFromOneImpact - 1 of them, go to `runners_up` (ranked by
+  // Chain::alternative), which the search tries where the best fails the chance test.
+  Chain BestFrom(int first, std::vector<Chain>& runners_up) const {
+    runners_up.clear();
     const int n = static_cast<int>(impacts_.size());
     int reach = std::min(n - 1, first + 1);
     // An impact found only by the ringing residual is weak evidence (handling noise and speech
@@ -112,13 +114,18 @@ class ChainFinder {
     if (longest() < options_.min_impacts) track_seconds(/*weak_second=*/true);
     // Stable: of equally good chains the one with the earlier second impact, as before ranks.
     std::stable_sort(tracked.begin(), tracked.end(), Better);
-    Chain chosen;
-    if (rank < static_cast<int>(tracked.size())) {
-      chosen = std::move(tracked[static_cast<size_t>(rank)]);
-      chosen.alternative = rank;
+    for (std::size_t rank = 0; rank < tracked.size(); ++rank) {
+      tracked[rank].alternative = static_cast<int>(rank);
+      tracked[rank].reach = reach;
     }
-    chosen.reach = reach;
-    return chosen;
+    for (std::size_t rank = 1;
+         rank < std::min<std::size_t>(tracked.size(), kChainsTriedFromOneImpact); ++rank) {
+      runners_up.push_back(std::move(tracked[rank]));
+    }
+    Chain best;
+    if (!tracked.empty()) best = std::move(tracked.front());
+    best.reach = reach;
+    return best;
   }
 
   static bool Better(const Chain& a, const Chain& b) {
@@ -921,7 +928,11 @@ SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
   std::vector<int> assigned_in_epoch(static_cast<size_t>(n), 0);  // 0 = still free
   std::vector<std::string> skipped_bounce_reason(static_cast<size_t>(n));
   int epoch = 0;
-  for (int first = 0; first < n; ++first) heap.push(finder.BestFrom(first));
+  // Each first impact's next best chains, as its last tracking left them (ChainFinder::BestFrom).
+  std::vector<std::vector<Chain>> runners_up(static_cast<size_t>(n));
+  for (int first = 0; first < n; ++first) {
+    heap.push(finder.BestFrom(first, runners_up[static_cast<size_t>(first)]));
+  }
   // Impacts found only by the ringing residual extend a sequence; they make one only where
   // the chain's timing could hardly be chance (its first two impacts always rose in a band).
   // `tests`: how many versions of the chain were tested (a union bound over them).
@@ -984,12 +995,14 @@ SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
       // residual-only sounds (7 members against 6; 9.8 expected chance chains), and the file
       // formed no sequence. The next chain from that impact is tried (up to
       // kChainsTriedFromOneImpact), each counted against it.
-      if (best.alternative + 1 < kChainsTriedFromOneImpact) {
-        Chain next = finder.BestFrom(first, best.alternative + 1);
-        next.epoch = best.epoch;
-        if (static_cast<int>(next.members.size()) >= options.min_impacts) {
-          heap.push(std::move(next));
-        }
+      // A first impact has one chain in the heap at a time, so its runners-up are those of the
+      // tracking that gave this one.
+      auto& next = runners_up[static_cast<size_t>(first)];
+      const auto rank = static_cast<std::size_t>(best.alternative);
+      if (rank < next.size() &&
+          static_cast<int>(next[rank].members.size()) >= options.min_impacts) {
+        next[rank].epoch = best.epoch;
+        heap.push(std::move(next[rank]));
       }
       continue;
     }
@@ -998,7 +1011,7 @@ SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
       valid = assigned_in_epoch[static_cast<size_t>(i)] <= best.epoch;
     }
     if (!valid) {
-      Chain again = finder.BestFrom(first);
+      Chain again = finder.BestFrom(first, runners_up[static_cast<size_t>(first)]);
       again.epoch = epoch;
       heap.push(std::move(again));
       continue;
