@@ -12,8 +12,9 @@ namespace bouncecal::audio {
 // the ringing of earlier bounces, whose onset may belong to the bounce or to a later swell of the
 // tail. The sequence's own earlier flights predict where the bounce is: t_{k-1} + r dt_{k-1},
 // r the mean of the last three interval ratios. Where a residual-only member misses that by more
-// than kDoubtSigmas of what the prediction (a ball's scatter of e, the earlier members' timing)
-// and its own stated sigma explain together, one of the two is wrong and nothing tells which; half
+// than kDoubtSigmas of what the prediction (a ball's scatter of e: 3 % pooled with the spread of
+// the sequence's own ratios so far; the earlier members' timing) and its own stated sigma explain
+// together, one of the two is wrong and nothing tells which; half
 // the distance is added to its sigma in quadrature, as where the detector's onset and the
 // response alignment disagree (response_timing.cc). Members are taken in order, so a widened
 // member's sigma widens the next prediction. Onsets are not moved.
