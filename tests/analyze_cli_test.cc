@@ -36,6 +36,32 @@ fs::path SyntheticDrop(const std::string& name, std::uint64_t seed, double heigh
   return WriteTableDampedDrop(ScratchPath(name), height_m, seed);
 }
 
+// The first sequence `analyze` finds in `wav` (its JSON report written to the scratch file
+// `json_name`), or null where the command fails.
+nlohmann::json FirstSequenceOf(const fs::path& wav, const std::string& json_name) {
+  const auto json = ScratchPath(json_name);
+  const auto analyzed =
+      RunBouncecal("analyze '" + wav.string() + "' --json '" + json.string() + "'");
+  EXPECT_EQ(analyzed.exit_status, 0) << analyzed.output;
+  if (analyzed.exit_status != 0) return nullptr;
+  return ReadJsonFile(json)["recordings"][0]["sequences"][0];
+}
+
+// Each of a sequence's first `count` onsets, less `offset_s`, lies within 3 of its stated sigmas
+// of the true onset or within 0.5 ms (half a 1 ms contact, which a weak onset may miss by
+// honestly): an onset that states its doubt is honest.
+void ExpectOnsetsHonest(const nlohmann::json& sequence, const std::vector<double>& truth,
+                        std::size_t count, double offset_s) {
+  const auto onsets = sequence["onsets_s"].get<std::vector<double>>();
+  const auto sigmas = sequence["onset_uncertainty_s"].get<std::vector<double>>();
+  for (std::size_t k = 0; k < count; ++k) {
+    const double error = onsets[k] - truth[k] - offset_s;
+    EXPECT_FALSE(std::fabs(error) > 500e-6 && std::fabs(error) > 3 * sigmas[k])
+        << "bounce " << k + 1 << ": " << error * 1e6 << " us at a stated " << sigmas[k] * 1e6
+        << " us";
+  }
+}
+
 // A bad input gives exit status 2, one line that names the file, and no output file.
 void ExpectInputError(const fs::path& input, const std::string& what) {
   const auto json = ScratchPath("should_not_exist.json");
@@ -287,11 +313,8 @@ TEST(AnalyzeCli, AnOnsetInALinearPhaseChainsPreRingingStatesTheLaterAttack) {
       "--sample-rate-hz 8000 --contact-duration-s 0.001 --surface counter --restitution 0.908 "
       "--drop-height-m 0.548 --seed 113 --snr-db 12 --snr-reference weakest --adc linear-phase "
       "--click-gain 0.13 --band-limit-hz 1849");
-  const auto json = ScratchPath("prering.json");
-  const auto analyzed =
-      RunBouncecal("analyze '" + wav.string() + "' --json '" + json.string() + "'");
-  ASSERT_EQ(analyzed.exit_status, 0) << analyzed.output;
-  const auto sequence = ReadJsonFile(json)["recordings"][0]["sequences"][0];
+  const auto sequence = FirstSequenceOf(wav, "prering.json");
+  ASSERT_FALSE(sequence.is_null());
   const auto onsets = sequence["onsets_s"].get<std::vector<double>>();
   const auto sigmas = sequence["onset_uncertainty_s"].get<std::vector<double>>();
   ASSERT_GE(onsets.size(), 6u);
@@ -302,14 +325,7 @@ TEST(AnalyzeCli, AnOnsetInALinearPhaseChainsPreRingingStatesTheLaterAttack) {
   for (std::size_t k = 1; k < 6; ++k) {
     if (sigmas[k] < sigmas[reference]) reference = k;
   }
-  const double offset = onsets[reference] - truth[reference];
-  for (std::size_t k = 0; k < 6; ++k) {
-    const double error = onsets[k] - truth[k] - offset;
-    // 0.5 ms: half the contact; 3 sigmas, since an onset that states its doubt is honest.
-    EXPECT_FALSE(std::fabs(error) > 500e-6 && std::fabs(error) > 3 * sigmas[k])
-        << "bounce " << k + 1 << ": " << error * 1e6 << " us at a stated " << sigmas[k] * 1e6
-        << " us";
-  }
+  ExpectOnsetsHonest(sequence, truth, 6, onsets[reference] - truth[reference]);
 }
 
 // A 32 kHz drop on a counter in a 0.29 s reverb with 60 Hz hum at -27 dBFS (the sweep's seed 101
@@ -326,22 +342,11 @@ TEST(AnalyzeCli, AResidualOnlyMemberFarFromItsPredictionStatesItsDoubt) {
       "--sample-rate-hz 32000 --contact-duration-s 7e-05 --surface counter --restitution 0.531 "
       "--drop-height-m 0.375 --seed 69 --snr-db 30 --snr-reference weakest --click-gain 0.15 "
       "--reverb-rt60-s 0.29 --hum-hz 60 --hum-dbfs -27");
-  const auto json = ScratchPath("buried.json");
-  const auto analyzed =
-      RunBouncecal("analyze '" + wav.string() + "' --json '" + json.string() + "'");
-  ASSERT_EQ(analyzed.exit_status, 0) << analyzed.output;
-  const auto sequence = ReadJsonFile(json)["recordings"][0]["sequences"][0];
-  const auto onsets = sequence["onsets_s"].get<std::vector<double>>();
-  const auto sigmas = sequence["onset_uncertainty_s"].get<std::vector<double>>();
-  ASSERT_GE(onsets.size(), 5u);
+  const auto sequence = FirstSequenceOf(wav, "buried.json");
+  ASSERT_FALSE(sequence.is_null());
+  ASSERT_GE(sequence["onsets_s"].size(), 5u);
   ASSERT_GE(truth.size(), 5u);
-  for (std::size_t k = 0; k < 5; ++k) {
-    // Within 3 stated sigmas or the 0.5 ms a weak onset may miss by honestly.
-    const double error = onsets[k] - truth[k];
-    EXPECT_FALSE(std::fabs(error) > 500e-6 && std::fabs(error) > 3 * sigmas[k])
-        << "impact " << k + 1 << ": " << error * 1e6 << " us at a stated " << sigmas[k] * 1e6
-        << " us";
-  }
+  ExpectOnsetsHonest(sequence, truth, 5, 0.0);
   double exact = 0;
   for (std::size_t k = 1; k <= 3; ++k) {
     const double e = (truth[k + 1] - truth[k]) / (truth[k] - truth[k - 1]);

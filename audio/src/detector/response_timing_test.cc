@@ -117,24 +117,36 @@ TEST(ResponseTiming, CleanOnsetsAreCombinedNotReplaced) {
   }
 }
 
+// A 20 ms white noise burst of standard deviation `sd` half a second before the end of a 48 kHz
+// recording (after the last bounce); returns its onset (s).
+double AddNoiseBurstAfterTheDrop(std::vector<float>& samples, float sd) {
+  std::mt19937 random(3);
+  std::normal_distribution<float> noise(0.0f, sd);
+  const std::size_t burst = samples.size() - 24000;
+  for (std::size_t i = burst; i < burst + 960; ++i) samples[i] += noise(random);
+  return static_cast<double>(burst) / 48000;
+}
+
+// The drop's true onsets as detected impacts (+-20 us, -10 dBFS) and the burst at `burst_dbfs`.
+DetectionResult TrueImpactsAndTheBurst(const SynthesizedRecording& drop, double burst_s,
+                                       double burst_dbfs) {
+  DetectionResult detection;
+  detection.sample_rate_hz = 48000;
+  for (double t : drop.BallImpactOnsetsS()) {
+    detection.impacts.push_back({.onset_s = t, .onset_uncertainty_s = 20e-6, .peak_dbfs = -10});
+  }
+  detection.impacts.push_back(
+      {.onset_s = burst_s, .onset_uncertainty_s = 20e-6, .peak_dbfs = burst_dbfs});
+  return detection;
+}
+
 // A sound unlike the recording's impacts (white noise burst) correlates with no lag clearly
 // better than with the others: it is left as the detector timed it.
 TEST(ResponseTiming, ASoundUnlikeTheImpactsIsNotAligned) {
   const auto drop = SteelDrop(2, 48000);
   auto samples = drop.channels[0].samples;
-  std::mt19937 random(3);
-  std::normal_distribution<float> noise(0.0f, 0.1f);
-  const std::size_t burst = samples.size() - 24000;  // after the last bounce
-  for (std::size_t i = burst; i < burst + 960; ++i) samples[i] += noise(random);
-  DetectionResult detection;
-  detection.sample_rate_hz = 48000;
-  for (double t : drop.BallImpactOnsetsS()) detection.impacts.push_back({.onset_s = t});
-  for (auto& impact : detection.impacts) {
-    impact.onset_uncertainty_s = 20e-6;
-    impact.peak_dbfs = -10;
-  }
-  const double burst_s = static_cast<double>(burst) / 48000;
-  detection.impacts.push_back({.onset_s = burst_s, .onset_uncertainty_s = 20e-6, .peak_dbfs = -20});
+  const double burst_s = AddNoiseBurstAfterTheDrop(samples, 0.1f);
+  auto detection = TrueImpactsAndTheBurst(drop, burst_s, -20);
   const auto summary = RetimeFromResponses(detection, samples);
   EXPECT_EQ(summary.aligned, static_cast<int>(detection.impacts.size()) - 1);
   EXPECT_EQ(detection.impacts.back().onset_s, burst_s);
@@ -147,18 +159,9 @@ TEST(ResponseTiming, ASoundUnlikeTheImpactsIsNotAligned) {
 TEST(ResponseTiming, ALouderSoundUnlikeTheImpactsIsNotTheTemplate) {
   const auto drop = SteelDrop(2, 48000);
   auto samples = drop.channels[0].samples;
-  std::mt19937 random(3);
-  std::normal_distribution<float> noise(0.0f, 0.3f);
-  const std::size_t burst = samples.size() - 24000;  // after the last bounce
-  for (std::size_t i = burst; i < burst + 960; ++i) samples[i] += noise(random);
-  DetectionResult detection;
-  detection.sample_rate_hz = 48000;
+  const double burst_s = AddNoiseBurstAfterTheDrop(samples, 0.3f);
+  auto detection = TrueImpactsAndTheBurst(drop, burst_s, -3);
   const auto truth = drop.BallImpactOnsetsS();
-  for (double t : truth) {
-    detection.impacts.push_back({.onset_s = t, .onset_uncertainty_s = 20e-6, .peak_dbfs = -10});
-  }
-  const double burst_s = static_cast<double>(burst) / 48000;
-  detection.impacts.push_back({.onset_s = burst_s, .onset_uncertainty_s = 20e-6, .peak_dbfs = -3});
   const auto summary = RetimeFromResponses(detection, samples);
   ASSERT_GE(summary.template_onset_sample, 0);
   const double template_s = static_cast<double>(summary.template_onset_sample) / 48000;
@@ -176,10 +179,7 @@ TEST(ResponseTiming, AlignedImpactsAreStatedWithTheAlignmentsPrecisionOthersWith
   const auto drop = SteelDrop(2, 48000);
   const auto truth = drop.BallImpactOnsetsS();
   auto samples = drop.channels[0].samples;
-  std::mt19937 random(3);
-  std::normal_distribution<float> noise(0.0f, 0.1f);
-  const std::size_t burst = samples.size() - 24000;  // after the last bounce
-  for (std::size_t i = burst; i < burst + 960; ++i) samples[i] += noise(random);
+  const double burst_s = AddNoiseBurstAfterTheDrop(samples, 0.1f);
   auto detection = DetectImpacts(drop.channels[0]);
   // Pre-echo: every third found impact jumped 1.5-2.5 ms early.
   const auto matched = Match(detection, truth);
@@ -187,7 +187,6 @@ TEST(ResponseTiming, AlignedImpactsAreStatedWithTheAlignmentsPrecisionOthersWith
     if (matched[k])
       detection.impacts[*matched[k]].onset_s -= 1.5e-3 + 1e-3 * std::fmod(0.618 * k, 1.0);
   }
-  const double burst_s = static_cast<double>(burst) / 48000;
   detection.impacts.push_back({.onset_s = burst_s, .onset_uncertainty_s = 20e-6, .peak_dbfs = -20});
   const auto summary = RetimeFromResponses(detection, samples, kCodecSigma);
   EXPECT_EQ(summary.own_sigma, summary.aligned);
