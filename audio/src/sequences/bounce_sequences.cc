@@ -22,8 +22,8 @@ namespace {
 // or an echo that survived detection can sit in between).
 constexpr int kSecondImpactCandidates = 8;
 // How many chains from one first impact answer to the chance test, best first, when the better
-// ones fail it (each re-tracks the impact's second candidates: on random events at 10 band and
-// 40 residual-only per s, unlimited ranks made the search 3x slower).
+// ones fail it. Each counts against the chance of the next (a union bound), so more ranks admit
+// more random chains; the ones after the best are kept from its tracking (ChainFinder::BestFrom).
 constexpr int kChainsTriedFromOneImpact = 3;
 // Impacts this much quieter than the loudest one in the predicted window are only taken if
 // nothing louder fits.
@@ -112,7 +112,7 @@ class ChainFinder {
     // rings through the next bounce in every band keeps every later bounce's band rise under the
     // threshold. Such chains are their own family in the chance test (weak_second).
     if (longest() < options_.min_impacts) track_seconds(/*weak_second=*/true);
-    // Stable: of equally good chains the one with the earlier second impact, as before ranks.
+    // Stable, so of equally good chains the one with the earlier second impact ranks first.
     std::stable_sort(tracked.begin(), tracked.end(), Better);
     for (std::size_t rank = 0; rank < tracked.size(); ++rank) {
       tracked[rank].alternative = static_cast<int>(rank);
