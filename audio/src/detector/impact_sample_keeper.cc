@@ -10,6 +10,20 @@ namespace bouncecal::audio {
 ImpactSampleKeeper::ImpactSampleKeeper(std::int64_t before_samples, std::int64_t after_samples)
     : before_(before_samples), after_(after_samples) {}
 
+namespace {
+
+// history[from, to) appended to samples, in the ring's (at most two) contiguous runs.
+void AppendHeld(const SampleHistory<float>& history, std::int64_t from, std::int64_t to,
+                std::vector<float>& samples) {
+  while (from < to) {
+    const auto run = history.Contiguous(from, static_cast<std::size_t>(to - from));
+    samples.insert(samples.end(), run.begin(), run.end());
+    from += static_cast<std::int64_t>(run.size());
+  }
+}
+
+}  // namespace
+
 std::int64_t ImpactSampleKeeper::CollectedEnd() const {
   const SampleStretch& newest = stretches_.back();
   return newest.begin + static_cast<std::int64_t>(newest.samples.size());
@@ -25,9 +39,9 @@ void ImpactSampleKeeper::Keep(double onset_sample, const SampleHistory<float>& h
   if (stretches_.empty() || begin > CollectedEnd()) {
     SampleStretch stretch;
     stretch.begin = begin;
-    for (std::int64_t s = begin; s < std::min(end, held_end); ++s) {
-      stretch.samples.push_back(history[s]);
-    }
+    // The whole stretch at once: Append then only copies into it, never reallocates.
+    stretch.samples.reserve(static_cast<std::size_t>(end - begin));
+    AppendHeld(history, begin, std::min(end, held_end), stretch.samples);
     stretches_.push_back(std::move(stretch));
     wanted_end_ = end;
     return;
@@ -36,13 +50,11 @@ void ImpactSampleKeeper::Keep(double onset_sample, const SampleHistory<float>& h
   SampleStretch& newest = stretches_.back();
   if (begin < newest.begin) {
     std::vector<float> earlier;
-    for (std::int64_t s = begin; s < newest.begin; ++s) earlier.push_back(history[s]);
+    AppendHeld(history, begin, newest.begin, earlier);
     newest.samples.insert(newest.samples.begin(), earlier.begin(), earlier.end());
     newest.begin = begin;
   }
-  for (std::int64_t s = CollectedEnd(); s < std::min(end, held_end); ++s) {
-    newest.samples.push_back(history[s]);
-  }
+  AppendHeld(history, CollectedEnd(), std::min(end, held_end), newest.samples);
   wanted_end_ = std::max(wanted_end_, end);
 }
 
