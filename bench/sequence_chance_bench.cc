@@ -6,7 +6,9 @@
 //   audio::FindBounceSequences; every sequence with fewer than min_impacts band-detected
 //   impacts that is not a short sequence was admitted by the chance test, and the test states
 //   at most max_chance_alignment (1 %) such files; with --codec-frame-s, as events of a
-//   transform codec's file with that frame (SequenceOptions::codec_frame_s);
+//   transform codec's file with that frame (SequenceOptions::codec_frame_s); with
+//   --tentative-hz R, tentative rises at R per s among them as well (a noisy or lossy file's),
+//   which sequences and chains the chance test refused may adopt (ExtendSequencesWithTentative);
 // - scattered drops: the chain-coverage bench's drops (calibrate_chain_coverage_bench: steel on
 //   copper and on an anvil, e_k = e (1 + j z_k), synthesised with reverb and noise, written as
 //   WAV, detected and grouped as `calibrate` does), and a lossy steel-on-lead drop (e = 0.5 from
@@ -15,7 +17,7 @@
 //
 //   sequence_chance_bench [--files N (20)] [--short-files M (20000)] [--drops D (200)]
 //                         [--skip-random] [--skip-drops] [--only DROP] [--jitter J] [--verbose]
-//                         [--codec-frame-s F]
+//                         [--codec-frame-s F] [--tentative-hz R]
 //
 // It prints figures and asserts nothing.
 #include <algorithm>
@@ -69,10 +71,33 @@ std::vector<audio::Impact> RandomEvents(double band_hz, double residual_hz, doub
   return impacts;
 }
 
-// Chains the chance test admitted: sequences with fewer than min_impacts band-detected impacts.
-// `options` carries the codec's frame where the events stand for a lossy file's.
-int AdmittedChains(const std::vector<audio::Impact>& impacts, const audio::SequenceOptions& options,
-                   bool verbose) {
+// Tentative rises at rate_hz over duration_s (sigma a hop, as the detector states them).
+std::vector<audio::Impact> RandomTentative(double rate_hz, double duration_s, std::uint64_t seed) {
+  std::vector<audio::Impact> tentative;
+  if (rate_hz <= 0) return tentative;
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> level_dbfs(-40, -10);
+  std::exponential_distribution<double> gap_s(rate_hz);
+  for (double t = gap_s(random); t < duration_s; t += gap_s(random)) {
+    audio::Impact impact;
+    impact.onset_s = t;
+    impact.residual_only = true;
+    impact.onset_uncertainty_s = 1.8e-3;
+    impact.peak_dbfs = level_dbfs(random);
+    tentative.push_back(impact);
+  }
+  return tentative;
+}
+
+// Chains the chance test admitted: sequences with fewer than min_impacts band-detected impacts,
+// after the tentative rises were adopted where they continue a chain. `options` carries the
+// codec's frame where the events stand for a lossy file's.
+int AdmittedChains(const std::vector<audio::Impact>& detected,
+                   const std::vector<audio::Impact>& tentative,
+                   const audio::SequenceOptions& options, bool verbose) {
+  const auto impacts = tentative.empty() || detected.empty()
+                           ? detected
+                           : audio::ExtendSequencesWithTentative(detected, tentative, options);
   int admitted = 0;
   for (const auto& sequence : audio::FindBounceSequences(impacts, options).sequences) {
     int band = 0;
@@ -93,7 +118,7 @@ int AdmittedChains(const std::vector<audio::Impact>& impacts, const audio::Seque
 }
 
 void RandomEventsTable(int long_files, int short_files, const audio::SequenceOptions& options,
-                       bool verbose) {
+                       double tentative_hz, bool verbose) {
   struct Mix {
     double band_hz, residual_hz;
   };
@@ -113,11 +138,11 @@ void RandomEventsTable(int long_files, int short_files, const audio::SequenceOpt
       int admitted = 0, with_one = 0;
       const double cpu = CpuSeconds();
       for (int f = 0; f < files; ++f) {
-        const auto impacts =
-            RandomEvents(mix.band_hz, mix.residual_hz, 60 * minutes,
-                         static_cast<std::uint64_t>(9000 + f) * 7919 +
-                             static_cast<std::uint64_t>(mix.band_hz * 100 + mix.residual_hz));
-        const int chains = AdmittedChains(impacts, options, verbose);
+        const auto seed = static_cast<std::uint64_t>(9000 + f) * 7919 +
+                          static_cast<std::uint64_t>(mix.band_hz * 100 + mix.residual_hz);
+        const auto impacts = RandomEvents(mix.band_hz, mix.residual_hz, 60 * minutes, seed);
+        const auto tentative = RandomTentative(tentative_hz, 60 * minutes, seed + 1);
+        const int chains = AdmittedChains(impacts, tentative, options, verbose);
         admitted += chains;
         with_one += chains > 0 ? 1 : 0;
       }
@@ -243,6 +268,7 @@ int main(int argc, char** argv) {
   double only_jitter = -1;
   bool random = true, scattered = true, verbose = false;
   audio::SequenceOptions options;
+  double tentative_hz = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const auto next = [&]() { return i + 1 < argc ? std::atoi(argv[++i]) : 0; };
@@ -264,15 +290,17 @@ int main(int argc, char** argv) {
       verbose = true;
     } else if (arg == "--codec-frame-s" && i + 1 < argc) {
       options.codec_frame_s = std::atof(argv[++i]);
+    } else if (arg == "--tentative-hz" && i + 1 < argc) {
+      tentative_hz = std::atof(argv[++i]);
     } else {
       std::fprintf(stderr,
                    "usage: sequence_chance_bench [--files N] [--short-files M] [--drops D] "
                    "[--skip-random] [--skip-drops] [--only DROP] [--jitter J] [--verbose] "
-                   "[--codec-frame-s F]\n");
+                   "[--codec-frame-s F] [--tentative-hz R]\n");
       return 2;
     }
   }
-  if (random) RandomEventsTable(files, short_files, options, verbose);
+  if (random) RandomEventsTable(files, short_files, options, tentative_hz, verbose);
   if (scattered) DropsTable(drops, verbose, only, only_jitter);
   return 0;
 }

@@ -127,9 +127,11 @@ SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
 // half the usual ratio_step_tolerance, while no impact of `impacts` lies in that window and
 // flights stay above chatter_interval_ms. After an adoption, a window holding exactly one impact
 // of `impacts` that no sequence took is passed through (that impact is the bounce due there,
-// which the sequence could not reach before) and adoption goes on after it. Returns `impacts`
-// plus the adopted ones (flagged residual_only), in time order. Deterministic. Throws
-// ConfigError for bad options.
+// which the sequence could not reach before) and adoption goes on after it. A chain that the
+// chance test refused is extended the same way where it then passes that test at
+// max_chance_alignment, every tentative impact counted as an event of its own kind at its own
+// rate and each shorter extension tried counted against it. Returns `impacts` plus the adopted
+// ones (flagged residual_only), in time order. Deterministic. Throws ConfigError for bad options.
 std::vector<Impact> ExtendSequencesWithTentative(const std::vector<Impact>& impacts,
                                                  const std::vector<Impact>& tentative,
                                                  const SequenceOptions& options = {});
