@@ -366,13 +366,13 @@ TEST(BounceSequences, AChainRefusedAsChanceAdoptsATentativeBounceOnlyIfItThenPas
   options.codec_frame_s = 576.0 / 48000;  // MP3's granule at 48 kHz (codec_timing.cc)
   for (const double shift_s : {0.0, 3e-3}) {
     SCOPED_TRACE(shift_s);
-    auto tentative = FromDetected({{1.141135, 1.773e-3, -13.9, 1},
-                                   {1.475094, 1.773e-3, -17.5, 1},
-                                   {1.553740, 1.773e-3, -17.6, 1},
-                                   {1.617802, 1.773e-3, -17.4, 1},
-                                   {1.655135 + shift_s, 1.773e-3, -20.5, 1},
-                                   {1.707115, 1.773e-3, -21.6, 1},
-                                   {1.775177, 1.773e-3, -22.9, 1}});
+    const auto tentative = FromDetected({{1.141135, 1.773e-3, -13.9, 1},
+                                         {1.475094, 1.773e-3, -17.5, 1},
+                                         {1.553740, 1.773e-3, -17.6, 1},
+                                         {1.617802, 1.773e-3, -17.4, 1},
+                                         {1.655135 + shift_s, 1.773e-3, -20.5, 1},
+                                         {1.707115, 1.773e-3, -21.6, 1},
+                                         {1.775177, 1.773e-3, -22.9, 1}});
     const auto extended = ExtendSequencesWithTentative(detected, tentative, options);
     const auto result = FindBounceSequences(extended, options);
     ASSERT_EQ(result.sequences.size(), 1u);
