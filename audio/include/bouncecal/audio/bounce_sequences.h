@@ -99,7 +99,7 @@ struct SequenceResult {
 // impacts whose interval ratios behave like a bouncing ball (each next impact is searched in
 // the window the mean of the last three ratios predicts, the loudest one there is taken), then
 // rejects what lies inside it (stray sounds), before it (knocks, handling) and after it (chatter,
-// rolling, noise), each with a reason. A chain counts when min_impacts of its impacts rose in
+// rolling, noise), each with a reason. A chain counts when its first min_impacts impacts rose in
 // a band, or when it starts with two that did and its timing passes max_chance_alignment, or,
 // where no band-detected second impact makes a chain from a first that rose, with a second only
 // the ringing residual found and its timing passes a hundredth of max_chance_alignment (a chain
