@@ -13,6 +13,7 @@ zaky-ptv ping-pong Opus and MP3, 34-40 sigma: another sequence; basketball MP3),
 the same counts before and after the response timing's disagreement rule (docs/detector.md).
 
 Usage: shared_codec_eta.py BOUNCECAL [--recordings DIR] [--cache DIR] [--json OUT]
+                          [--settings issue|rates]
 """
 import argparse
 import json
@@ -26,6 +27,25 @@ CODECS = {
     "opus64k": ("opus", ["-c:a", "libopus", "-b:a", "64k"]),
     "mp3128k": ("mp3", ["-c:a", "libmp3lame", "-b:a", "128k"]),
     "vorbisq4": ("ogg", ["-c:a", "libvorbis", "-q:a", "4"]),
+}
+
+# `--settings rates`: telephone and phone rates and other bit rates (docs/codecs.md, "The
+# detector suite at telephone and phone rates"; 14 settings, 280 copies of the detector suite).
+RATES = {
+    "16k": ("wav", ["-ar", "16000", "-c:a", "pcm_s16le"]),
+    "8k": ("wav", ["-ar", "8000", "-c:a", "pcm_s16le"]),
+    "8k_ulaw": ("wav", ["-ar", "8000", "-c:a", "pcm_mulaw"]),
+    "aac16k": ("m4a", ["-ar", "16000", "-c:a", "aac", "-b:a", "64k"]),
+    "opus16k": ("opus", ["-ar", "16000", "-c:a", "libopus", "-b:a", "32k"]),
+    "mp3_16k": ("mp3", ["-ar", "16000", "-c:a", "libmp3lame", "-b:a", "64k"]),
+    "vorbis16k": ("ogg", ["-ar", "16000", "-c:a", "libvorbis", "-q:a", "4"]),
+    "aac22k": ("m4a", ["-ar", "22050", "-c:a", "aac", "-b:a", "64k"]),
+    "mp3_44k64": ("mp3", ["-ar", "44100", "-c:a", "libmp3lame", "-b:a", "64k"]),
+    "aac96k": ("m4a", ["-c:a", "aac", "-b:a", "96k"]),
+    "opus48k": ("opus", ["-c:a", "libopus", "-b:a", "48k"]),
+    "mp3_96k": ("mp3", ["-c:a", "libmp3lame", "-b:a", "96k"]),
+    "vorbisq2": ("ogg", ["-c:a", "libvorbis", "-q:a", "2"]),
+    "aac44k128": ("m4a", ["-ar", "44100", "-c:a", "aac", "-b:a", "128k"]),
 }
 
 
@@ -50,6 +70,8 @@ def main():
     parser.add_argument("--recordings", default="/work/shared/recordings")
     parser.add_argument("--cache", default="/tmp/shared_codec_eta")
     parser.add_argument("--json")
+    parser.add_argument("--settings", choices=["issue", "rates"], default="issue",
+                        help="issue: the 4 codecs of issue 30; rates: 14 rates and bit rates")
     args = parser.parse_args()
     cache = pathlib.Path(args.cache)
     cache.mkdir(parents=True, exist_ok=True)
@@ -57,7 +79,7 @@ def main():
     rows = []
     for wav in wavs:
         reference = eta_bar(args.binary, wav)
-        for name, (ext, options) in CODECS.items():
+        for name, (ext, options) in (RATES if args.settings == "rates" else CODECS).items():
             copy = cache / f"{wav.parent.name}_{wav.stem}_{name}.{ext}"
             if not copy.exists():
                 subprocess.run(["ffmpeg", "-nostdin", "-loglevel", "error", "-y", "-i", str(wav)] +
@@ -78,6 +100,7 @@ def main():
     done = [r for r in rows if "diff" in r]
     print(f"copies {len(rows)}: within 0.002 {sum(r['diff'] <= 0.002 for r in done)}, "
           f"within 0.003 {sum(r['diff'] <= 0.003 for r in done)}, "
+          f"within 0.005 {sum(r['diff'] <= 0.005 for r in done)}, "
           f"beyond 2 sigma {sum(r['sigmas'] > 2 for r in done)}, "
           f"beyond 3 sigma {sum(r['sigmas'] > 3 for r in done)}, "
           f"no eta-bar {len(rows) - len(done)}")
