@@ -1229,8 +1229,9 @@ class ChanceWithTentatives {
       std::size_t index;
     };
     std::vector<Event> events;
-    for (std::size_t i = 0; i < impacts.size(); ++i)
+    for (std::size_t i = 0; i < impacts.size(); ++i) {
       events.push_back({impacts[i].onset_s, false, i});
+    }
     for (std::size_t t = 0; t < tentative.size(); ++t) {
       events.push_back({tentative[t].onset_s, true, t});
     }
