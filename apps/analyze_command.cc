@@ -175,6 +175,14 @@ void WarnAboutSequences(const std::string& path, const RecordingAnalysis& analys
                            {"drop_height_m"}));
     }
   }
+  if (const auto& periodic = analysis.grouping.periodic_events) {
+    fmt::print(stderr,
+               "bouncecal: warning: {}: {} of {} impacts repeat every {:.2f} ms ({:.1f} Hz: mains "
+               "hum, a motor, a ticking clock); no chain along them is taken for bounces, and "
+               "bounces they hide are lost: silence the source and record again\n",
+               path, periodic->impacts_on_lattice, analysis.detection.detection.impacts.size(),
+               1e3 * periodic->period_s, 1.0 / periodic->period_s);
+  }
   // Most impacts left out of every sequence: the sequences may rest on a few of many knocks (a
   // noisy room, another source), worth a look before trusting them. Echoes and precursors merged
   // into an impact are part of it, not rejected knocks, so they do not count.

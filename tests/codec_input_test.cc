@@ -886,5 +886,36 @@ TEST_F(CodecInput, AnAacCopyOfTheSuitesKnockDropKeepsTheBounceTheMergerLost) {
   EXPECT_LE(difference, 0.002) << difference << " vs " << combined;
 }
 
+// The suite's hum_dc as 8 kHz G.711 mu-law: its 60 Hz hum is heard as impacts every 16.7 ms (69
+// of 92 impacts one or two periods from another), and chains along that lattice formed a sequence
+// of ratios 1.000 (eta-bar -0.0054 against the WAV's 0.5503, 54 sigmas, exit 0). No chain along
+// it is a sequence now: the copy gives no eta-bar (the drop's fourth bounce lies past a louder
+// sound, which the hum makes chance), names the period and says why.
+TEST_F(CodecInput, AMuLawCopyOfTheSuitesHumFileFormsNoSequenceAlongTheHum) {
+  const fs::path wav = DetectorSuiteRecording("hum_dc.wav");
+  if (!fs::exists(wav)) GTEST_SKIP() << wav << " is absent (BOUNCECAL_SHARED_DIR)";
+  const auto copy = Encode(wav, "hum_dc_mulaw.wav", {"-ar", "8000", "-c:a", "pcm_mulaw"});
+  const auto json = folder_.path() / "hum_dc_mulaw.json";
+  const auto run = RunBouncecal("analyze '" + copy.string() + "' --json '" + json.string() + "'");
+  ASSERT_EQ(run.exit_status, 0) << run.output;
+  const auto recording = ReadJson(json);
+  for (const auto& sequence : recording["sequences"]) {
+    // Whatever sequence forms must be the drop's: within 0.005 of the WAV's (the line
+    // at 8 kHz), never the hum's eta-bar near 0.
+    EXPECT_NEAR(sequence["energy_loss_mean_first_n"].get<double>(), 0.5503, 0.005);
+  }
+  ASSERT_TRUE(recording["periodic_sound"].is_object());
+  // The hum's events at 8 kHz sit up to 0.2 ms off its lattice; their period is 1/60 s within
+  // a few hundredths of a ms.
+  EXPECT_NEAR(recording["periodic_sound"]["period_s"].get<double>(), 1.0 / 60, 5e-5);
+  EXPECT_NE(run.output.find("repeat every 16.6"), std::string::npos) << run.output;
+  // The WAV has no periodic sound among its impacts.
+  const auto wav_json = folder_.path() / "hum_dc.json";
+  ASSERT_EQ(
+      RunBouncecal("analyze '" + wav.string() + "' --json '" + wav_json.string() + "'").exit_status,
+      0);
+  EXPECT_TRUE(ReadJson(wav_json)["periodic_sound"].is_null());
+}
+
 }  // namespace
 }  // namespace bouncecal::testing

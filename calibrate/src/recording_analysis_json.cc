@@ -117,6 +117,10 @@ nlohmann::json ToJson(const RecordingAnalysis& analysis) {
     rejected.push_back({{"time_s", event.time_s}, {"reason", event.reason}});
   }
   file["rejected_events"] = rejected;
+  const auto& periodic = analysis.grouping.periodic_events;
+  file["periodic_sound"] = periodic ? nlohmann::json{{"period_s", periodic->period_s},
+                                                     {"impacts", periodic->impacts_on_lattice}}
+                                    : nlohmann::json();
   nlohmann::json sequences = nlohmann::json::array();
   for (const auto& entry : analysis.sequences) sequences.push_back(ToJson(entry, analysis));
   file["sequences"] = sequences;

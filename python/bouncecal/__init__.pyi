@@ -45,6 +45,7 @@ class Analysis(Result):
     # sequence.
     impacts: Table
     rejected_events: Table  # time_s, reason
+    periodic_sound: Optional[Result]  # period_s, impacts (docs/json.md)
     sequences: List[Result]  # onsets_s, intervals_s, restitution, energy_loss, ... (numpy arrays)
     drop_height_m: Optional[float]
     gravity_mps2: float

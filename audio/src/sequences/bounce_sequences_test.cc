@@ -298,7 +298,9 @@ TEST(BounceSequences, WeakImpactsMakeUpASequenceOnlyWhereTheyLandOnTheBounceTime
   // at 3 per second, the five would read as a ball whose e scatters by ~10 % (expected 2e-3).
   std::vector<double> off_times(times.begin(), times.begin() + 3);  // 0.5, 0.9, 1.22
   for (double t : {1.508, 1.724, 1.922, 2.0716, 2.2073}) off_times.push_back(t);
-  for (int i = 0; i < 10; ++i) off_times.push_back(0.01 + 0.04 * i);
+  // The ten are irregular: evenly spaced, they would be a periodic sound (PeriodicSound) whose
+  // 40 ms period the drop's flights, 0.4 and 0.32 s, happen to be multiples of.
+  for (int i = 0; i < 10; ++i) off_times.push_back(0.01 + 0.04 * i + 0.003 * (i % 4));
   auto off = ToImpacts(off_times);
   for (auto& impact : off) {
     if (impact.onset_s < 0.45 || impact.onset_s > 1.3) impact.residual_only = true;
@@ -1058,6 +1060,54 @@ TEST(BounceSequences, RandomEventsRarelyPassTheChanceTest) {
     }
   }
   EXPECT_LE(admitted, 1);
+}
+
+// Mains hum heard as impacts (the detector suite's hum_dc as 8 kHz mu-law: 60 Hz peaks at
+// -10.9 dBFS, 93 of 160 cycles heard) makes chains along its lattice: 11 events 5 periods apart
+// formed a sequence of ratios 1.000 (eta-bar -0.0054 against the drop's 0.5503, exit 0), and
+// chains that halve their flights along it time like a ball of any e. None is a sequence; a drop
+// louder than the hum still is, and the hum's events say what they are.
+TEST(BounceSequences, AChainAlongAPeriodicSoundIsNoSequence) {
+  constexpr double kPeriodS = 1.0 / 60;
+  for (const bool with_drop : {false, true}) {
+    std::mt19937_64 random(with_drop ? 12 : 11);
+    std::bernoulli_distribution heard(0.6);
+    std::normal_distribution<double> jitter_s(0, 60e-6);
+    std::vector<Impact> impacts;
+    for (double t = 0.0357; t < 2.7; t += kPeriodS) {
+      if (heard(random)) impacts.push_back(ToImpacts({t + jitter_s(random)}, -10.9).front());
+    }
+    const std::vector<double> drop = Drop(0.8513, 0.2517, 0.65, 8);
+    if (with_drop) {
+      // The drop's bounces replace the hum events within 12 ms (the detector's min gap).
+      std::erase_if(impacts, [&](const Impact& impact) {
+        return std::any_of(drop.begin(), drop.end(),
+                           [&](double t) { return std::fabs(impact.onset_s - t) < 12e-3; });
+      });
+      for (const Impact& bounce : ToImpacts(drop, -6)) impacts.push_back(bounce);
+      std::sort(impacts.begin(), impacts.end(),
+                [](const Impact& a, const Impact& b) { return a.onset_s < b.onset_s; });
+    }
+    const auto result = FindBounceSequences(impacts);
+    if (!with_drop) {
+      EXPECT_TRUE(result.sequences.empty());
+    } else {
+      ASSERT_EQ(result.sequences.size(), 1u);
+      const auto& members = result.sequences[0].impact_indices;
+      ASSERT_GE(members.size(), 4u);
+      for (std::size_t k = 0; k < members.size(); ++k) {
+        EXPECT_NEAR(impacts[static_cast<std::size_t>(members[k])].onset_s, drop[k], 1e-9) << k;
+      }
+    }
+    int periodic = 0;
+    for (const auto& rejected : result.rejected) {
+      periodic += rejected.reason.find("periodic sound") != std::string::npos ? 1 : 0;
+    }
+    // Nearly all hum events: those whose neighbours one and two periods away were all unheard
+    // (0.4^4) or near the drop are not on the lattice.
+    EXPECT_GE(periodic, static_cast<int>(0.9 * static_cast<double>(result.rejected.size())))
+        << with_drop;
+  }
 }
 
 }  // namespace

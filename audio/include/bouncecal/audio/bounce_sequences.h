@@ -87,12 +87,20 @@ struct RejectedEvent {
   std::string reason;
 };
 
+// A sound that repeats at a fixed period among the impacts: mains hum heard as impacts, a motor,
+// a ticking clock. Chains whose flights lie on multiples of its period are not sequences.
+struct PeriodicEvents {
+  double period_s = 0;
+  int impacts_on_lattice = 0;  // impacts with another one or two periods away
+};
+
 struct SequenceResult {
   std::vector<BounceSequence> sequences;  // in time order
   // Every impact that is in no sequence, with the reason; sorted by time.
   std::vector<RejectedEvent> rejected;
   // For every impact, the 0-based sequence it belongs to.
   std::vector<std::optional<int>> sequence_of_impact;
+  std::optional<PeriodicEvents> periodic_events;
 };
 
 // Groups impacts into bounce sequences: repeatedly takes the longest chain of unassigned
@@ -116,8 +124,10 @@ struct SequenceResult {
 // band-detected impacts times the third impacts the first ratio's window offers), must stay below
 // max_chance_alignment (the residual-only-second family: pairs of a band-detected first and a
 // residual-only second). A chain that fails may drop residual-only members from its end while
-// min_impacts are left, its chance multiplied by the versions tried. Deterministic. Throws
-// ConfigError for bad options.
+// min_impacts are left, its chance multiplied by the versions tried. Where the file's events
+// repeat at one period (mains hum heard as impacts, a motor, a clock: periodic_events), a chain
+// whose flights lie on its multiples more often than random flights would with probability 1e-3
+// is no sequence, whatever its test. Deterministic. Throws ConfigError for bad options.
 SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
                                    const SequenceOptions& options = {});
 

@@ -1,0 +1,42 @@
+#ifndef BOUNCECAL_AUDIO_SRC_SEQUENCES_PERIODIC_SOUND_H_
+#define BOUNCECAL_AUDIO_SRC_SEQUENCES_PERIODIC_SOUND_H_
+
+#include <optional>
+#include <vector>
+
+#include "bouncecal/audio/impact_detector.h"
+
+namespace bouncecal::audio {
+
+// A sound that repeats at a fixed period puts detected events on a lattice t0 + k P: mains hum
+// heard as impacts (the detector suite's hum_dc as 8 kHz mu-law: 60 Hz peaks every 16.7 ms), a
+// motor, a ticking clock. Chains along a lattice time perfectly, with any ratio the rounding of
+// their flights to multiples of P allows (1.000, or halving flights), and the chance test, which
+// models random events as Poisson, cannot tell them from a ball.
+struct PeriodicSound {
+  double period_s = 0;
+  // Pairs of events (each event with its next kNeighbours) within kMultiples periods of each
+  // other, and how many of them lie a whole number of periods apart (within kHalfWidthS).
+  int pairs = 0;
+  int lattice_pairs = 0;
+  // Per impact: another event lies one or two periods away.
+  std::vector<bool> on_lattice;
+};
+
+// The period of the file's events, where their pairwise intervals fall on multiples of one period
+// in [min_period_s, max_period_s] far more often than intervals at random would (a binomial tail
+// below kPeriodChance over the periods tried); nullopt where none does. `impacts` sorted by onset.
+std::optional<PeriodicSound> FindPeriodicSound(const std::vector<Impact>& impacts,
+                                               double min_period_s, double max_period_s);
+
+// The probability that at least as many of a chain's flights as lie on multiples of the period
+// would if the flights fell at random relative to it, "on" meaning within kHalfWidthS or, in a
+// second count, within twice the two members' combined sigma where that is wider (twice the
+// smaller chance). A bouncing ball's flights do not care about the period; a chain along the
+// lattice has all of them there. `members` in time order.
+double ChanceOfFlightsOnTheLattice(const std::vector<Impact>& impacts,
+                                   const std::vector<int>& members, const PeriodicSound& sound);
+
+}  // namespace bouncecal::audio
+
+#endif  // BOUNCECAL_AUDIO_SRC_SEQUENCES_PERIODIC_SOUND_H_
