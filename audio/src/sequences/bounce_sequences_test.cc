@@ -1110,5 +1110,40 @@ TEST(BounceSequences, AChainAlongAPeriodicSoundIsNoSequence) {
   }
 }
 
+// A chain the chance test judges must shrink its flights as a ball does. A sweep file (seed 42
+// #156: 60 Hz hum as AAC 96k at 96 kHz) chained its first bounce, a band-detected sound 37.5 ms
+// after it and the codec's residual-only sounds every ~40 ms into flights of 37.5-43.5 ms (ratios
+// 1.08, 1.05, 1.02, 0.97, 0.93: eta-bar -0.1044 +- 0.055 against the ball's 0.6460, exit 0). A
+// ball whose flights shrink by e = 0.9 at the same times and sigmas is still a sequence.
+TEST(BounceSequences, AChainWhoseFlightsDoNotShrinkIsNoBall) {
+  // Onset, sigma, peak, residual-only: the detection around that chain.
+  const auto flat = FromDetected({{0.307609, 2.0e-3, -32.9, 1},
+                                  {0.338984, 2.0e-3, -31.9, 1},
+                                  {0.383989, 3.4e-3, -44.5, 1},
+                                  {0.417682, 3.2e-3, -38.8, 1},
+                                  {0.437728, 5e-6, -11.7, 0},
+                                  {0.475238, 1.9e-3, -12.0, 0},
+                                  {0.515714, 2.0e-3, -13.7, 1},
+                                  {0.558141, 2.0e-3, -14.1, 1},
+                                  {0.601618, 1.0e-3, -12.9, 0},
+                                  {0.643891, 2.0e-3, -14.4, 1},
+                                  {0.656432, 2.0e-3, -15.8, 1},
+                                  {0.683297, 2.0e-3, -16.2, 1},
+                                  {0.699807, 2.0e-3, -14.8, 1}});
+  SequenceOptions codec;
+  codec.codec_frame_s = 1024.0 / 96000;
+  EXPECT_TRUE(FindBounceSequences(flat, codec).sequences.empty());
+  // The same members timed as a ball of e = 0.9 from a 60 ms flight: 0.4377, 0.4977, 0.5517, ...
+  std::vector<std::tuple<double, double, double, int>> ball;
+  double t = 0.437728, flight = 0.060;
+  for (int k = 0; k < 7; ++k, t += flight, flight *= 0.9) {
+    ball.emplace_back(t, k == 0 ? 5e-6 : 2.0e-3, -12.0 - 0.5 * k,
+                      k == 0 || k == 1 || k == 4 ? 0 : 1);
+  }
+  const auto result = FindBounceSequences(FromDetected(ball), codec);
+  ASSERT_EQ(result.sequences.size(), 1u);
+  EXPECT_EQ(result.sequences[0].impact_indices.size(), 7u);
+}
+
 }  // namespace
 }  // namespace bouncecal::audio

@@ -5,6 +5,8 @@
 #include <cstddef>
 #include <utility>
 
+#include "sequences/poisson_binomial.h"
+
 namespace bouncecal::audio {
 namespace {
 
@@ -181,9 +183,7 @@ double ChanceOfFlightsOnTheLattice(const std::vector<Impact>& impacts,
   // relative to the lattice; the smaller one, doubled (a union bound), is the chance.
   double chance = 1;
   for (const bool stated_timing : {false, true}) {
-    // The distribution of the count of flights on multiples, each with its own probability, by
-    // dynamic programming over the flights.
-    std::vector<double> count_probability{1.0};
+    std::vector<double> probabilities;
     std::size_t on_multiples = 0;
     for (std::size_t k = 1; k < members.size(); ++k) {
       const Impact& from = impacts[static_cast<std::size_t>(members[k - 1])];
@@ -192,20 +192,10 @@ double ChanceOfFlightsOnTheLattice(const std::vector<Impact>& impacts,
           stated_timing ? std::max(kHalfWidthS, 2.0 * std::hypot(from.onset_uncertainty_s,
                                                                  to.onset_uncertainty_s))
                         : kHalfWidthS;
-      const double q = std::min(1.0, 2.0 * half_width_s / sound.period_s);
+      probabilities.push_back(std::min(1.0, 2.0 * half_width_s / sound.period_s));
       if (MultipleOf(to.onset_s - from.onset_s, sound.period_s, half_width_s) > 0) ++on_multiples;
-      std::vector<double> next(count_probability.size() + 1, 0.0);
-      for (std::size_t c = 0; c < count_probability.size(); ++c) {
-        next[c] += count_probability[c] * (1 - q);
-        next[c + 1] += count_probability[c] * q;
-      }
-      count_probability = std::move(next);
     }
-    double tail = 0;
-    for (std::size_t c = on_multiples; c < count_probability.size(); ++c) {
-      tail += count_probability[c];
-    }
-    chance = std::min(chance, tail);
+    chance = std::min(chance, PoissonBinomialTail(probabilities, on_multiples));
   }
   return std::min(1.0, 2.0 * chance);
 }
