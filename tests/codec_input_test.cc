@@ -886,7 +886,7 @@ TEST_F(CodecInput, AnAacCopyOfTheSuitesKnockDropKeepsTheBounceTheMergerLost) {
   EXPECT_LE(difference, 0.002) << difference << " vs " << combined;
 }
 
-// The suite's hum_dc as 8 kHz G.711 mu-law: its 60 Hz hum is heard as impacts every 16.7 ms (69
+// The suite's hum_dc as 8 kHz G.711 mu-law: its 60 Hz hum is heard as impacts every 16.7 ms (73
 // of 92 impacts one or two periods from another), and chains along that lattice formed a sequence
 // of ratios 1.000 (eta-bar -0.0054 against the WAV's 0.5503, 54 sigmas, exit 0). No chain along
 // it is a sequence now: the copy gives no eta-bar (the drop's fourth bounce lies past a louder

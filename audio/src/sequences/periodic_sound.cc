@@ -28,6 +28,10 @@ constexpr int kPeaksTried = 4;
 // fall on it, but it must not come from the scatter of a drop's own intervals.
 constexpr int kMinLatticePairs = 8;
 constexpr double kPeriodChance = 1e-9;
+// A chain's flight is on the lattice within this many robust sds of the lattice's own intervals
+// about their multiples (where that is wider than kHalfWidthS): the search tries every chain, so
+// it finds the few whose flights the jitter threw out of a narrower width.
+constexpr double kJitterWidths = 5.0;
 
 // ln P(X >= k) for X ~ Binomial(n, q), 0 < q < 1, by summing the terms in logarithms.
 double LogBinomialTail(int n, int k, double q) {
@@ -154,14 +158,25 @@ std::optional<PeriodicSound> FindPeriodicSound(const std::vector<Impact>& impact
   }
   PeriodicSound sound;
   sound.period_s = sum_product / sum_squares;
+  std::vector<double> deviations;
+  for (auto it = begin; it != intervals.end() && *it <= kMultiples * best_period_s + kHalfWidthS;
+       ++it) {
+    if (const int multiple = MultipleOf(*it, best_period_s, kHalfWidthS); multiple > 0) {
+      deviations.push_back(std::fabs(*it - multiple * sound.period_s));
+    }
+  }
+  const auto middle = deviations.begin() + static_cast<std::ptrdiff_t>(deviations.size() / 2);
+  std::nth_element(deviations.begin(), middle, deviations.end());
+  sound.half_width_s =
+      std::clamp(kJitterWidths * 1.4826 * *middle, kHalfWidthS, 0.1 * sound.period_s);
   sound.pairs = best.pairs;
   sound.lattice_pairs = best.on_multiples;
   sound.on_lattice.assign(n, false);
   const auto has_event_near = [&](double time_s) {
     const auto it =
-        std::lower_bound(impacts.begin(), impacts.end(), time_s - kHalfWidthS,
+        std::lower_bound(impacts.begin(), impacts.end(), time_s - sound.half_width_s,
                          [](const Impact& impact, double t) { return impact.onset_s < t; });
-    return it != impacts.end() && it->onset_s <= time_s + kHalfWidthS;
+    return it != impacts.end() && it->onset_s <= time_s + sound.half_width_s;
   };
   for (std::size_t i = 0; i < n; ++i) {
     for (const double offset_s : {sound.period_s, 2 * sound.period_s}) {
@@ -176,11 +191,11 @@ std::optional<PeriodicSound> FindPeriodicSound(const std::vector<Impact>& impact
 
 double ChanceOfFlightsOnTheLattice(const std::vector<Impact>& impacts,
                                    const std::vector<int>& members, const PeriodicSound& sound) {
-  // Two counts: within the lattice's own width, and within each flight's stated timing, which a
-  // codec can widen past the precision the events show: a sweep file's hum as AAC 96k made a
-  // chain of 6 events 7 periods apart, each flight within 0.11 ms of 7 P, stated +-0.1-2.2 ms
-  // each (most of it the codec's +-967 us). Each count's chance is exact for flights at random
-  // relative to the lattice; the smaller one, doubled (a union bound), is the chance.
+  // Two counts: within the lattice's own width (half_width_s), and within each flight's stated
+  // timing, which a codec can widen past the precision the events show: a sweep file's hum as AAC
+  // 96k made a chain of 6 events 7 periods apart, each flight within 0.11 ms of 7 P, stated
+  // +-0.1-2.2 ms each (most of it the codec's +-967 us). Each count's chance is exact for flights
+  // at random relative to the lattice; the smaller one, doubled (a union bound), is the chance.
   double chance = 1;
   for (const bool stated_timing : {false, true}) {
     std::vector<double> probabilities;
@@ -189,9 +204,9 @@ double ChanceOfFlightsOnTheLattice(const std::vector<Impact>& impacts,
       const Impact& from = impacts[static_cast<std::size_t>(members[k - 1])];
       const Impact& to = impacts[static_cast<std::size_t>(members[k])];
       const double half_width_s =
-          stated_timing ? std::max(kHalfWidthS, 2.0 * std::hypot(from.onset_uncertainty_s,
-                                                                 to.onset_uncertainty_s))
-                        : kHalfWidthS;
+          stated_timing ? std::max(sound.half_width_s, 2.0 * std::hypot(from.onset_uncertainty_s,
+                                                                        to.onset_uncertainty_s))
+                        : sound.half_width_s;
       probabilities.push_back(std::min(1.0, 2.0 * half_width_s / sound.period_s));
       if (MultipleOf(to.onset_s - from.onset_s, sound.period_s, half_width_s) > 0) ++on_multiples;
     }

@@ -15,11 +15,15 @@ namespace bouncecal::audio {
 // models random events as Poisson, cannot tell them from a ball.
 struct PeriodicSound {
   double period_s = 0;
+  // How far from a multiple of the period an interval of two of its events may lie: kHalfWidthS,
+  // or where the lattice's own intervals scatter more, kJitterWidths of their robust sd (up to a
+  // tenth of the period).
+  double half_width_s = 0;
   // Pairs of events (each event with its next kNeighbours) within kMultiples periods of each
   // other, and how many of them lie a whole number of periods apart (within kHalfWidthS).
   int pairs = 0;
   int lattice_pairs = 0;
-  // Per impact: another event lies one or two periods away.
+  // Per impact: another event lies one or two periods away (within half_width_s).
   std::vector<bool> on_lattice;
 };
 
@@ -30,7 +34,7 @@ std::optional<PeriodicSound> FindPeriodicSound(const std::vector<Impact>& impact
                                                double min_period_s, double max_period_s);
 
 // The probability that at least as many of a chain's flights as lie on multiples of the period
-// would if the flights fell at random relative to it, "on" meaning within kHalfWidthS or, in a
+// would if the flights fell at random relative to it, "on" meaning within half_width_s or, in a
 // second count, within twice the two members' combined sigma where that is wider (twice the
 // smaller chance). A bouncing ball's flights do not care about the period; a chain along the
 // lattice has all of them there. `members` in time order.

@@ -124,12 +124,12 @@ struct SequenceResult {
 // band-detected impacts times the third impacts the first ratio's window offers), must stay below
 // max_chance_alignment (the residual-only-second family: pairs of a band-detected first and a
 // residual-only second). A chain that fails may drop residual-only members from its end while
-// min_impacts are left, its chance multiplied by the versions tried. A chain the test judges
-// must also shrink its flights as a ball does: its last flight shorter than its first by 3 sigmas
-// of the four onsets' stated timing. Where the file's events repeat at one period (mains hum
-// heard as impacts, a motor, a clock: periodic_events), a chain whose flights lie on its
-// multiples more often than random flights would with probability 1e-3 is no sequence, whatever
-// its test. Deterministic. Throws ConfigError for bad options.
+// min_impacts are left, its chance multiplied by the versions tried. A chain the test judges,
+// and every chain accepted, must also shrink its flights as a ball does: its last flight shorter
+// than its first by 3 sigmas of the four onsets' stated timing. Where the file's events repeat at
+// one period (mains hum heard as impacts, a motor, a clock: periodic_events), a chain whose
+// flights lie on its multiples more often than random flights would with probability 1e-3 is no
+// sequence, whatever its test. Deterministic. Throws ConfigError for bad options.
 SequenceResult FindBounceSequences(const std::vector<Impact>& impacts,
                                    const SequenceOptions& options = {});
 
