@@ -1200,9 +1200,9 @@ SequenceResult FindSequences(const std::vector<Impact>& impacts, const SequenceO
   }
   if (chains.empty()) {
     // Two flights on multiples of a periodic sound's period happen to a real drop's three
-    // loudest impacts about once in 800 (each within 0.3 ms of one with probability 3.6 % for
-    // mains hum; twice that with the count by stated timing), to three equally loud events of
-    // the hum always.
+    // loudest impacts about once in 300-800 (each within the lattice's 0.3-0.5 ms of one with
+    // probability 3.6-6 % for mains hum; twice that with the count by stated timing), to three
+    // equally loud events of the hum always.
     if (auto chain = ShortSequence(impacts, free, options);
         chain && !(periodic && ChanceOfFlightsOnTheLattice(impacts, chain->members, *periodic) <
                                    kShortLatticeFlightsChance)) {

@@ -84,8 +84,9 @@ Comb CombAt(const std::vector<double>& intervals, double period_s) {
 // intervals, no two overlapping.
 std::vector<double> DensestIntervals(const std::vector<double>& intervals) {
   std::vector<double> prefix_sum(intervals.size() + 1, 0.0);
-  for (std::size_t i = 0; i < intervals.size(); ++i)
+  for (std::size_t i = 0; i < intervals.size(); ++i) {
     prefix_sum[i + 1] = prefix_sum[i] + intervals[i];
+  }
   std::vector<std::pair<int, double>> windows;  // count, centre
   std::size_t end = 0;
   for (std::size_t begin = 0; begin < intervals.size(); ++begin) {
@@ -145,30 +146,30 @@ std::optional<PeriodicSound> FindPeriodicSound(const std::vector<Impact>& impact
     return std::nullopt;
   }
 
-  // The period from every interval on a multiple, by least squares (interval = multiple P).
-  double sum_product = 0, sum_squares = 0;
-  const auto begin =
-      std::lower_bound(intervals.begin(), intervals.end(), best_period_s - kHalfWidthS);
-  for (auto it = begin; it != intervals.end() && *it <= kMultiples * best_period_s + kHalfWidthS;
-       ++it) {
+  // The period from every interval on a multiple, by least squares (interval = multiple P), and
+  // the lattice's width from their scatter about it.
+  std::vector<std::pair<int, double>> on_multiples;  // multiple, interval
+  for (auto it = std::lower_bound(intervals.begin(), intervals.end(), best_period_s - kHalfWidthS);
+       it != intervals.end() && *it <= kMultiples * best_period_s + kHalfWidthS; ++it) {
     if (const int multiple = MultipleOf(*it, best_period_s, kHalfWidthS); multiple > 0) {
-      sum_product += multiple * *it;
-      sum_squares += static_cast<double>(multiple) * multiple;
+      on_multiples.emplace_back(multiple, *it);
     }
+  }
+  double sum_product = 0, sum_squares = 0;
+  for (const auto& [multiple, interval_s] : on_multiples) {
+    sum_product += multiple * interval_s;
+    sum_squares += static_cast<double>(multiple) * multiple;
   }
   PeriodicSound sound;
   sound.period_s = sum_product / sum_squares;
   std::vector<double> deviations;
-  for (auto it = begin; it != intervals.end() && *it <= kMultiples * best_period_s + kHalfWidthS;
-       ++it) {
-    if (const int multiple = MultipleOf(*it, best_period_s, kHalfWidthS); multiple > 0) {
-      deviations.push_back(std::fabs(*it - multiple * sound.period_s));
-    }
+  for (const auto& [multiple, interval_s] : on_multiples) {
+    deviations.push_back(std::fabs(interval_s - multiple * sound.period_s));
   }
   const auto middle = deviations.begin() + static_cast<std::ptrdiff_t>(deviations.size() / 2);
   std::nth_element(deviations.begin(), middle, deviations.end());
   sound.half_width_s =
-      std::clamp(kJitterWidths * 1.4826 * *middle, kHalfWidthS, 0.1 * sound.period_s);
+      std::max(kHalfWidthS, std::min(kJitterWidths * 1.4826 * *middle, 0.1 * sound.period_s));
   sound.pairs = best.pairs;
   sound.lattice_pairs = best.on_multiples;
   sound.on_lattice.assign(n, false);
