@@ -99,8 +99,10 @@ std::vector<double> DensestIntervals(const std::vector<double>& intervals) {
   std::stable_sort(windows.begin(), windows.end(),
                    [](const auto& a, const auto& b) { return a.first > b.first; });
   std::vector<double> centres;
-  for (const auto& [count, centre] : windows) {
-    if (static_cast<int>(centres.size()) == kPeaksTried || count < kMinLatticePairs) break;
+  for (const auto& window : windows) {
+    if (static_cast<int>(centres.size()) == kPeaksTried || window.first < kMinLatticePairs) break;
+    // Not a structured binding: clang before 16 cannot capture one in a lambda.
+    const double centre = window.second;
     const bool apart = std::none_of(centres.begin(), centres.end(), [&](double other) {
       return std::fabs(other - centre) <= 2 * kHalfWidthS;
     });
