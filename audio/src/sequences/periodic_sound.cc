@@ -172,7 +172,6 @@ std::optional<PeriodicSound> FindPeriodicSound(const std::vector<Impact>& impact
   std::nth_element(deviations.begin(), middle, deviations.end());
   sound.half_width_s =
       std::max(kHalfWidthS, std::min(kJitterWidths * 1.4826 * *middle, 0.1 * sound.period_s));
-  sound.pairs = best.pairs;
   sound.lattice_pairs = best.on_multiples;
   sound.on_lattice.assign(n, false);
   const auto has_event_near = [&](double time_s) {

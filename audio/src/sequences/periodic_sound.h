@@ -19,9 +19,8 @@ struct PeriodicSound {
   // or where the lattice's own intervals scatter more, kJitterWidths of their robust sd (up to a
   // tenth of the period).
   double half_width_s = 0;
-  // Pairs of events (each event with its next kNeighbours) within kMultiples periods of each
-  // other, and how many of them lie a whole number of periods apart (within kHalfWidthS).
-  int pairs = 0;
+  // Pairs of events (each event with its next kNeighbours) a whole number of periods apart, up
+  // to kMultiples (within kHalfWidthS).
   int lattice_pairs = 0;
   // Per impact: another event lies one or two periods away (within half_width_s).
   std::vector<bool> on_lattice;
