@@ -57,8 +57,16 @@ struct EnvelopeAlignment {
   int bands = 0;  // bands that voted
 };
 
+// One second-order section's coefficients, normalised by a0.
+struct BandPassSection {
+  double b0 = 0, b2 = 0, a1 = 0, a2 = 0;
+};
+
 class EnvelopeAligner {
  public:
+  // Octave bands from 250 Hz to 16 kHz; fewer where 0.45 of the rate is lower.
+  static constexpr std::size_t kMaxBands = 6;
+
   // templ: the template's window (samples, not differences), its onset at index lead. search:
   // the largest lag tried after the onset; before it, at most lead minus pre_s (the envelope
   // compared before the onset must lie in the window). Windows hold search samples more after
@@ -73,6 +81,7 @@ class EnvelopeAligner {
   struct Band {
     double low_hz = 0;
     double high_hz = 0;
+    BandPassSection filter;
     std::vector<float> templ;  // the template's decimated envelope, whole window
   };
   std::vector<std::vector<float>> Envelopes(std::span<const float> window) const;
