@@ -886,6 +886,26 @@ TEST_F(CodecInput, AnAacCopyOfTheSuitesKnockDropKeepsTheBounceTheMergerLost) {
   EXPECT_LE(difference, 0.002) << difference << " vs " << combined;
 }
 
+// silent_wrong_sweep.py seed 9 #27: a 35 us contact on a counter at 96 kHz, 20 dB SNR to the
+// weakest bounce, through a linear-phase chain, as MP3 64k. Its 2nd bounce, aligned on its
+// response (stated +-10 us), had won the merge over a sound 6.5 ms before it; the sequence's
+// ratios, on a line that its last, in-ringing member (+-1.9 ms) tilted, preferred that sound,
+// and the aligned onset was taken for one the response timing had not seen (it had not moved
+// it). eta-bar 0.3304 +- 0.0023 against the WAV's and the exact 0.3455, exit 0.
+TEST_F(CodecInput, AnMp3CopyKeepsABounceItsResponseTimedAgainstAnEarlierSound) {
+  const fs::path wav = folder_ / "counter_96k.wav";
+  const auto synth = RunBouncecal(
+      "synth -o '" + wav.string() +
+      "' --sample-rate-hz 96000 --contact-duration-s 3.5e-05 --surface counter "
+      "--restitution 0.809 --drop-height-m 0.095 --seed 28 --snr-db 20 --snr-reference weakest "
+      "--adc linear-phase --level-jitter-db 3 --noise-color pink");
+  ASSERT_EQ(synth.exit_status, 0) << synth.output;
+  const auto mp3 = Encode(wav, "counter_96k.mp3", {"-c:a", "libmp3lame", "-b:a", "64k"});
+  const auto [difference, combined] = CompareCopyWithItsWav(wav, mp3, folder_.path());
+  EXPECT_LE(difference, 0.002) << difference << " vs " << combined;
+  EXPECT_LE(difference, 3 * combined) << difference << " vs " << combined;
+}
+
 // The suite's hum_dc as 8 kHz G.711 mu-law: its 60 Hz hum is heard as impacts every 16.7 ms (73
 // of 92 impacts one or two periods from another), and chains along that lattice formed a sequence
 // of ratios 1.000 (eta-bar -0.0054 against the WAV's 0.5503, 54 sigmas, exit 0). No chain along

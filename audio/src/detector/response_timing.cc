@@ -563,6 +563,7 @@ ResponseTimingSummary ResponseTimer::Retime(DetectionResult& detection, double f
       // aligned impact's onset is stated with it; the detector's onset enters with the first
       // lobe's error, which leaves it little weight where that error is a codec's.
       own[w] = true;
+      impact.timed_from_response = true;
       ++summary.own_sigma;
       // Corrected alignments are not combined with the detector's onset: a first lobe's pick
       // drifts with the contact's duration too (+30 to +80 us over 8 bounces of a steel ball on
@@ -611,6 +612,7 @@ ResponseTimingSummary ResponseTimer::Retime(DetectionResult& detection, double f
     const double envelope_sigma = std::hypot(envelopes[w].sigma_samples / rate, scatter);
     ++summary.envelope_aligned;
     own[w] = true;
+    impact_of(windows_[w]).timed_from_response = true;
     ++summary.own_sigma;
     if (ConfirmOrReplace(impact_of(windows_[w]), envelope_onset, envelope_sigma,
                          first_lobe_sigma_s)) {

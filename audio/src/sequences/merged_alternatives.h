@@ -16,8 +16,8 @@ namespace bouncecal::audio {
 // the merger: its neighbours' intervals. A member that won a merge over an earlier sound is
 // compared with that sound by how well each continues the sequence's interval ratios (a line in ln
 // ratio through the ratios neither moves); where the earlier one fits clearly better, it becomes
-// the member's onset. Only members the response timing left as the detector placed them (an
-// aligned onset is its own evidence).
+// the member's onset. Only members the response timing did not time (Impact::timed_from_response:
+// an aligned onset is its own evidence) and left where the merger put them.
 void TakeMergedOnsetsThatFitTheSequence(std::vector<Impact>& impacts,
                                         const std::vector<MergedEvent>& merged,
                                         const std::vector<BounceSequence>& sequences);

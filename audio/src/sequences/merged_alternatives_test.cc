@@ -92,5 +92,17 @@ TEST(MergedAlternatives, AMemberTheResponseTimingMovedIsNotReconsidered) {
   EXPECT_DOUBLE_EQ(impacts[5].onset_s, aligned);
 }
 
+// The response timing can leave an aligned onset where the detector put it, to the bit (the
+// best-timed impact sets the recording's constant between response and onset): such a member
+// is not reconsidered either, though the earlier sound would continue the ratios better.
+TEST(MergedAlternatives, AMemberTimedFromItsResponseInPlaceIsNotReconsidered) {
+  auto impacts = Drop(12, 0.005);
+  const auto merged = LateWinner(impacts, 5, 3e-3);
+  impacts[5].timed_from_response = true;
+  const double aligned = impacts[5].onset_s;
+  TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
+  EXPECT_DOUBLE_EQ(impacts[5].onset_s, aligned);
+}
+
 }  // namespace
 }  // namespace bouncecal::audio

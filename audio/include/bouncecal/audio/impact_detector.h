@@ -72,6 +72,11 @@ struct Impact {
   // as its first (as its second only under a stricter chance test). Its onset is less precise
   // (up to ~1.5 ms off in tests).
   bool residual_only = false;
+  // Its onset was measured from its whole response, aligned to the recording's template by its
+  // waveform or its band envelopes, and is stated with that alignment's uncertainty
+  // (response_timing.h): evidence of its own, which the merger's alternatives do not overrule
+  // (merged_alternatives.h).
+  bool timed_from_response = false;
 };
 
 // A rise that was merged into a louder impact less than min_gap_ms away.
