@@ -15,9 +15,7 @@ SequenceResult GroupBounces(DetectionResult& detection, const SequenceOptions& o
   }
   detection.tentative.clear();
   SequenceResult grouping = FindBounceSequences(detection.impacts, options);
-  if (options.codec_frame_s) {
-    TakeMergedOnsetsThatFitTheSequence(detection.impacts, detection.merged, grouping.sequences);
-  }
+  TakeMergedOnsetsThatFitTheSequence(detection.impacts, detection.merged, grouping.sequences);
   StateDoubtOfWeakMembers(detection.impacts, grouping.sequences);
   return grouping;
 }
