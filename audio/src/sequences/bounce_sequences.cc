@@ -639,9 +639,11 @@ bool PassesOverLouderSounds(const std::vector<Impact>& impacts, const std::vecto
 // chain). The skipped bounce of flight D_k lies at t_k + D_k / (1 + sqrt(r_k)), r_k = D_{k+1} /
 // D_k. A chain counts as one of every other bounce when unassigned sounds sit there (within
 // kSkippedBounceWindow of the flight: restitution changing by up to ~10 % from bounce to bounce
-// and onset errors of a few ms) in at least two flights and more often than the chain's own
-// span's rate of other sounds makes probable (kSkippedBounceChance: the probability that random
-// sounds fill as many of those windows).
+// and onset errors of a few ms) more often than the chain's own span's rate of other sounds makes
+// probable (kSkippedBounceChance: the probability that random sounds fill as many of those
+// windows, and for the loud ones lie as close to those places). One flight can be enough: a loud
+// sound within tens of us of the place (the sweep's seed 23 #36, 4.5 us in a 16 ms window; its
+// other skipped bounces inaudible in the plate's ringing) is that improbable on its own.
 constexpr double kSkippedBounceWindow = 0.03;
 constexpr double kSkippedBounceChance = 1e-4;
 // How much fainter than the quieter member of its flight a sound may be and still be taken for a
@@ -759,7 +761,7 @@ SkippedBounces FindSkippedBounces(const std::vector<Impact>& impacts, const std:
   // at their own rate). Faint sounds do not count so: a codec's artefacts 20-25 dB under the
   // bounces sat within 1 ms of 3 skipped places of a steel drop's MP3 (below).
   result.chance = ChanceOfFilling(half_widths_s, result.found, others / span_s);
-  if (found_loud >= 2) {
+  if (found_loud >= 1) {
     const double loud_rate_hz = std::max(loud_others - found_loud, 1) / span_s;
     const double loud_chance = ChanceOfFilling(half_widths_s, found_loud, loud_rate_hz) *
                                FisherChance(score(closest_loud, loud_rate_hz), found_loud);
@@ -772,7 +774,7 @@ SkippedBounces FindSkippedBounces(const std::vector<Impact>& impacts, const std:
 }
 
 bool SkipsBounces(const SkippedBounces& skipped) {
-  return skipped.found >= 2 && skipped.chance < kSkippedBounceChance;
+  return skipped.found >= 1 && skipped.chance < kSkippedBounceChance;
 }
 
 // The chain through the bounces that `members` skips, if tracking finds it: from a heard
