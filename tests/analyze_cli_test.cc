@@ -298,6 +298,16 @@ TEST(AnalyzeCli, APrecursorInRingingDoesNotCutTheNextBouncesPickWindow) {
   }
 }
 
+// eta-bar over impacts 1-3 from the exact onsets of the first five bounces.
+double ExactEtaBarOfTheFirstThree(const std::vector<double>& truth) {
+  double exact = 0;
+  for (std::size_t k = 1; k <= 3; ++k) {
+    const double e = (truth[k + 1] - truth[k]) / (truth[k] - truth[k - 1]);
+    exact += (1 - e * e) / 3;
+  }
+  return exact;
+}
+
 // An 8 kHz drop through a linear-phase recording chain and a 1.85 kHz band limit, 1 ms contacts
 // on a counter, 12 dB SNR to the weakest bounce (the sweep's seed 101 #112): each filter rings
 // before a sharp attack as well as after it (4.3 ms at this rate), and over the loud first
@@ -347,11 +357,7 @@ TEST(AnalyzeCli, AResidualOnlyMemberFarFromItsPredictionStatesItsDoubt) {
   ASSERT_GE(sequence["onsets_s"].size(), 5u);
   ASSERT_GE(truth.size(), 5u);
   ExpectOnsetsHonest(sequence, truth, 5, 0.0);
-  double exact = 0;
-  for (std::size_t k = 1; k <= 3; ++k) {
-    const double e = (truth[k + 1] - truth[k]) / (truth[k] - truth[k - 1]);
-    exact += (1 - e * e) / 3;
-  }
+  const double exact = ExactEtaBarOfTheFirstThree(truth);
   const double eta_bar = sequence["energy_loss_mean_first_n"].get<double>();
   const double sigma = sequence["energy_loss_mean_first_n_uncertainty"].get<double>();
   EXPECT_LE(std::fabs(eta_bar - exact), 3 * sigma) << eta_bar << " +- " << sigma << " vs " << exact;
@@ -375,11 +381,7 @@ TEST(AnalyzeCli, AMemberTimedOnItsBounceTakesThePrecursorItsNeighboursWereTimedO
   ASSERT_GE(truth.size(), 5u);
   // The sequence starts at the first bounce (timed on its click, 5.9 ms before it).
   ASSERT_LT(std::fabs(sequence["onsets_s"][0].get<double>() - truth[0]), 10e-3);
-  double exact = 0;
-  for (std::size_t k = 1; k <= 3; ++k) {
-    const double e = (truth[k + 1] - truth[k]) / (truth[k] - truth[k - 1]);
-    exact += (1 - e * e) / 3;
-  }
+  const double exact = ExactEtaBarOfTheFirstThree(truth);
   const double eta_bar = sequence["energy_loss_mean_first_n"].get<double>();
   const double sigma = sequence["energy_loss_mean_first_n_uncertainty"].get<double>();
   // The sweep's rule for a silent wrong answer: off by more than 0.002 and by more than 3 sigmas.
