@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace bouncecal::audio {
@@ -83,10 +85,27 @@ std::optional<RatioFit> Misfit(const std::vector<double>& times, int k) {
   return fit;
 }
 
+// The merged sound becomes the member and the onset the merger kept becomes the merged sound, so
+// what the recording reports as set aside is what was.
+void SwapWithTheMember(MergedEvent& event, double kept_s) {
+  const double taken_s = event.time_s;
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "the merger's onset for the impact now at %.5f s, %.1f ms %s it: the sound "
+                "there, which the merger had set aside, continues the bounce sequence's interval "
+                "ratios better (merged)",
+                taken_s, std::fabs(taken_s - kept_s) * 1e3, kept_s < taken_s ? "before" : "after");
+  event.time_s = kept_s;
+  event.winner_s = taken_s;
+  event.reason = text;
+  event.rest_of_sound = false;
+  event.level_difference_db = -event.level_difference_db;
+}
+
 }  // namespace
 
 void TakeMergedOnsetsThatFitTheSequence(std::vector<Impact>& impacts,
-                                        const std::vector<MergedEvent>& merged,
+                                        std::vector<MergedEvent>& merged,
                                         const std::vector<BounceSequence>& sequences) {
   for (const auto& sequence : sequences) {
     const auto& members = sequence.impact_indices;
@@ -103,7 +122,8 @@ void TakeMergedOnsetsThatFitTheSequence(std::vector<Impact>& impacts,
       if (member.timed_from_response) continue;
       std::optional<RatioFit> now;
       double best_time = member.onset_s, best_misfit = 0;
-      for (const MergedEvent& event : merged) {
+      MergedEvent* best_event = nullptr;
+      for (MergedEvent& event : merged) {
         if (event.winner_s != member.onset_s || event.time_s == member.onset_s) continue;
         if (event.level_difference_db > kMaxQuieterDb) continue;
         if (!(event.time_s > times[k - 1] && event.time_s < times[k + 1])) continue;
@@ -118,10 +138,12 @@ void TakeMergedOnsetsThatFitTheSequence(std::vector<Impact>& impacts,
         if (alternative && alternative->misfit < best_misfit) {
           best_misfit = alternative->misfit;
           best_time = event.time_s;
+          best_event = &event;
         }
       }
-      if (best_time != member.onset_s &&
+      if (best_event &&
           (now->misfit - best_misfit) / (now->scatter * now->scatter) > kRequiredImprovement) {
+        SwapWithTheMember(*best_event, member.onset_s);
         member.onset_s = best_time;
         times[k] = best_time;
       }

@@ -24,9 +24,10 @@ namespace bouncecal::audio {
 // the member's onset. What the sequence calls the bounce is then the sound its members share, a
 // precursor at a constant lead as good as the bounce for the intervals. Only members the response
 // timing did not time (Impact::timed_from_response: an aligned onset is its own evidence) and left
-// where the merger put them.
+// where the merger put them. The taken sound's entry in `merged` then records the onset the merger
+// kept, as the sound set aside.
 void TakeMergedOnsetsThatFitTheSequence(std::vector<Impact>& impacts,
-                                        const std::vector<MergedEvent>& merged,
+                                        std::vector<MergedEvent>& merged,
                                         const std::vector<BounceSequence>& sequences);
 
 }  // namespace bouncecal::audio

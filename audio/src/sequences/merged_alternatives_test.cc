@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include "bouncecal/random_stream.h"
 #include "sequence_test_support.h"
@@ -49,9 +51,9 @@ double MemberAfterWeighing(double member_s, double merged_s, double quieter_db =
   auto impacts = Drop(12, 0.005);
   const double truth = impacts[5].onset_s;
   impacts[5].onset_s += member_s;
-  MergedEvent event = Lost(truth + merged_s, impacts[5].onset_s);
-  event.level_difference_db = quieter_db;
-  TakeMergedOnsetsThatFitTheSequence(impacts, {event}, OneSequence(impacts));
+  std::vector<MergedEvent> merged{Lost(truth + merged_s, impacts[5].onset_s)};
+  merged[0].level_difference_db = quieter_db;
+  TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
   return impacts[5].onset_s - truth;
 }
 
@@ -76,6 +78,21 @@ TEST(MergedAlternatives, TheLaterSoundThatContinuesTheRatiosIsTheBounce) {
 
 TEST(MergedAlternatives, AnEchoTheRatiosDoNotPreferStaysMerged) {
   EXPECT_NEAR(MemberAfterWeighing(0, 3e-3), 0, kSameOnsetS);
+}
+
+// What the recording then reports as set aside is the onset the merger kept, not the sound taken.
+TEST(MergedAlternatives, TheTakenSoundsEntryRecordsTheOnsetTheMergerKept) {
+  auto impacts = Drop(12, 0.005);
+  const double truth = impacts[5].onset_s;
+  auto merged = LateWinner(impacts, 5, 3e-3);
+  merged[0].level_difference_db = 4;
+  TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
+  ASSERT_EQ(impacts[5].onset_s, truth);
+  EXPECT_EQ(merged[0].time_s, truth + 3e-3);
+  EXPECT_EQ(merged[0].winner_s, truth);
+  EXPECT_EQ(merged[0].level_difference_db, -4);
+  EXPECT_NE(merged[0].reason.find("bounce sequence's interval ratios"), std::string::npos)
+      << merged[0].reason;
 }
 
 // A sound more than two rise thresholds under the member is not what another member could have
@@ -103,7 +120,7 @@ TEST(MergedAlternatives, APrecursorOrEchoRarelyFitsAScatteringBallsRatiosWellEno
         flight *= 0.75 * (1 + 0.03 * draws.Gaussian());
       }
       const double truth = impacts[5].onset_s;
-      const std::vector<MergedEvent> merged{Lost(truth + offset_s, truth)};
+      std::vector<MergedEvent> merged{Lost(truth + offset_s, truth)};
       TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
       taken += impacts[5].onset_s != truth ? 1 : 0;
     }
@@ -125,7 +142,7 @@ TEST(MergedAlternatives, AMemberTheResponseTimingMovedIsNotReconsidered) {
 // is not reconsidered either, though the earlier sound would continue the ratios better.
 TEST(MergedAlternatives, AMemberTimedFromItsResponseInPlaceIsNotReconsidered) {
   auto impacts = Drop(12, 0.005);
-  const auto merged = LateWinner(impacts, 5, 3e-3);
+  auto merged = LateWinner(impacts, 5, 3e-3);
   impacts[5].timed_from_response = true;
   const double aligned = impacts[5].onset_s;
   TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
