@@ -298,6 +298,20 @@ TEST(AnalyzeCli, APrecursorInRingingDoesNotCutTheNextBouncesPickWindow) {
   }
 }
 
+// A drop rendered by `bouncecal synth` with `options` to the scratch file `name`.wav and
+// analysed: its ball's impact times and the first sequence `analyze` finds (null where it fails).
+struct AnalyzedSynthesis {
+  std::vector<double> truth;
+  nlohmann::json sequence;
+};
+AnalyzedSynthesis AnalyzeSynthesized(const std::string& name, const std::string& options) {
+  const auto wav = ScratchPath(name + ".wav");
+  AnalyzedSynthesis drop;
+  drop.truth = SynthesizedBounceTimes(wav, options);
+  drop.sequence = FirstSequenceOf(wav, name + ".json");
+  return drop;
+}
+
 // eta-bar over impacts 1-3 from the exact onsets of the first five bounces.
 double ExactEtaBarOfTheFirstThree(const std::vector<double>& truth) {
   double exact = 0;
@@ -317,13 +331,11 @@ double ExactEtaBarOfTheFirstThree(const std::vector<double>& truth) {
 // in a transform codec's file, an onset that the alignment does not time and whose first
 // millisecond stays 10 dB under the attack that follows states half the distance to that attack.
 TEST(AnalyzeCli, AnOnsetInALinearPhaseChainsPreRingingStatesTheLaterAttack) {
-  const auto wav = ScratchPath("prering.wav");
-  const auto truth = SynthesizedBounceTimes(
-      wav,
+  const auto [truth, sequence] = AnalyzeSynthesized(
+      "prering",
       "--sample-rate-hz 8000 --contact-duration-s 0.001 --surface counter --restitution 0.908 "
       "--drop-height-m 0.548 --seed 113 --snr-db 12 --snr-reference weakest --adc linear-phase "
       "--click-gain 0.13 --band-limit-hz 1849");
-  const auto sequence = FirstSequenceOf(wav, "prering.json");
   ASSERT_FALSE(sequence.is_null());
   const auto onsets = sequence["onsets_s"].get<std::vector<double>>();
   const auto sigmas = sequence["onset_uncertainty_s"].get<std::vector<double>>();
@@ -346,13 +358,11 @@ TEST(AnalyzeCli, AnOnsetInALinearPhaseChainsPreRingingStatesTheLaterAttack) {
 // of e and the stated sigmas explain, so the member states half the distance too
 // (docs/detector.md, "A residual-only member that misses its prediction").
 TEST(AnalyzeCli, AResidualOnlyMemberFarFromItsPredictionStatesItsDoubt) {
-  const auto wav = ScratchPath("buried.wav");
-  const auto truth = SynthesizedBounceTimes(
-      wav,
+  const auto [truth, sequence] = AnalyzeSynthesized(
+      "buried",
       "--sample-rate-hz 32000 --contact-duration-s 7e-05 --surface counter --restitution 0.531 "
       "--drop-height-m 0.375 --seed 69 --snr-db 30 --snr-reference weakest --click-gain 0.15 "
       "--reverb-rt60-s 0.29 --hum-hz 60 --hum-dbfs -27");
-  const auto sequence = FirstSequenceOf(wav, "buried.json");
   ASSERT_FALSE(sequence.is_null());
   ASSERT_GE(sequence["onsets_s"].size(), 5u);
   ASSERT_GE(truth.size(), 5u);
@@ -370,13 +380,11 @@ TEST(AnalyzeCli, AResidualOnlyMemberFarFromItsPredictionStatesItsDoubt) {
 // The sequence takes the merged click that continues its ratios, in a WAV as in a codec's file
 // (merged_alternatives.h).
 TEST(AnalyzeCli, AMemberTimedOnItsBounceTakesThePrecursorItsNeighboursWereTimedOn) {
-  const auto wav = ScratchPath("precursors.wav");
-  const auto truth = SynthesizedBounceTimes(
-      wav,
+  const auto [truth, sequence] = AnalyzeSynthesized(
+      "precursors",
       "--sample-rate-hz 22050 --contact-duration-s 7e-05 --surface plate --restitution 0.743 "
       "--drop-height-m 0.465 --seed 116 --snr-db 45 --snr-reference first --adc linear-phase "
       "--hum-hz 50 --hum-dbfs -24 --precursor-lead-s 0.0059 --precursor-gain-db -11");
-  const auto sequence = FirstSequenceOf(wav, "precursors.json");
   ASSERT_FALSE(sequence.is_null());
   ASSERT_GE(truth.size(), 5u);
   // The sequence starts at the first bounce (timed on its click, 5.9 ms before it).
