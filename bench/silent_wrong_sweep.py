@@ -2,7 +2,7 @@
 """Hunts for silent wrong answers: random recordings, each with exact ground truth.
 
     bench/silent_wrong_sweep.py build/apps/bouncecal [--seed 11] [--count 60] [--workdir DIR]
-                                [--only-unreliable-lobe]
+                                [--only-unreliable-lobe] [--precursors]
 
 Each file is a `bouncecal synth` drop with a random mix of what real recordings bring: sample
 rate 8-96 kHz, contact 35 us - 1 ms, plate or counter, restitution 0.3-0.92, noise (white or
@@ -72,6 +72,23 @@ def random_recording(rng, index):
     return args, codec
 
 
+def precursor_recording(rng, index):
+    """A drop with a click before every bounce, 9-14 dB under it and 2-8 ms ahead, under 3 dB of
+    level jitter: where the click rings into its bounce, the detector times one or the other bounce
+    by bounce (docs/codecs.md, "In every file, and in both directions"). WAV only, 22-96 kHz."""
+    args = ["--sample-rate-hz", str(rng.choice([22050, 32000, 44100, 48000, 96000])),
+            "--contact-duration-s", str(rng.choice([35e-6, 70e-6, 150e-6, 400e-6])),
+            "--surface", rng.choice(["plate", "counter"]),
+            "--restitution", f"{rng.uniform(0.5, 0.9):.3f}",
+            "--drop-height-m", f"{rng.uniform(0.1, 0.6):.3f}", "--seed", str(index + 1),
+            "--precursor-lead-s", f"{rng.uniform(0.002, 0.008):.4f}",
+            "--precursor-gain-db", f"{rng.uniform(-14, -9):.1f}",
+            "--level-jitter-db", "3", "--snr-db", "40"]
+    if rng.random() < 0.5:
+        args += ["--adc", "linear-phase"]
+    return args, None
+
+
 def eta_bar(onsets, count):
     intervals = [b - a for a, b in zip(onsets, onsets[1:])]
     ratios = [b / a for a, b in zip(intervals, intervals[1:])]
@@ -89,13 +106,17 @@ def main():
                         help="only the files the response timing stage runs on (a transform "
                              "codec or a rate below 20 kHz; audio/include/bouncecal/audio/"
                              "response_timing.h): the others are analysed as before it")
+    parser.add_argument("--precursors", action="store_true",
+                        help="every file a drop with a click 9-14 dB under each bounce, 2-8 ms "
+                             "ahead of it (precursor_recording), instead of the random mix")
     options = parser.parse_args()
     workdir = options.workdir or tempfile.mkdtemp(prefix="silent_wrong_")
     os.makedirs(workdir, exist_ok=True)
     rng = random.Random(options.seed)
     tally = {"files": 0, "sequences": 0, "refused": 0, "silent_wrong": 0}
     for index in range(options.count):
-        args, codec = random_recording(rng, index)
+        recipe = precursor_recording if options.precursors else random_recording
+        args, codec = recipe(rng, index)
         rate = int(args[args.index("--sample-rate-hz") + 1])
         if options.only_unreliable_lobe and not codec and rate >= 20000:
             continue
