@@ -121,7 +121,7 @@ void TakeMergedOnsetsThatFitTheSequence(std::vector<Impact>& impacts,
       // against the exact 0.3455).
       if (member.timed_from_response) continue;
       std::optional<RatioFit> now;
-      double best_time = member.onset_s, best_misfit = 0;
+      double best_misfit = 0;
       MergedEvent* best_event = nullptr;
       for (MergedEvent& event : merged) {
         if (event.winner_s != member.onset_s || event.time_s == member.onset_s) continue;
@@ -137,15 +137,15 @@ void TakeMergedOnsetsThatFitTheSequence(std::vector<Impact>& impacts,
         const auto alternative = Misfit(moved, static_cast<int>(k));
         if (alternative && alternative->misfit < best_misfit) {
           best_misfit = alternative->misfit;
-          best_time = event.time_s;
           best_event = &event;
         }
       }
       if (best_event &&
           (now->misfit - best_misfit) / (now->scatter * now->scatter) > kRequiredImprovement) {
+        const double taken_s = best_event->time_s;
         SwapWithTheMember(*best_event, member.onset_s);
-        member.onset_s = best_time;
-        times[k] = best_time;
+        member.onset_s = taken_s;
+        times[k] = taken_s;
       }
     }
   }

@@ -32,7 +32,10 @@ BounceAnalysis AnalyzeBounces(const std::filesystem::path& path,
 
 // The same for impacts already detected (a stream, a synthetic recording): moves the tentative
 // impacts that continue a sequence into detection.impacts (and clears detection.tentative),
-// then groups them and widens the doubtful members' uncertainties in detection.impacts.
+// then groups them, moves a member to a sound merged into it where that sound continues the
+// sequence's interval ratios clearly better (src/sequences/merged_alternatives.h; its entry in
+// detection.merged then records the onset given up), and widens the doubtful members'
+// uncertainties in detection.impacts.
 SequenceResult GroupBounces(DetectionResult& detection, const SequenceOptions& options = {});
 
 }  // namespace bouncecal::audio
