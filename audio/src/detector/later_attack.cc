@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstddef>
 
+#include "detector/onset_picker.h"
+
 namespace bouncecal::audio {
 namespace {
 
@@ -15,10 +17,16 @@ constexpr double kEarlyWindowS = 1e-3;
 constexpr double kQuietBelowPeakDb = 10.0;
 // Where the attack begins: the first sample within this of the peak.
 constexpr double kAttackBelowPeakDb = 6.0;
+// A later sound is offered as an alternative onset where the first millisecond stays this far
+// under it: a click 9-14 dB under its bounce varies by a few dB from bounce to bounce, and a
+// bounce sequence takes the alternative only where its members switch between the two sounds of
+// such pairs (merged_alternatives.h), so a lower bar costs nothing where they do not.
+constexpr double kLaterSoundBelowPeakDb = 6.0;
 
-}  // namespace
-
-double LaterAttackS(std::span<const float> after_onset, int sample_rate_hz) {
+// The first milliseconds of an impact at least `quiet_below_peak_db` under its loudest sample:
+// where the signal first comes within kAttackBelowPeakDb of that peak (s), else 0.
+double AttackAfterQuietStart(std::span<const float> after_onset, int sample_rate_hz,
+                             double quiet_below_peak_db) {
   if (after_onset.empty() || sample_rate_hz <= 0) return 0;
   const auto early = std::min<std::size_t>(
       after_onset.size(), static_cast<std::size_t>(std::ceil(kEarlyWindowS * sample_rate_hz)));
@@ -28,12 +36,38 @@ double LaterAttackS(std::span<const float> after_onset, int sample_rate_hz) {
     peak = std::max(peak, magnitude);
     if (i < early) early_peak = std::max(early_peak, magnitude);
   }
-  if (!(peak > 0) || early_peak >= peak * std::pow(10.0, -kQuietBelowPeakDb / 20)) return 0;
+  if (!(peak > 0) || early_peak >= peak * std::pow(10.0, -quiet_below_peak_db / 20)) return 0;
   const double attack = peak * std::pow(10.0, -kAttackBelowPeakDb / 20);
   for (std::size_t i = early; i < after_onset.size(); ++i) {
     if (std::fabs(after_onset[i]) >= attack) return static_cast<double>(i) / sample_rate_hz;
   }
   return 0;
+}
+
+}  // namespace
+
+double LaterAttackS(std::span<const float> after_onset, int sample_rate_hz) {
+  return AttackAfterQuietStart(after_onset, sample_rate_hz, kQuietBelowPeakDb);
+}
+
+std::optional<double> LaterSoundOnsetS(std::span<const float> after_onset, int sample_rate_hz) {
+  if (!(AttackAfterQuietStart(after_onset, sample_rate_hz, kLaterSoundBelowPeakDb) > 0)) {
+    return std::nullopt;
+  }
+  const auto early = std::min<std::size_t>(
+      after_onset.size(), static_cast<std::size_t>(std::ceil(kEarlyWindowS * sample_rate_hz)));
+  // The window ends at the loudest sample, not at the first within 6 dB of it: the earlier sound's
+  // own ringing can swell that close before the later sound begins, and the largest change of
+  // level before the peak is where the later sound starts.
+  std::size_t peak = 0;
+  for (std::size_t i = 0; i < after_onset.size(); ++i) {
+    if (std::fabs(after_onset[i]) > std::fabs(after_onset[peak])) peak = i;
+  }
+  if (peak <= early + 8) return std::nullopt;
+  // What came before the later sound (the earlier one's ringing) is the picker's noise.
+  const std::span<const float> window = after_onset.subspan(early, peak + 1 - early);
+  const OnsetPick pick = PickOnset(window, 0, window.size() - 1);
+  return (static_cast<double>(early) + pick.index) / sample_rate_hz;
 }
 
 }  // namespace bouncecal::audio

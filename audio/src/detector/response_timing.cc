@@ -392,18 +392,23 @@ ResponseTimingSummary ResponseTimer::Apply(DetectionResult& detection,
   }
   std::sort(impact_starts.begin(), impact_starts.end());
   for (std::size_t w = 0; w < windows_.size(); ++w) {
-    if (own[w]) continue;
     Impact& impact = windows_[w].tentative ? detection.tentative[windows_[w].index]
                                            : detection.impacts[windows_[w].index];
+    const std::int64_t onset = windows_[w].begin + lead_;
+    const auto next = std::upper_bound(impact_starts.begin(), impact_starts.end(), onset);
+    auto available = static_cast<std::int64_t>(windows_[w].samples.size()) - lead_;
+    if (next != impact_starts.end()) available = std::min(available, *next - onset);
+    const std::span<const float> after_onset(
+        windows_[w].samples.data() + lead_,
+        static_cast<std::size_t>(std::max<std::int64_t>(available, 0)));
+    if (!windows_[w].tentative) {
+      if (const auto later = LaterSoundOnsetS(after_onset, sample_rate_hz_)) {
+        impact.later_onset_s = static_cast<double>(onset) / sample_rate_hz_ + *later;
+      }
+    }
+    if (own[w]) continue;
     impact.onset_uncertainty_s = std::hypot(impact.onset_uncertainty_s, first_lobe_sigma_s);
     if (options_.pre_echo) {
-      const std::int64_t onset = windows_[w].begin + lead_;
-      const auto next = std::upper_bound(impact_starts.begin(), impact_starts.end(), onset);
-      auto available = static_cast<std::int64_t>(windows_[w].samples.size()) - lead_;
-      if (next != impact_starts.end()) available = std::min(available, *next - onset);
-      const std::span<const float> after_onset(
-          windows_[w].samples.data() + lead_,
-          static_cast<std::size_t>(std::max<std::int64_t>(available, 0)));
       impact.onset_uncertainty_s =
           std::hypot(impact.onset_uncertainty_s, 0.5 * LaterAttackS(after_onset, sample_rate_hz_));
     }

@@ -77,6 +77,12 @@ struct Impact {
   // (response_timing.h): evidence of its own, which the merger's alternatives do not overrule
   // (merged_alternatives.h).
   bool timed_from_response = false;
+  // Where a louder sound begins within the impact's first milliseconds, its own first millisecond
+  // 10 dB or more under that sound (detector/later_attack.h), s from the first sample; NaN where
+  // none does. A click that rang into its bounce kept one candidate, whose onset is the click's,
+  // and this is the bounce's: an alternative onset that a bounce sequence may take
+  // (merged_alternatives.h).
+  double later_onset_s = std::numeric_limits<double>::quiet_NaN();
 };
 
 // A rise that was merged into a louder impact less than min_gap_ms away.
