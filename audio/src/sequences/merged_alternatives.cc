@@ -4,8 +4,10 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
+#include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace bouncecal::audio {
@@ -87,14 +89,12 @@ std::optional<RatioFit> Misfit(const std::vector<double>& times, int k) {
 
 // The merged sound becomes the member and the onset the merger kept becomes the merged sound, so
 // what the recording reports as set aside is what was.
-void SwapWithTheMember(MergedEvent& event, double kept_s) {
+void SwapWithTheMember(MergedEvent& event, double kept_s, const char* why) {
   const double taken_s = event.time_s;
-  char text[200];
+  char text[512];
   std::snprintf(text, sizeof text,
-                "the merger's onset for the impact now at %.5f s, %.1f ms %s it: the sound "
-                "there, which the merger had set aside, continues the bounce sequence's interval "
-                "ratios better (merged)",
-                taken_s, std::fabs(taken_s - kept_s) * 1e3, kept_s < taken_s ? "before" : "after");
+                "the merger's onset for the impact now at %.5f s, %.1f ms %s it: %s", taken_s,
+                std::fabs(taken_s - kept_s) * 1e3, kept_s < taken_s ? "before" : "after", why);
   event.time_s = kept_s;
   event.winner_s = taken_s;
   event.reason = text;
@@ -102,11 +102,317 @@ void SwapWithTheMember(MergedEvent& event, double kept_s) {
   event.level_difference_db = -event.level_difference_db;
 }
 
+// Two sounds of one bounce (a click and the bounce, or the bounce and its echo) lie the same
+// distance apart at every bounce, within this (the detector's onsets of a sound in ringing scatter
+// by a few hundred us; a few percent more for a lead that changes with the ball's speed).
+constexpr double kPairToleranceS = 0.5e-3;
+constexpr double kPairToleranceFraction = 0.15;
+// Sounds closer than this may be parts of one impact (a soft contact's first touch and its body a
+// millisecond later, lobes of one sound, a rise split in two), which each member's neighbours
+// weigh (below), not pairs: a later sound is looked for only past the onset's first millisecond
+// (later_attack.h), and a soft ball's contact lasts about that long again (the shared rubber
+// ball's copies had "pairs" 1.55 ms apart). Four tolerances, so a pair's two sounds are not
+// mistaken for each other either.
+constexpr double kMinPairSpacingS = 4 * kPairToleranceS;
+// Members timed on one sound of such a pair that show the pair's spacing: fewer could be a
+// coincidence of two unrelated sounds.
+constexpr int kMinPairedMembers = 3;
+
+// The line through a sequence's ln ratios takes two of them, so four members (two ratios) fit
+// any choice exactly. Five leave one ratio to judge by: in silent_wrong_sweep.py --precursors
+// seeds 7 and 8, seven five-member drops read closer to the truth (8 #32: -1.5 -> -0.1 sigmas),
+// and seed 23 #183 (five members in reverb, their onsets 0.1-3.9 ms off) moved its first to a
+// sound 7.5 ms before it, 0.0095 -> 0.0142 off at 0.5 sigmas; six as the least kept the seven
+// where they were.
+constexpr int kMinMembersToWeighWhole = 5;
+
+double PairTolerance(double spacing_s) {
+  return std::max(kPairToleranceS, kPairToleranceFraction * spacing_s);
+}
+
+// Another sound a member could be timed on: one merged into it, or the louder later sound in its
+// own first milliseconds (Impact::later_onset_s, event null).
+struct OtherSound {
+  double time_s = 0;
+  MergedEvent* event = nullptr;
+};
+
+// Sum of squared misfits of the ln ratios `scored` about the Theil-Sen line through all of them,
+// and the robust scatter of all about it (as Misfit).
+RatioFit WholeSequenceMisfit(const std::vector<double>& times, const std::vector<bool>& scored) {
+  const int n = static_cast<int>(times.size());
+  for (int k = 1; k < n; ++k) {
+    // Two moves that would cross are no choice at all.
+    if (!(times[static_cast<std::size_t>(k)] > times[static_cast<std::size_t>(k - 1)])) {
+      return {std::numeric_limits<double>::infinity(), kMinLnRatioScatter};
+    }
+  }
+  std::vector<double> ln_ratio(static_cast<std::size_t>(n), 0.0);
+  for (int j = 1; j + 1 < n; ++j) {
+    ln_ratio[static_cast<std::size_t>(j)] =
+        std::log((times[j + 1] - times[j]) / (times[j] - times[j - 1]));
+  }
+  std::vector<double> slopes;
+  for (int a = 1; a + 1 < n; ++a) {
+    for (int b = a + 1; b + 1 < n; ++b) {
+      slopes.push_back(
+          (ln_ratio[static_cast<std::size_t>(b)] - ln_ratio[static_cast<std::size_t>(a)]) /
+          (b - a));
+    }
+  }
+  const double slope = Median(slopes);
+  std::vector<double> intercepts;
+  for (int j = 1; j + 1 < n; ++j)
+    intercepts.push_back(ln_ratio[static_cast<std::size_t>(j)] - slope * j);
+  const double intercept = Median(intercepts);
+  RatioFit fit;
+  std::vector<double> deviations;
+  for (int j = 1; j + 1 < n; ++j) {
+    const double d = ln_ratio[static_cast<std::size_t>(j)] - (intercept + slope * j);
+    deviations.push_back(std::fabs(d));
+    if (scored[static_cast<std::size_t>(j)]) fit.misfit += d * d;
+  }
+  fit.scatter = std::max(kMinLnRatioScatter, kScatterOverMad * Median(deviations));
+  return fit;
+}
+
+// Which sound of a member's pair is the quieter: the earlier one for a click before its bounce
+// (or a ball's first touch before its louder build-up), the later one for an echo.
+bool QuieterSoundIsTheEarlier(double offset_s, const OtherSound& other) {
+  const bool other_louder = !other.event || other.event->level_difference_db < 0;
+  return offset_s > 0 ? other_louder : !other_louder;
+}
+
+// Once members were moved to one sound of their pairs, the members with no pair recorded may still
+// be on the other: a click that rings into its bounce keeps one candidate, and whether the
+// detector then times the click or the bounce leaves no trace where the click is within 6 dB of
+// the bounce (silent_wrong_sweep.py --precursors seed 8 #52: the first member on its click, 9 dB
+// under the bounce; once the next four were moved to their bounces, eta-bar read 0.5242 +- 0.0010
+// against 0.5198). So where the quieter sound of most pairs is the earlier (a click before each
+// bounce), every member next to one not known to be on the same sound states half the spacing:
+// an interval across a switch is off by the spacing. Where it is the later (an echo), a member
+// without a recorded pair is on its bounce (had the echo won, the bounce would be recorded as
+// merged), and nothing is added. Only after a move, since a switch it then shows is no longer a
+// guess: where no move was clear, a real ball's louder sound a few ms after its first touch (its
+// build-up) pairs with its members as a click would, and doubting every boundary widened the
+// shared recordings' eta-bar sigmas 3-24 times (basketball 0.00033 -> 0.0079); a switch too
+// small for the ratios to show stays unstated (seed 8 #61, a 2.7 ms lead on 0.12 s flights).
+void DoubtWherePairsMayStillSwitch(std::vector<Impact>& impacts, const std::vector<int>& members,
+                                   const std::vector<std::pair<int, const OtherSound*>>& pairs,
+                                   const std::vector<bool>& moved, double spacing_s) {
+  const int n = static_cast<int>(members.size());
+  int clicks = 0, echoes = 0;
+  std::vector<int> sound(static_cast<std::size_t>(n), 0);  // +1 earlier, -1 later, 0 unknown
+  for (int k = 0; k < n; ++k) {
+    const auto& [role, other] = pairs[static_cast<std::size_t>(k)];
+    if (!other) continue;
+    const double offset = other->time_s - impacts[static_cast<std::size_t>(members[k])].onset_s;
+    (QuieterSoundIsTheEarlier(offset, *other) ? clicks : echoes) += 1;
+    sound[static_cast<std::size_t>(k)] = moved[static_cast<std::size_t>(k)] ? -role : role;
+  }
+  if (clicks <= echoes) return;
+  std::vector<bool> doubtful(static_cast<std::size_t>(n), false);
+  for (int k = 0; k + 1 < n; ++k) {
+    if (sound[static_cast<std::size_t>(k)] != sound[static_cast<std::size_t>(k + 1)]) {
+      doubtful[static_cast<std::size_t>(k)] = doubtful[static_cast<std::size_t>(k + 1)] = true;
+    }
+  }
+  for (int k = 0; k < n; ++k) {
+    if (!doubtful[static_cast<std::size_t>(k)]) continue;
+    Impact& member = impacts[static_cast<std::size_t>(members[k])];
+    member.onset_uncertainty_s = std::hypot(member.onset_uncertainty_s, 0.5 * spacing_s);
+  }
+}
+
+// A sequence whose members are timed some on the earlier, some on the later sound of pairs a
+// constant distance apart (a click 10-14 dB under each bounce rings into it and keeps one
+// candidate, timed on the click, or the two stay apart and the bounce wins, bounce by bounce with
+// their levels; an echo out-levels its bounce at some bounces): every interval across a switch is
+// off by the spacing, milliseconds, while each member alone looks right. One member's neighbours
+// cannot tell which sound is the bounce where they switch too (silent_wrong_sweep.py
+// --precursors seed 7 #24: four members on their clicks, the next two on their bounces 7.9 ms
+// later). So the sequence is weighed whole: all its paired members on the earlier sound, or all
+// on the later, against the onsets as they stand, by the ratios the moves touch; the choice must
+// fit better by kRequiredImprovement scatters squared. Since the intervals between members of one
+// choice are the bounces' (a constant lead cancels), a member moved to its other sound is stated
+// with the pairs' own scatter about their spacing added. Members timed from their response move
+// too: the alignment times a click as well as its bounce, and #24's first four were aligned on
+// their clicks (the single-member rule below leaves them, for one member's neighbours are weaker
+// evidence than a pattern of three or more pairs).
+void TimeEveryPairOnOneSound(std::vector<Impact>& impacts, std::vector<MergedEvent>& merged,
+                             const BounceSequence& sequence) {
+  const auto& members = sequence.impact_indices;
+  const int n = static_cast<int>(members.size());
+  if (n < kMinMembersToWeighWhole) return;
+  const auto impact_at = [&](int k) -> Impact& {
+    return impacts[static_cast<std::size_t>(members[static_cast<std::size_t>(k)])];
+  };
+  std::vector<double> times;
+  for (int k = 0; k < n; ++k) times.push_back(impact_at(k).onset_s);
+  std::vector<std::vector<OtherSound>> others(static_cast<std::size_t>(n));
+  std::vector<double> spacings;
+  for (int k = 0; k < n; ++k) {
+    const double onset = times[static_cast<std::size_t>(k)];
+    const double after = k > 0 ? times[static_cast<std::size_t>(k - 1)] : -1e300;
+    const double before = k + 1 < n ? times[static_cast<std::size_t>(k + 1)] : 1e300;
+    auto& list = others[static_cast<std::size_t>(k)];
+    for (MergedEvent& event : merged) {
+      if (event.winner_s != onset || event.time_s == onset) continue;
+      if (event.level_difference_db > kMaxQuieterDb) continue;
+      if (event.time_s > after && event.time_s < before) list.push_back({event.time_s, &event});
+    }
+    const double later = impact_at(k).later_onset_s;
+    if (std::isfinite(later) && later > onset && later < before) list.push_back({later, nullptr});
+    for (const OtherSound& other : list) spacings.push_back(std::fabs(other.time_s - onset));
+  }
+  // The spacing most members show.
+  const auto paired_with = [&](double spacing, int k) {
+    // +1: the member is the earlier sound of a pair, -1 the later, 0 neither or both.
+    int role = 0;
+    const OtherSound* found = nullptr;
+    for (const OtherSound& other : others[static_cast<std::size_t>(k)]) {
+      const double offset = other.time_s - times[static_cast<std::size_t>(k)];
+      if (std::fabs(std::fabs(offset) - spacing) > PairTolerance(spacing)) continue;
+      const int this_role = offset > 0 ? 1 : -1;
+      if (found && this_role != role) return std::pair<int, const OtherSound*>{0, nullptr};
+      if (!found ||
+          std::fabs(std::fabs(offset) - spacing) <
+              std::fabs(std::fabs(found->time_s - times[static_cast<std::size_t>(k)]) - spacing)) {
+        found = &other;
+        role = this_role;
+      }
+    }
+    return std::pair<int, const OtherSound*>{role, found};
+  };
+  double spacing = 0;
+  int most = 0;
+  for (double candidate : spacings) {
+    if (candidate < kMinPairSpacingS) continue;
+    int count = 0;
+    for (int k = 0; k < n; ++k) count += paired_with(candidate, k).first != 0;
+    if (count > most || (count == most && candidate < spacing)) {
+      most = count;
+      spacing = candidate;
+    }
+  }
+  if (most < kMinPairedMembers) return;
+  std::vector<std::pair<int, const OtherSound*>> pairs;
+  std::vector<double> matched;
+  for (int k = 0; k < n; ++k) {
+    pairs.push_back(paired_with(spacing, k));
+    if (pairs.back().second) {
+      matched.push_back(
+          std::fabs(pairs.back().second->time_s - times[static_cast<std::size_t>(k)]));
+    }
+  }
+  // Both choices are scored on the same ratios: every one a move of either touches.
+  std::vector<bool> scored(static_cast<std::size_t>(n), false);
+  for (int k = 0; k < n; ++k) {
+    if (!pairs[static_cast<std::size_t>(k)].second) continue;
+    for (int j = std::max(1, k - 1); j <= std::min(n - 2, k + 1); ++j) {
+      scored[static_cast<std::size_t>(j)] = true;
+    }
+  }
+  const auto fit_with = [&](const std::vector<bool>& move) {
+    std::vector<double> moved = times;
+    for (int k = 0; k < n; ++k) {
+      if (move[static_cast<std::size_t>(k)]) {
+        moved[static_cast<std::size_t>(k)] = pairs[static_cast<std::size_t>(k)].second->time_s;
+      }
+    }
+    return WholeSequenceMisfit(moved, scored);
+  };
+  // Every member on the other sound of its pair moves; then each move the ratios clearly reject
+  // (by kRequiredImprovement, as a move is taken) is undone, until none is left: a member paired
+  // by chance with an unrelated sound at the spacing (the ringing's swell after a bounce) stays
+  // where it is (--precursors seed 8 #31: its 13th member, on its bounce, had a louder sound 6.6
+  // ms later). Undoing every move that does not help made a patchwork of the noise instead: seed
+  // 43 #78 (members 1-9 on their clicks, the 10th-13th on their bounces) moved the 2nd-4th and
+  // 9th to their bounces and left the 1st and the 5th-8th, and eta-bar went from 0.3439 +- 0.0001
+  // to 0.3537 +- 0.0051 against the exact 0.3439.
+  struct Choice {
+    std::vector<bool> move;
+    RatioFit fit;
+  };
+  const auto choose = [&](int role_moved) {
+    Choice choice;
+    for (int k = 0; k < n; ++k) {
+      choice.move.push_back(pairs[static_cast<std::size_t>(k)].first == role_moved);
+    }
+    choice.fit = fit_with(choice.move);
+    for (bool undone = true; undone;) {
+      undone = false;
+      for (int k = 0; k < n; ++k) {
+        if (!choice.move[static_cast<std::size_t>(k)]) continue;
+        choice.move[static_cast<std::size_t>(k)] = false;
+        const RatioFit fit = fit_with(choice.move);
+        if ((choice.fit.misfit - fit.misfit) / (fit.scatter * fit.scatter) > kRequiredImprovement) {
+          choice.fit = fit;
+          undone = true;
+        } else {
+          choice.move[static_cast<std::size_t>(k)] = true;
+        }
+      }
+    }
+    return choice;
+  };
+  const RatioFit now = WholeSequenceMisfit(times, scored);
+  // All on the earlier sound: the members now on the later one move.
+  const Choice earlier = choose(-1);
+  const Choice later = choose(1);
+  const int role_moved = earlier.fit.misfit <= later.fit.misfit ? -1 : 1;
+  Choice best = role_moved < 0 ? earlier : later;
+  const double median_spacing = Median(matched);
+  if ((now.misfit - best.fit.misfit) / (best.fit.scatter * best.fit.scatter) <=
+      kRequiredImprovement) {
+    return;
+  }
+  DoubtWherePairsMayStillSwitch(impacts, members, pairs, best.move, median_spacing);
+  // The pairs' scatter about their spacing: how far either sound's onset wanders.
+  double square_sum = 0;
+  for (double m : matched) square_sum += (m - median_spacing) * (m - median_spacing);
+  const double spread_s = std::sqrt(square_sum / static_cast<double>(matched.size()));
+  std::vector<MergedEvent> set_aside;
+  for (int k = 0; k < n; ++k) {
+    if (!best.move[static_cast<std::size_t>(k)]) continue;
+    const OtherSound* other = pairs[static_cast<std::size_t>(k)].second;
+    Impact& member = impact_at(k);
+    const double kept_s = member.onset_s;
+    const double taken_s = other->time_s;
+    char why[200];
+    std::snprintf(why, sizeof why,
+                  "the sequence's other members are timed on the %s of two sounds %.1f ms apart "
+                  "(merged)",
+                  role_moved < 0 ? "earlier" : "later", median_spacing * 1e3);
+    if (other->event) {
+      SwapWithTheMember(*other->event, kept_s, why);
+    } else {
+      MergedEvent event;
+      event.time_s = kept_s;
+      event.winner_s = taken_s;
+      event.peak_dbfs = member.peak_dbfs;
+      char text[512];
+      std::snprintf(text, sizeof text,
+                    "the detector's onset for the impact now at %.5f s, %.1f ms before it: a "
+                    "quieter sound that rang into it; %s",
+                    taken_s, (taken_s - kept_s) * 1e3, why);
+      event.reason = text;
+      set_aside.push_back(std::move(event));
+    }
+    member.onset_s = taken_s;
+    member.onset_uncertainty_s = std::hypot(member.onset_uncertainty_s, spread_s);
+    member.timed_from_response = false;
+    member.later_onset_s = std::numeric_limits<double>::quiet_NaN();
+  }
+  for (MergedEvent& event : set_aside) merged.push_back(std::move(event));
+}
+
 }  // namespace
 
 void TakeMergedOnsetsThatFitTheSequence(std::vector<Impact>& impacts,
                                         std::vector<MergedEvent>& merged,
                                         const std::vector<BounceSequence>& sequences) {
+  for (const auto& sequence : sequences) TimeEveryPairOnOneSound(impacts, merged, sequence);
   for (const auto& sequence : sequences) {
     const auto& members = sequence.impact_indices;
     std::vector<double> times;
@@ -143,7 +449,9 @@ void TakeMergedOnsetsThatFitTheSequence(std::vector<Impact>& impacts,
       if (best_event &&
           (now->misfit - best_misfit) / (now->scatter * now->scatter) > kRequiredImprovement) {
         const double taken_s = best_event->time_s;
-        SwapWithTheMember(*best_event, member.onset_s);
+        SwapWithTheMember(*best_event, member.onset_s,
+                          "the sound there, which the merger had set aside, continues the bounce "
+                          "sequence's interval ratios better (merged)");
         member.onset_s = taken_s;
         times[k] = taken_s;
       }

@@ -26,6 +26,13 @@ namespace bouncecal::audio {
 // timing did not time (Impact::timed_from_response: an aligned onset is its own evidence) and left
 // where the merger put them. The taken sound's entry in `merged` then records the onset the merger
 // kept, as the sound set aside.
+//
+// Before that, each sequence is weighed whole where three or more of its members show another
+// sound at one spacing (2 ms or more), merged into them or their own later, louder sound
+// (Impact::later_onset_s): pairs such as a click and its bounce, some members timed on one sound
+// and some on the other, each interval across a switch off by the spacing. The members move to
+// one sound of their pairs where that fits the ratios clearly better, timed-from-response members
+// too, and the members next to one whose sound is not known then state half the spacing.
 void TakeMergedOnsetsThatFitTheSequence(std::vector<Impact>& impacts,
                                         std::vector<MergedEvent>& merged,
                                         const std::vector<BounceSequence>& sequences);
