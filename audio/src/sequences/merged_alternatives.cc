@@ -361,7 +361,7 @@ void TimeEveryPairOnOneSound(std::vector<Impact>& impacts, std::vector<MergedEve
   const Choice earlier = choose(-1);
   const Choice later = choose(1);
   const int role_moved = earlier.fit.misfit <= later.fit.misfit ? -1 : 1;
-  Choice best = role_moved < 0 ? earlier : later;
+  const Choice& best = role_moved < 0 ? earlier : later;
   const double median_spacing = Median(matched);
   if ((now.misfit - best.fit.misfit) / (best.fit.scatter * best.fit.scatter) <=
       kRequiredImprovement) {
