@@ -183,23 +183,27 @@ bool QuieterSoundIsTheEarlier(double offset_s, const OtherSound& other) {
   return offset_s > 0 ? other_louder : !other_louder;
 }
 
-// Once members were moved to one sound of their pairs, the members with no pair recorded may still
-// be on the other: a click that rings into its bounce keeps one candidate, and whether the
-// detector then times the click or the bounce leaves no trace where the click is within 6 dB of
-// the bounce (silent_wrong_sweep.py --precursors seed 8 #52: the first member on its click, 9 dB
-// under the bounce; once the next four were moved to their bounces, eta-bar read 0.5242 +- 0.0010
-// against 0.5198). So where the quieter sound of most pairs is the earlier (a click before each
-// bounce), every member next to one not known to be on the same sound states half the spacing:
-// an interval across a switch is off by the spacing. Where it is the later (an echo), a member
+// Once members were moved to one sound of their pairs, a member with no pair recorded may still be
+// on the other: a click that rings into its bounce keeps one candidate, and whether the detector
+// then times the click or the bounce leaves no trace where the click is within 6 dB of the bounce.
+// Inside the sequence such a member's switch moves two ratios and is part of what the choice was
+// weighed on; the first or last member's moves one, and a few ms on the first flight is a percent
+// of it, under the ratios' scatter (silent_wrong_sweep.py --precursors seed 8 #52: the first
+// member on its click, 9 dB under the bounce, the next four moved to their bounces; eta-bar read
+// 0.5242 +- 0.0010 against 0.5198). So where the quieter sound of most pairs is the earlier (a
+// click before each bounce), a first or last member whose sound is not known, next to one whose
+// sound is, states half the spacing (#52: +- 0.0023). Where it is the later (an echo), a member
 // without a recorded pair is on its bounce (had the echo won, the bounce would be recorded as
-// merged), and nothing is added. Only after a move, since a switch it then shows is no longer a
-// guess: where no move was clear, a real ball's louder sound a few ms after its first touch (its
-// build-up) pairs with its members as a click would, and doubting every boundary widened the
-// shared recordings' eta-bar sigmas 3-24 times (basketball 0.00033 -> 0.0079); a switch too
-// small for the ratios to show stays unstated (seed 8 #61, a 2.7 ms lead on 0.12 s flights).
-void DoubtWherePairsMayStillSwitch(std::vector<Impact>& impacts, const std::vector<int>& members,
-                                   const std::vector<std::pair<int, const OtherSound*>>& pairs,
-                                   const std::vector<bool>& moved, double spacing_s) {
+// merged). Every member next to one of another or unknown sound stating it instead widened
+// answers that were right 30-46 times (seed 53 #115 eta-bar sigma 0.0002 -> 0.0059, 29 #105
+// 0.0002 -> 0.0092: their unknown members are on the same sound as the moved ones); and doing so
+// also where no move was taken, the shared recordings' 3-24 times (basketball 0.00033 -> 0.0079),
+// since a real ball's louder sound a few ms after its first touch pairs with its members as a
+// click would. A switch too small for the ratios to show stays unstated (seed 8 #61, a 2.7 ms
+// lead on 0.12 s flights).
+void DoubtAnEndMemberOfUnknownSound(std::vector<Impact>& impacts, const std::vector<int>& members,
+                                    const std::vector<std::pair<int, const OtherSound*>>& pairs,
+                                    const std::vector<bool>& moved, double spacing_s) {
   const int n = static_cast<int>(members.size());
   int clicks = 0, echoes = 0;
   std::vector<int> sound(static_cast<std::size_t>(n), 0);  // +1 earlier, -1 later, 0 unknown
@@ -211,15 +215,12 @@ void DoubtWherePairsMayStillSwitch(std::vector<Impact>& impacts, const std::vect
     sound[static_cast<std::size_t>(k)] = moved[static_cast<std::size_t>(k)] ? -role : role;
   }
   if (clicks <= echoes) return;
-  std::vector<bool> doubtful(static_cast<std::size_t>(n), false);
-  for (int k = 0; k + 1 < n; ++k) {
-    if (sound[static_cast<std::size_t>(k)] != sound[static_cast<std::size_t>(k + 1)]) {
-      doubtful[static_cast<std::size_t>(k)] = doubtful[static_cast<std::size_t>(k + 1)] = true;
+  for (const auto& [end, neighbour] : {std::pair{0, 1}, std::pair{n - 1, n - 2}}) {
+    if (sound[static_cast<std::size_t>(end)] != 0 ||
+        sound[static_cast<std::size_t>(neighbour)] == 0) {
+      continue;
     }
-  }
-  for (int k = 0; k < n; ++k) {
-    if (!doubtful[static_cast<std::size_t>(k)]) continue;
-    Impact& member = impacts[static_cast<std::size_t>(members[k])];
+    Impact& member = impacts[static_cast<std::size_t>(members[end])];
     member.onset_uncertainty_s = std::hypot(member.onset_uncertainty_s, 0.5 * spacing_s);
   }
 }
@@ -367,7 +368,7 @@ void TimeEveryPairOnOneSound(std::vector<Impact>& impacts, std::vector<MergedEve
       kRequiredImprovement) {
     return;
   }
-  DoubtWherePairsMayStillSwitch(impacts, members, pairs, best.move, median_spacing);
+  DoubtAnEndMemberOfUnknownSound(impacts, members, pairs, best.move, median_spacing);
   // The pairs' scatter about their spacing: how far either sound's onset wanders.
   double square_sum = 0;
   for (double m : matched) square_sum += (m - median_spacing) * (m - median_spacing);

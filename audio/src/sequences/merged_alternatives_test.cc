@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -226,6 +227,24 @@ TEST(PairedSounds, MembersAllOnTheirClicksStayThere) {
   for (std::size_t k = 0; k < impacts.size(); ++k) {
     EXPECT_EQ(impacts[k].onset_s, onsets[k].onset_s) << k;
   }
+}
+
+// The first member on a click nothing was recorded of (within 6 dB of its bounce, no later
+// sound noted), and so a middle one: once the others are timed on one sound, the first states
+// half the 6 ms spacing, since its switch would move one ratio by a percent; the middle one's
+// would move two, which the choice was weighed on, and it states nothing more.
+TEST(PairedSounds, AFirstMemberOfUnknownSoundStatesHalfTheSpacing) {
+  std::vector<Impact> impacts;
+  std::vector<MergedEvent> merged;
+  ClickedDrop(4, impacts, merged);
+  for (const std::size_t unknown : {std::size_t{0}, std::size_t{6}}) {
+    impacts[unknown].later_onset_s = std::numeric_limits<double>::quiet_NaN();
+    std::erase_if(merged,
+                  [&](const MergedEvent& e) { return e.winner_s == impacts[unknown].onset_s; });
+  }
+  TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
+  EXPECT_NEAR(impacts[0].onset_uncertainty_s, std::hypot(30e-6, 3e-3), 1e-6);
+  EXPECT_EQ(impacts[6].onset_uncertainty_s, 30e-6);
 }
 
 // Two members with a later sound and one with an earlier one at the same spacing: too few pairs
