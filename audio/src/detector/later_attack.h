@@ -21,15 +21,14 @@ double LaterAttackS(std::span<const float> after_onset, int sample_rate_hz);
 
 // Where that later sound itself begins (s after the onset), in any file: its start of contact is
 // picked as an impact's is (onset_picker.h), on the samples from the end of the onset's own first
-// millisecond up to the later sound's peak. (Placing it by its timing reference against the
-// onset's own instead, as the detector states onsets, moved the sweep's later sounds by -1.0 to
-// +0.1 ms and undid 11 of the 49 answers the rule improves; a 0.8 ms contact's later sound is
-// picked about 0.5 ms late either way.) A click 10-14 dB under its bounce
-// and a few ms ahead of it rings into the bounce and keeps one candidate, whose onset is then the
-// click's, with nothing recorded of the bounce (silent_wrong_sweep.py --precursors): this is that
-// bounce's onset, an alternative a bounce sequence may take (merged_alternatives.h). Nothing
-// unless the first millisecond stays 6 dB (not 10) under the later peak: such clicks vary by a
-// few dB from bounce to bounce.
+// millisecond up to the later sound's peak. A click 9-14 dB under its bounce and a few ms ahead
+// of it rings into the bounce and keeps one candidate, whose onset is then the click's, with
+// nothing recorded of the bounce (silent_wrong_sweep.py --precursors): this is that bounce's
+// onset, an alternative a bounce sequence may take (merged_alternatives.h). Nothing unless the
+// first millisecond stays 6 dB (not 10) under the later peak: such clicks vary by a few dB from
+// bounce to bounce. (Placing the later sound by its timing reference against the onset's own, as
+// the detector states onsets, moved it by -1.0 to +0.1 ms on the sweep's drops and left seed 7
+// #63 wrong; a 0.8 ms contact's later sound is picked about 0.5 ms late either way.)
 std::optional<double> LaterSoundOnsetS(std::span<const float> after_onset, int sample_rate_hz);
 
 }  // namespace bouncecal::audio

@@ -78,7 +78,7 @@ struct Impact {
   // (merged_alternatives.h).
   bool timed_from_response = false;
   // Where a louder sound begins within the impact's first milliseconds, its own first millisecond
-  // 10 dB or more under that sound (detector/later_attack.h), s from the first sample; NaN where
+  // 6 dB or more under that sound (detector/later_attack.h), s from the first sample; NaN where
   // none does. A click that rang into its bounce kept one candidate, whose onset is the click's,
   // and this is the bounce's: an alternative onset that a bounce sequence may take
   // (merged_alternatives.h).
