@@ -49,42 +49,55 @@ double Median(std::vector<double>& values) {
   return *middle;
 }
 
+// ln_ratio[j] = ln((t[j+1] - t[j]) / (t[j] - t[j-1])), j = 1 .. n-2 (0 at the ends).
+std::vector<double> LnRatios(const std::vector<double>& times) {
+  std::vector<double> ln_ratio(times.size(), 0.0);
+  for (std::size_t j = 1; j + 1 < times.size(); ++j) {
+    ln_ratio[j] = std::log((times[j + 1] - times[j]) / (times[j] - times[j - 1]));
+  }
+  return ln_ratio;
+}
+
+// The squared misfits of the ratios `scored` summed about the Theil-Sen line through the ratios
+// `reference`, and the robust scatter of those about it. Theil-Sen: the median of the pairwise
+// slopes, then of the intercepts. A chain's last ratios (chatter, in-ringing members) can be far
+// off, and a least-squares line would tilt to them.
+RatioFit FitAgainstLine(const std::vector<double>& ln_ratio, const std::vector<int>& reference,
+                        const std::vector<int>& scored) {
+  const auto at = [&](int j) { return ln_ratio[static_cast<std::size_t>(j)]; };
+  std::vector<double> slopes;
+  for (std::size_t a = 0; a < reference.size(); ++a) {
+    for (std::size_t b = a + 1; b < reference.size(); ++b) {
+      slopes.push_back((at(reference[b]) - at(reference[a])) / (reference[b] - reference[a]));
+    }
+  }
+  const double slope = Median(slopes);
+  std::vector<double> intercepts;
+  for (int j : reference) intercepts.push_back(at(j) - slope * j);
+  const double intercept = Median(intercepts);
+  RatioFit fit;
+  for (int j : scored) {
+    const double d = at(j) - (intercept + slope * j);
+    fit.misfit += d * d;
+  }
+  std::vector<double> deviations;
+  for (int j : reference) deviations.push_back(std::fabs(at(j) - (intercept + slope * j)));
+  fit.scatter = std::max(kMinLnRatioScatter, kScatterOverMad * Median(deviations));
+  return fit;
+}
+
 // Sum over the ratios that member k's onset moves of their squared misfit in ln against the line
 // through the others within kReferenceReach; nullopt without 3 such others.
 std::optional<RatioFit> Misfit(const std::vector<double>& times, int k) {
   const int n = static_cast<int>(times.size());
-  // ln_ratio[j] = ln((t[j+1] - t[j]) / (t[j] - t[j-1])), j = 1 .. n-2.
-  const auto ln_ratio = [&](int j) {
-    return std::log((times[j + 1] - times[j]) / (times[j] - times[j - 1]));
-  };
-  std::vector<int> reference;
+  std::vector<int> reference, moved;
   for (int j = std::max(1, k - 1 - kReferenceReach); j <= std::min(n - 2, k + 1 + kReferenceReach);
        ++j) {
     if (j < k - 1 || j > k + 1) reference.push_back(j);
   }
   if (reference.size() < 3) return std::nullopt;
-  // Theil-Sen: the median of the pairwise slopes, then of the intercepts. A chain's last ratios
-  // (chatter, in-ringing members) can be far off, and a least-squares line would tilt to them.
-  std::vector<double> slopes;
-  for (std::size_t a = 0; a < reference.size(); ++a) {
-    for (std::size_t b = a + 1; b < reference.size(); ++b) {
-      slopes.push_back((ln_ratio(reference[b]) - ln_ratio(reference[a])) /
-                       (reference[b] - reference[a]));
-    }
-  }
-  const double slope = Median(slopes);
-  std::vector<double> intercepts;
-  for (int j : reference) intercepts.push_back(ln_ratio(j) - slope * j);
-  const double intercept = Median(intercepts);
-  RatioFit fit;
-  for (int j = std::max(1, k - 1); j <= std::min(n - 2, k + 1); ++j) {
-    const double d = ln_ratio(j) - (intercept + slope * j);
-    fit.misfit += d * d;
-  }
-  std::vector<double> deviations;
-  for (int j : reference) deviations.push_back(std::fabs(ln_ratio(j) - (intercept + slope * j)));
-  fit.scatter = std::max(kMinLnRatioScatter, kScatterOverMad * Median(deviations));
-  return fit;
+  for (int j = std::max(1, k - 1); j <= std::min(n - 2, k + 1); ++j) moved.push_back(j);
+  return FitAgainstLine(LnRatios(times), reference, moved);
 }
 
 // The merged sound becomes the member and the onset the merger kept becomes the merged sound, so
@@ -122,7 +135,7 @@ constexpr int kMinPairedMembers = 3;
 // any choice exactly. Five leave one ratio to judge by: in silent_wrong_sweep.py --precursors
 // seeds 7 and 8, seven five-member drops read closer to the truth (8 #32: -1.5 -> -0.1 sigmas),
 // and seed 23 #183 (five members in reverb, their onsets 0.1-3.9 ms off) moved its first to a
-// sound 7.5 ms before it, 0.0095 -> 0.0142 off at 0.5 sigmas; six as the least kept the seven
+// sound 7.5 ms before it, 0.0095 -> 0.0142 off at 0.7 sigmas; six as the least kept the seven
 // where they were.
 constexpr int kMinMembersToWeighWhole = 5;
 
@@ -147,33 +160,12 @@ RatioFit WholeSequenceMisfit(const std::vector<double>& times, const std::vector
       return {std::numeric_limits<double>::infinity(), kMinLnRatioScatter};
     }
   }
-  std::vector<double> ln_ratio(static_cast<std::size_t>(n), 0.0);
+  std::vector<int> all, touched;
   for (int j = 1; j + 1 < n; ++j) {
-    ln_ratio[static_cast<std::size_t>(j)] =
-        std::log((times[j + 1] - times[j]) / (times[j] - times[j - 1]));
+    all.push_back(j);
+    if (scored[static_cast<std::size_t>(j)]) touched.push_back(j);
   }
-  std::vector<double> slopes;
-  for (int a = 1; a + 1 < n; ++a) {
-    for (int b = a + 1; b + 1 < n; ++b) {
-      slopes.push_back(
-          (ln_ratio[static_cast<std::size_t>(b)] - ln_ratio[static_cast<std::size_t>(a)]) /
-          (b - a));
-    }
-  }
-  const double slope = Median(slopes);
-  std::vector<double> intercepts;
-  for (int j = 1; j + 1 < n; ++j)
-    intercepts.push_back(ln_ratio[static_cast<std::size_t>(j)] - slope * j);
-  const double intercept = Median(intercepts);
-  RatioFit fit;
-  std::vector<double> deviations;
-  for (int j = 1; j + 1 < n; ++j) {
-    const double d = ln_ratio[static_cast<std::size_t>(j)] - (intercept + slope * j);
-    deviations.push_back(std::fabs(d));
-    if (scored[static_cast<std::size_t>(j)]) fit.misfit += d * d;
-  }
-  fit.scatter = std::max(kMinLnRatioScatter, kScatterOverMad * Median(deviations));
-  return fit;
+  return FitAgainstLine(LnRatios(times), all, touched);
 }
 
 // Which sound of a member's pair is the quieter: the earlier one for a click before its bounce
