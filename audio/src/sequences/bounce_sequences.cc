@@ -1070,9 +1070,9 @@ SequenceResult FindSequences(const std::vector<Impact>& impacts, const SequenceO
   // chance test whatever its members: tracking takes a band-detected sound in the window over a
   // louder residual-only one, and where wide onset uncertainties (a codec's) widen the window, a
   // ball's last bounce gives way to the sounds after it. zaky-ptv's ping-pong as Opus 64k: nine
-  // bounces (random chains would time as well 9e-4 times) and then three band-detected sounds of
-  // the room (ratios 0.72, 0.66, 0.66), the whole chain 0.15 times, refused; the copy kept a
-  // three-impact short sequence and no eta-bar.
+  // bounces (random chains would time as well 2e-3 times, the three cut versions counted) and
+  // then three band-detected sounds of the room (ratios 0.72, 0.66, 0.66), the whole chain 0.15
+  // times, refused; the copy kept a three-impact short sequence and no eta-bar.
   const auto passes_or_trims = [&](Chain& chain) {
     // The chains from one first impact tried before this one count against it too.
     double tests = 1 + chain.alternative;

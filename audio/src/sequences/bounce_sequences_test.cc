@@ -867,8 +867,8 @@ TEST(BounceSequences, AChainThatFailsTheChanceTestByItsLastResidualOnlySoundEnds
 // bounce the window holds a band-detected sound of the room (2.2553 s) beside the louder
 // residual-only 10th bounce (2.2742 s): tracking takes the former and two more like it (ratios
 // 0.72, 0.66, 0.66), and the whole chain times like chance (0.15 expected chains), where its
-// first nine impacts do not (9e-4 with the cut versions counted). The copy kept only a short
-// sequence of three bounces and no eta-bar; now it has the nine.
+// first nine impacts do not (2e-3 with the three cut versions counted, against 0.01). The copy
+// kept only a short sequence of three bounces and no eta-bar; now it has the nine.
 TEST(BounceSequences, AChainThatFailsTheChanceTestByItsLastBandDetectedSoundsEndsBeforeThem) {
   const std::vector<std::tuple<double, double, double, int>> detected = {
       {0.011240, 0.00056, -19.56, 0},  {0.044872, 0.000593, -4.91, 1},
