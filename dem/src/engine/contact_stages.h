@@ -102,8 +102,10 @@ class ContactStages {
 #if BOUNCECAL_SCENE_HAS_SIMD_PATHS
     switch (simd) {
       case ContactSimd::kAvx512:
+#if BOUNCECAL_SCENE_HAS_AVX512_PATH
         RunAvx512<kWall>(t, n, history);
         break;
+#endif
       case ContactSimd::kAvx2:
         RunAvx2<kWall>(t, n, history);
         break;
@@ -126,8 +128,10 @@ class ContactStages {
 #if BOUNCECAL_SCENE_HAS_SIMD_PATHS
     switch (simd) {
       case ContactSimd::kAvx512:
+#if BOUNCECAL_SCENE_HAS_AVX512_PATH
         RunSingleAvx512(t, n, history);
         break;
+#endif
       case ContactSimd::kAvx2:
         RunSingleAvx2(t, n, history);
         break;

@@ -231,7 +231,7 @@ class EngineBase {
   std::int64_t untouched_ = 0;
 };
 
-// The widest build of the contact arithmetic this CPU (and OS) can run.
+// The widest build of the contact arithmetic this CPU (and OS) can run and this library has.
 ContactSimd CpuContactSimd();
 
 // The engine for a scene: the law variant and physics flags become template arguments here.

@@ -8,10 +8,13 @@ namespace bouncecal::dem::scene {
 ContactSimd CpuContactSimd() {
 #if (defined(__x86_64__) || defined(__i386__)) && defined(__GNUC__)
   // __builtin_cpu_supports also checks that the OS saves the wider registers.
+  // The sanitized build has no AVX-512 build (simd_helpers.h).
+#if !defined(BOUNCECAL_SCENE_NO_AVX512)
   if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
       __builtin_cpu_supports("avx512vl")) {
     return ContactSimd::kAvx512;
   }
+#endif
   if (__builtin_cpu_supports("avx2")) return ContactSimd::kAvx2;
 #endif
   return ContactSimd::kBaseline;

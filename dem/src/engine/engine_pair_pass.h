@@ -36,8 +36,10 @@ inline std::int64_t Engine<Dim, Law, Phys>::PairRangeDense(ContactScratch<Dim, R
 #if BOUNCECAL_SCENE_HAS_SIMD_PATHS
     switch (simd_) {
       case ContactSimd::kAvx512:
+#if BOUNCECAL_SCENE_HAS_AVX512_PATH
         interacting += DenseBlockAvx512(t, b, n);
         break;
+#endif
       case ContactSimd::kAvx2:
         interacting += DenseBlockAvx2(t, b, n);
         break;

@@ -18,6 +18,17 @@
 #define BOUNCECAL_SCENE_HAS_SIMD_PATHS 0
 #endif
 
+// The sanitized build (BOUNCECAL_SANITIZE) leaves the AVX-512 build out: it is the AVX2 build's
+// source (the same gathers, stages and scatters) under another target, so the sanitizers find
+// nothing in it that they miss in the AVX2 build, and under ASan+UBSan at -O0 each SIMD build of
+// every law and physics set costs as much to compile as the baseline (engine_3d_part0.cc: 72 CPU
+// s with both, 29 s with neither, 2026-12-04). Every kAvx512 request then runs the AVX2 build.
+#if BOUNCECAL_SCENE_HAS_SIMD_PATHS && !defined(BOUNCECAL_SCENE_NO_AVX512)
+#define BOUNCECAL_SCENE_HAS_AVX512_PATH 1
+#else
+#define BOUNCECAL_SCENE_HAS_AVX512_PATH 0
+#endif
+
 // The attributes of the AVX-512 build, at the full 512-bit width (8 contacts per instruction): at
 // 256 bits it gained nothing over AVX2. Clang's target attribute does not take the width (it
 // ignores the whole string, and then the AVX2 helpers cannot be inlined); its min_vector_width
