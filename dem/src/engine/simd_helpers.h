@@ -19,10 +19,12 @@
 #endif
 
 // The sanitized build (BOUNCECAL_SANITIZE) leaves the AVX-512 build out: it is the AVX2 build's
-// source (the same gathers, stages and scatters) under another target, so the sanitizers find
-// nothing in it that they miss in the AVX2 build, and under ASan+UBSan at -O0 each SIMD build of
-// every law and physics set costs as much to compile as the baseline (engine_3d_part0.cc: 72 CPU
-// s with both, 29 s with neither, 2026-12-04). Every kAvx512 request then runs the AVX2 build.
+// source (the same gathers, stages and scatters) under another target, and at that build's -O0
+// the compiler vectorises neither (their only vector code is the same AVX2 intrinsics), so the
+// sanitizers find nothing in it that they miss in the AVX2 build; yet under ASan+UBSan each SIMD
+// build of every law and physics set costs about what the baseline does to compile
+// (engine_3d_part0.cc, 2026-12-04: 66-72 CPU s with both SIMD builds, 44 s with AVX2 alone, 29 s
+// with neither). Every kAvx512 request then runs the AVX2 build.
 #if BOUNCECAL_SCENE_HAS_SIMD_PATHS && !defined(BOUNCECAL_SCENE_NO_AVX512)
 #define BOUNCECAL_SCENE_HAS_AVX512_PATH 1
 #else
