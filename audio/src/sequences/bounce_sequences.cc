@@ -483,41 +483,6 @@ class ChanceAlignment {
   // The expected number of chains among those tried whose timing random events would match
   // as well as this one's.
   double ExpectedChanceChains(const std::vector<int>& members) const {
-    std::vector<double> expected;
-    ChanceOfPrefixes(members, members.size(), expected);
-    return expected.back();
-  }
-
-  // The same for every prefix of `members` of at least `shortest` impacts, shortest first: the
-  // versions a refused chain is cut back to (passes_or_trims in FindSequences). Since those may
-  // be cut past band-detected members too, a long file of random events tries them by the
-  // thousand (the 10-minute bench WAV: 9504 refused chains, 53320 cut versions), and one pass
-  // per chain instead of one per version made its analysis 1.4-2.4 % faster (analyze_bench,
-  // three alternated pairs). Each value is the one ExpectedChanceChains gives that prefix, to
-  // the bit (its terms are the prefix's own, summed in the same order), except that a transform
-  // codec's file takes one pass per prefix: its rates over the chain's span
-  // (WeakRateOverTheSpan) change with the prefix.
-  std::vector<double> ExpectedChanceChainsOfPrefixes(const std::vector<int>& members,
-                                                     std::size_t shortest) const {
-    std::vector<double> expected;
-    if (!options_.codec_frame_s) {
-      ChanceOfPrefixes(members, shortest, expected);
-      return expected;
-    }
-    std::vector<int> prefix;
-    for (std::size_t size = shortest; size <= members.size(); ++size) {
-      prefix.assign(members.begin(), members.begin() + static_cast<std::ptrdiff_t>(size));
-      ChanceOfPrefixes(prefix, size, expected);
-    }
-    return expected;
-  }
-
- private:
-  // Appends to `expected` the expected number of chance chains of each prefix of `members` of
-  // at least `shortest` impacts, shortest first; the rates over the span are those of
-  // the whole of `members`.
-  void ChanceOfPrefixes(const std::vector<int>& members, std::size_t shortest,
-                        std::vector<double>& expected) const {
     const auto onset = [&](std::size_t k) {
       return impacts_[static_cast<size_t>(members[k])].onset_s;
     };
@@ -538,39 +503,6 @@ class ChanceAlignment {
       (is_tentative(k)                                           ? tentative_taken
        : impacts_[static_cast<size_t>(members[k])].residual_only ? weak_taken
                                                                  : strong_taken) += 1;
-    }
-    // The expected number of chance chains of the prefix of `size` impacts, from its sums.
-    const auto combine = [&](std::size_t size, double fisher, double log_rates, double squared,
-                             int terms) {
-      const bool weak_second = size > 1 && impacts_[static_cast<size_t>(members[1])].residual_only;
-      // Counted when first needed: most files never test such a chain.
-      if (weak_second && !weak_second_chains_tried_) {
-        weak_second_chains_tried_ = std::max(ChainsTried(/*weak_second=*/true), 1.0);
-      }
-      const double tried = weak_second ? *weak_second_chains_tried_ : chains_tried_;
-      if (terms == 0) return tried;
-      const double fisher_chance = FisherChance(fisher, terms);
-      // One impact: both tests order chains by |d| alone and agree.
-      if (terms == 1) return tried * fisher_chance;
-      // Fisher's combination rewards one deviation far below the rest, but a ball whose e scatters
-      // (3-5 % per impact) misses every prediction by about s w_k: each p_k ~ 2 rate s w_k, and
-      // with one impact's p near 0.01 and the next near 0.02 the chain read as chance. Against that
-      // alternative the log likelihood ratio of "bounce with scatter" (y_k normal, sd s) to "random
-      // event" (y_k exponential with rate a_k = 2 rate w_k) is -q / 2s^2 + sum a_k y_k + const,
-      // q = sum y_k^2, and the linear term is negligible wherever a chain can pass (a_k y_k ~ p_k),
-      // so q is the statistic for every s. For random events P(q' <= q) <= prod a_k times the
-      // volume of the positive part of the m-ball of radius sqrt(q), pi^(m/2) q^(m/2) /
-      // (Gamma(m/2 + 1) 2^m), since each density a_k exp(-a_k y_k) <= a_k. The chance is the
-      // smaller of the two tests, doubled since either may decide (a union bound, so a random chain
-      // still passes with at most the stated probability).
-      const double m = static_cast<double>(terms);
-      const double log_ball = log_rates + 0.5 * m * std::log(std::numbers::pi * squared) -
-                              std::lgamma(0.5 * m + 1.0) - m * std::log(2.0);
-      const double ball_chance = std::exp(std::min(0.0, log_ball));
-      return tried * 2.0 * std::min(fisher_chance, ball_chance);
-    };
-    for (std::size_t size = shortest; size <= std::min<std::size_t>(3, members.size()); ++size) {
-      expected.push_back(combine(size, 0, 0, 0, 0));
     }
     for (std::size_t k = 3; k < members.size(); ++k) {
       const double dt0 = onset(k - 2) - onset(k - 3);
@@ -614,10 +546,37 @@ class ChanceAlignment {
       log_rates += std::log(2.0 * rate_hz * width_s);
       squared += (deviation_s / width_s) * (deviation_s / width_s);
       ++terms;
-      if (k + 1 >= shortest) expected.push_back(combine(k + 1, fisher, log_rates, squared, terms));
     }
+    const bool weak_second =
+        members.size() > 1 && impacts_[static_cast<size_t>(members[1])].residual_only;
+    // Counted when first needed: most files never test such a chain.
+    if (weak_second && !weak_second_chains_tried_) {
+      weak_second_chains_tried_ = std::max(ChainsTried(/*weak_second=*/true), 1.0);
+    }
+    const double tried = weak_second ? *weak_second_chains_tried_ : chains_tried_;
+    if (terms == 0) return tried;
+    const double fisher_chance = FisherChance(fisher, terms);
+    // One impact: both tests order chains by |d| alone and agree.
+    if (terms == 1) return tried * fisher_chance;
+    // Fisher's combination rewards one deviation far below the rest, but a ball whose e scatters
+    // (3-5 % per impact) misses every prediction by about s w_k: each p_k ~ 2 rate s w_k, and
+    // with one impact's p near 0.01 and the next near 0.02 the chain read as chance. Against that
+    // alternative the log likelihood ratio of "bounce with scatter" (y_k normal, sd s) to "random
+    // event" (y_k exponential with rate a_k = 2 rate w_k) is -q / 2s^2 + sum a_k y_k + const,
+    // q = sum y_k^2, and the linear term is negligible wherever a chain can pass (a_k y_k ~ p_k),
+    // so q is the statistic for every s. For random events P(q' <= q) <= prod a_k times the
+    // volume of the positive part of the m-ball of radius sqrt(q), pi^(m/2) q^(m/2) /
+    // (Gamma(m/2 + 1) 2^m), since each density a_k exp(-a_k y_k) <= a_k. The chance is the
+    // smaller of the two tests, doubled since either may decide (a union bound, so a random chain
+    // still passes with at most the stated probability).
+    const double m = static_cast<double>(terms);
+    const double log_ball = log_rates + 0.5 * m * std::log(std::numbers::pi * squared) -
+                            std::lgamma(0.5 * m + 1.0) - m * std::log(2.0);
+    const double ball_chance = std::exp(std::min(0.0, log_ball));
+    return tried * 2.0 * std::min(fisher_chance, ball_chance);
   }
 
+ private:
   const std::vector<Impact>& impacts_;
   const SequenceOptions& options_;
   std::vector<bool> tentative_;  // one flag per impact
@@ -964,16 +923,11 @@ bool FlightsShrink(const std::vector<Impact>& impacts, const std::vector<int>& m
 // how many versions of the chain were tested (a union bound over them). The expected number of
 // chance chains goes to *chance_alignment where the test needed it. `always_test`: the test
 // applies whatever the chain's members (a chain cut short of members it tracked, which must
-// earn its place by its timing). `chance_chains`: the chain's ExpectedChanceChains where it is
-// already known.
+// earn its place by its timing).
 bool PassesTheChanceTest(const std::vector<Impact>& impacts, const std::vector<bool>& free,
                          const ChanceAlignment& chance, const SequenceOptions& options,
                          const std::vector<int>& members, double tests,
-                         double* chance_alignment = nullptr, bool always_test = false,
-                         std::optional<double> chance_chains = std::nullopt) {
-  const auto expected_chance_chains = [&] {
-    return chance_chains ? *chance_chains : chance.ExpectedChanceChains(members);
-  };
+                         double* chance_alignment = nullptr, bool always_test = false) {
   // The band-detected impacts that start the chain, up to its first residual-only one: only
   // those make a chain on their own. Band-detected members after residual-only ones are joined to
   // the first by sounds only the ringing residual found, which speech or a knock's tail also
@@ -991,7 +945,7 @@ bool PassesTheChanceTest(const std::vector<Impact>& impacts, const std::vector<b
       if (chance_alignment) *chance_alignment = std::numeric_limits<double>::infinity();
       return false;
     }
-    const double expected = tests * expected_chance_chains();
+    const double expected = tests * chance.ExpectedChanceChains(members);
     if (chance_alignment) *chance_alignment = expected;
     const bool weak_second =
         members.size() > 1 && impacts[static_cast<size_t>(members[1])].residual_only;
@@ -1000,7 +954,8 @@ bool PassesTheChanceTest(const std::vector<Impact>& impacts, const std::vector<b
   // In a transform codec's file a rise in a band is also the codec's (pre-echo, a frame's new
   // quantisation noise), so even such a chain must not time like chance at least
   // (kLossyBandChainChance).
-  return !options.codec_frame_s || tests * expected_chance_chains() < kLossyBandChainChance;
+  return !options.codec_frame_s ||
+         tests * chance.ExpectedChanceChains(members) < kLossyBandChainChance;
 }
 
 // Periods shorter than this are not sought: the detector merges rises closer than its min gap
@@ -1097,10 +1052,10 @@ SequenceResult FindSequences(const std::vector<Impact>& impacts, const SequenceO
   for (int first = 0; first < n; ++first) {
     heap.push(finder.BestFrom(first, runners_up[static_cast<size_t>(first)]));
   }
-  const auto passes_the_chance_test = [&](Chain& chain, double tests = 1, bool always_test = false,
-                                          std::optional<double> chance_chains = std::nullopt) {
+  const auto passes_the_chance_test = [&](Chain& chain, double tests = 1,
+                                          bool always_test = false) {
     return PassesTheChanceTest(impacts, free, chance, options, chain.members, tests,
-                               &chain.chance_alignment, always_test, chance_chains);
+                               &chain.chance_alignment, always_test);
   };
   // A chain that fails the test may owe it to its last members alone: tracking takes the one
   // residual-only sound in a bounce's window however far from the prediction (a codec's or the
@@ -1124,21 +1079,13 @@ SequenceResult FindSequences(const std::vector<Impact>& impacts, const SequenceO
     if (passes_the_chance_test(chain, tests)) return true;
     Chain trimmed = chain;
     bool dropped_band_detected = false;
-    // Every cut version's chance from one pass over the chain (index: members - min_impacts).
-    std::vector<double> cut_chances;
-    if (static_cast<int>(chain.members.size()) > options.min_impacts) {
-      cut_chances = chance.ExpectedChanceChainsOfPrefixes(
-          chain.members, static_cast<std::size_t>(options.min_impacts));
-    }
     while (static_cast<int>(trimmed.members.size()) > options.min_impacts) {
       const int dropped = trimmed.members.back();
       const bool residual_only = impacts[static_cast<size_t>(dropped)].residual_only;
       dropped_band_detected = dropped_band_detected || !residual_only;
       trimmed.members.pop_back();
       tests += 1;
-      if (passes_the_chance_test(trimmed, tests, dropped_band_detected,
-                                 cut_chances[trimmed.members.size() -
-                                             static_cast<std::size_t>(options.min_impacts)])) {
+      if (passes_the_chance_test(trimmed, tests, dropped_band_detected)) {
         trimmed.end_reason =
             residual_only
                 ? EndReason{"its next sound (%.4f s), found only by the ringing residual, "
