@@ -1086,8 +1086,10 @@ SequenceResult FindSequences(const std::vector<Impact>& impacts, const SequenceO
       trimmed.members.pop_back();
       tests += 1;
       if (passes_the_chance_test(trimmed, tests, dropped_band_detected)) {
+        // "Its next sound" only where that sound alone was cut: after a band-detected one, the
+        // chain's whole tail timed like chance.
         trimmed.end_reason =
-            residual_only
+            residual_only && !dropped_band_detected
                 ? EndReason{"its next sound (%.4f s), found only by the ringing residual, "
                             "times like chance",
                             impacts[static_cast<size_t>(dropped)].onset_s}
