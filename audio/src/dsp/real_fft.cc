@@ -5,6 +5,7 @@
 #include <string>
 
 #include "bouncecal/error.h"
+#include "dsp/fft_wisdom.h"
 
 namespace bouncecal::audio {
 namespace {
@@ -23,6 +24,8 @@ struct Fftw;
 
 template <>
 struct Fftw<float> {
+  // The detector's transforms plan from measured plans shipped with the source (fft_wisdom.h).
+  static void PrepareWisdom() { ImportShippedFftwfWisdom(); }
   static float* AllocReal(size_t n) { return fftwf_alloc_real(n); }
   static fftwf_complex* AllocComplex(size_t n) { return fftwf_alloc_complex(n); }
   static void Free(void* p) { fftwf_free(p); }
@@ -42,6 +45,8 @@ struct Fftw<float> {
 
 template <>
 struct Fftw<double> {
+  // The synthesiser's transforms: few, and not worth shipped plans.
+  static void PrepareWisdom() {}
   static double* AllocReal(size_t n) { return fftw_alloc_real(n); }
   static fftw_complex* AllocComplex(size_t n) { return fftw_alloc_complex(n); }
   static void Free(void* p) { fftw_free(p); }
@@ -68,6 +73,7 @@ BasicRealFft<Real>::BasicRealFft(int size) : size_(size) {
     throw ConfigError("FFT size must be even and at least 2, got " + std::to_string(size));
   }
   std::lock_guard<std::mutex> lock(PlannerMutex());
+  F::PrepareWisdom();
   real_ = F::AllocReal(static_cast<size_t>(size));
   output_ = F::AllocReal(static_cast<size_t>(size));
   spectrum_ = F::AllocComplex(static_cast<size_t>(size / 2 + 1));
