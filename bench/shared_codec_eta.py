@@ -92,18 +92,26 @@ def main():
                 row.update(wav=reference[0], wav_sigma=reference[1], copy=encoded[0],
                            copy_sigma=encoded[1], diff=diff,
                            sigmas=diff / sigma if sigma > 0 else math.inf)
+            elif not reference:
+                # Not a loss of the codec's: the WAV gives none either.
+                row["wav_has_none"] = True
             rows.append(row)
-            print(f"{row['recording']:40s} {name:9s} "
-                  + (f"wav {row['wav']:.4f}+-{row['wav_sigma']:.5f} copy {row['copy']:.4f}"
-                     f"+-{row['copy_sigma']:.5f} |d| {row['diff']:.4f} {row['sigmas']:.2f} sig"
-                     if "diff" in row else "no eta-bar"), flush=True)
+            if "diff" in row:
+                text = (f"wav {row['wav']:.4f}+-{row['wav_sigma']:.5f} copy {row['copy']:.4f}"
+                        f"+-{row['copy_sigma']:.5f} |d| {row['diff']:.4f} {row['sigmas']:.2f} sig")
+            elif row.get("wav_has_none"):
+                text = "no eta-bar (nor has the WAV)"
+            else:
+                text = "no eta-bar"
+            print(f"{row['recording']:40s} {name:9s} {text}", flush=True)
     done = [r for r in rows if "diff" in r]
     print(f"copies {len(rows)}: within 0.002 {sum(r['diff'] <= 0.002 for r in done)}, "
           f"within 0.003 {sum(r['diff'] <= 0.003 for r in done)}, "
           f"within 0.005 {sum(r['diff'] <= 0.005 for r in done)}, "
           f"beyond 2 sigma {sum(r['sigmas'] > 2 for r in done)}, "
           f"beyond 3 sigma {sum(r['sigmas'] > 3 for r in done)}, "
-          f"no eta-bar {len(rows) - len(done)}")
+          f"no eta-bar {len(rows) - len(done)} "
+          f"(the WAV has none either: {sum(bool(r.get('wav_has_none')) for r in rows)})")
     if args.json:
         pathlib.Path(args.json).write_text(json.dumps(rows, indent=1) + "\n")
     return 0
