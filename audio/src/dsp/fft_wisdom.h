@@ -11,7 +11,8 @@ namespace bouncecal::audio {
 //
 // Why: the FFTs are about two fifths of analysing a recording (perf on analyze_bench's 10-minute
 // WAV: 39 % of the samples in libfftw3f), and FFTW_ESTIMATE's heuristic plans for the detector's
-// sizes run 20-30 % slower per sample than measured ones. Plans measured at run time
+// sizes take 1.1-1.9 times as long per sample as measured ones (fft_wisdom_bench: 1.22 at 256
+// points, 1.41 at 5120, the sizes of 44.1-48 kHz). Plans measured at run time
 // (FFTW_MEASURE) would depend on the timing noise of the moment, so two runs could differ in
 // the last bits of every filtered sample and, at a threshold, in a decision; shipped plans are the
 // same in every run, as ESTIMATE's are. FFTW uses wisdom for any plan of the same problem

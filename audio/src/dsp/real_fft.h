@@ -29,7 +29,7 @@ struct FftwTypes<double> {
 // in double (RealFftDouble). Plans are FFTW_ESTIMATE: deterministic and instant, where plans
 // measured at run time would make results depend on timing noise on a shared machine; in single
 // precision they come from measured plans shipped with the source where FFTW accepts them
-// (fft_wisdom.h: the same plans in every run, 20-45 % less time per transform than the
+// (fft_wisdom.h: the same plans in every run, 9-47 % less time per transform than the
 // heuristic's). FFTW's planner is not
 // thread-safe (FFTW manual, "Thread safety"): constructing and destroying plans, of either
 // precision, is serialised by one mutex, so detectors may be built on several threads;
