@@ -109,6 +109,8 @@ nlohmann::json ToJson(const RecordingAnalysis& analysis) {
                        {"rise_db", FiniteOrNull(list[i].rise_db)},
                        {"ringing_novelty_db", FiniteOrNull(list[i].ringing_novelty_db)},
                        {"snr_db", list[i].snr_db},
+                       {"residual_only", list[i].residual_only},
+                       {"timed_from_response", list[i].timed_from_response},
                        {"sequence", sequence ? nlohmann::json(*sequence) : nlohmann::json()}});
   }
   file["impacts"] = impacts;

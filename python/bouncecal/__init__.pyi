@@ -42,7 +42,7 @@ class Analysis(Result):
     channel: int
     duration_s: float
     # Columns: onset_s, onset_uncertainty_s, peak_dbfs, rise_db, ringing_novelty_db, snr_db,
-    # sequence.
+    # sequence (float64), residual_only, timed_from_response (bool).
     impacts: Table
     rejected_events: Table  # time_s, reason
     periodic_sound: Optional[Result]  # period_s, impacts (docs/json.md)

@@ -71,9 +71,10 @@ py::object ToPython(const calibrate::RecordingAnalysis& analysis) {
   const nlohmann::json json = calibrate::ToJson(analysis);
   py::object result = NewResult("Analysis");
   result.attr("update")(FromJson(json));
-  result["impacts"] =
-      TableFromRecords(json.at("impacts"), {"onset_s", "onset_uncertainty_s", "peak_dbfs",
-                                            "rise_db", "ringing_novelty_db", "snr_db", "sequence"});
+  result["impacts"] = TableFromRecords(json.at("impacts"),
+                                       {"onset_s", "onset_uncertainty_s", "peak_dbfs", "rise_db",
+                                        "ringing_novelty_db", "snr_db", "sequence"},
+                                       {}, {"residual_only", "timed_from_response"});
   // An impact outside every sequence is NaN, so the column stays float64 even when none is.
   std::vector<double> sequence_of_impact;
   for (const auto& impact : json.at("impacts")) {

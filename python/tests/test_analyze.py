@@ -82,6 +82,10 @@ def test_analyze_returns_numpy_columns_of_the_documented_types_and_lengths(steel
         column = impacts[name]
         assert isinstance(column, numpy.ndarray) and column.dtype == numpy.float64, name
         assert column.shape == (count,), name
+    for name in ("residual_only", "timed_from_response"):
+        column = impacts[name]
+        assert isinstance(column, numpy.ndarray) and column.dtype == numpy.bool_, name
+        assert column.shape == (count,), name
     assert numpy.all(numpy.diff(impacts.onset_s) > 0)
     assert isinstance(result.rejected_events.time_s, numpy.ndarray)
     assert isinstance(result.rejected_events.reason, list)

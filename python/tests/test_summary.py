@@ -79,8 +79,8 @@ def test_a_fits_summary_gives_the_parameter_and_its_interval(fit):
 def test_a_tables_summary_gives_its_size_and_columns_and_the_html_its_first_rows(results):
     impacts = results["analysis"].impacts
     text = repr(impacts)
-    assert text.startswith(f"<bouncecal.Table of {len(impacts)} rows × 7 columns")
-    assert "onset_s (float64)" in text
+    assert text.startswith(f"<bouncecal.Table of {len(impacts)} rows × 9 columns")
+    assert "onset_s (float64)" in text and "timed_from_response (bool)" in text
     html = impacts._repr_html_()
     assert f"{impacts.onset_s[0]:.4g}" in html and f"… {len(impacts) - 3} more rows" in html
 
