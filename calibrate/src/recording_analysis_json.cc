@@ -182,7 +182,7 @@ std::string AnalysisCsv(const std::vector<RecordingAnalysis>& analyses) {
   std::string csv =
       "file,channel,sequence,k,onset_s,onset_uncertainty_s,peak_dbfs,interval_s,"
       "bounce_height_m,restitution,restitution_uncertainty,energy_loss,"
-      "energy_loss_uncertainty\n";
+      "energy_loss_uncertainty,residual_only,timed_from_response\n";
   for (const auto& analysis : analyses) {
     const auto& impacts = analysis.detection.detection.impacts;
     const std::string file = CsvField(analysis.detection.info.path.string());
@@ -212,9 +212,10 @@ std::string AnalysisCsv(const std::vector<RecordingAnalysis>& analyses) {
         }
         tail = fmt::format(",{},{},{},{},{},{}", dt, h, e, de, eta, deta);
       }
-      csv += fmt::format("{},{},{},{},{:.9f},{:.9f},{:.2f}{}\n", file, analysis.detection.channel,
-                         sequence ? std::to_string(*sequence) : "", k, impacts[i].onset_s,
-                         impacts[i].onset_uncertainty_s, impacts[i].peak_dbfs, tail);
+      csv += fmt::format("{},{},{},{},{:.9f},{:.9f},{:.2f}{},{},{}\n", file,
+                         analysis.detection.channel, sequence ? std::to_string(*sequence) : "", k,
+                         impacts[i].onset_s, impacts[i].onset_uncertainty_s, impacts[i].peak_dbfs,
+                         tail, impacts[i].residual_only, impacts[i].timed_from_response);
     }
   }
   return csv;

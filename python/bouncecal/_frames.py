@@ -12,10 +12,11 @@ import numpy
 IMPACT_COLUMNS = (
     "file", "channel", "sequence", "k", "onset_s", "onset_uncertainty_s", "peak_dbfs",
     "interval_s", "bounce_height_m", "restitution", "restitution_uncertainty", "energy_loss",
-    "energy_loss_uncertainty")
+    "energy_loss_uncertainty", "residual_only", "timed_from_response")
 # Column types of the DataFrame: counts that are None for an impact in no sequence are pandas'
 # nullable Int64 (<NA>), so they stay integers whatever the recording.
-_DTYPES = {"channel": "int64", "sequence": "Int64", "k": "Int64"}
+_DTYPES = {"channel": "int64", "sequence": "Int64", "k": "Int64", "residual_only": "bool",
+           "timed_from_response": "bool"}
 
 
 def impact_rows(analysis):
@@ -32,7 +33,9 @@ def impact_rows(analysis):
         row.update(file=analysis.get("file"), channel=int(analysis["channel"]),
                    onset_s=float(impacts["onset_s"][i]),
                    onset_uncertainty_s=float(impacts["onset_uncertainty_s"][i]),
-                   peak_dbfs=float(impacts["peak_dbfs"][i]))
+                   peak_dbfs=float(impacts["peak_dbfs"][i]),
+                   residual_only=bool(impacts["residual_only"][i]),
+                   timed_from_response=bool(impacts["timed_from_response"][i]))
         sequence_number = impacts["sequence"][i]
         if not math.isnan(sequence_number):
             s = int(sequence_number)

@@ -17,7 +17,8 @@ from conftest import STEREO_SAMPLE
 
 COLUMNS = ["file", "channel", "sequence", "k", "onset_s", "onset_uncertainty_s", "peak_dbfs",
            "interval_s", "bounce_height_m", "restitution", "restitution_uncertainty",
-           "energy_loss", "energy_loss_uncertainty"]
+           "energy_loss", "energy_loss_uncertainty", "residual_only", "timed_from_response"]
+FLAGS = ("residual_only", "timed_from_response")  # written true / false
 # Half a unit in the last place the CSV writes each column with (calibrate::AnalysisCsv): onsets,
 # intervals and heights with 9 decimals, e and eta with 6, the peak level with 2.
 CSV_ROUNDING = {"onset_s": 5e-10, "onset_uncertainty_s": 5e-10, "interval_s": 5e-10,
@@ -55,6 +56,9 @@ def test_the_rows_are_the_commands_csv_rows(cli, steel_sample, tmp_path, recordi
                 assert value == text
             elif text == "":
                 assert value is None, (number, column)
+            elif column in FLAGS:
+                assert isinstance(value, bool) and value == (text == "true"), (number, column)
+                assert text in ("true", "false"), (number, column)
             elif column in CSV_ROUNDING:
                 assert abs(value - float(text)) <= CSV_ROUNDING[column], (number, column)
             else:
@@ -109,6 +113,10 @@ def test_the_dataframe_has_one_row_per_impact(steel_sample):
     assert list(frame.columns) == COLUMNS and len(frame) == len(result.impacts)
     rows = result.records()
     for column in COLUMNS[4:]:
+        if column in FLAGS:
+            assert frame[column].dtype == numpy.bool_
+            assert frame[column].tolist() == [row[column] for row in rows]
+            continue
         assert frame[column].dtype == numpy.float64
         expected = [math.nan if row[column] is None else row[column] for row in rows]
         numpy.testing.assert_array_equal(frame[column].to_numpy(), expected)
