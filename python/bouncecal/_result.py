@@ -89,10 +89,11 @@ class Analysis(Result):
         """One Result per detected impact, in time order, with the columns of `bouncecal
         analyze --csv`: file, channel, sequence, k, onset_s, onset_uncertainty_s, peak_dbfs,
         interval_s, bounce_height_m, restitution, restitution_uncertainty, energy_loss,
-        energy_loss_uncertainty, residual_only, timed_from_response (docs/json.md). k is the impact's 1-based place in its sequence (eta_k's k,
-        restitution_impact_index + 1); sequence and k are None for an impact in no sequence,
-        and what the sequence does not give (e_k of its first impact without a drop height, the
-        flight after its last) is None."""
+        energy_loss_uncertainty, residual_only, timed_from_response (docs/json.md). k is the
+        impact's 1-based place in its sequence (eta_k's k, restitution_impact_index + 1);
+        sequence and k are None for an impact in no sequence, and what the sequence does not
+        give (e_k of its first impact without a drop height, the flight after its last) is
+        None."""
         return [Result(row) for row in _frames.impact_rows(self)]
 
     def to_dataframe(self):
