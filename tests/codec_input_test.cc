@@ -408,6 +408,9 @@ TEST_F(CodecInput, AnAacCopyOfTheSteelSampleKeepsItsEtaBarAndSaysItIsLossy) {
     }
   }
   EXPECT_GE(own, 4) << lossy["impacts"].dump();
+  // The terminal table marks them too, with the legend once under the table.
+  EXPECT_NE(result.output.find("a: timed from its whole response"), std::string::npos)
+      << result.output;
   // Issue 18's done-when: eta-bar within 0.005 of the WAV's (the steel sample's first impacts
   // stand 20+ dB out of their tails, so AAC at 128 kbit/s moves them by a few samples at most).
   const double eta_wav = wav["sequences"][0]["energy_loss_mean_first_n"];
