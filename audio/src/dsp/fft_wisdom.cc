@@ -2,8 +2,6 @@
 
 #include <fftw3.h>
 
-#include <string>
-
 namespace bouncecal::audio {
 namespace {
 
@@ -11,14 +9,9 @@ namespace {
 
 }  // namespace
 
-std::string_view ShippedFftwfWisdom() { return kFftwfWisdom; }
-
 bool ImportShippedFftwfWisdom() {
   // Once: importing again would only repeat the same entries.
-  static const bool accepted = [] {
-    const std::string text(ShippedFftwfWisdom());
-    return fftwf_import_wisdom_from_string(text.c_str()) != 0;
-  }();
+  static const bool accepted = fftwf_import_wisdom_from_string(kFftwfWisdom) != 0;
   return accepted;
 }
 

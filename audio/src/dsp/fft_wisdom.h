@@ -2,7 +2,6 @@
 #define BOUNCECAL_AUDIO_SRC_DSP_FFT_WISDOM_H_
 
 #include <array>
-#include <string_view>
 
 namespace bouncecal::audio {
 
@@ -30,9 +29,6 @@ namespace bouncecal::audio {
 // edge, more at higher rates or lower edges).
 inline constexpr std::array<int, 10> kShippedWisdomSizes = {32,   64,   128,   256,   512,
                                                             1024, 5120, 10240, 20480, 40960};
-
-// The wisdom text as generated.
-std::string_view ShippedFftwfWisdom();
 
 // Adds the shipped plans to FFTW's single-precision wisdom, once per process (later calls return
 // the first call's result); true where FFTW accepted them. FFTW's wisdom is process-wide, like
