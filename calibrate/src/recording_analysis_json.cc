@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bouncecal/calibrate/impact_rows.h"
 #include "bouncecal/calibrate/recording_analysis.h"
 
 namespace bouncecal::calibrate {
@@ -65,6 +66,15 @@ nlohmann::json ToJson(const SequenceAnalysis& entry, const RecordingAnalysis& an
       {"drop_height_m", OptionalNumber(analysis.drop_height_m)},
       {"drop_height_check", ToJson(entry.height_check)},
   };
+}
+
+// A CSV cell: empty for what the row does not give.
+std::string Fixed(const std::optional<double>& value, int decimals) {
+  return value ? fmt::format("{:.{}f}", *value, decimals) : std::string();
+}
+
+std::string Optional(const std::optional<int>& value) {
+  return value ? std::to_string(*value) : std::string();
 }
 
 std::string CsvField(std::string text) {
@@ -179,43 +189,21 @@ nlohmann::json AnalysisDocument(const std::vector<RecordingAnalysis>& analyses) 
 }
 
 std::string AnalysisCsv(const std::vector<RecordingAnalysis>& analyses) {
-  std::string csv =
-      "file,channel,sequence,k,onset_s,onset_uncertainty_s,peak_dbfs,interval_s,"
-      "bounce_height_m,restitution,restitution_uncertainty,energy_loss,"
-      "energy_loss_uncertainty,residual_only,timed_from_response\n";
+  std::string csv;
+  for (const auto column : kImpactRowColumns) {
+    csv += csv.empty() ? "" : ",";
+    csv += column;
+  }
+  csv += "\n";
   for (const auto& analysis : analyses) {
-    const auto& impacts = analysis.detection.detection.impacts;
-    const std::string file = CsvField(analysis.detection.info.path.string());
-    for (std::size_t i = 0; i < impacts.size(); ++i) {
-      const auto sequence = analysis.grouping.sequence_of_impact[i];
-      std::string tail = ",,,,,,";
-      std::string k;
-      if (sequence) {
-        const auto& entry = analysis.sequences[static_cast<std::size_t>(*sequence)];
-        const auto& members = entry.sequence.impact_indices;
-        const auto position = static_cast<std::size_t>(
-            std::find(members.begin(), members.end(), static_cast<int>(i)) - members.begin());
-        k = std::to_string(position + 1);
-        const auto& p = entry.physics;
-        std::string dt, h, e, de, eta, deta;
-        if (position < p.intervals_s.size()) {
-          dt = fmt::format("{:.9f}", p.intervals_s[position]);
-          h = fmt::format("{:.9f}", p.bounce_height_m[position]);
-        }
-        for (std::size_t j = 0; j < p.impact_index.size(); ++j) {
-          if (p.impact_index[j] == static_cast<int>(position)) {
-            e = fmt::format("{:.6f}", p.restitution[j]);
-            de = fmt::format("{:.6f}", p.restitution_uncertainty[j]);
-            eta = fmt::format("{:.6f}", p.energy_loss[j]);
-            deta = fmt::format("{:.6f}", p.energy_loss_uncertainty[j]);
-          }
-        }
-        tail = fmt::format(",{},{},{},{},{},{}", dt, h, e, de, eta, deta);
-      }
-      csv += fmt::format("{},{},{},{},{:.9f},{:.9f},{:.2f}{},{},{}\n", file,
-                         analysis.detection.channel, sequence ? std::to_string(*sequence) : "", k,
-                         impacts[i].onset_s, impacts[i].onset_uncertainty_s, impacts[i].peak_dbfs,
-                         tail, impacts[i].residual_only, impacts[i].timed_from_response);
+    for (const auto& row : ImpactRows(ToJson(analysis))) {
+      csv += fmt::format("{},{},{},{},{:.9f},{:.9f},{:.2f},{},{},{},{},{},{},{},{}\n",
+                         CsvField(row.file.value_or("")), row.channel, Optional(row.sequence),
+                         Optional(row.k), row.onset_s, row.onset_uncertainty_s, row.peak_dbfs,
+                         Fixed(row.interval_s, 9), Fixed(row.bounce_height_m, 9),
+                         Fixed(row.restitution, 6), Fixed(row.restitution_uncertainty, 6),
+                         Fixed(row.energy_loss, 6), Fixed(row.energy_loss_uncertainty, 6),
+                         row.residual_only, row.timed_from_response);
     }
   }
   return csv;

@@ -4,15 +4,12 @@
 pandas is imported only when a DataFrame is asked for: the module does not need it otherwise.
 """
 
-import math
-
 import numpy
 
-# The columns of `bouncecal analyze --csv` (calibrate::AnalysisCsv), in its order.
-IMPACT_COLUMNS = (
-    "file", "channel", "sequence", "k", "onset_s", "onset_uncertainty_s", "peak_dbfs",
-    "interval_s", "bounce_height_m", "restitution", "restitution_uncertainty", "energy_loss",
-    "energy_loss_uncertainty", "residual_only", "timed_from_response")
+from . import _bouncecal
+
+# The columns of `bouncecal analyze --csv`, in its order (calibrate::kImpactRowColumns).
+IMPACT_COLUMNS = _bouncecal._IMPACT_COLUMNS
 # Column types of the DataFrame: counts that are None for an impact in no sequence are pandas'
 # nullable Int64 (<NA>), so they stay integers whatever the recording.
 _DTYPES = {"channel": "int64", "sequence": "Int64", "k": "Int64", "residual_only": "bool",
@@ -23,37 +20,9 @@ def impact_rows(analysis):
     """One dict per detected impact, in time order, with IMPACT_COLUMNS: its sequence (None when
     in none), k (1-based position within the sequence, as eta_k is numbered; None when in no
     sequence), its onset and peak, the flight after it and, where the sequence gives them, e_k
-    and eta_k with their uncertainties (None otherwise)."""
-    impacts = analysis["impacts"]
-    sequences = analysis["sequences"]
-    seen = [0] * len(sequences)  # impacts of each sequence met so far
-    rows = []
-    for i in range(len(impacts)):
-        row = dict.fromkeys(IMPACT_COLUMNS)
-        row.update(file=analysis.get("file"), channel=int(analysis["channel"]),
-                   onset_s=float(impacts["onset_s"][i]),
-                   onset_uncertainty_s=float(impacts["onset_uncertainty_s"][i]),
-                   peak_dbfs=float(impacts["peak_dbfs"][i]),
-                   residual_only=bool(impacts["residual_only"][i]),
-                   timed_from_response=bool(impacts["timed_from_response"][i]))
-        sequence_number = impacts["sequence"][i]
-        if not math.isnan(sequence_number):
-            s = int(sequence_number)
-            position = seen[s]
-            seen[s] += 1
-            sequence = sequences[s]
-            row.update(sequence=s, k=position + 1)
-            if position < len(sequence["intervals_s"]):
-                row.update(interval_s=float(sequence["intervals_s"][position]),
-                           bounce_height_m=float(sequence["bounce_height_m"][position]))
-            matches = numpy.flatnonzero(sequence["restitution_impact_index"] == position)
-            if matches.size:
-                j = int(matches[0])
-                for column in ("restitution", "restitution_uncertainty", "energy_loss",
-                               "energy_loss_uncertainty"):
-                    row[column] = float(sequence[column][j])
-        rows.append(row)
-    return rows
+    and eta_k with their uncertainties (None otherwise). Built by the library's row builder
+    from the analysis' JSON shape, as the command line's --csv is."""
+    return _bouncecal._impact_rows(analysis.to_dict())
 
 
 def impact_frame(analysis):

@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -16,6 +17,7 @@
 #include "bindings.h"
 #include "bouncecal/audio/load_recording.h"
 #include "bouncecal/audio/recording.h"
+#include "bouncecal/calibrate/impact_rows.h"
 #include "bouncecal/calibrate/recording_analysis.h"
 #include "bouncecal/error.h"
 #include "python_values.h"
@@ -97,6 +99,40 @@ py::object ToPython(const calibrate::RecordingAnalysis& analysis) {
     }
   }
   return result;
+}
+
+// calibrate::ImpactRows of an analysis (its to_dict(), the document's shape) as dicts whose keys
+// are the columns in the CSV's order; None where a row has no value.
+py::list ImpactRowsToPython(py::handle analysis) {
+  const auto rows = calibrate::ImpactRows(ToJson(analysis, "analysis"));
+  py::list list;
+  for (const auto& row : rows) {
+    const auto optional_int = [](const std::optional<int>& value) {
+      return value ? py::object(py::int_(*value)) : py::object(py::none());
+    };
+    const std::array<py::object, calibrate::kImpactRowColumns.size()> values = {
+        row.file ? py::object(py::str(*row.file)) : py::object(py::none()),
+        py::int_(row.channel),
+        optional_int(row.sequence),
+        optional_int(row.k),
+        py::float_(row.onset_s),
+        py::float_(row.onset_uncertainty_s),
+        py::float_(row.peak_dbfs),
+        OptionalFloat(row.interval_s),
+        OptionalFloat(row.bounce_height_m),
+        OptionalFloat(row.restitution),
+        OptionalFloat(row.restitution_uncertainty),
+        OptionalFloat(row.energy_loss),
+        OptionalFloat(row.energy_loss_uncertainty),
+        py::bool_(row.residual_only),
+        py::bool_(row.timed_from_response)};
+    py::dict dict;
+    for (std::size_t c = 0; c < values.size(); ++c) {
+      dict[py::str(std::string(calibrate::kImpactRowColumns[c]))] = values[c];
+    }
+    list.append(dict);
+  }
+  return list;
 }
 
 }  // namespace
@@ -195,6 +231,15 @@ Returns an Analysis (a Result: a dict whose keys read as attributes) with the JS
 impacts and rejected_events are Tables of numpy columns; records() and to_dataframe() give one
 row per impact, as `bouncecal analyze --csv` does. Raises InputError for an unreadable
 recording, ConfigError for an option out of range.)doc");
+
+  py::tuple columns(calibrate::kImpactRowColumns.size());
+  for (std::size_t c = 0; c < calibrate::kImpactRowColumns.size(); ++c) {
+    columns[c] = py::str(std::string(calibrate::kImpactRowColumns[c]));
+  }
+  module.attr("_IMPACT_COLUMNS") = columns;
+  module.def("_impact_rows", &ImpactRowsToPython, py::arg("analysis"),
+             "One dict per impact of an analysis' to_dict(), with _IMPACT_COLUMNS: the rows of "
+             "`bouncecal analyze --csv` (calibrate::ImpactRows).");
 }
 
 }  // namespace bouncecal::python

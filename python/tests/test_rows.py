@@ -5,6 +5,7 @@ the rows themselves are checked without it."""
 import contextlib
 import csv
 import io
+import json
 import math
 import subprocess
 import sys
@@ -75,6 +76,21 @@ def test_every_impact_of_a_sequence_is_numbered_as_eta_k_is(steel_sample):
     with_e = [row for row in rows if row.energy_loss is not None]
     assert [row.k - 1 for row in with_e] == sequence.restitution_impact_index.tolist()
     assert [row.energy_loss for row in with_e] == sequence.energy_loss.tolist()
+
+
+def test_an_analysis_read_back_from_its_json_gives_the_same_rows(steel_sample):
+    # The rows are built from the document's shape (calibrate::ImpactRows, as the CSV's are), so
+    # an analysis saved with to_json() and loaded again gives them without re-analysing.
+    result = bouncecal.analyze(steel_sample, drop_height_m=0.2)
+    loaded = bouncecal.Analysis(json.loads(result.to_json()))
+    assert loaded.records() == result.records() and len(loaded.records()) == len(result.impacts)
+
+
+def test_an_analysis_without_its_impacts_says_what_it_needs(steel_sample):
+    broken = bouncecal.Analysis(bouncecal.analyze(steel_sample))
+    del broken["impacts"]
+    with pytest.raises(bouncecal.InputError, match="impacts"):
+        broken.records()
 
 
 def test_an_impact_in_no_sequence_has_a_row_without_sequence_values():
