@@ -26,7 +26,7 @@ namespace bouncecal::audio {
 // branch (std::nth_element's mispredict half the time on noise-like data) and no store that
 // the next load must wait for (an in-place swap's). Values equal to the pivot move neither
 // cursor: they are only counted, which also ends ties (digital silence: all bins zero) in one
-// pass. Ranges of up to 16 are finished by insertion sort.
+// pass. Ranges of up to 16 are finished by counting each value's rank.
 inline float SelectKth(std::span<const float> values, std::size_t k, std::vector<float>& scratch,
                        float guess = 0) {
   const std::size_t n = values.size();
@@ -79,14 +79,19 @@ inline float SelectKth(std::span<const float> values, std::size_t k, std::vector
     from = to;
     std::swap(to, spare);
   }
-  // The last range, sorted in a buffer of our own (from may still be values).
+  // The last range by rank: the answer is the value with exactly k - lo others before it in
+  // sorted order (the smaller ones, and equal ones earlier in the range). Each rank is a
+  // branch-free count over at most 16 values; an insertion sort mispredicted at every stop.
+  const std::size_t wanted = k - lo;
   for (std::size_t i = lo; i < hi; ++i) {
     const float v = from[i];
-    std::size_t j = i;
-    for (; j > lo && to[j - 1] > v; --j) to[j] = to[j - 1];
-    to[j] = v;
+    std::size_t rank = 0;
+    for (std::size_t j = lo; j < hi; ++j) {
+      rank += (from[j] < v) | ((from[j] == v) & (j < i)) ? 1 : 0;
+    }
+    if (rank == wanted) return v;
   }
-  return to[k];
+  return from[lo];  // not reached: every rank from 0 to hi - lo - 1 is some value's
 }
 
 }  // namespace bouncecal::audio
