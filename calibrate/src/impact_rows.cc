@@ -81,7 +81,7 @@ std::vector<ImpactRow> ImpactRows(const nlohmann::json& recording) {
   } catch (const nlohmann::json::exception& error) {
     // The document's own reader names the missing or mistyped field.
     throw InputError(std::string("not an analysis of one recording (") + error.what() +
-                     "); give an entry of `analyze --json`'s recordings");
+                     "); give one recording's entry of an analysis document (docs/json.md)");
   }
 }
 
