@@ -751,6 +751,25 @@ TEST_F(CodecInput, AnOpusCopyOfTheSuitesThreeDropsKeepsItsFirstDrop) {
   EXPECT_LE(difference, 3 * combined) << difference << " vs " << combined;
 }
 
+// Issue 30: knock_speech_before as Opus 48k timed its 5th bounce on a faint sound 7.7 ms before
+// it (residual-only, +-1.8 ms): the bounce's pre-echo had opened a candidate there and held the
+// ringing residual's novelty over the secondary threshold until the bounce, so the bounce never
+// opened one of its own, and eta-bar read 0.5811 against the WAV's 0.5507 (3.0 combined sigmas,
+// exit 0). A novelty the full threshold above the closed candidate's, after a dip, now opens a
+// candidate (CandidateTracker::Step): 0.5504.
+TEST_F(CodecInput, AnOpusCopyOfKnockSpeechBeforeFindsTheBounceItsPreEchoHid) {
+  const fs::path wav = DetectorSuiteRecording("knock_speech_before.wav");
+  if (!fs::exists(wav)) GTEST_SKIP() << wav << " is absent (BOUNCECAL_SHARED_DIR)";
+  const auto opus = Encode(wav, "knock_speech_before.opus", {"-c:a", "libopus", "-b:a", "48k"});
+  const auto reference = FirstSequence(wav, folder_.path());
+  const auto lossy = FirstSequence(opus, folder_.path());
+  ASSERT_FALSE(lossy.is_null());
+  const auto fifth = CompareOnsets(reference, lossy, 4);
+  EXPECT_LE(std::fabs(fifth.error), fifth.stated) << fifth.error << " vs " << fifth.stated;
+  const auto [difference, combined] = CompareSequences(reference, lossy);
+  EXPECT_LE(difference, 0.002) << difference << " vs " << combined;
+}
+
 // Issue 30: pingpong_table as AAC 128k began its sequence at a room reflection 15.7 ms after the
 // first bounce, detected as a sound of its own and 1.5 dB louder (e_1 0.8925 against the WAV's
 // 0.8616, eta-bar 0.0181 off at 6.4 combined sigmas, exit 0). The first ratio now chooses the

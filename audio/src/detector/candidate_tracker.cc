@@ -46,7 +46,23 @@ void CandidateTracker::TrackPeak(std::int64_t n) {
 std::optional<Candidate> CandidateTracker::Step(std::int64_t n, std::ptrdiff_t k,
                                                 const NoveltyRise& band,
                                                 const NoveltyRise& residual) {
-  if (residual.rise_db < secondary_threshold_db_) residual_armed_ = true;
+  // The residual re-arms where its novelty falls under the secondary threshold, or where, after
+  // dipping half the threshold under the last candidate's largest, it rises the full threshold
+  // above it: a new sound inside a novelty that never settled. A transform codec's pre-echo,
+  // new noise all over the spectrum a few ms ahead of the bounce that spread it, opens a
+  // candidate and holds the novelty up until the bounce (knock_speech_before as Opus 48k: 14-33
+  // on the band scale from 7.7 ms before its 5th bounce, 9.9 just before it, 56-90 at it; the
+  // bounce was never a candidate and the chain took the sound 7.7 ms early). Without the dip the
+  // jump is the closed candidate's own sound still growing in the residual's 5 ms window, which
+  // lags the bands (very_high_e: a second candidate 3 ms into a residual-only bounce moved its
+  // onset 0.26 ms late).
+  if (residual.rise_db <= closed_residual_rise_db_ - secondary_threshold_db_) {
+    residual_dipped_ = true;
+  }
+  if (residual.rise_db < secondary_threshold_db_ ||
+      (residual_dipped_ && residual.rise_db >= closed_residual_rise_db_ + threshold_db_)) {
+    residual_armed_ = true;
+  }
   if (open_) {
     NoteLaterSound(band, n, k);
     if (band.rise_db > candidate_.rise_db) {
@@ -65,6 +81,8 @@ std::optional<Candidate> CandidateTracker::Step(std::int64_t n, std::ptrdiff_t k
       // rest of the same sound, whose own window cannot reach back past that peak.
       still_rising_until_ = n - candidate_.peak_frame < frames_.peak ? n + frames_.peak : -1;
       candidate_.closed_rising = n - candidate_.band_peak_frame <= frames_.skip;
+      closed_residual_rise_db_ = std::max(candidate_.residual_rise_db, secondary_threshold_db_);
+      residual_dipped_ = false;
       open_ = false;
       candidate_.closed_at = n;
       candidate_.closed_in_block = k;

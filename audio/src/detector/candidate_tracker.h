@@ -83,6 +83,10 @@ class CandidateTracker {
   // that long: the residual opens a candidate only after it has fallen back below the
   // threshold once (hysteresis), never on the lingering frames of the last candidate.
   bool residual_armed_ = true;
+  // The largest residual rise of the last candidate closed (at least the secondary threshold),
+  // and whether the residual has since dipped half the threshold under it (see Step).
+  double closed_residual_rise_db_ = 0;
+  bool residual_dipped_ = false;
   std::int64_t still_rising_until_ = -1;
   Candidate candidate_;
 };

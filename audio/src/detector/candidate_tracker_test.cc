@@ -129,5 +129,54 @@ TEST(CandidateTracker, ALaterSoundIsJudgedInTheBandThatRose) {
               2 * frames.frame_s);
 }
 
+// The ringing residual's novelty, scripted frame by frame after a silent start (the bands hold
+// digital silence, so band 0 peaks at once and a candidate closes `peak` frames after it opened):
+// the candidates the tracker opens.
+std::vector<Candidate> TrackScriptedResidual(const std::vector<double>& script) {
+  constexpr int kRate = 48000;
+  testing::StageRig rig(kRate);
+  CandidateTracker tracker(rig.frames, DetectorOptions{}, rig.bands);
+  std::vector<Candidate> closed;
+  const std::int64_t start = rig.frames.lookback + rig.frames.attack;
+  rig.Run(std::vector<float>(kRate / 2, 0.0f), [&](std::int64_t n, std::ptrdiff_t k) {
+    tracker.TrackPeak(n);
+    const std::int64_t i = n - start;
+    if (i < 0 || i >= static_cast<std::int64_t>(script.size())) return;
+    NoveltyRise residual;
+    residual.rise_db = script[static_cast<std::size_t>(i)];
+    if (auto candidate = tracker.Step(n, k, NoveltyRise{}, residual)) {
+      closed.push_back(*candidate);
+    }
+  });
+  return closed;
+}
+
+// A transform codec's pre-echo is new noise all over the spectrum a few ms before the bounce
+// that spread it: the residual's novelty rises there (opening a candidate), stays over the
+// secondary threshold, dips as the pre-echo settles and jumps at the bounce itself. Re-armed only
+// below the secondary threshold, the residual never opened the bounce's own candidate:
+// knock_speech_before (detector suite) as Opus 48k timed its 5th bounce on a sound 7.7 ms before
+// it, the bounce never detected, and eta-bar read 0.5811 against the WAV's 0.5507 (3 sigmas).
+// After a dip of half the threshold, a novelty the full threshold above the closed candidate's
+// largest opens a candidate; without the dip it is that candidate's own sound still growing in
+// the residual's window (the detector suite's very_high_e: a second candidate 3 ms into a
+// residual-only bounce moved its onset 0.26 ms late), and a smaller jump is not a new sound.
+TEST(CandidateTracker, ANoveltyFarAboveTheClosedCandidatesAfterADipOpensANewOne) {
+  const DetectorFrames frames(48000, DetectorOptions{});
+  const auto hold = static_cast<std::size_t>(frames.max_open + frames.peak);
+  auto script = [&](double after_dip, double jump) {
+    std::vector<double> values(hold, 20.0);  // the pre-echo's novelty: opens and closes one
+    values.insert(values.end(), hold, after_dip);
+    values.insert(values.end(), hold, jump);
+    return TrackScriptedResidual(values);
+  };
+  const auto new_sound = script(12.0, 35.0);  // dips 8 under 20, then 15 above it
+  ASSERT_EQ(new_sound.size(), 2u);
+  EXPECT_EQ(new_sound[1].opened_at - new_sound[0].opened_at, static_cast<std::int64_t>(2 * hold));
+  EXPECT_EQ(script(20.0, 35.0).size(), 1u);  // no dip: the same sound growing
+  EXPECT_EQ(script(12.0, 28.0).size(), 1u);  // under the full threshold above 20
+  EXPECT_EQ(script(4.0, 28.0).size(), 2u);   // under the secondary threshold: re-armed as before
+}
+
 }  // namespace
 }  // namespace bouncecal::audio
