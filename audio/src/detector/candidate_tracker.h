@@ -81,7 +81,8 @@ class CandidateTracker {
   bool open_ = false;
   // A residual frame spans a few ms, so after a hit it stays above its pre-hit reference for
   // that long: the residual opens a candidate only after it has fallen back below the
-  // threshold once (hysteresis), never on the lingering frames of the last candidate.
+  // threshold once (hysteresis), never on the lingering frames of the last candidate, or after
+  // it dipped and then rose far above that candidate's (a new sound; see Step).
   bool residual_armed_ = true;
   // The largest residual rise of the last candidate closed (at least the secondary threshold),
   // and whether the residual has since dipped half the threshold under it (see Step).
