@@ -17,6 +17,12 @@ std::optional<double> Number(const nlohmann::json& value) {
   return std::isfinite(number) ? std::optional<double>(number) : std::nullopt;
 }
 
+// Every way the entry can fail to be an analysis, in one message that says what to give instead.
+InputError NotAnAnalysis(const std::string& why) {
+  return InputError("not an analysis of one recording (" + why +
+                    "); give one recording's entry of an analysis document (docs/json.md)");
+}
+
 std::optional<double> Entry(const nlohmann::json& array, std::size_t index) {
   return index < array.size() ? Number(array[index]) : std::nullopt;
 }
@@ -44,15 +50,15 @@ std::vector<ImpactRow> Rows(const nlohmann::json& recording) {
     if (!sequence_number.is_null()) {
       const int s = sequence_number.get<int>();
       if (s < 0 || static_cast<std::size_t>(s) >= sequences.size()) {
-        throw InputError("an impact names sequence " + std::to_string(s) + " of " +
-                         std::to_string(sequences.size()));
+        throw NotAnAnalysis("an impact names sequence " + std::to_string(s) + " of " +
+                            std::to_string(sequences.size()));
       }
       const auto& sequence = sequences[static_cast<std::size_t>(s)];
       const std::size_t position = members_seen[static_cast<std::size_t>(s)]++;
       if (position >= sequence.at("onsets_s").size()) {
-        throw InputError("sequence " + std::to_string(s) + " has " +
-                         std::to_string(sequence.at("onsets_s").size()) +
-                         " onsets but more impacts name it");
+        throw NotAnAnalysis("sequence " + std::to_string(s) + " has " +
+                            std::to_string(sequence.at("onsets_s").size()) +
+                            " onsets but more impacts name it");
       }
       row.sequence = s;
       row.k = static_cast<int>(position) + 1;
@@ -80,8 +86,7 @@ std::vector<ImpactRow> ImpactRows(const nlohmann::json& recording) {
     return Rows(recording);
   } catch (const nlohmann::json::exception& error) {
     // The document's own reader names the missing or mistyped field.
-    throw InputError(std::string("not an analysis of one recording (") + error.what() +
-                     "); give one recording's entry of an analysis document (docs/json.md)");
+    throw NotAnAnalysis(error.what());
   }
 }
 

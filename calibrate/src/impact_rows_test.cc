@@ -90,10 +90,20 @@ TEST(ImpactRows, AnEntryThatIsNotAnAnalysisIsAnInputErrorNamingWhatIsWrong) {
       InputError);
   auto unknown_sequence = Entry();
   unknown_sequence["impacts"][1]["sequence"] = 3;
-  EXPECT_THROW(ImpactRows(unknown_sequence), InputError);
   auto too_many_members = Entry();
   too_many_members["impacts"][5]["sequence"] = 0;  // a fifth member of a four-onset sequence
-  EXPECT_THROW(ImpactRows(too_many_members), InputError);
+  for (const auto& entry : {unknown_sequence, too_many_members}) {
+    try {
+      ImpactRows(entry);
+      ADD_FAILURE() << "no error";
+    } catch (const InputError& error) {
+      // One line that says what was wrong and what to give instead.
+      const std::string message = error.what();
+      EXPECT_NE(message.find("sequence"), std::string::npos) << message;
+      EXPECT_NE(message.find("docs/json.md"), std::string::npos) << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+  }
 }
 
 }  // namespace
