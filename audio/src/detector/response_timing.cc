@@ -27,9 +27,6 @@ constexpr int kLowRateHz = 20000;
 // corrected, contact_duration.h); the parabola adds up to a tenth of a sample.
 constexpr double kMinSigmaSamples = 0.5;
 
-// Correlation above which an impact found only inside ringing counts as band-detected.
-constexpr double kConfirmingCorrelation = 0.8;
-
 // The template is chosen among this many of the loudest impacts, by how many of this many of the
 // loudest align with each (ResponseTimer::ChooseTemplate): 4 x 16 alignments, a few ms.
 constexpr std::size_t kTemplateCandidates = 4;
@@ -322,6 +319,7 @@ ResponseTimingOptions ResponseTimingFor(const RecordingInfo& info) {
   options.require_contact_durations = !FirstLobeUnreliable(info);
   options.envelope_alignment = TransformCodec(info);
   options.pre_echo = FirstLobeUnreliable(info);
+  if (TransformCodec(info)) options.confirming_correlation = options.min_correlation;
   return options;
 }
 
@@ -559,10 +557,10 @@ ResponseTimingSummary ResponseTimer::Retime(DetectionResult& detection, double f
       if (!alignment.usable) continue;
       ++summary.aligned;
       Impact& impact = impact_of(windows_[w]);
-      // A response this much like the recording's loudest impact's, with the ringing before it
-      // removed, is an impact of the same ball on the same surface, not speech or handling
-      // noise: the evidence that residual_only stands for is no longer weak.
-      if (alignment.correlation >= kConfirmingCorrelation) impact.residual_only = false;
+      // A response this much like the template's, with the ringing before it removed, is an
+      // impact of the same ball on the same surface, not speech or handling noise: the evidence
+      // that residual_only stands for is no longer weak (confirming_correlation).
+      if (alignment.correlation >= options_.confirming_correlation) impact.residual_only = false;
       // The alignment's sigma covers its own error (codec bench: 100 % of the errors within
       // 1.96 sigma at AAC 128k, Opus 64k, MP3 128k and Vorbis q4, docs/codecs.md), so an
       // aligned impact's onset is stated with it; the detector's onset enters with the first
