@@ -12,6 +12,7 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bouncecal/audio/bounce_analysis.h"
@@ -1005,6 +1006,45 @@ TEST_F(CodecInput, AMessengerOpusCopyOfTheSuitesKnockDropEndsNotAtAPreEcho) {
   if (lossy.is_null() || !lossy["energy_loss_mean_first_n"].is_number()) return;
   const auto [difference, combined] = CompareSequences(reference, lossy);
   EXPECT_LE(difference, 2 * combined) << difference << " vs " << combined;
+}
+
+// Issue 30: a bounce heard only in the ringing whose envelopes aligned was stated with the
+// envelopes' sigma alone: multi_drop_30s as AAC 64k at 16 kHz put one 2.6 ms early at +-240 us
+// (10.8 sigmas). Such a member now keeps at least the detector's own sigma. Every member of every
+// sequence against the generator's exact onsets, less their median offset (only relative times
+// enter intervals): within 3 stated sigmas (a 3-sigma miss happens 0.3 % of the time for a
+// normal error; 25 members).
+TEST_F(CodecInput, AnAacCopyAt16kHzStatesEveryBounceWithinThreeSigmasOfTheTruth) {
+  const fs::path wav = DetectorSuiteRecording("multi_drop_30s.wav");
+  if (!fs::exists(wav)) GTEST_SKIP() << wav << " is absent (BOUNCECAL_SHARED_DIR)";
+  std::ifstream truth_file(DetectorSuiteRecording("multi_drop_30s.json"));
+  const auto truth = nlohmann::json::parse(truth_file)["impact_times_s"];
+  const auto m4a =
+      Encode(wav, "multi_drop_30s_16k.m4a", {"-ar", "16000", "-c:a", "aac", "-b:a", "64k"});
+  const auto json = folder_.path() / "multi_drop_30s_16k.json";
+  ASSERT_EQ(
+      RunBouncecal("analyze '" + m4a.string() + "' --json '" + json.string() + "'").exit_status, 0);
+  std::vector<std::pair<double, double>> errors;  // onset minus the nearest true onset, sigma
+  const auto recording = ReadJson(json);
+  for (const auto& sequence : recording["sequences"]) {
+    for (std::size_t k = 0; k < sequence["onsets_s"].size(); ++k) {
+      const double onset = sequence["onsets_s"][k].get<double>();
+      double nearest = truth[0].get<double>();
+      for (const auto& t : truth) {
+        if (std::fabs(t.get<double>() - onset) < std::fabs(nearest - onset))
+          nearest = t.get<double>();
+      }
+      errors.emplace_back(onset - nearest, sequence["onset_uncertainty_s"][k].get<double>());
+    }
+  }
+  ASSERT_GE(errors.size(), 20u);
+  std::vector<double> sorted;
+  for (const auto& e : errors) sorted.push_back(e.first);
+  std::sort(sorted.begin(), sorted.end());
+  const double offset = sorted[sorted.size() / 2];
+  for (const auto& [error, sigma] : errors) {
+    EXPECT_LE(std::fabs(error - offset), 3 * sigma) << error - offset << " s at +-" << sigma;
+  }
 }
 
 }  // namespace
