@@ -319,7 +319,7 @@ ResponseTimingOptions ResponseTimingFor(const RecordingInfo& info) {
   options.require_contact_durations = !FirstLobeUnreliable(info);
   options.envelope_alignment = TransformCodec(info);
   options.pre_echo = FirstLobeUnreliable(info);
-  if (TransformCodec(info)) options.confirming_correlation = options.min_correlation;
+  if (FirstLobeUnreliable(info)) options.confirming_correlation = options.min_correlation;
   return options;
 }
 
@@ -560,7 +560,10 @@ ResponseTimingSummary ResponseTimer::Retime(DetectionResult& detection, double f
       // A response this much like the template's, with the ringing before it removed, is an
       // impact of the same ball on the same surface, not speech or handling noise: the evidence
       // that residual_only stands for is no longer weak (confirming_correlation).
-      if (alignment.correlation >= options_.confirming_correlation) impact.residual_only = false;
+      if (impact.residual_only && alignment.correlation >= options_.confirming_correlation) {
+        impact.residual_only = false;
+        impact.confirmed_by_response = true;
+      }
       // The alignment's sigma covers its own error (codec bench: 100 % of the errors within
       // 1.96 sigma at AAC 128k, Opus 64k, MP3 128k and Vorbis q4, docs/codecs.md), so an
       // aligned impact's onset is stated with it; the detector's onset enters with the first

@@ -865,6 +865,29 @@ TEST(BounceSequences, AChainThatFailsTheChanceTestByItsLastResidualOnlySoundEnds
       << result.sequences[0].end_reason;
 }
 
+// The detector suite's sr96000 resampled to 16 kHz, as the detector gives it where every usable
+// response alignment confirms (below 20 kHz): bounces 2-8 heard only in the ringing, the 3rd
+// confirmed by its response (rho 0.67) and so band-detected. The chain from the 1st bounce through
+// the 3rd (4 impacts, every other flight) times like chance (0.30 expected chains), and with it
+// standing for the 1st bounce's chains the drop formed from its 3rd bounce on (eta-bar 0.4963
+// against the WAV's 0.5424). The chain through the residual-only 2nd bounce competes too: the
+// whole drop.
+TEST(BounceSequences, AChainWhoseSecondImpactOnlyItsResponseConfirmedCompetesWithTheWeakSecond) {
+  auto impacts = FromDetected({{1.198907, 2.8e-05, -10.46, 0},
+                               {1.419814, 0.0013125, -12.19, 1},
+                               {1.564619, 4.76e-05, -13.91, 0},
+                               {1.662727, 0.0013125, -17.49, 1},
+                               {1.731040, 0.0013125, -19.97, 1},
+                               {1.779666, 0.0013125, -20.83, 1},
+                               {1.814719, 0.0013125, -22.97, 1},
+                               {1.840906, 0.0013125, -21.43, 1},
+                               {2.757531, 0.0013125, -56.16, 1}});
+  impacts[2].confirmed_by_response = true;
+  const auto result = FindBounceSequences(impacts);
+  ASSERT_EQ(result.sequences.size(), 1u);
+  EXPECT_EQ(result.sequences[0].impact_indices, (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7}));
+}
+
 // zaky-ptv's ping-pong (a phone video's soundtrack, 75 sounds in 3 s) as Opus 64k, as the
 // detector gave it. Onsets stated +-0.25-1.1 ms widen each bounce's window, and after the 9th
 // bounce the window holds a band-detected sound of the room (2.2553 s) beside the louder

@@ -77,6 +77,11 @@ struct Impact {
   // (response_timing.h): evidence of its own, which the merger's alternatives do not overrule
   // (merged_alternatives.h).
   bool timed_from_response = false;
+  // Found only in the ringing, but its response aligned to the template's well enough to count
+  // as band-detected (ResponseTimingOptions::confirming_correlation; residual_only is then
+  // false). Its band rise is still missing, so a chain may need it as the weak second impact
+  // that it was (FindBounceSequences).
+  bool confirmed_by_response = false;
   // Where a louder sound begins within the impact's first milliseconds, its own first millisecond
   // 6 dB or more under that sound (detector/later_attack.h), s from the first sample; NaN where
   // none does. A click that rang into its bounce kept one candidate, whose onset is the click's,

@@ -63,7 +63,11 @@ struct ResponseTimingOptions {
   // correlation, so there every usable alignment confirms (ResponseTimingFor): the detector suite's
   // steel_ref as Opus 32k at 16 kHz (a messenger's voice note) has bounces 2-5 at rho 0.65-0.85,
   // its 2nd at 0.67 kept residual-only, and the drop formed no sequence; the speech of
-  // knock_speech_before in the same coding aligns at 0.06-0.41.
+  // knock_speech_before in the same coding aligns at 0.06-0.41. The same below 20 kHz, where the
+  // bands above the Nyquist frequency, in which a click rises most, are gone: zaky-ptv's
+  // ping-pong resampled to 16 kHz kept bounces 2, 5 and 7 (rho 0.68-0.78) residual-only behind
+  // sounds 15-26 ms before them, and a chain of the room's sounds 168 combined sigmas off took
+  // the drop's place.
   double confirming_correlation = 0.8;
   // Leave the onsets as detected unless the recording determines its contact durations. Where
   // the first lobe is reliable (PCM at 20 kHz and above) the stage is worth it only with the
