@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <numeric>
+#include <tuple>
+#include <vector>
 
 namespace bouncecal::audio {
 namespace {
@@ -76,6 +78,35 @@ TEST(LeadingSounds, AShortChainNeedsEightDbAndKeepsItsFewestMembers) {
   EXPECT_EQ(LeadingSoundsQuieterThanTheDrop(nine, All(nine), 3), 1u);
   // Never fewer members left than a sequence needs: the chain stays as it is.
   EXPECT_EQ(LeadingSoundsQuieterThanTheDrop(nine, All(nine), 4), 0u);
+}
+
+// ub-mth337's ping-pong as Vorbis at 16 kHz, as the detector gave its first sequence's first
+// members: three sounds of handling the ball before the drop, the last found only in the
+// ringing (its onset stated +-2.503 ms, past the level rule's 2.5 ms), then the drop's first 8
+// bounces. The sounds' levels do not fall as bounces do (-49, -42, -58 dBFS), so judged one by one
+// against the next 7 levels, three of them their own, none is quieter by the margin.
+TEST(LeadingSounds, SoundsBeforeTheDropAllFarQuieterThanItsFirstBounceAreCutTogether) {
+  const std::vector<std::tuple<double, double, double, bool>> detected = {
+      {0.025251, 584e-6, -49.37, false}, {0.800719, 572e-6, -42.30, false},
+      {1.551531, 2503e-6, -57.80, true}, {2.201909, 165e-6, 0.02, false},
+      {2.762175, 31e-6, -0.40, false},   {3.270436, 33e-6, -1.10, false},
+      {3.730656, 31e-6, -1.68, false},   {4.152918, 31e-6, -2.38, false},
+      {4.541856, 31e-6, -2.95, false},   {4.903534, 31e-6, -3.71, false},
+      {5.238210, 31e-6, -4.20, false}};
+  std::vector<Impact> impacts;
+  for (const auto& [onset_s, sigma_s, peak_dbfs, residual_only] : detected) {
+    impacts.push_back({.onset_s = onset_s,
+                       .onset_uncertainty_s = sigma_s,
+                       .peak_dbfs = peak_dbfs,
+                       .residual_only = residual_only});
+  }
+  EXPECT_EQ(LeadingSoundsQuieterThanTheDrop(impacts, All(impacts), 3), 3u);
+  // A band-detected sound whose level cannot be judged might be the drop's: nothing is cut.
+  impacts[2].residual_only = false;
+  EXPECT_EQ(LeadingSoundsQuieterThanTheDrop(impacts, All(impacts), 3), 0u);
+  // A bounce louder than the ones after it is the drop's first: the sounds before it go, it stays.
+  impacts[2] = {.onset_s = 1.551531, .onset_uncertainty_s = 31e-6, .peak_dbfs = 1.0};
+  EXPECT_EQ(LeadingSoundsQuieterThanTheDrop(impacts, All(impacts), 3), 2u);
 }
 
 TEST(LeadingSounds, UnknownLevelsJudgeNothing) {
