@@ -256,9 +256,8 @@ std::size_t LeadingSoundsQuieterThanTheDrop(const std::vector<Impact>& impacts,
   const auto level = [&](std::size_t k) {
     return impacts[static_cast<std::size_t>(members[k])].peak_dbfs;
   };
-  // Whether member k is judged by its level (above) and how much quieter than the member `from`
-  // it must be to be a sound before the drop, from the levels of the members from `from` on;
-  // nullopt where they cannot judge.
+  // How much quieter than member `from` a sound must be to be one before the drop, from the
+  // levels of the members from `from` on (nullopt where one of them is unknown).
   const auto margin_from = [&](std::size_t from) -> std::optional<double> {
     std::vector<double> references;
     for (std::size_t k = from; k < members.size() && references.size() < kLevelReferenceImpacts;
@@ -274,6 +273,7 @@ std::size_t LeadingSoundsQuieterThanTheDrop(const std::vector<Impact>& impacts,
                           kLeadingQuieterZ * std::sqrt(2.0) * LevelScatterAboutALine(references))
                : kShortChainQuieterDb;
   };
+  // Whether member k's level is its sound's (kLevelJudgedOnsetUncertaintyS).
   const auto judged = [&](std::size_t k) {
     return impacts[static_cast<std::size_t>(members[k])].onset_uncertainty_s <=
                kLevelJudgedOnsetUncertaintyS &&
