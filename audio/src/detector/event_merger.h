@@ -67,6 +67,9 @@ class EventMerger {
     std::vector<Merge> others;
   };
   void Emit();
+  // The least uncertainty of an onset picked inside a tail (residual_only), from how clearly
+  // its sound rose there (EventMerger.cc).
+  double WeakOnsetSigmaS(const LocatedImpact& located) const;
   static double Onset(const LocatedImpact& located, double reference_to_contact_s);
   // The largest squared sample of `band` in [from, to) (fractional sample indices), in dB;
   // -140 dB for an empty span or samples no longer held.
