@@ -25,7 +25,9 @@ namespace bouncecal::audio {
 // precursor at a constant lead as good as the bounce for the intervals. Only members the response
 // timing did not time (Impact::timed_from_response: an aligned onset is its own evidence) and left
 // where the merger put them. The taken sound's entry in `merged` then records the onset the merger
-// kept, as the sound set aside.
+// kept, as the sound set aside. A band-detected member that keeps its onset over an earlier sound
+// it out-levelled by less than a rise threshold, which the ratios do not clearly reject either,
+// states half their distance: the two may be one slowly rising sound.
 //
 // Before that, each sequence is weighed whole where three or more of its members show another
 // sound at one spacing (2 ms or more), merged into them or their own later, louder sound
