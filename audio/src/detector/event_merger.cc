@@ -117,7 +117,7 @@ double EventMerger::WeakOnsetSigmaS(const LocatedImpact& located) const {
   // 0.3 %; those below, 93-95 % and 1.6-4.2 % (seed 11 #85: a 5th bounce under the noise, its
   // novelty 0.43 dB, 9.0 ms late at a stated 1.9 ms, eta-bar 4.6 sigmas off). The hop scaled by
   // the rise's shortfall (at most 3.3 times: a tentative rose by half the threshold at least)
-  // covers those 97-98 % and 0.7-1.5 %, as the clearer ones; no onset moves.
+  // covers those 97-98 % and 0.7-1.5 %, near the clearer ones; no onset moves.
   const double rise_db = std::max(located.rise_db, 0.5 * rise_threshold_db_);
   return residual_hop_s_ * std::max(1.0, kHopLocatingRises * rise_threshold_db_ / rise_db);
 }

@@ -68,7 +68,7 @@ class EventMerger {
   };
   void Emit();
   // The least uncertainty of an onset picked inside a tail (residual_only), from how clearly
-  // its sound rose there (EventMerger.cc).
+  // its sound rose there (event_merger.cc).
   double WeakOnsetSigmaS(const LocatedImpact& located) const;
   static double Onset(const LocatedImpact& located, double reference_to_contact_s);
   // The largest squared sample of `band` in [from, to) (fractional sample indices), in dB;
