@@ -234,9 +234,10 @@ void DoubtAnEndMemberOfUnknownSound(std::vector<Impact>& impacts, const std::vec
 // with the pairs' own scatter about their spacing added. Members timed from their response move
 // too: the alignment times a click as well as its bounce, and #24's first four were aligned on
 // their clicks (the single-member rule below leaves them, for one member's neighbours are weaker
-// evidence than a pattern of three or more pairs).
+// evidence than a pattern of three or more pairs). Marks in `weighed` (one flag per impact) the
+// members it weighed with the other sound of their pair, whatever it chose.
 void TimeEveryPairOnOneSound(std::vector<Impact>& impacts, std::vector<MergedEvent>& merged,
-                             const BounceSequence& sequence) {
+                             const BounceSequence& sequence, std::vector<bool>& weighed) {
   const auto& members = sequence.impact_indices;
   const int n = static_cast<int>(members.size());
   if (n < kMinMembersToWeighWhole) return;
@@ -297,6 +298,7 @@ void TimeEveryPairOnOneSound(std::vector<Impact>& impacts, std::vector<MergedEve
   for (int k = 0; k < n; ++k) {
     pairs.push_back(paired_with(spacing, k));
     if (pairs.back().second) {
+      weighed[static_cast<std::size_t>(members[static_cast<std::size_t>(k)])] = true;
       matched.push_back(
           std::fabs(pairs.back().second->time_s - times[static_cast<std::size_t>(k)]));
     }
@@ -373,10 +375,12 @@ void TimeEveryPairOnOneSound(std::vector<Impact>& impacts, std::vector<MergedEve
       on_earlier = on_earlier || role > 0;
       on_later = on_later || role < 0;
     }
-    for (int k = 0; k < n && on_earlier && on_later; ++k) {
-      if (!best.move[static_cast<std::size_t>(k)]) continue;
-      Impact& member = impact_at(k);
-      member.onset_uncertainty_s = std::hypot(member.onset_uncertainty_s, 0.5 * median_spacing);
+    if (on_earlier && on_later) {
+      for (int k = 0; k < n; ++k) {
+        if (!best.move[static_cast<std::size_t>(k)]) continue;
+        Impact& member = impact_at(k);
+        member.onset_uncertainty_s = std::hypot(member.onset_uncertainty_s, 0.5 * median_spacing);
+      }
     }
     return;
   }
@@ -425,7 +429,10 @@ void TimeEveryPairOnOneSound(std::vector<Impact>& impacts, std::vector<MergedEve
 void TakeMergedOnsetsThatFitTheSequence(std::vector<Impact>& impacts,
                                         std::vector<MergedEvent>& merged,
                                         const std::vector<BounceSequence>& sequences) {
-  for (const auto& sequence : sequences) TimeEveryPairOnOneSound(impacts, merged, sequence);
+  std::vector<bool> weighed(impacts.size(), false);
+  for (const auto& sequence : sequences) {
+    TimeEveryPairOnOneSound(impacts, merged, sequence, weighed);
+  }
   for (const auto& sequence : sequences) {
     const auto& members = sequence.impact_indices;
     std::vector<double> times;
@@ -473,7 +480,7 @@ void TakeMergedOnsetsThatFitTheSequence(std::vector<Impact>& impacts,
                           "sequence's interval ratios better (merged)");
         member.onset_s = taken_s;
         times[k] = taken_s;
-      } else if (!member.residual_only) {
+      } else if (!member.residual_only && !weighed[static_cast<std::size_t>(members[k])]) {
         // Kept, with an earlier sound it out-levelled by less than a rise threshold that the
         // ratios do not reject either: the two may be one sound, rising for longer than they
         // lie apart (a 1 ms contact, whose band above 6 kHz grows for a millisecond; a soft
@@ -485,7 +492,11 @@ void TakeMergedOnsetsThatFitTheSequence(std::vector<Impact>& impacts,
         // the next took its onset 3.5 dB louder over that span, +1.37 ms at a stated 25 us,
         // eta-bar 8.9 sigmas off. Not in the merger, where the onsets are still to be tracked:
         // a member stated +-several ms widens the window for the next bounce, and a stray sound
-        // took it (zaky-ptv's ping-pong as AAC at 22 kHz then formed no sequence).
+        // took it (zaky-ptv's ping-pong as AAC at 22 kHz then formed no sequence). Not for a
+        // member the whole sequence weighed with its pair's other sound: that choice, taken or
+        // stated, already holds the sound (a moved member's click is then merged into it:
+        // doubting it again widened 9 of 154 answers of --precursors seed 8 and 6 of 144 of seed
+        // 9, up to 25 times, 8 #127's eta-bar sigma 0.0002 -> 0.0049 at 0.1 sigmas off).
         double doubt_s = 0;
         for (const auto& [time_s, misfit] : close_before) {
           if ((misfit - now->misfit) / (now->scatter * now->scatter) <= kRequiredImprovement) {
