@@ -112,6 +112,8 @@ class OnsetLocator {
   // that one rose by the full threshold and closed while its band was still rising, with its
   // onset just before its peak.
   std::int64_t pick_floor_sample_ = -1;
+  // The candidate that set pick_floor_sample_ closed while its band was still rising.
+  bool pick_floor_rising_ = false;
   std::vector<float> window_;  // scratch
 };
 

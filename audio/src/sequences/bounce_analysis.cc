@@ -16,6 +16,7 @@ SequenceResult GroupBounces(DetectionResult& detection, const SequenceOptions& o
   detection.tentative.clear();
   SequenceResult grouping = FindBounceSequences(detection.impacts, options);
   TakeMergedOnsetsThatFitTheSequence(detection.impacts, detection.merged, grouping.sequences);
+  StateUnsearchedOnsetSpans(detection.impacts, grouping.sequences);
   StateDoubtOfWeakMembers(detection.impacts, grouping.sequences);
   return grouping;
 }

@@ -420,6 +420,8 @@ void TimeEveryPairOnOneSound(std::vector<Impact>& impacts, std::vector<MergedEve
     member.onset_uncertainty_s = std::hypot(member.onset_uncertainty_s, spread_s);
     member.timed_from_response = false;
     member.later_onset_s = std::numeric_limits<double>::quiet_NaN();
+    // The span before the onset it left is no longer this onset's.
+    member.unsearched_span_s = 0;
   }
   for (MergedEvent& event : set_aside) merged.push_back(std::move(event));
 }
@@ -479,6 +481,7 @@ void TakeMergedOnsetsThatFitTheSequence(std::vector<Impact>& impacts,
                           "the sound there, which the merger had set aside, continues the bounce "
                           "sequence's interval ratios better (merged)");
         member.onset_s = taken_s;
+        member.unsearched_span_s = 0;
         times[k] = taken_s;
       } else if (!member.residual_only && !weighed[static_cast<std::size_t>(members[k])]) {
         // Kept, with an earlier sound it out-levelled by less than a rise threshold that the

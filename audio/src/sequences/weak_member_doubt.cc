@@ -72,4 +72,15 @@ void StateDoubtOfWeakMembers(std::vector<Impact>& impacts,
   }
 }
 
+void StateUnsearchedOnsetSpans(std::vector<Impact>& impacts,
+                               const std::vector<BounceSequence>& sequences) {
+  for (const auto& sequence : sequences) {
+    for (int index : sequence.impact_indices) {
+      Impact& member = impacts[static_cast<std::size_t>(index)];
+      if (member.timed_from_response) continue;
+      member.onset_uncertainty_s = std::max(member.onset_uncertainty_s, member.unsearched_span_s);
+    }
+  }
+}
+
 }  // namespace bouncecal::audio

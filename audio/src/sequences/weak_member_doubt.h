@@ -21,6 +21,15 @@ namespace bouncecal::audio {
 void StateDoubtOfWeakMembers(std::vector<Impact>& impacts,
                              const std::vector<BounceSequence>& sequences);
 
+// A member whose onset search an earlier, still-rising candidate cut (Impact::unsearched_span_s)
+// may have begun anywhere from that search's start: its uncertainty is at least that span's half.
+// Only for members the response timing did not time (an aligned onset is its own evidence), and
+// only here, after the sequences are found: in the detector's sigma it changed which impact the
+// response timing takes for its template, and a precursor drop's members then switched between
+// their clicks and bounces (silent_wrong_sweep.py --precursors seed 8 #165: eta-bar 39 sigmas off).
+void StateUnsearchedOnsetSpans(std::vector<Impact>& impacts,
+                               const std::vector<BounceSequence>& sequences);
+
 }  // namespace bouncecal::audio
 
 #endif  // BOUNCECAL_AUDIO_SRC_SEQUENCES_WEAK_MEMBER_DOUBT_H_

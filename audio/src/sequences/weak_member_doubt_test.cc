@@ -115,5 +115,32 @@ TEST(WeakMemberDoubt, ShortSequencesAreLeftAlone) {
   EXPECT_EQ(impacts[2].onset_uncertainty_s, kResidualHopS);
 }
 
+// A member whose onset search a still-rising earlier candidate cut states half the span the picker
+// could not search (a 1 ms contact picked 1.6 ms late at 106 us: silent_wrong_sweep.py seed 808
+// #121); a member the response timing aligned keeps its own evidence, and a span smaller than its
+// sigma changes nothing.
+TEST(UnsearchedOnsetSpans, AMemberWhoseSearchWasCutStatesHalfItsSpan) {
+  auto impacts = Drop(6);
+  impacts[1].unsearched_span_s = 1.3e-3;
+  impacts[2].unsearched_span_s = 1.3e-3;
+  impacts[2].timed_from_response = true;
+  impacts[3].unsearched_span_s = 10e-6;
+  const auto before = impacts;
+  StateUnsearchedOnsetSpans(impacts, OneSequence(impacts));
+  EXPECT_EQ(impacts[1].onset_uncertainty_s, 1.3e-3);
+  EXPECT_EQ(impacts[1].onset_s, before[1].onset_s);  // onsets are never moved
+  for (std::size_t k : {0u, 2u, 3u, 4u, 5u}) {
+    EXPECT_EQ(impacts[k].onset_uncertainty_s, before[k].onset_uncertainty_s) << k;
+  }
+}
+
+// Outside any sequence the span stays where the detector put it (the sequence states it).
+TEST(UnsearchedOnsetSpans, ImpactsOutsideASequenceKeepTheirSigma) {
+  auto impacts = Drop(6);
+  impacts[1].unsearched_span_s = 1.3e-3;
+  StateUnsearchedOnsetSpans(impacts, {});
+  EXPECT_EQ(impacts[1].onset_uncertainty_s, kBandSigmaS);
+}
+
 }  // namespace
 }  // namespace bouncecal::audio

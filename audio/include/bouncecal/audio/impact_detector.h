@@ -88,6 +88,14 @@ struct Impact {
   // and this is the bounce's: an alternative onset that a bounce sequence may take
   // (merged_alternatives.h).
   double later_onset_s = std::numeric_limits<double>::quiet_NaN();
+  // Where the onset's search began before the last peak of an earlier candidate that closed while
+  // still rising, so that the picker could not look before that peak: half the span from the
+  // search's start to the onset, s (the sound that candidate rose into may be this one, begun
+  // where the picker did not look); 0 otherwise. Not in onset_uncertainty_s, which the response
+  // timing and the sequence tracking weigh (there it let a precursor drop's pairs switch sounds):
+  // a bounce sequence states it for its members that the response timing did not time
+  // (StateUnsearchedOnsetSpans, weak_member_doubt.h).
+  double unsearched_span_s = 0;
 };
 
 // A rise that was merged into a louder impact less than min_gap_ms away.
