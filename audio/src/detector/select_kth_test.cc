@@ -64,6 +64,30 @@ TEST(SelectKth, FindsTheSameValueWhateverTheGuess) {
   }
 }
 
+// Infinite values (a float bin power can overflow) and guesses whose upper bracket edges
+// overflow to infinity: the bracket above the highest edge has no upper bound, so infinite
+// values are still found at their ranks.
+TEST(SelectKth, FindsInfiniteValuesAndSurvivesOverflowingEdges) {
+  std::mt19937 random(13);
+  std::exponential_distribution<float> power(1.0f);
+  std::vector<float> scratch;
+  const float infinity = std::numeric_limits<float>::infinity();
+  for (int trial = 0; trial < 100; ++trial) {
+    std::vector<float> values(1 + static_cast<std::size_t>(trial));
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      values[i] = i % 5 == 0 ? infinity : 3e38f * power(random);
+    }
+    auto sorted = values;
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t k = 0; k < values.size(); ++k) {
+      for (const float guess : {sorted[k], std::numeric_limits<float>::max(), 1.0f}) {
+        ASSERT_EQ(SelectKth(values, k, scratch, guess), sorted[k])
+            << "n " << values.size() << " k " << k << " guess " << guess;
+      }
+    }
+  }
+}
+
 TEST(SelectKth, HandlesAllEqualAndSortedInputs) {
   std::vector<float> scratch;
   std::vector<float> zeros(126, 0.0f);
