@@ -1,20 +1,26 @@
 #include "bouncecal/audio/bounce_analysis.h"
 
+#include <optional>
 #include <utility>
 
 #include "sequences/merged_alternatives.h"
+#include "sequences/tentative_extension.h"
 #include "sequences/weak_member_doubt.h"
 
 namespace bouncecal::audio {
 
 SequenceResult GroupBounces(DetectionResult& detection, const SequenceOptions& options) {
   options.Validate();
+  std::optional<SequenceResult> found;
   if (!detection.tentative.empty() && !detection.impacts.empty()) {
-    detection.impacts =
-        ExtendSequencesWithTentative(detection.impacts, detection.tentative, options);
+    TentativeExtension extension =
+        ExtendWithTentative(detection.impacts, detection.tentative, options);
+    detection.impacts = std::move(extension.impacts);
+    found = std::move(extension.grouping);
   }
   detection.tentative.clear();
-  SequenceResult grouping = FindBounceSequences(detection.impacts, options);
+  SequenceResult grouping =
+      found ? std::move(*found) : FindBounceSequences(detection.impacts, options);
   TakeMergedOnsetsThatFitTheSequence(detection.impacts, detection.merged, grouping.sequences);
   StateUnsearchedOnsetSpans(detection.impacts, grouping.sequences);
   StateDoubtOfWeakMembers(detection.impacts, grouping.sequences);

@@ -46,6 +46,32 @@ TEST(GroupBounces, TheCallersSequenceOptionsAlsoGovernTheAdoption) {
   EXPECT_EQ(detection.impacts.size(), 6u);
 }
 
+// Where no tentative impact is adopted, the grouping the adoption step made of the impacts is
+// the answer (GroupBounces does not search them again): the same sequences and reasons as
+// FindBounceSequences on those impacts, for a drop, a stray sound and a chain of residual-only
+// sounds the chance test refuses, with a tentative impact far from every due bounce.
+TEST(GroupBounces, WithoutAnAdoptionGroupsAsFindBounceSequencesDoes) {
+  DetectionResult detection;
+  double t = 0.5, flight = 0.3;
+  for (int k = 0; k < 7; ++k, t += flight, flight *= 0.8) detection.impacts.push_back(At(t));
+  detection.impacts.push_back(At(t + 0.9));
+  for (int k = 0; k < 5; ++k) detection.impacts.push_back(At(t + 2.0 + 0.13 * k, k > 1));
+  detection.tentative.push_back(At(t + 1.4, true));
+  const std::vector<Impact> impacts = detection.impacts;
+  const auto expected = FindBounceSequences(impacts);
+  const auto grouping = GroupBounces(detection);
+  EXPECT_EQ(detection.impacts.size(), impacts.size());
+  ASSERT_EQ(grouping.sequences.size(), expected.sequences.size());
+  for (std::size_t s = 0; s < expected.sequences.size(); ++s) {
+    EXPECT_EQ(grouping.sequences[s].impact_indices, expected.sequences[s].impact_indices);
+    EXPECT_EQ(grouping.sequences[s].end_reason, expected.sequences[s].end_reason);
+  }
+  ASSERT_EQ(grouping.rejected.size(), expected.rejected.size());
+  for (std::size_t r = 0; r < expected.rejected.size(); ++r) {
+    EXPECT_EQ(grouping.rejected[r].reason, expected.rejected[r].reason);
+  }
+}
+
 // A WAV's merger is not always right either: a precursor ringing into its bounce keeps one
 // candidate open, and which of the two is timed changes from bounce to bounce with their levels
 // (silent_wrong_sweep.py seed 53 #115, 22 kHz: eta-bar 0.4359 +- 0.0002 against 0.4480). Without

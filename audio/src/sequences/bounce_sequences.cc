@@ -17,6 +17,7 @@
 #include "sequences/leading_sounds.h"
 #include "sequences/periodic_sound.h"
 #include "sequences/poisson_binomial.h"
+#include "sequences/tentative_extension.h"
 
 namespace bouncecal::audio {
 namespace {
@@ -1412,8 +1413,14 @@ class ChanceWithTentatives {
 std::vector<Impact> ExtendSequencesWithTentative(const std::vector<Impact>& impacts,
                                                  const std::vector<Impact>& tentative,
                                                  const SequenceOptions& options) {
+  return ExtendWithTentative(impacts, tentative, options).impacts;
+}
+
+TentativeExtension ExtendWithTentative(const std::vector<Impact>& impacts,
+                                       const std::vector<Impact>& tentative,
+                                       const SequenceOptions& options) {
   std::vector<RefusedChain> refused;
-  const SequenceResult grouping = FindSequences(impacts, options, &refused);
+  SequenceResult grouping = FindSequences(impacts, options, &refused);
   std::vector<Impact> result = impacts;
   std::vector<bool> adopted(tentative.size(), false);
   const auto onset = [&](int i) { return impacts[static_cast<size_t>(i)].onset_s; };
@@ -1542,9 +1549,10 @@ std::vector<Impact> ExtendSequencesWithTentative(const std::vector<Impact>& impa
       walked.pop_back();
     }
   }
+  if (result.size() == impacts.size()) return {std::move(result), std::move(grouping)};
   std::sort(result.begin(), result.end(),
             [](const Impact& a, const Impact& b) { return a.onset_s < b.onset_s; });
-  return result;
+  return {std::move(result), std::nullopt};
 }
 
 }  // namespace bouncecal::audio
