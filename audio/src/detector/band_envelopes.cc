@@ -79,6 +79,9 @@ BandEnvelopes::BandEnvelopes(const DetectorFrames& frames, const DetectorOptions
   const auto reference_frames = static_cast<std::size_t>(frames.lookback - frames.skip + 1);
   low_hz_.push_back(options.band_low_hz);
   for (double hz : DetectionBands(frames.rate_hz, options)) low_hz_.push_back(hz);
+  floors_.resize(filter_.output_count());
+  floor_inputs_.resize(filter_.output_count());
+  floor_outputs_.resize(filter_.output_count());
   for (std::size_t b = 0; b < filter_.output_count(); ++b) {
     // Each band's history holds a whole filter block ahead of the frames being examined.
     const std::size_t history =
@@ -102,6 +105,17 @@ std::size_t BandEnvelopes::Finish() {
 }
 
 void BandEnvelopes::EndBlock() {
+  // The floors of every band's frames of this block, side by side (NoiseFloor::AddBlocks); the
+  // frames are examined only after this.
+  if (taken_) {
+    for (std::size_t b = 0; b < bands_.size(); ++b) {
+      floors_[b] = &bands_[b].floor;
+      floor_inputs_[b] = bands_[b].frame_powers;
+      floor_outputs_[b] = bands_[b].floor_powers.data();
+    }
+    NoiseFloor::AddBlocks(floors_, floor_inputs_, floor_outputs_);
+    taken_ = false;
+  }
   frames_before_block_ = frame_count_;
   fill_before_block_ = fill_;
   const auto completed = (fill_ + static_cast<std::int64_t>(delivered_)) / frames_.hop;
@@ -115,6 +129,7 @@ void BandEnvelopes::EndBlock() {
 // samples, so each starts at the frame fill the previous block left.
 void BandEnvelopes::Take(std::size_t b, std::span<const float> samples) {
   EnvelopeBand& band = bands_[b];
+  taken_ = true;
   band.samples.PushBlock(samples);
   band.frame_powers.clear();
   const auto hop = static_cast<std::size_t>(frames_.hop);
@@ -141,9 +156,9 @@ void BandEnvelopes::Take(std::size_t b, std::span<const float> samples) {
   }
   band.power = power;
   delivered_ = samples.size();
-  // The frame ring, the floor and the rise windows of the block's frames, and whether the band
-  // may rise there: none of it depends on the decisions made frame by frame, so it runs here in
-  // one loop per band instead of interleaved with them.
+  // The frame ring and the rise windows of the block's frames, and whether the band may rise
+  // there: none of it depends on the decisions made frame by frame, so it runs here in one loop
+  // per band instead of interleaved with them (the floors run for all bands at once, EndBlock).
   const std::size_t count = band.frame_powers.size();
   band.ahead_maxima.resize(count);
   band.reference_maxima.resize(count);
@@ -153,7 +168,6 @@ void BandEnvelopes::Take(std::size_t b, std::span<const float> samples) {
     const auto n = static_cast<std::size_t>(frame_count_) + k;
     band.frame_powers_ring[n & band.mask] = band.frame_powers[k];
   }
-  band.floor.AddBlock(band.frame_powers, band.floor_powers.data());
   // Rise of frame m = n - attack: the attack window [m, n] takes frame n, the lookback
   // [m - lookback, m - skip] frame m - skip once that exists. The ring holds those frames: the
   // lookback's newest is at least attack + skip frames old.

@@ -150,6 +150,11 @@ class BandEnvelopes {
   std::size_t delivered_ = 0;
   std::vector<char> may_rise_;    // per frame of the block: some band may rise
   std::vector<double> entering_;  // scratch: the frames entering a band's lookback
+  bool taken_ = false;            // some band took samples since the last EndBlock
+  // Scratch for NoiseFloor::AddBlocks: every band's floor, frame powers and floor outputs.
+  std::vector<NoiseFloor*> floors_;
+  std::vector<std::span<const double>> floor_inputs_;
+  std::vector<double*> floor_outputs_;
   std::int64_t frames_before_block_ = 0;
   std::int64_t fill_before_block_ = 0;
   std::int64_t fill_ = 0;         // samples in the frame being filled

@@ -2,6 +2,7 @@
 #define BOUNCECAL_AUDIO_SRC_DETECTOR_NOISE_FLOOR_H_
 
 #include <algorithm>
+#include <cstddef>
 #include <limits>
 #include <span>
 #include <vector>
@@ -32,6 +33,14 @@ class NoiseFloor {
   // Add for each of powers in turn, writing power() after each to floors (as many): the state
   // in locals between the sub-window rotations, not a chain through the members.
   void AddBlock(std::span<const double> powers, double* floors);
+  // AddBlock for each of `floors`, floor f taking powers[f] and writing to out[f]. Where the
+  // floors are in step (as many powers each, and as many frames added before with the same
+  // sub-window, as the detection bands' floors are), they run side by side, every floor's
+  // arithmetic exactly as alone: each smoothing step waits on the one before, and one floor at a
+  // time left the processor waiting on that chain (3 % of analysing a WAV for three bands).
+  static void AddBlocks(std::span<NoiseFloor* const> floors,
+                        std::span<const std::span<const double>> powers,
+                        std::span<double* const> out);
   // The floor in dB re full scale (power 1); -140 dB for digital silence.
   double db() const;
   // The dB db() gives for a floor of this power (as read from power()).
@@ -47,6 +56,10 @@ class NoiseFloor {
 
  private:
   void Rotate();  // stores the finished sub-window's minimum
+  template <std::size_t N>
+  static void AddInStep(std::span<NoiseFloor* const> floors,
+                        std::span<const std::span<const double>> powers,
+                        std::span<double* const> out);
 
   double alpha_ = 1;
   long long subwindow_frames_ = 1;
