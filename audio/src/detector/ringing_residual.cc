@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <complex>
 #include <cstdint>
 #include <numbers>
 #include <stdexcept>
@@ -57,6 +58,51 @@ std::size_t SlotsOf(std::size_t lookback_frames) {
   return std::bit_ceil(lookback_frames + kSkipFrames + 1 +
                        static_cast<std::size_t>(RingingResidual::kMaxQueryAgeFrames));
 }
+
+// The loops over a window's samples and a frame's bins, also compiled for AVX and picked when
+// the library loads where the processor has it: eight floats per instruction instead of four.
+// Every operation is an exact IEEE one (products, sums of two products, maxima, quotients; AVX
+// has no fused multiply-add, which would round differently: that is FMA, not enabled here), so
+// the values are the same either way.
+#if defined(__x86_64__) && defined(__GNUC__)
+#define BOUNCECAL_AVX_CLONES [[gnu::target_clones("avx", "default")]]
+#else
+#define BOUNCECAL_AVX_CLONES
+#endif
+
+// out[i] = x[i] taper[i].
+BOUNCECAL_AVX_CLONES
+void Taper(const float* x, const float* taper, float* out, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) out[i] = x[i] * taper[i];
+}
+
+// powers[k] = |spectrum[k]|^2.
+BOUNCECAL_AVX_CLONES
+void BinPowers(const std::complex<float>* spectrum, float* powers, std::size_t n) {
+  for (std::size_t k = 0; k < n; ++k) powers[k] = std::norm(spectrum[k]);
+}
+
+// reference[k] = max(reference[k], max(a[k], b[k])).
+BOUNCECAL_AVX_CLONES
+void MaxOfTwoInto(float* reference, const float* a, const float* b, std::size_t n) {
+  for (std::size_t k = 0; k < n; ++k) reference[k] = std::max(reference[k], std::max(a[k], b[k]));
+}
+
+// reference[k] = max(reference[k], a[k]).
+BOUNCECAL_AVX_CLONES
+void MaxInto(float* reference, const float* a, std::size_t n) {
+  for (std::size_t k = 0; k < n; ++k) reference[k] = std::max(reference[k], a[k]);
+}
+
+// reference[k] = max(1, current[k] / max(reference[k], floor)): each bin's rise as a power ratio.
+BOUNCECAL_AVX_CLONES
+void RisesOverReference(float* reference, const float* current, float floor, std::size_t n) {
+  for (std::size_t k = 0; k < n; ++k) {
+    reference[k] = std::max(1.0f, current[k] / std::max(reference[k], floor));
+  }
+}
+
+#undef BOUNCECAL_AVX_CLONES
 
 }  // namespace
 
@@ -171,12 +217,11 @@ const float* RingingResidual::Powers(std::int64_t frame) {
   const std::int64_t start = frame * hop_;
   for (std::size_t i = 0; i < taper_.size();) {
     const auto view = source_->Contiguous(start + static_cast<std::int64_t>(i), taper_.size() - i);
-    for (std::size_t k = 0; k < view.size(); ++k) real[i + k] = view[k] * taper_[i + k];
+    Taper(view.data(), taper_.data() + i, real.data() + i, view.size());
     i += view.size();
   }
   fft_.Forward();
-  const auto spectrum = fft_.spectrum();
-  for (std::size_t k = 0; k < bins_; ++k) powers[k] = std::norm(spectrum[first_bin_ + k]);
+  BinPowers(fft_.spectrum().data() + first_bin_, powers, bins_);
   slots_[slot].spectrum_frame = frame;
   return powers;
 }
@@ -201,18 +246,10 @@ double RingingResidual::NoveltyDb(std::int64_t frame) {
     for (; i + 1 <= j; i += 2) {
       const float* a = Powers(i);
       const float* b = Powers(i + 1);
-      for (std::size_t k = 0; k < bins_; ++k) {
-        reference_[k] = std::max(reference_[k], std::max(a[k], b[k]));
-      }
+      MaxOfTwoInto(reference_.data(), a, b, bins_);
     }
-    if (i == j) {
-      const float* powers = Powers(i);
-      for (std::size_t k = 0; k < bins_; ++k) reference_[k] = std::max(reference_[k], powers[k]);
-    }
-    const float* current = Powers(frame);
-    for (std::size_t k = 0; k < bins_; ++k) {
-      reference_[k] = std::max(1.0f, current[k] / std::max(reference_[k], kTinyPower));
-    }
+    if (i == j) MaxInto(reference_.data(), Powers(i), bins_);
+    RisesOverReference(reference_.data(), Powers(frame), kTinyPower, bins_);
     // The sum of log ratios is the log of their product; a log per bin would cost more than
     // the FFT. Ratios are at most ~1e35 (a float), so products of 8 of them fit a double. Four
     // products side by side (bins k = lane mod 4): one running product was a chain of ~130
