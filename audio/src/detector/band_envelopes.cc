@@ -68,15 +68,21 @@ BandEnvelopes::BandEnvelopes(const DetectorFrames& frames, const DetectorOptions
     : frames_(frames),
       filter_(frames.rate_hz, options.band_low_hz, options.band_high_hz,
               DetectionBands(frames.rate_hz, options)),
-      secondary_rise_ratio_(std::pow(10.0, 0.1 * secondary_rise_db) * (1.0 - 1e-6)) {
+      secondary_rise_ratio_(std::pow(10.0, 0.1 * secondary_rise_db) * (1.0 - 1e-6)),
+      ahead_frames_(static_cast<std::size_t>(frames.attack + 1)),
+      reference_frames_(
+          static_cast<std::size_t>(std::max<std::int64_t>(1, frames.lookback - frames.skip + 1))),
+      // The attack window of frame n reaches back to n - attack, the lookback to
+      // n - attack - skip - (reference frames - 1).
+      window_history_(
+          std::max(ahead_frames_ - 1,
+                   static_cast<std::size_t>(frames.attack + frames.skip) + reference_frames_ - 1)) {
   sink_ = [this](std::size_t band, std::span<const float> samples) { Take(band, samples); };
   // The frames the windows read plus the caller's, plus a whole filter block: a block's frames
   // are entered before they are examined.
   const auto ring = static_cast<std::size_t>(
       frames.lookback + frame_ring_extra +
       static_cast<std::int64_t>(filter_.max_latency_samples()) / frames.hop + 1);
-  const auto ahead_frames = static_cast<std::size_t>(frames.attack + 1);
-  const auto reference_frames = static_cast<std::size_t>(frames.lookback - frames.skip + 1);
   low_hz_.push_back(options.band_low_hz);
   for (double hz : DetectionBands(frames.rate_hz, options)) low_hz_.push_back(hz);
   floors_.resize(filter_.output_count());
@@ -86,7 +92,7 @@ BandEnvelopes::BandEnvelopes(const DetectorFrames& frames, const DetectorOptions
     // Each band's history holds a whole filter block ahead of the frames being examined.
     const std::size_t history =
         (b == 0 ? band_zero_history : history_samples) + filter_.max_latency_samples();
-    bands_.emplace_back(history, ring, frames.frame_s, ahead_frames, reference_frames);
+    bands_.emplace_back(history, ring, frames.frame_s, window_history_);
   }
 }
 
@@ -168,19 +174,22 @@ void BandEnvelopes::Take(std::size_t b, std::span<const float> samples) {
     const auto n = static_cast<std::size_t>(frame_count_) + k;
     band.frame_powers_ring[n & band.mask] = band.frame_powers[k];
   }
-  // Rise of frame m = n - attack: the attack window [m, n] takes frame n, the lookback
-  // [m - lookback, m - skip] frame m - skip once that exists. The ring holds those frames: the
-  // lookback's newest is at least attack + skip frames old.
-  band.ahead.PushBlock(band.frame_powers, band.ahead_maxima.data());
-  const std::int64_t lag = frames_.attack + frames_.skip;
-  const auto before_first = static_cast<std::size_t>(
-      std::clamp<std::int64_t>(lag - frame_count_, 0, static_cast<std::int64_t>(count)));
-  std::fill_n(band.reference_maxima.begin(), before_first, band.reference.max());
-  entering_.resize(count - before_first);
-  for (std::size_t k = before_first; k < count; ++k) {
-    entering_[k - before_first] = band.Power(frame_count_ + static_cast<std::int64_t>(k) - lag);
+  // Rise of frame m = n - attack: the attack window [m, n] and the lookback
+  // [m - lookback, m - skip] = [n - lag - (reference frames - 1), n - lag], both over the
+  // block's frames after the history's, all of the block at once.
+  std::vector<double>& frames = band.window_frames;
+  frames.insert(frames.end(), band.frame_powers.begin(), band.frame_powers.end());
+  const std::span<const double> all(frames);
+  const auto lag = static_cast<std::size_t>(frames_.attack + frames_.skip);
+  if (count > 0) {
+    WindowMaxima(all.subspan(window_history_ - (ahead_frames_ - 1)), ahead_frames_,
+                 band.ahead_maxima, window_scratch_);
+    WindowMaxima(all.subspan(window_history_ - lag - (reference_frames_ - 1)), reference_frames_,
+                 band.reference_maxima, window_scratch_);
+    band.ahead_latest = band.ahead_maxima.back();
+    band.reference_latest = band.reference_maxima.back();
   }
-  band.reference.PushBlock(entering_, band.reference_maxima.data() + before_first);
+  frames.erase(frames.begin(), frames.end() - static_cast<std::ptrdiff_t>(window_history_));
   for (std::size_t k = 0; k < count; ++k) {
     may_rise_[k] |=
         static_cast<char>(std::max(band.ahead_maxima[k], kTinyPower) >=

@@ -43,14 +43,13 @@ class MaxDb {
 struct EnvelopeBand {
   // The frame ring has a power-of-two size so indexing is a mask, not a division. Frames are
   // kept as powers; Db() converts the few that candidates look at.
-  EnvelopeBand(std::size_t history, std::size_t frames, double frame_s, std::size_t ahead_frames,
-               std::size_t reference_frames)
+  // window_history: the frames before a block that its rise windows reach back to.
+  EnvelopeBand(std::size_t history, std::size_t frames, double frame_s, std::size_t window_history)
       : samples(history),
         frame_powers_ring(std::bit_ceil(frames)),
         mask(frame_powers_ring.size() - 1),
         floor(frame_s),
-        ahead(ahead_frames),
-        reference(reference_frames) {}
+        window_frames(window_history, -std::numeric_limits<double>::infinity()) {}
   SampleHistory<float> samples;
   std::vector<double> frame_powers_ring;  // mean squares of the recent frames
   std::size_t mask;
@@ -67,18 +66,21 @@ struct EnvelopeBand {
     return frame_powers_ring[static_cast<std::size_t>(frame) & mask];
   }
   double Db(std::int64_t frame) const { return EnvelopeDb(Power(frame)); }
+  // The frames the rise windows of a block read: the window_history frames before it (minus
+  // infinity before the first frame, which no maximum takes), then the block's.
+  std::vector<double> window_frames;
   // Maxima of the attack window [m, n] and the lookback [m - lookback, m - skip] (see
-  // BandEnvelopes::Rise), as they stand after the block's last frame.
-  WindowMax ahead;
-  WindowMax reference;
+  // BandEnvelopes::Rise) as they stand after the last frame so far (minus infinity before it).
+  double ahead_latest = -std::numeric_limits<double>::infinity();
+  double reference_latest = -std::numeric_limits<double>::infinity();
   MaxDb ahead_db;
   MaxDb reference_db;
   // The state at frame k of the block (k >= 0), else the latest.
   double AheadMax(std::ptrdiff_t k) const {
-    return k < 0 ? ahead.max() : ahead_maxima[static_cast<std::size_t>(k)];
+    return k < 0 ? ahead_latest : ahead_maxima[static_cast<std::size_t>(k)];
   }
   double ReferenceMax(std::ptrdiff_t k) const {
-    return k < 0 ? reference.max() : reference_maxima[static_cast<std::size_t>(k)];
+    return k < 0 ? reference_latest : reference_maxima[static_cast<std::size_t>(k)];
   }
   double FloorDb(std::ptrdiff_t k) const {
     return k < 0 ? floor.db() : NoiseFloor::ToDb(floor_powers[static_cast<std::size_t>(k)]);
@@ -145,12 +147,15 @@ class BandEnvelopes {
   BandFilter filter_;
   BandFilter::Sink sink_;  // Take, for the filter
   double secondary_rise_ratio_;
+  std::size_t ahead_frames_;      // the attack window's length
+  std::size_t reference_frames_;  // the lookback's
+  std::size_t window_history_;    // frames before a block that the windows read
   std::vector<EnvelopeBand> bands_;
   std::vector<double> low_hz_;
   std::size_t delivered_ = 0;
-  std::vector<char> may_rise_;    // per frame of the block: some band may rise
-  std::vector<double> entering_;  // scratch: the frames entering a band's lookback
-  bool taken_ = false;            // some band took samples since the last EndBlock
+  std::vector<char> may_rise_;          // per frame of the block: some band may rise
+  std::vector<double> window_scratch_;  // WindowMaxima's
+  bool taken_ = false;                  // some band took samples since the last EndBlock
   // Scratch for NoiseFloor::AddBlocks: every band's floor, frame powers and floor outputs.
   std::vector<NoiseFloor*> floors_;
   std::vector<std::span<const double>> floor_inputs_;
