@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "detector/contact_duration.h"
+#include "detector/correlation_sums.h"
 #include "detector/envelope_alignment.h"
 #include "detector/lag_dots.h"
 #include "detector/later_attack.h"
@@ -52,31 +53,21 @@ std::vector<float> FirstDifference(const std::vector<float>& samples) {
 }
 
 // Normalised cross-correlation of templ[lead, lead + n) with target[lead + lag, lead + lag + n)
-// for lags -search..search (lead: the onset's index in both).
-Alignment Align(const std::vector<float>& templ, const std::vector<float>& target,
-                std::int64_t lead, std::int64_t search, std::int64_t n, std::int64_t onset_sample,
+// for lags -search..search (lead: the onset's index in both). templ_sums: TemplateSums(templ,
+// lead); prefix: EnergyPrefix(target), which give each lag's window energy in O(1). Both are
+// summed by the caller, once per signal: a template meets every target, a judge several
+// candidates.
+Alignment Align(const std::vector<float>& templ, const TemplateSums& templ_sums,
+                const std::vector<float>& target, std::span<const double> prefix, std::int64_t lead,
+                std::int64_t search, std::int64_t n, std::int64_t onset_sample,
                 const ResponseTimingOptions& options) {
   Alignment result;
-  double templ_energy = 0;
-  double templ_energy_squares = 0;
-  double templ_slope = 0;
-  for (std::int64_t t = 0; t < n; ++t) {
-    const double a = templ[static_cast<std::size_t>(lead + t)];
-    templ_energy += a * a;
-    templ_energy_squares += a * a * a * a;
-    if (t + 1 < n) {
-      const double da = templ[static_cast<std::size_t>(lead + t + 1)] - a;
-      templ_slope += da * da;
-    }
-  }
+  const double templ_energy = templ_sums.energy(n);
+  const double templ_energy_squares = templ_sums.energy_squares(n);
+  const double templ_slope = templ_sums.slope(n);
   if (templ_energy <= 0 || templ_slope <= 0) return result;
   const std::int64_t lags = 2 * search + 1;
   std::vector<double> correlation(static_cast<std::size_t>(lags), 0.0);
-  // Prefix sums of the target's energy give each lag's window energy in O(1).
-  std::vector<double> prefix(target.size() + 1, 0.0);
-  for (std::size_t i = 0; i < target.size(); ++i) {
-    prefix[i + 1] = prefix[i] + static_cast<double>(target[i]) * target[i];
-  }
   const float* a = templ.data() + lead;
   const auto normalise = [&](std::int64_t k, float dot) {
     const std::int64_t start = lead + k - search;
@@ -461,18 +452,23 @@ std::size_t ResponseTimer::ChooseTemplate(
   const std::size_t candidates = std::min(kTemplateCandidates, eligible.size());
   judges.resize(std::min(kTemplateJudges, judges.size()));
   const std::int64_t search = lead_ - 2;
+  std::vector<std::vector<double>> prefixes;
+  for (std::size_t judge : judges) prefixes.push_back(EnergyPrefix(differences[judge]));
   std::size_t best = eligible.front();
   std::size_t best_aligned = 0;
   for (std::size_t c = 0; c < candidates; ++c) {
     const std::size_t candidate = eligible[c];
+    const TemplateSums sums(differences[candidate], static_cast<std::size_t>(lead_ - 1));
     std::size_t others = 0;
     std::size_t aligned = 0;
-    for (std::size_t judge : judges) {
+    for (std::size_t j = 0; j < judges.size(); ++j) {
+      const std::size_t judge = judges[j];
       if (judge == candidate) continue;
       ++others;
       const std::int64_t n = std::min(lengths[judge], lengths[candidate]);
-      const Alignment alignment = Align(differences[candidate], differences[judge], lead_ - 1,
-                                        search, n, windows_[judge].begin + lead_, options_);
+      const Alignment alignment =
+          Align(differences[candidate], sums, differences[judge], prefixes[j], lead_ - 1, search, n,
+                windows_[judge].begin + lead_, options_);
       if (alignment.usable) ++aligned;
     }
     if (2 * aligned >= others) return candidate;
@@ -516,13 +512,15 @@ ResponseTimingSummary ResponseTimer::Retime(DetectionResult& detection, double f
   if (templ == windows_.size()) return summary;
   summary.template_onset_sample = windows_[templ].begin + lead_;
   std::vector<Alignment> alignments(windows_.size());
+  const TemplateSums templ_sums(differences[templ], static_cast<std::size_t>(lead_ - 1));
   for (std::size_t w = 0; w < windows_.size(); ++w) {
     const std::int64_t n = std::min(lengths[w], lengths[templ]);
     if (n < shortest) continue;
     // Difference signals start one sample later than the windows: lead - 1 samples before
     // the onset sample, so the parabola's neighbour at the largest lag stays inside.
-    alignments[w] = Align(differences[templ], differences[w], lead_ - 1, search, n,
-                          windows_[w].begin + lead_, options_);
+    alignments[w] =
+        Align(differences[templ], templ_sums, differences[w], EnergyPrefix(differences[w]),
+              lead_ - 1, search, n, windows_[w].begin + lead_, options_);
   }
   std::vector<bool> informs(windows_.size(), false);
   for (std::size_t w = 0; w < windows_.size(); ++w) {
