@@ -129,6 +129,9 @@ void BandEnvelopes::EndBlock() {
   fill_ = (fill_ + static_cast<std::int64_t>(delivered_)) % frames_.hop;
 }
 
+// Blocks of frames window_frames has room for after the history (a few hundred doubles).
+constexpr std::size_t kWindowBlocks = 8;
+
 // One band's share of a filtered block, straight from the filter's buffer (no intermediate
 // copy): its history takes the whole block and its frame energies are collected, band by band
 // (cache-friendly loops), before the frames are examined. Every band's block covers the same
@@ -137,8 +140,22 @@ void BandEnvelopes::Take(std::size_t b, std::span<const float> samples) {
   EnvelopeBand& band = bands_[b];
   taken_ = true;
   band.samples.PushBlock(samples);
-  band.frame_powers.clear();
   const auto hop = static_cast<std::size_t>(frames_.hop);
+  // At most one frame more than the block holds whole: the one the last block left unfinished.
+  const std::size_t most = samples.size() / hop + 1;
+  std::vector<double>& frames = band.window_frames;
+  if (band.window_start + window_history_ + most > frames.size()) {
+    if (band.window_start > 0) {
+      std::copy(frames.begin() + static_cast<std::ptrdiff_t>(band.window_start),
+                frames.begin() + static_cast<std::ptrdiff_t>(band.window_start + window_history_),
+                frames.begin());
+      band.window_start = 0;
+    }
+    // Room for several blocks, so the history moves once in several blocks.
+    frames.resize(std::max(frames.size(), window_history_ + kWindowBlocks * most));
+  }
+  double* const out = frames.data() + band.window_start + window_history_;
+  std::size_t count = 0;
   auto fill = static_cast<std::size_t>(fill_);
   double power = band.power;
   // The frame the last block left unfinished, the whole frames in a plain loop, and the start
@@ -147,25 +164,24 @@ void BandEnvelopes::Take(std::size_t b, std::span<const float> samples) {
   power += SumOfSquares(samples.first(at));
   fill += at;
   if (fill == hop) {
-    band.frame_powers.push_back(power / static_cast<double>(frames_.hop));
+    out[count++] = power / static_cast<double>(frames_.hop);
     power = 0;
     fill = 0;
   }
   if (fill == 0) {
     const std::size_t whole = (samples.size() - at) / hop;
-    const std::size_t first_frame = band.frame_powers.size();
-    band.frame_powers.resize(first_frame + whole);
-    FrameMeanSquares(samples.data() + at, hop, whole, band.frame_powers.data() + first_frame);
+    FrameMeanSquares(samples.data() + at, hop, whole, out + count);
+    count += whole;
     at += whole * hop;
     power = SumOfSquares(samples.subspan(at));
     fill = samples.size() - at;
   }
+  band.frame_powers = {out, count};
   band.power = power;
   delivered_ = samples.size();
   // The frame ring and the rise windows of the block's frames, and whether the band may rise
   // there: none of it depends on the decisions made frame by frame, so it runs here in one loop
   // per band instead of interleaved with them (the floors run for all bands at once, EndBlock).
-  const std::size_t count = band.frame_powers.size();
   band.ahead_maxima.resize(count);
   band.reference_maxima.resize(count);
   band.floor_powers.resize(count);
@@ -177,9 +193,7 @@ void BandEnvelopes::Take(std::size_t b, std::span<const float> samples) {
   // Rise of frame m = n - attack: the attack window [m, n] and the lookback
   // [m - lookback, m - skip] = [n - lag - (reference frames - 1), n - lag], both over the
   // block's frames after the history's, all of the block at once.
-  std::vector<double>& frames = band.window_frames;
-  frames.insert(frames.end(), band.frame_powers.begin(), band.frame_powers.end());
-  const std::span<const double> all(frames);
+  const std::span<const double> all(frames.data() + band.window_start, window_history_ + count);
   const auto lag = static_cast<std::size_t>(frames_.attack + frames_.skip);
   if (count > 0) {
     WindowMaxima(all.subspan(window_history_ - (ahead_frames_ - 1)), ahead_frames_,
@@ -189,7 +203,7 @@ void BandEnvelopes::Take(std::size_t b, std::span<const float> samples) {
     band.ahead_latest = band.ahead_maxima.back();
     band.reference_latest = band.reference_maxima.back();
   }
-  frames.erase(frames.begin(), frames.end() - static_cast<std::ptrdiff_t>(window_history_));
+  band.window_start += count;
   for (std::size_t k = 0; k < count; ++k) {
     may_rise_[k] |=
         static_cast<char>(std::max(band.ahead_maxima[k], kTinyPower) >=

@@ -54,8 +54,9 @@ struct EnvelopeBand {
   std::vector<double> frame_powers_ring;  // mean squares of the recent frames
   std::size_t mask;
   NoiseFloor floor;
-  double power = 0;                  // of the frame being filled
-  std::vector<double> frame_powers;  // mean squares of the frames completed by this block
+  double power = 0;  // of the frame being filled
+  // Mean squares of the frames completed by this block: in window_frames, after their history.
+  std::span<const double> frame_powers;
   // Per frame of this block, the window maxima and the floor as they stood at that frame: the
   // windows and the floor run over the whole block in one tight loop per band, and the frame
   // being examined reads its state from here.
@@ -66,9 +67,12 @@ struct EnvelopeBand {
     return frame_powers_ring[static_cast<std::size_t>(frame) & mask];
   }
   double Db(std::int64_t frame) const { return EnvelopeDb(Power(frame)); }
-  // The frames the rise windows of a block read: the window_history frames before it (minus
-  // infinity before the first frame, which no maximum takes), then the block's.
+  // The frames the rise windows of a block read, from window_start: the window_history frames
+  // before it (minus infinity before the first frame, which no maximum takes), then the block's.
+  // The frames are written here as they are summed, and the next block's history is the end of
+  // this one's: it moves to the front only when the next block's frames would not fit after it.
   std::vector<double> window_frames;
+  std::size_t window_start = 0;
   // Maxima of the attack window [m, n] and the lookback [m - lookback, m - skip] (see
   // BandEnvelopes::Rise) as they stand after the last frame so far (minus infinity before it).
   double ahead_latest = -std::numeric_limits<double>::infinity();

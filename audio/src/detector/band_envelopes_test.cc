@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -42,6 +44,38 @@ TEST(BandEnvelopes, FramesDoNotDependOnHowTheStreamIsCut) {
   EXPECT_EQ(Frames(x, 4096), whole);
   ASSERT_EQ(whole.size(), 3u);        // band 0 and the 2 and 6 kHz sub-bands at 48 kHz
   EXPECT_EQ(whole[0].size(), 4000u);  // 0.25 ms frames
+}
+
+// The rise windows' maxima, kept block by block over a frame buffer that the history moves to
+// the front of only now and then, are exactly the maxima of the frames they span: over a stream
+// of many filter blocks, every frame of every band, including the first frames (whose windows
+// reach before the stream: nothing there counts).
+TEST(BandEnvelopes, WindowMaximaAreTheMaximaOfTheirFrames) {
+  const auto x = Signal(48000, 4.0);
+  testing::StageRig rig(48000);
+  const DetectorFrames& f = rig.frames;
+  const std::int64_t lag = f.attack + f.skip;
+  const std::int64_t reference = std::max<std::int64_t>(1, f.lookback - f.skip + 1);
+  std::vector<std::vector<double>> powers(rig.bands.size());
+  const auto max_of = [](const std::vector<double>& p, std::int64_t from, std::int64_t to) {
+    double m = -std::numeric_limits<double>::infinity();
+    for (std::int64_t i = std::max<std::int64_t>(from, 0); i <= to; ++i) {
+      m = std::max(m, p[static_cast<std::size_t>(i)]);
+    }
+    return m;
+  };
+  std::int64_t checked = 0;
+  rig.Run(x, [&](std::int64_t n, std::ptrdiff_t k) {
+    for (std::size_t b = 0; b < rig.bands.size(); ++b) {
+      const EnvelopeBand& band = rig.bands.band(b);
+      powers[b].push_back(band.Power(n));
+      ASSERT_EQ(band.AheadMax(k), max_of(powers[b], n - f.attack, n)) << "band " << b << " n " << n;
+      ASSERT_EQ(band.ReferenceMax(k), max_of(powers[b], n - lag - (reference - 1), n - lag))
+          << "band " << b << " n " << n;
+      ++checked;
+    }
+  });
+  EXPECT_EQ(checked, 3 * 16000);  // 4 s of 0.25 ms frames in 3 bands: ~45 filter blocks
 }
 
 // The rise compares the attack window with the lookback: an impact 0.5 full scale over noise of
