@@ -1118,5 +1118,36 @@ TEST_F(CodecInput, AnAacCopyAt16kHzStatesEveryBounceWithinThreeSigmasOfTheTruth)
   }
 }
 
+// silent_wrong_sweep.py seed 919 #105: a dead ball (e 0.325) in a 0.5 s room, as AAC 96k. The cut
+// that ended the recording, with the room's reverb still going, became a band-detected sound 8.6
+// ms before the decoded end, and with the first bounce and the sounds the codec left in the reverb
+// ~128 ms apart it made a sequence of 10 (eta-bar 0.12 +- 0.06 against the ball's 0.89, exit 0).
+// Nothing in the stream's last two codec frames is taken for a bounce: the copy has no sequence,
+// as its WAV has none, and that sound is rejected as the end's.
+TEST_F(CodecInput, TheCutThatEndsAnAacStreamIsNoBounce) {
+  const fs::path wav = folder_ / "dead_ball_room.wav";
+  const auto synth = RunBouncecal(
+      "synth -o '" + wav.string() +
+      "' --sample-rate-hz 48000 --contact-duration-s 0.0008 --surface plate --restitution 0.325 "
+      "--drop-height-m 0.209 --seed 106 --snr-db 30 --snr-reference weakest --reverb-rt60-s 0.50 "
+      "--band-limit-hz 15905 --echo-delay-s 0.0055 --echo-gain-db -9 --noise-color pink");
+  ASSERT_EQ(synth.exit_status, 0) << synth.output;
+  const auto m4a = Encode(wav, "dead_ball_room.m4a", {"-c:a", "aac", "-b:a", "96k"});
+  const auto json = folder_.path() / "dead_ball_room.json";
+  ASSERT_EQ(
+      RunBouncecal("analyze '" + m4a.string() + "' --json '" + json.string() + "'").exit_status, 0);
+  const auto recording = ReadJson(json);
+  EXPECT_TRUE(recording["sequences"].empty()) << recording["sequences"].dump();
+  const double end_s = recording["duration_s"].get<double>();
+  bool end_sound_rejected = false;
+  for (const auto& event : recording["rejected_events"]) {
+    if (event["time_s"].get<double>() > end_s - 0.02 &&
+        event["reason"].get<std::string>().find("end of the lossy stream") != std::string::npos) {
+      end_sound_rejected = true;
+    }
+  }
+  EXPECT_TRUE(end_sound_rejected) << recording["rejected_events"].dump();
+}
+
 }  // namespace
 }  // namespace bouncecal::testing

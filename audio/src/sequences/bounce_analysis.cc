@@ -2,6 +2,7 @@
 
 #include <optional>
 #include <utility>
+#include <vector>
 
 #include "sequences/merged_alternatives.h"
 #include "sequences/tentative_extension.h"
@@ -11,6 +12,11 @@ namespace bouncecal::audio {
 
 SequenceResult GroupBounces(DetectionResult& detection, const SequenceOptions& options) {
   options.Validate();
+  if (const auto& from_s = options.stream_end_transient_from_s) {
+    // Never adopted either: a tentative rise there is as likely the cut's burst.
+    std::erase_if(detection.tentative,
+                  [&](const Impact& impact) { return impact.onset_s >= *from_s; });
+  }
   std::optional<SequenceResult> found;
   if (!detection.tentative.empty() && !detection.impacts.empty()) {
     TentativeExtension extension =
@@ -36,6 +42,13 @@ BounceAnalysis AnalyzeBounces(const std::filesystem::path& path,
   SequenceOptions sequences = options.sequences;
   if (!sequences.codec_frame_s && analysis.detection.codec_timing) {
     sequences.codec_frame_s = analysis.detection.codec_timing->frame_s;
+  }
+  // The decoder runs on to the end of the padded frame after the recording's cut, and the cut's
+  // burst spreads over the frame before it (SequenceOptions::stream_end_transient_from_s).
+  if (!sequences.stream_end_transient_from_s && analysis.detection.codec_timing &&
+      analysis.detection.codec_timing->frame_s) {
+    sequences.stream_end_transient_from_s =
+        analysis.detection.duration_s - 2.0 * *analysis.detection.codec_timing->frame_s;
   }
   analysis.grouping = GroupBounces(analysis.detection.detection, sequences);
   return analysis;

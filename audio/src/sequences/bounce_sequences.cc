@@ -279,13 +279,17 @@ class ChainFinder {
       const auto candidates = Candidates(last, from_s, to_s, chain.reach,
                                          Onset(last) + weak_low * dt, Onset(last) + weak_high * dt);
       if (candidates.empty()) {
-        chain.end_reason = dt < 2e-3 * options_.chatter_interval_ms
-                               ? EndReason{"fades into chatter/rolling: no clear impact after a "
-                                           "%.1f ms flight",
-                                           dt * 1e3}
-                               : EndReason{"no further impact where the next bounce was due "
-                                           "(%.3f-%.3f s)",
-                                           from_s, to_s};
+        const auto& stream_end_s = options_.stream_end_transient_from_s;
+        chain.end_reason =
+            dt < 2e-3 * options_.chatter_interval_ms
+                ? EndReason{"fades into chatter/rolling: no clear impact after a %.1f ms flight",
+                            dt * 1e3}
+            : stream_end_s && to_s >= *stream_end_s
+                ? EndReason{"the next bounce was due (%.3f-%.3f s) where the lossy stream ends "
+                            "(from %.4f s, its last two codec frames, nothing is a bounce)",
+                            from_s, to_s, *stream_end_s}
+                : EndReason{"no further impact where the next bounce was due (%.3f-%.3f s)",
+                            from_s, to_s};
         break;
       }
       if (ratios.empty() && candidates.size() > 1) {
@@ -1050,6 +1054,10 @@ void SequenceOptions::Validate() const {
           "max_chance_alignment must be in [0, 1], got " + std::to_string(max_chance_alignment));
   require(!codec_frame_s || (*codec_frame_s > 0 && *codec_frame_s <= 1), {"codec_frame_s"},
           "codec_frame_s must be in (0, 1] s, got " + std::to_string(codec_frame_s.value_or(0)));
+  require(!stream_end_transient_from_s || std::isfinite(*stream_end_transient_from_s),
+          {"stream_end_transient_from_s"},
+          "stream_end_transient_from_s must be a finite time in s, got " +
+              std::to_string(stream_end_transient_from_s.value_or(0)));
   require(!release_flight_s || (*release_flight_s > 0 && *release_flight_s <= max_interval_s),
           {"drop_height_m", "max_interval_s"},
           "the release flight (from drop_height_m) must be in (0, max_interval_s], got " +
@@ -1072,6 +1080,13 @@ SequenceResult FindSequences(const std::vector<Impact>& impacts, const SequenceO
   SequenceResult result;
   result.sequence_of_impact.assign(static_cast<size_t>(n), std::nullopt);
   std::vector<bool> free(static_cast<size_t>(n), true);
+  const auto in_stream_end = [&](int i) {
+    return options.stream_end_transient_from_s &&
+           impacts[static_cast<size_t>(i)].onset_s >= *options.stream_end_transient_from_s;
+  };
+  for (int i = 0; i < n; ++i) {
+    if (in_stream_end(i)) free[static_cast<size_t>(i)] = false;
+  }
   std::vector<Chain> chains;
   const ChainFinder finder(impacts, options, free);
   const ChanceAlignment chance(impacts, options);
@@ -1294,6 +1309,12 @@ SequenceResult FindSequences(const std::vector<Impact>& impacts, const SequenceO
     if (result.sequence_of_impact[static_cast<size_t>(i)]) continue;
     const double t = impacts[static_cast<size_t>(i)].onset_s;
     std::string reason = skipped_bounce_reason[static_cast<size_t>(i)];
+    if (in_stream_end(i)) {
+      reason = Format(
+          "at the end of the lossy stream (from %.4f s, its last two codec frames), where the cut "
+          "that ended the recording makes a burst of its own: not taken for a bounce",
+          *options.stream_end_transient_from_s);
+    }
     if (reason.empty() && periodic && periodic->on_lattice[static_cast<size_t>(i)]) {
       reason = Format(
           "on the %.2f ms lattice of a periodic sound (%.1f Hz: mains hum, a motor, a ticking "

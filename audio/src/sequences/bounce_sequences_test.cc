@@ -5,7 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
+#include <limits>
+#include <optional>
 #include <random>
+#include <string>
 #include <tuple>
 
 #include "bouncecal/error.h"
@@ -1333,6 +1336,60 @@ TEST(BounceSequences, AChainWhoseFlightsDoNotShrinkIsNoBall) {
   const auto result = FindBounceSequences(FromDetected(ball), codec);
   ASSERT_EQ(result.sequences.size(), 1u);
   EXPECT_EQ(result.sequences[0].impact_indices.size(), 7u);
+}
+
+// A sweep file (seed 919 #105): a dead ball's first bounce, then the sounds a 0.5 s room's reverb
+// left in an AAC 96k copy at 48 kHz (found only by the ringing residual, ~128 ms apart), and a
+// band-detected burst at the cut that ended the recording, 8.6 ms before the decoded end (80
+// frames of 1024 samples). With the burst the chain passed the chance test (eta-bar 0.12 +- 0.06
+// against the ball's 0.89); the stream's last two frames hold no bounce, and without the burst
+// the file has no sequence.
+TEST(BounceSequences, TheBurstAtTheEndOfALossyStreamIsNoBounce) {
+  // Onset, sigma, peak, residual-only: the detection of that copy.
+  const auto impacts = FromDetected({{0.506513, 0.00097, -6.60, 0},
+                                     {0.640719, 0.00202, -9.03, 1},
+                                     {0.660240, 0.00207, -8.80, 1},
+                                     {0.688427, 0.00202, -10.73, 1},
+                                     {0.810260, 0.00202, -14.33, 1},
+                                     {0.938594, 0.00202, -18.37, 1},
+                                     {1.063802, 0.00202, -22.79, 1},
+                                     {1.191885, 0.00202, -26.15, 1},
+                                     {1.319865, 0.00202, -30.19, 1},
+                                     {1.447573, 0.00202, -34.18, 1},
+                                     {1.576344, 0.00202, -37.83, 1},
+                                     {1.645552, 0.00295, -39.74, 1},
+                                     {1.698055, 0.000971, -42.55, 0}});
+  SequenceOptions codec;
+  codec.codec_frame_s = 1024.0 / 48000;
+  // What the file gave before the stream's end was known to the grouping.
+  ASSERT_EQ(FindBounceSequences(impacts, codec).sequences.size(), 1u);
+  codec.stream_end_transient_from_s = (80 * 1024.0 - 2 * 1024.0) / 48000;
+  const auto result = FindBounceSequences(impacts, codec);
+  EXPECT_TRUE(result.sequences.empty());
+  ASSERT_FALSE(result.rejected.empty());
+  EXPECT_EQ(result.rejected.back().impact_index, std::optional<int>(12));
+  EXPECT_NE(result.rejected.back().reason.find("end of the lossy stream"), std::string::npos)
+      << result.rejected.back().reason;
+}
+
+// A drop whose last bounces fall in a lossy stream's last two frames ends before them, and says
+// that the stream ended there rather than that no impact came where the next bounce was due.
+TEST(BounceSequences, ADropCutByTheEndOfALossyStreamSaysSo) {
+  const auto impacts = ToImpacts(Drop(0.5, 0.3, 0.7, 10));
+  SequenceOptions codec;
+  codec.codec_frame_s = 0.02;
+  codec.stream_end_transient_from_s = impacts[7].onset_s - 1e-3;
+  const auto result = FindBounceSequences(impacts, codec);
+  ASSERT_EQ(result.sequences.size(), 1u);
+  EXPECT_EQ(result.sequences[0].impact_indices.size(), 7u);
+  EXPECT_NE(result.sequences[0].end_reason.find("where the lossy stream ends"), std::string::npos)
+      << result.sequences[0].end_reason;
+}
+
+TEST(BounceSequences, AStreamEndThatIsNoTimeIsAConfigError) {
+  SequenceOptions options;
+  options.stream_end_transient_from_s = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(options.Validate(), ConfigError);
 }
 
 }  // namespace

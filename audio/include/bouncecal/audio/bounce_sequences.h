@@ -56,6 +56,18 @@ struct SequenceOptions {
   // frame: where the codec made few such events (the detector suite's reverb_strong as Opus 64k,
   // 3 beside its drop over 0.7 s) one per frame refused the right chain (docs/codecs.md).
   std::optional<double> codec_frame_s;
+  // Impacts (and tentative impacts) at or after this time (s) are never taken for bounces. A
+  // lossy transform codec's stream ends in a frame the encoder padded after the cut that ended the
+  // recording, and the decoder's output runs on to that frame's end: the cut, noise or ringing
+  // stopped dead, is a step that the codec spreads over the frame before it as a burst of its own.
+  // AnalyzeBounces sets this to two codec frames before the decoded end. Why: a sweep file (seed
+  // 919 #105, a dead ball's 4 bounces in a 0.5 s room as AAC 96k) had a band-detected sound at
+  // the cut, 8.6 ms before the decoded end, 20 dB over the noise above 6 kHz; it joined the first
+  // bounce and 8 sounds of the codec's ~128 ms apart in the reverb into a chain that passed the
+  // chance test (eta-bar 0.12 +- 0.06 against the ball's 0.89, exit 0). Without the cut's sound
+  // the file forms no sequence. In the sweep's files 33 of 255 lossy ones hold a sound within 10
+  // ms of their decoded end (15 of 1255 WAVs, which end at the cut and are left alone).
+  std::optional<double> stream_end_transient_from_s;
   // The flight that would have preceded the first impact, 2 sqrt(2 h0 / g), when the drop
   // height h0 is known (--drop-height-m). It gives the first impact's restitution dt_1 / dt_0, so
   // a lossy ball (e ~ 0.3: lead, clay, wood on sand) that makes only 2 or 3 audible impacts still
