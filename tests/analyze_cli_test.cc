@@ -388,6 +388,26 @@ TEST(AnalyzeCli, ASoundRisingIntoTheNextCandidateLeavesItsOnsetInDoubt) {
   ExpectNotSilentWrong(sequence, truth);
 }
 
+// A 48 kHz drop on a plate whose every bounce has a click 12 dB under it 2.1 ms before it
+// (silent_wrong_sweep.py --precursors seed 920 #1): the first, loudest bounce's click rang into it
+// and kept one candidate, timed on the click at a stated 32 us, while every later bounce, its
+// click in the ringing before it, was timed on itself. eta-bar 0.2367 +- 0.0002 against the exact
+// onsets' 0.2344 (12.8 sigmas, exit 0). The first flight's ratio has none before it to tell the
+// two sounds apart, so such a first member states half the spacing (merged_alternatives.cc).
+TEST(AnalyzeCli, AFirstBounceTimedOnItsClickStatesTheBounceAfterIt) {
+  const auto [truth, sequence] = AnalyzeSynthesized(
+      "first_on_click",
+      "--sample-rate-hz 48000 --contact-duration-s 0.0004 --surface plate --restitution 0.875 "
+      "--drop-height-m 0.364 --seed 2 --precursor-lead-s 0.0021 --precursor-gain-db -12.1 "
+      "--level-jitter-db 3 --snr-db 40");
+  ASSERT_FALSE(sequence.is_null());
+  ASSERT_GE(sequence["onsets_s"].size(), 5u);
+  ASSERT_GE(truth.size(), 5u);
+  ASSERT_LT(std::fabs(sequence["onsets_s"][0].get<double>() - truth[0]), 3e-3);
+  ExpectOnsetsHonest(sequence, truth, 5, OffsetOfTheMostPreciselyStated(sequence, truth, 5));
+  ExpectNotSilentWrong(sequence, truth);
+}
+
 // A 32 kHz drop on a counter in a 0.29 s reverb with 60 Hz hum at -27 dBFS (the sweep's seed 101
 // #68): its 5th bounce is buried in the tail of the 4th, and the only sound the tracking finds
 // where it is due is a swell of that tail 7.0 ms after it, found by the ringing residual alone and

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 
 #include "detector/onset_picker.h"
 
@@ -68,6 +69,21 @@ std::optional<double> LaterSoundOnsetS(std::span<const float> after_onset, int s
   const std::span<const float> window = after_onset.subspan(early, peak + 1 - early);
   const OnsetPick pick = PickOnset(window, 0, window.size() - 1);
   return (static_cast<double>(early) + pick.index) / sample_rate_hz;
+}
+
+double PeakOverFirstMillisecondDb(std::span<const float> after_onset, int sample_rate_hz) {
+  if (after_onset.empty() || sample_rate_hz <= 0) return 0;
+  const auto early = std::min<std::size_t>(
+      after_onset.size(), static_cast<std::size_t>(std::ceil(kEarlyWindowS * sample_rate_hz)));
+  double peak = 0, early_peak = 0;
+  for (std::size_t i = 0; i < after_onset.size(); ++i) {
+    const double magnitude = std::fabs(after_onset[i]);
+    peak = std::max(peak, magnitude);
+    if (i < early) early_peak = std::max(early_peak, magnitude);
+  }
+  if (!(peak > 0)) return 0;
+  if (!(early_peak > 0)) return std::numeric_limits<double>::infinity();
+  return 20.0 * std::log10(peak / early_peak);
 }
 
 }  // namespace bouncecal::audio

@@ -31,6 +31,10 @@ double LaterAttackS(std::span<const float> after_onset, int sample_rate_hz);
 // #63 wrong; a 0.8 ms contact's later sound is picked about 0.5 ms late either way.)
 std::optional<double> LaterSoundOnsetS(std::span<const float> after_onset, int sample_rate_hz);
 
+// How far the loudest sample of `after_onset` stands above the loudest of its first millisecond
+// (dB): 0 where the onset's own sound is the loudest, +infinity after a silent first millisecond.
+double PeakOverFirstMillisecondDb(std::span<const float> after_onset, int sample_rate_hz);
+
 }  // namespace bouncecal::audio
 
 #endif  // BOUNCECAL_AUDIO_SRC_DETECTOR_LATER_ATTACK_H_

@@ -74,5 +74,20 @@ TEST(LaterSound, AHitAtTheOnsetHasNone) {
   EXPECT_FALSE(LaterSoundOnsetS({}, kRate));
 }
 
+// The click 12 dB under its bounce (amplitudes 0.125 and 0.5), 5 ms (15 periods) before it, so
+// its ring, down to exp(-0.5) of the click, adds in phase to the bounce's peak: 13.3 dB over the
+// first millisecond, within what sampling the two peaks moves (0.2 dB).
+TEST(LaterSound, ItsPeakOverTheFirstMillisecondIsTheLevelDifference) {
+  std::vector<float> x(17 * kRate / 1000, 0.0f);
+  AddHit(x, 0.0, 0.125);
+  AddHit(x, 5e-3, 0.5);
+  EXPECT_NEAR(PeakOverFirstMillisecondDb(x, kRate),
+              20 * std::log10((0.5 + 0.125 * std::exp(-0.5)) / 0.125), 0.2);
+  std::vector<float> one(17 * kRate / 1000, 0.0f);
+  AddHit(one, 0.0, 0.5);
+  EXPECT_EQ(PeakOverFirstMillisecondDb(one, kRate), 0.0);
+  EXPECT_EQ(PeakOverFirstMillisecondDb({}, kRate), 0.0);
+}
+
 }  // namespace
 }  // namespace bouncecal::audio

@@ -393,6 +393,7 @@ ResponseTimingSummary ResponseTimer::Apply(DetectionResult& detection,
     if (!windows_[w].tentative) {
       if (const auto later = LaterSoundOnsetS(after_onset, sample_rate_hz_)) {
         impact.later_onset_s = static_cast<double>(onset) / sample_rate_hz_ + *later;
+        impact.later_sound_over_onset_db = PeakOverFirstMillisecondDb(after_onset, sample_rate_hz_);
       }
     }
     if (own[w]) continue;

@@ -334,5 +334,61 @@ TEST(PairedSounds, FewerThanThreePairedMembersAreNoPattern) {
   }
 }
 
+// The drop's first bounce timed on a click 2.1 ms before it, the bounce its louder later sound
+// (silent_wrong_sweep.py --precursors seed 920 #1), every later bounce on itself with no later
+// sound: the first member states half the spacing, since no ratio before it can tell. Where most
+// members show a later sound at that spacing (a soft ball's build-up at every bounce), and where
+// the response timing timed the first member, it keeps its sigma.
+TEST(FirstMember, OnAQuieterSoundThanTheOthersItStatesHalfTheSpacing) {
+  auto impacts = Drop(8, 0.005);
+  impacts[0].later_onset_s = impacts[0].onset_s + 2.1e-3;
+  impacts[0].later_sound_over_onset_db = 12.8;
+  std::vector<MergedEvent> merged;
+  const auto onsets = impacts;
+  TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
+  EXPECT_NEAR(impacts[0].onset_uncertainty_s, std::hypot(30e-6, 1.05e-3), 1e-9);
+  for (std::size_t k = 0; k < impacts.size(); ++k) {
+    EXPECT_EQ(impacts[k].onset_s, onsets[k].onset_s) << k;
+    if (k > 0) {
+      EXPECT_EQ(impacts[k].onset_uncertainty_s, 30e-6) << k;
+    }
+  }
+}
+
+// Four members (too few for the whole sequence to be weighed), three showing the later sound.
+TEST(FirstMember, WhereMostMembersShowTheLaterSoundItKeepsItsSigma) {
+  auto impacts = Drop(4, 0.005);
+  for (std::size_t k = 0; k < 3; ++k) {
+    impacts[k].later_onset_s = impacts[k].onset_s + (k == 1 ? 2.3e-3 : 2.1e-3);
+    impacts[k].later_sound_over_onset_db = 12.8;
+  }
+  std::vector<MergedEvent> merged;
+  TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
+  EXPECT_EQ(impacts[0].onset_uncertainty_s, 30e-6);
+  // Shown by one of the other three only: stated.
+  impacts = Drop(4, 0.005);
+  impacts[0].later_onset_s = impacts[0].onset_s + 2.1e-3;
+  impacts[0].later_sound_over_onset_db = 12.8;
+  impacts[2].later_onset_s = impacts[2].onset_s + 2.1e-3;
+  TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
+  EXPECT_NEAR(impacts[0].onset_uncertainty_s, std::hypot(30e-6, 1.05e-3), 1e-9);
+}
+
+// Timed from its response; a later sound closer than a pair's least spacing (parts of one
+// impact, such as a soft contact's first touch and its body); or one whose peak stands less than
+// the rise threshold over the first millisecond (a 1 ms contact's loudest first bounce peaking a
+// few ms in): the first member keeps its sigma.
+TEST(FirstMember, TimedFromItsResponseCloseToItsLaterSoundOrNotFarUnderItItKeepsItsSigma) {
+  for (int variant = 0; variant < 3; ++variant) {
+    auto impacts = Drop(8, 0.005);
+    impacts[0].timed_from_response = variant == 0;
+    impacts[0].later_onset_s = impacts[0].onset_s + (variant == 1 ? 1.5e-3 : 2.1e-3);
+    impacts[0].later_sound_over_onset_db = variant == 2 ? 8.0 : 12.8;
+    std::vector<MergedEvent> merged;
+    TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
+    EXPECT_EQ(impacts[0].onset_uncertainty_s, 30e-6) << variant;
+  }
+}
+
 }  // namespace
 }  // namespace bouncecal::audio

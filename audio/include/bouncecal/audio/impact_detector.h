@@ -88,6 +88,9 @@ struct Impact {
   // and this is the bounce's: an alternative onset that a bounce sequence may take
   // (merged_alternatives.h).
   double later_onset_s = std::numeric_limits<double>::quiet_NaN();
+  // With later_onset_s: how far that later sound's peak stands above the onset's own first
+  // millisecond (dB).
+  double later_sound_over_onset_db = std::numeric_limits<double>::quiet_NaN();
   // Where the onset's search began before the last peak of an earlier candidate that closed while
   // still rising, so that the picker could not look before that peak: half the span from the
   // search's start to the onset, s (the sound that candidate rose into may be this one, begun
