@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
+
+#include "detector/frame_energy.h"
 
 namespace bouncecal::audio {
 namespace {
@@ -20,44 +21,6 @@ std::vector<double> DetectionBands(int rate, const DetectorOptions& options) {
     }
   }
   return edges;
-}
-
-// Sum of x^2 in double (each square exact) in four interleaved partial sums: one running sum is
-// a chain of dependent additions, four times the latency per sample, and it was the detector's
-// largest single cost outside the FFTs. The order of the additions changes the sum by a few
-// units in the last place of a double only. The four sums are one vector (GCC's vector
-// extension), so a build for AVX keeps them in one register: the same four sums, in half the
-// instructions.
-inline double SumOfSquares(std::span<const float> x) {
-  using Float4 = float __attribute__((vector_size(16)));
-  using Double4 = double __attribute__((vector_size(32)));
-  Double4 sums = {0, 0, 0, 0};
-  std::size_t i = 0;
-  for (; i + 4 <= x.size(); i += 4) {
-    Float4 four;
-    std::memcpy(&four, x.data() + i, sizeof four);
-    const Double4 wide = __builtin_convertvector(four, Double4);
-    sums += wide * wide;
-  }
-  double s0 = sums[0];
-  for (; i < x.size(); ++i) s0 += double{x[i]} * x[i];
-  return (s0 + sums[1]) + (sums[2] + sums[3]);
-}
-
-// The mean squares of `count` whole frames of `hop` samples from x into out: each frame's
-// SumOfSquares (the same lanes, the same order) divided by hop. Also compiled for AVX, picked
-// when the library loads where the processor has it: the four lanes are then one register,
-// which halves the instructions of the detector's most frequent loop, and every sum and
-// quotient is the same double (AVX has no fused multiply-add, which would round differently;
-// that is FMA, not enabled here). The divisions run in a loop of their own, several at a time
-// and off the sums' dependency chains (the same quotients: no reciprocal).
-#if defined(__x86_64__) && defined(__GNUC__)
-[[gnu::target_clones("avx", "default")]]
-#endif
-void FrameMeanSquares(const float* x, std::size_t hop, std::size_t count, double* out) {
-  for (std::size_t k = 0; k < count; ++k) out[k] = SumOfSquares({x + k * hop, hop});
-  const auto samples = static_cast<double>(hop);
-  for (std::size_t k = 0; k < count; ++k) out[k] /= samples;
 }
 
 }  // namespace
