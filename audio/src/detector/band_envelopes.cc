@@ -23,6 +23,24 @@ std::vector<double> DetectionBands(int rate, const DetectorOptions& options) {
   return edges;
 }
 
+// may_rise[k] |= (the attack window's maximum reaches ratio times the lookback's at frame k),
+// on the powers floored like EnvelopeDb's. On plain pointers to flags as wide as the powers:
+// over the members and char flags (a char may alias anything) every pointer was loaded again
+// for every frame, and the comparisons were not vectorised. Also compiled for AVX, picked when
+// the library loads where the processor has it (the baseline instruction set has no vector of
+// these comparisons); a comparison is exact either way.
+#if defined(__x86_64__) && defined(__GNUC__)
+[[gnu::target_clones("avx", "default")]]
+#endif
+void MarkMayRise(const double* __restrict ahead, const double* __restrict reference, double ratio,
+                 std::size_t count, std::int64_t* __restrict may_rise) {
+  const double tiny = kTinyPower;
+  for (std::size_t k = 0; k < count; ++k) {
+    const double a = ahead[k], r = reference[k];
+    may_rise[k] |= std::max(a, tiny) >= ratio * std::max(r, tiny) ? 1 : 0;
+  }
+}
+
 }  // namespace
 
 BandEnvelopes::BandEnvelopes(const DetectorFrames& frames, const DetectorOptions& options,
@@ -149,9 +167,13 @@ void BandEnvelopes::Take(std::size_t b, std::span<const float> samples) {
   band.reference_maxima.resize(count);
   band.floor_powers.resize(count);
   if (b == 0) may_rise_.assign(count, 0);
-  for (std::size_t k = 0; k < count; ++k) {
-    const auto n = static_cast<std::size_t>(frame_count_) + k;
-    band.frame_powers_ring[n & band.mask] = band.frame_powers[k];
+  // In the ring's contiguous runs (at most two), not one masked store per frame.
+  for (std::size_t k = 0; k < count;) {
+    const std::size_t at = (static_cast<std::size_t>(frame_count_) + k) & band.mask;
+    const std::size_t run = std::min(count - k, band.frame_powers_ring.size() - at);
+    std::copy_n(band.frame_powers.begin() + static_cast<std::ptrdiff_t>(k), run,
+                band.frame_powers_ring.begin() + static_cast<std::ptrdiff_t>(at));
+    k += run;
   }
   // Rise of frame m = n - attack: the attack window [m, n] and the lookback
   // [m - lookback, m - skip] = [n - lag - (reference frames - 1), n - lag], both over the
@@ -167,11 +189,8 @@ void BandEnvelopes::Take(std::size_t b, std::span<const float> samples) {
     band.reference_latest = band.reference_maxima.back();
   }
   band.window_start += count;
-  for (std::size_t k = 0; k < count; ++k) {
-    may_rise_[k] |=
-        static_cast<char>(std::max(band.ahead_maxima[k], kTinyPower) >=
-                          secondary_rise_ratio_ * std::max(band.reference_maxima[k], kTinyPower));
-  }
+  MarkMayRise(band.ahead_maxima.data(), band.reference_maxima.data(), secondary_rise_ratio_, count,
+              may_rise_.data());
 }
 
 }  // namespace bouncecal::audio

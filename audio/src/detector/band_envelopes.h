@@ -157,7 +157,7 @@ class BandEnvelopes {
   std::vector<EnvelopeBand> bands_;
   std::vector<double> low_hz_;
   std::size_t delivered_ = 0;
-  std::vector<char> may_rise_;          // per frame of the block: some band may rise
+  std::vector<std::int64_t> may_rise_;  // per frame of the block: some band may rise
   std::vector<double> window_scratch_;  // WindowMaxima's
   bool taken_ = false;                  // some band took samples since the last EndBlock
   // Scratch for NoiseFloor::AddBlocks: every band's floor, frame powers and floor outputs.
