@@ -30,8 +30,7 @@ std::int64_t CandidateTracker::LoudestFrame(std::size_t band, std::int64_t from,
   return loudest;
 }
 
-void CandidateTracker::TrackPeak(std::int64_t n) {
-  if (!open_) return;
+void CandidateTracker::TrackOpenPeak(std::int64_t n) {
   if (bands_.band(candidate_.band).Power(n) >
       bands_.band(candidate_.band).Power(candidate_.band_peak_frame)) {
     candidate_.band_peak_frame = n;
@@ -43,9 +42,9 @@ void CandidateTracker::TrackPeak(std::int64_t n) {
   }
 }
 
-std::optional<Candidate> CandidateTracker::Step(std::int64_t n, std::ptrdiff_t k,
-                                                const NoveltyRise& band,
-                                                const NoveltyRise& residual) {
+std::optional<Candidate> CandidateTracker::StepOpenOrRising(std::int64_t n, std::ptrdiff_t k,
+                                                            const NoveltyRise& band,
+                                                            const NoveltyRise& residual) {
   // The residual re-arms where its novelty falls under the secondary threshold, or where, after
   // dipping half the threshold under the last candidate's largest, it rises the full threshold
   // above it: a new sound inside a novelty that never settled. A transform codec's pre-echo,

@@ -49,7 +49,10 @@ class CandidateTracker {
 
   bool open() const { return open_; }
   // Band 0's level of frame n, for the peak of an open candidate (every frame, before Step).
-  void TrackPeak(std::int64_t n);
+  // The test inline and the tracking out of line, as for Step.
+  void TrackPeak(std::int64_t n) {
+    if (open_) TrackOpenPeak(n);
+  }
   // Whether the band rise of this frame is needed even below the secondary threshold: inside a
   // candidate, and where the residual opens one (its band and rise come from the bands).
   bool WantsBandRise(const NoveltyRise& residual) const {
@@ -57,12 +60,28 @@ class CandidateTracker {
   }
   // Frame n (m = n - attack is the frame whose rises these are); returns the candidate it
   // closes, if any.
+  // Most frames are outside candidates and rise by less than the secondary threshold in both
+  // sources: those only re-arm the residual (as StepOpenOrRising would) inline, without a call
+  // per frame.
   std::optional<Candidate> Step(std::int64_t n, std::ptrdiff_t k, const NoveltyRise& band,
-                                const NoveltyRise& residual);
+                                const NoveltyRise& residual) {
+    if (!open_ && band.rise_db < secondary_threshold_db_ &&
+        residual.rise_db < secondary_threshold_db_) {
+      if (residual.rise_db <= closed_residual_rise_db_ - secondary_threshold_db_) {
+        residual_dipped_ = true;
+      }
+      residual_armed_ = true;
+      return std::nullopt;
+    }
+    return StepOpenOrRising(n, k, band, residual);
+  }
   // The candidate still open at the end of the stream, closed at frame `last`.
   std::optional<Candidate> Finish(std::int64_t last);
 
  private:
+  std::optional<Candidate> StepOpenOrRising(std::int64_t n, std::ptrdiff_t k,
+                                            const NoveltyRise& band, const NoveltyRise& residual);
+  void TrackOpenPeak(std::int64_t n);
   // Where the sound whose rise frame n reports began: the first frame of the attack window that
   // rose by the secondary threshold over the reference.
   std::int64_t FirstRisingFrame(const NoveltyRise& band, std::int64_t n, std::ptrdiff_t k) const;

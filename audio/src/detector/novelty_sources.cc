@@ -28,9 +28,8 @@ std::size_t UsableBands(const BandEnvelopes& bands, double content_edge_hz) {
   return usable;
 }
 
-NoveltyRise BandRiseNovelty::Rise(std::int64_t, std::ptrdiff_t k, bool wanted) {
+NoveltyRise BandRiseNovelty::Rises(std::ptrdiff_t k) {
   NoveltyRise rise;
-  if (!wanted && !bands_.AnyBandMayRise(k)) return rise;
   const std::size_t usable =
       residual_ ? UsableBands(bands_, residual_->content_edge_hz()) : bands_.size();
   for (std::size_t b = 0; b < usable; ++b) {
@@ -56,32 +55,13 @@ RingingResidualNovelty::RingingResidualNovelty(const DetectorFrames& frames,
       mask_(latest_frame_.size() - 1),
       noise_floor_(frames.frame_s) {}
 
-void RingingResidualNovelty::EnterFrame(std::int64_t n, std::ptrdiff_t) {
-  latest_frame_[static_cast<std::size_t>(n) & mask_] = residual_.latest_frame();
-  if (!std::isnan(noise_power_)) noise_floor_.Add(noise_power_);
-}
-
-// A tail is present where band 0's lookback stands rise_threshold_db above the noise under the
-// ringing (under continuous ringing the band's own minimum-statistics floor is the ringing).
-// Decided on the powers (the same clamps as EnvelopeDb and NoiseFloor::db) where they are
-// clearly apart, in dB only within a margin around the threshold that covers PowerToDb's
-// 1e-9 dB: the same decision as in dB, without the conversions and their data-dependent
-// branches in every frame.
-bool RingingResidualNovelty::TailPresent(std::ptrdiff_t k) {
-  if (!noise_floor_.started()) return false;
+bool RingingResidualNovelty::TailPresentInDb(std::ptrdiff_t k) {
   EnvelopeBand& band = bands_.band(0);
-  const double reference = std::max(band.ReferenceMax(k), kTinyPower);
-  const double floor = std::max(noise_floor_.power(), kTinyPower) * tail_ratio_;
-  if (reference >= floor * (1.0 + 1e-6)) return true;
-  if (reference >= floor * (1.0 - 1e-6)) {
-    return band.reference_db(band.ReferenceMax(k)) - noise_floor_.db() >= rise_threshold_db_;
-  }
-  return false;
+  return band.reference_db(band.ReferenceMax(k)) - noise_floor_.db() >= rise_threshold_db_;
 }
 
-NoveltyRise RingingResidualNovelty::Rise(std::int64_t n, std::ptrdiff_t k, bool) {
+NoveltyRise RingingResidualNovelty::RiseInTail(std::int64_t n) {
   NoveltyRise rise;
-  if (!TailPresent(k)) return rise;
   const double db =
       MaxNoveltyDb(n - frames_.attack, n) * rise_threshold_db_ / kNoveltyAtThresholdDb;
   if (db >= secondary_threshold_db_) rise.rise_db = db;

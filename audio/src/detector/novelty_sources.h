@@ -1,6 +1,8 @@
 #ifndef BOUNCECAL_AUDIO_SRC_DETECTOR_NOVELTY_SOURCES_H_
 #define BOUNCECAL_AUDIO_SRC_DETECTOR_NOVELTY_SOURCES_H_
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -47,9 +49,15 @@ class BandRiseNovelty final : public NoveltySource {
   explicit BandRiseNovelty(BandEnvelopes& bands, const RingingResidualNovelty* residual = nullptr)
       : bands_(bands), residual_(residual) {}
   void EnterFrame(std::int64_t, std::ptrdiff_t) override {}
-  NoveltyRise Rise(std::int64_t n, std::ptrdiff_t k, bool wanted) override;
+  // The test that rules out most frames inline, the rises out of line (as for the residual).
+  NoveltyRise Rise(std::int64_t, std::ptrdiff_t k, bool wanted) override {
+    if (!wanted && !bands_.AnyBandMayRise(k)) return NoveltyRise{};
+    return Rises(k);
+  }
 
  private:
+  NoveltyRise Rises(std::ptrdiff_t k);
+
   BandEnvelopes& bands_;
   const RingingResidualNovelty* residual_;
 };
@@ -81,10 +89,18 @@ class RingingResidualNovelty final : public NoveltySource {
     if (residual_.Advance(samples)) noise_power_ = residual_.noise_power();
   }
 
-  void EnterFrame(std::int64_t n, std::ptrdiff_t k) override;
+  // Inline, like Rise's tail test: it runs for every frame.
+  void EnterFrame(std::int64_t n, std::ptrdiff_t) override {
+    latest_frame_[static_cast<std::size_t>(n) & mask_] = residual_.latest_frame();
+    if (!std::isnan(noise_power_)) noise_floor_.Add(noise_power_);
+  }
   // band is 0; minus infinity where no tail is present or the novelty stays below the
-  // secondary threshold.
-  NoveltyRise Rise(std::int64_t n, std::ptrdiff_t k, bool wanted) override;
+  // secondary threshold. The tail test inline: it rules out most frames, and a call per frame
+  // cost more than the test.
+  NoveltyRise Rise(std::int64_t n, std::ptrdiff_t k, bool) override {
+    if (!TailPresent(k)) return NoveltyRise{};
+    return RiseInTail(n);
+  }
 
   // A level in band 0 (dB) against the noise under the ringing, or minus infinity before that
   // noise was measured.
@@ -98,7 +114,22 @@ class RingingResidualNovelty final : public NoveltySource {
   double NoveltyDb(double rise_db) const;
 
  private:
-  bool TailPresent(std::ptrdiff_t k);
+  // A tail is present where band 0's lookback stands rise_threshold_db above the noise under the
+  // ringing (under continuous ringing the band's own minimum-statistics floor is the ringing).
+  // Decided on the powers (the same clamps as EnvelopeDb and NoiseFloor::db) where they are
+  // clearly apart, in dB only within a margin around the threshold that covers PowerToDb's
+  // 1e-9 dB: the same decision as in dB, without the conversions and their data-dependent
+  // branches in every frame.
+  bool TailPresent(std::ptrdiff_t k) {
+    if (!noise_floor_.started()) return false;
+    const double reference = std::max(bands_.band(0).ReferenceMax(k), kTinyPower);
+    const double floor = std::max(noise_floor_.power(), kTinyPower) * tail_ratio_;
+    if (reference >= floor * (1.0 + 1e-6)) return true;
+    if (reference >= floor * (1.0 - 1e-6)) return TailPresentInDb(k);
+    return false;
+  }
+  bool TailPresentInDb(std::ptrdiff_t k);
+  NoveltyRise RiseInTail(std::int64_t n);
   // The loudest novelty of the residual frames that envelope frames [m, n] hold.
   double MaxNoveltyDb(std::int64_t m, std::int64_t n);
 
