@@ -226,7 +226,7 @@ const float* RingingResidual::Powers(std::int64_t frame) {
   return powers;
 }
 
-double RingingResidual::NoveltyDb(std::int64_t frame) {
+double RingingResidual::ComputeNoveltyDb(std::int64_t frame) {
   if (frame < 0 || frame >= frames_ || frames_ - 1 - frame > kMaxQueryAgeFrames) {
     throw std::logic_error("RingingResidual::NoveltyDb: frame " + std::to_string(frame) +
                            " is not among the last " + std::to_string(kMaxQueryAgeFrames + 1) +

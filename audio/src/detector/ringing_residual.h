@@ -81,7 +81,15 @@ class RingingResidual {
   // the frame is not valid. Computed on demand (see CompleteFrame) and cached, so asking only
   // where the answer matters skips most of the FFTs; the result does not depend on when or
   // whether other frames were asked for.
-  double NoveltyDb(std::int64_t frame);
+  double NoveltyDb(std::int64_t frame) {
+    // The cached answer inline: the detector asks about each frame once per envelope frame of
+    // its attack window, several times in all.
+    if (frame >= 0 && frame < frames_ && frames_ - 1 - frame <= kMaxQueryAgeFrames) {
+      const Slot& slot = slots_[SlotOf(frame)];
+      if (slot.novelty_frame == frame) return slot.novelty_db;
+    }
+    return ComputeNoveltyDb(frame);
+  }
   // The same for the latest frame.
   double novelty_db() { return NoveltyDb(latest_frame()); }
   // Noise power per sample under the ringing: the lower quartile of the band's bin powers
@@ -108,6 +116,7 @@ class RingingResidual {
     double novelty_db = 0;
   };
   void CompleteFrame();
+  double ComputeNoveltyDb(std::int64_t frame);
   bool Valid(std::int64_t frame) const;
   double ContentEdgeHz();
   std::size_t SlotOf(std::int64_t frame) const {
