@@ -1,6 +1,7 @@
 #include "detector/band_envelopes.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "detector/frame_energy.h"
@@ -181,10 +182,13 @@ void BandEnvelopes::Take(std::size_t b, std::span<const float> samples) {
   const std::span<const double> all(frames.data() + band.window_start, window_history_ + count);
   const auto lag = static_cast<std::size_t>(frames_.attack + frames_.skip);
   if (count > 0) {
-    WindowMaxima(all.subspan(window_history_ - (ahead_frames_ - 1)), ahead_frames_,
-                 band.ahead_maxima, window_scratch_);
-    WindowMaxima(all.subspan(window_history_ - lag - (reference_frames_ - 1)), reference_frames_,
-                 band.reference_maxima, window_scratch_);
+    // Both windows in one call, the shorter first: they share its passes.
+    std::array<WindowRun, 2> runs = {
+        WindowRun{window_history_ - (ahead_frames_ - 1), ahead_frames_, band.ahead_maxima},
+        WindowRun{window_history_ - lag - (reference_frames_ - 1), reference_frames_,
+                  band.reference_maxima}};
+    if (runs[1].window < runs[0].window) std::swap(runs[0], runs[1]);
+    WindowMaxima(all, runs, window_scratch_);
     band.ahead_latest = band.ahead_maxima.back();
     band.reference_latest = band.reference_maxima.back();
   }

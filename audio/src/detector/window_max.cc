@@ -19,29 +19,41 @@ namespace {
 #if defined(__x86_64__) && defined(__GNUC__)
 [[gnu::target_clones("avx", "default")]]
 #endif
-void WindowMaxima(std::span<const double> x, std::size_t window, std::span<double> maxima,
+void WindowMaxima(std::span<const double> x, std::span<const WindowRun> runs,
                   std::vector<double>& scratch) {
   const std::size_t n = x.size();
-  const std::size_t count = std::min(maxima.size(), n - window + 1);
-  if (window <= 1) {
-    std::copy_n(x.begin(), count, maxima.begin());
-    return;
-  }
-  scratch.resize(2 * n);
   const double* from = x.data();
-  double* to = scratch.data();
-  double* spare = scratch.data() + n;
+  double* to = nullptr;
+  double* spare = nullptr;
   // from[i] is the maximum of x[i, i + width), for i < n - width + 1.
   std::size_t width = 1;
-  while (2 * width < window) {
-    PairwiseMaxima(from, width, n - 2 * width + 1, to);
-    width *= 2;
-    from = to;
-    std::swap(to, spare);
+  for (const WindowRun& run : runs) {
+    const std::size_t count = std::min(run.maxima.size(), n - run.offset - run.window + 1);
+    if (run.window <= 1) {
+      std::copy_n(x.begin() + static_cast<std::ptrdiff_t>(run.offset), count, run.maxima.begin());
+      continue;
+    }
+    if (to == nullptr) {
+      scratch.resize(2 * n);
+      to = scratch.data();
+      spare = scratch.data() + n;
+    }
+    while (2 * width < run.window) {
+      PairwiseMaxima(from, width, n - 2 * width + 1, to);
+      width *= 2;
+      from = to;
+      std::swap(to, spare);
+    }
+    // width < window <= 2 width: [i, i + width) and [i + window - width, i + window) cover the
+    // window, overlapping where window < 2 width (a maximum may count a value twice).
+    PairwiseMaxima(from + run.offset, run.window - width, count, run.maxima.data());
   }
-  // width < window <= 2 width: [i, i + width) and [i + window - width, i + window) cover the
-  // window, overlapping where window < 2 width (a maximum may count a value twice).
-  PairwiseMaxima(from, window - width, count, maxima.data());
+}
+
+void WindowMaxima(std::span<const double> x, std::size_t window, std::span<double> maxima,
+                  std::vector<double>& scratch) {
+  const WindowRun run{0, window, maxima};
+  WindowMaxima(x, std::span<const WindowRun>(&run, 1), scratch);
 }
 
 }  // namespace bouncecal::audio

@@ -20,6 +20,20 @@ namespace bouncecal::audio {
 void WindowMaxima(std::span<const double> x, std::size_t window, std::span<double> maxima,
                   std::vector<double>& scratch);
 
+// One of several windows over the same values: the maxima of every run of `window` values of x
+// from `offset` on (maxima[i] = max(x[offset + i], ..., x[offset + i + window - 1]), as many as
+// maxima holds and x allows; offset + window <= x.size()).
+struct WindowRun {
+  std::size_t offset = 0;
+  std::size_t window = 1;
+  std::span<double> maxima;
+};
+// WindowMaxima for each of `runs` (in order of non-decreasing window), the same values: the
+// passes of pairwise maxima depend only on x, so the ones the windows share (up to the shorter
+// window's) run once, over all of x. The detector's two rise windows share all of the shorter's.
+void WindowMaxima(std::span<const double> x, std::span<const WindowRun> runs,
+                  std::vector<double>& scratch);
+
 }  // namespace bouncecal::audio
 
 #endif  // BOUNCECAL_AUDIO_SRC_DETECTOR_WINDOW_MAX_H_

@@ -52,5 +52,44 @@ TEST(WindowMaxima, KeepsMinusInfinityWhereThereIsNothingElse) {
   EXPECT_EQ(maxima.back(), 2.0);
 }
 
+// Several windows at once, each from its own offset, equal each window alone over its part of
+// the values: shorter and longer windows sharing some or all passes (the detector's 9 and 47
+// frames among them), equal windows, a window of one, and as many maxima as each holds.
+TEST(WindowMaxima, SeveralWindowsAtOnceEqualEachAlone) {
+  std::mt19937 random(11);
+  std::uniform_int_distribution<int> level(0, 30);
+  std::vector<double> x(420);
+  for (auto& v : x) v = level(random) * 0.25;
+  std::fill_n(x.begin(), 20, -std::numeric_limits<double>::infinity());
+  std::vector<double> scratch, alone_scratch;
+  const std::vector<std::vector<std::size_t>> window_sets = {{9, 47},     {1, 47},   {2, 3}, {4, 4},
+                                                             {5, 17, 33}, {47, 100}, {1, 1}};
+  for (const auto& windows : window_sets) {
+    std::vector<std::vector<double>> maxima;
+    std::vector<WindowRun> runs;
+    const std::size_t longest = windows.back();
+    for (std::size_t w = 0; w < windows.size(); ++w) {
+      const std::size_t offset = longest - windows[w] + w;  // ends aligned, then shifted
+      maxima.emplace_back(x.size() - offset - windows[w] + 1 - w, -1.0);  // w fewer than fit
+    }
+    for (std::size_t w = 0; w < windows.size(); ++w) {
+      runs.push_back({longest - windows[w] + w, windows[w], maxima[w]});
+    }
+    WindowMaxima(x, runs, scratch);
+    for (std::size_t w = 0; w < windows.size(); ++w) {
+      std::vector<double> alone(maxima[w].size());
+      WindowMaxima(std::span<const double>(x).subspan(runs[w].offset), windows[w], alone,
+                   alone_scratch);
+      EXPECT_EQ(maxima[w], alone) << "window " << windows[w] << " of set " << windows.front();
+      for (std::size_t i = 0; i < alone.size(); ++i) {
+        const auto begin = x.begin() + static_cast<std::ptrdiff_t>(runs[w].offset + i);
+        ASSERT_EQ(alone[i],
+                  *std::max_element(begin, begin + static_cast<std::ptrdiff_t>(windows[w])))
+            << "window " << windows[w] << " at " << i;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace bouncecal::audio
