@@ -320,6 +320,29 @@ TEST(PairedSounds, AFirstMemberOfUnknownSoundStatesHalfTheSpacing) {
   EXPECT_EQ(impacts[6].onset_uncertainty_s, 30e-6);
 }
 
+// silent_wrong_sweep.py seed 921 #156's pattern: the first member on its bounce with its click
+// merged, the next members on their bounces with no click recorded, the 9th and 10th on their
+// bounces with their clicks merged and the last two on their clicks with nothing recorded. The
+// ratios take the clicks for the 9th and 10th (the switch then falls where flights are longer);
+// the first member's move to its click would shift one ratio by 1.5 %, which they cannot judge,
+// and its neighbour's sound says nothing: it stays on its bounce and states half the spacing.
+TEST(PairedSounds, AFirstMemberWhoseMoveTheRatiosCannotJudgeStays) {
+  constexpr double kLeadS = 6e-3;
+  auto impacts = Drop(12, 0);
+  const double first_s = impacts[0].onset_s;
+  std::vector<MergedEvent> merged;
+  for (const std::size_t k : {std::size_t{0}, std::size_t{8}, std::size_t{9}}) {
+    merged.push_back(Lost(impacts[k].onset_s - kLeadS, impacts[k].onset_s));
+    merged.back().level_difference_db = 10;
+  }
+  for (const std::size_t k : {std::size_t{10}, std::size_t{11}}) impacts[k].onset_s -= kLeadS;
+  const double ninth_s = impacts[8].onset_s;
+  TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
+  ASSERT_EQ(impacts[8].onset_s, ninth_s - kLeadS) << "the choice of the clicks was not taken";
+  EXPECT_EQ(impacts[0].onset_s, first_s);
+  EXPECT_NEAR(impacts[0].onset_uncertainty_s, std::hypot(30e-6, 0.5 * kLeadS), 1e-6);
+}
+
 // Two members with a later sound and one with an earlier one at the same spacing: too few pairs
 // to say the sounds belong together, so each member is weighed on its own (and these, on their
 // bounces with unrelated sounds 6 ms away, stay).
