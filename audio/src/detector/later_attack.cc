@@ -24,19 +24,32 @@ constexpr double kAttackBelowPeakDb = 6.0;
 // such pairs (merged_alternatives.h), so a lower bar costs nothing where they do not.
 constexpr double kLaterSoundBelowPeakDb = 6.0;
 
+// The loudest sample magnitude of the samples after an onset and of their first kEarlyWindowS,
+// and how many samples that first part holds.
+struct Peaks {
+  double peak = 0;
+  double early_peak = 0;
+  std::size_t early = 0;
+};
+
+Peaks PeaksAfter(std::span<const float> after_onset, int sample_rate_hz) {
+  Peaks peaks;
+  peaks.early = std::min<std::size_t>(
+      after_onset.size(), static_cast<std::size_t>(std::ceil(kEarlyWindowS * sample_rate_hz)));
+  for (std::size_t i = 0; i < after_onset.size(); ++i) {
+    const double magnitude = std::fabs(after_onset[i]);
+    peaks.peak = std::max(peaks.peak, magnitude);
+    if (i < peaks.early) peaks.early_peak = std::max(peaks.early_peak, magnitude);
+  }
+  return peaks;
+}
+
 // The first milliseconds of an impact at least `quiet_below_peak_db` under its loudest sample:
 // where the signal first comes within kAttackBelowPeakDb of that peak (s), else 0.
 double AttackAfterQuietStart(std::span<const float> after_onset, int sample_rate_hz,
                              double quiet_below_peak_db) {
   if (after_onset.empty() || sample_rate_hz <= 0) return 0;
-  const auto early = std::min<std::size_t>(
-      after_onset.size(), static_cast<std::size_t>(std::ceil(kEarlyWindowS * sample_rate_hz)));
-  double peak = 0, early_peak = 0;
-  for (std::size_t i = 0; i < after_onset.size(); ++i) {
-    const double magnitude = std::fabs(after_onset[i]);
-    peak = std::max(peak, magnitude);
-    if (i < early) early_peak = std::max(early_peak, magnitude);
-  }
+  const auto [peak, early_peak, early] = PeaksAfter(after_onset, sample_rate_hz);
   if (!(peak > 0) || early_peak >= peak * std::pow(10.0, -quiet_below_peak_db / 20)) return 0;
   const double attack = peak * std::pow(10.0, -kAttackBelowPeakDb / 20);
   for (std::size_t i = early; i < after_onset.size(); ++i) {
@@ -73,17 +86,10 @@ std::optional<double> LaterSoundOnsetS(std::span<const float> after_onset, int s
 
 double PeakOverFirstMillisecondDb(std::span<const float> after_onset, int sample_rate_hz) {
   if (after_onset.empty() || sample_rate_hz <= 0) return 0;
-  const auto early = std::min<std::size_t>(
-      after_onset.size(), static_cast<std::size_t>(std::ceil(kEarlyWindowS * sample_rate_hz)));
-  double peak = 0, early_peak = 0;
-  for (std::size_t i = 0; i < after_onset.size(); ++i) {
-    const double magnitude = std::fabs(after_onset[i]);
-    peak = std::max(peak, magnitude);
-    if (i < early) early_peak = std::max(early_peak, magnitude);
-  }
-  if (!(peak > 0)) return 0;
-  if (!(early_peak > 0)) return std::numeric_limits<double>::infinity();
-  return 20.0 * std::log10(peak / early_peak);
+  const Peaks peaks = PeaksAfter(after_onset, sample_rate_hz);
+  if (!(peaks.peak > 0)) return 0;
+  if (!(peaks.early_peak > 0)) return std::numeric_limits<double>::infinity();
+  return 20.0 * std::log10(peaks.peak / peaks.early_peak);
 }
 
 }  // namespace bouncecal::audio
