@@ -404,7 +404,11 @@ void TimeEveryPairOnOneSound(std::vector<Impact>& impacts, std::vector<MergedEve
     }
     if (on_earlier && on_later) {
       for (int k = 0; k < n; ++k) {
-        if (!best.move[static_cast<std::size_t>(k)]) continue;
+        // An end member left where it is as unjudged would have moved too.
+        const bool would_move =
+            best.move[static_cast<std::size_t>(k)] ||
+            std::find(best.unjudged.begin(), best.unjudged.end(), k) != best.unjudged.end();
+        if (!would_move) continue;
         Impact& member = impact_at(k);
         member.onset_uncertainty_s = std::hypot(member.onset_uncertainty_s, 0.5 * median_spacing);
       }

@@ -343,6 +343,29 @@ TEST(PairedSounds, AFirstMemberWhoseMoveTheRatiosCannotJudgeStays) {
   EXPECT_NEAR(impacts[0].onset_uncertainty_s, std::hypot(30e-6, 0.5 * kLeadS), 1e-6);
 }
 
+// The same first member where the ratios cannot tell the choice either: clicks 2.5 ms before
+// each bounce, the first member on its click with its bounce as its later sound, the next seven on
+// their bounces with nothing recorded, the last four on their bounces with their clicks merged.
+// No choice is taken, the members sit on both sounds, and the first member, whose move the choice
+// of the later sound would have made had the ratios judged it, states half the spacing.
+TEST(PairedSounds, AnUnjudgedFirstMemberStatesTheSpacingWhereNoChoiceIsTaken) {
+  constexpr double kLeadS = 2.5e-3;
+  auto impacts = Drop(12, 0);
+  std::vector<MergedEvent> merged;
+  impacts[0].later_onset_s = impacts[0].onset_s;
+  impacts[0].onset_s -= kLeadS;
+  for (std::size_t k = 8; k < impacts.size(); ++k) {
+    merged.push_back(Lost(impacts[k].onset_s - kLeadS, impacts[k].onset_s));
+    merged.back().level_difference_db = 10;
+  }
+  const auto onsets = impacts;
+  TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
+  for (std::size_t k = 0; k < impacts.size(); ++k) {
+    ASSERT_EQ(impacts[k].onset_s, onsets[k].onset_s) << "member " << k << " moved";
+  }
+  EXPECT_NEAR(impacts[0].onset_uncertainty_s, std::hypot(30e-6, 0.5 * kLeadS), 1e-6);
+}
+
 // Two members with a later sound and one with an earlier one at the same spacing: too few pairs
 // to say the sounds belong together, so each member is weighed on its own (and these, on their
 // bounces with unrelated sounds 6 ms away, stay).
