@@ -333,6 +333,11 @@ void TimeEveryPairOnOneSound(std::vector<Impact>& impacts, std::vector<MergedEve
     RatioFit fit;
     // First or last members whose move the ratios could not judge: left where they are.
     std::vector<int> unjudged;
+    // Runs of members whose move their ends did not fit better, nor clearly worse (below): left
+    // where they are.
+    std::vector<int> rode_along;
+    // The fit with those runs moved too: which sound the pairs put the members on.
+    RatioFit fit_with_runs;
   };
   const auto choose = [&](int role_moved) {
     Choice choice;
@@ -379,13 +384,43 @@ void TimeEveryPairOnOneSound(std::vector<Impact>& impacts, std::vector<MergedEve
         choice.unjudged.push_back(k);
       }
     }
+    choice.fit_with_runs = choice.fit;
+    // Members that move together by the spacing keep their intervals: a run of consecutive moved
+    // members changes only the ratios at its two ends, and it moves only where those ends fit
+    // better moved. Otherwise the run rode along with moves elsewhere and made a switch of its
+    // own at an end (silent_wrong_sweep.py --precursors seed 8 #147: members 0-7 on
+    // their bounces, 8 and 10 too with their clicks merged, 9 heard only in the ringing and on its
+    // click; the choice of the earlier sound fitted 8-10 and moved 0-3 with them, eta-bar 8
+    // sigmas off).
+    for (int begin = 0; begin < n;) {
+      if (!choice.move[static_cast<std::size_t>(begin)]) {
+        ++begin;
+        continue;
+      }
+      int end = begin;
+      while (end < n && choice.move[static_cast<std::size_t>(end)]) ++end;
+      std::vector<bool> without = choice.move;
+      for (int k = begin; k < end; ++k) without[static_cast<std::size_t>(k)] = false;
+      const RatioFit fit = fit_with(without);
+      if (fit.misfit <= choice.fit.misfit) {
+        // Where the ratios cannot tell the run's two places apart either, it is on one sound or
+        // the other, as far as they know.
+        if ((choice.fit.misfit - fit.misfit) / (fit.scatter * fit.scatter) <=
+            kRequiredImprovement) {
+          for (int k = begin; k < end; ++k) choice.rode_along.push_back(k);
+        }
+        choice.move = std::move(without);
+        choice.fit = fit;
+      }
+      begin = end;
+    }
     return choice;
   };
   const RatioFit now = WholeSequenceMisfit(times, scored);
   // All on the earlier sound: the members now on the later one move.
   const Choice earlier = choose(-1);
   const Choice later = choose(1);
-  const int role_moved = earlier.fit.misfit <= later.fit.misfit ? -1 : 1;
+  const int role_moved = earlier.fit_with_runs.misfit <= later.fit_with_runs.misfit ? -1 : 1;
   const Choice& best = role_moved < 0 ? earlier : later;
   const double median_spacing = Median(matched);
   if ((now.misfit - best.fit.misfit) / (best.fit.scatter * best.fit.scatter) <=
@@ -404,10 +439,14 @@ void TimeEveryPairOnOneSound(std::vector<Impact>& impacts, std::vector<MergedEve
     }
     if (on_earlier && on_later) {
       for (int k = 0; k < n; ++k) {
-        // An end member left where it is as unjudged would have moved too.
-        const bool would_move =
-            best.move[static_cast<std::size_t>(k)] ||
-            std::find(best.unjudged.begin(), best.unjudged.end(), k) != best.unjudged.end();
+        // An end member left where it is as unjudged, or a run that rode along, would have moved
+        // too: the ratios that cannot tell cannot tell for them either (--precursors seed 923 #99:
+        // members 0-3 on their clicks, the later ones on their bounces, only 0-1 with a pair).
+        const auto listed = [k](const std::vector<int>& members) {
+          return std::find(members.begin(), members.end(), k) != members.end();
+        };
+        const bool would_move = best.move[static_cast<std::size_t>(k)] || listed(best.unjudged) ||
+                                listed(best.rode_along);
         if (!would_move) continue;
         Impact& member = impact_at(k);
         member.onset_uncertainty_s = std::hypot(member.onset_uncertainty_s, 0.5 * median_spacing);

@@ -34,7 +34,8 @@ namespace bouncecal::audio {
 // (Impact::later_onset_s): pairs such as a click and its bounce, some members timed on one sound
 // and some on the other, each interval across a switch off by the spacing. The members move to
 // one sound of their pairs where that fits the ratios clearly better, timed-from-response members
-// too, and a first or last member whose sound is not known then states half the spacing.
+// too (a run of consecutive members only where its ends fit better moved), and a first or last
+// member whose sound is not known then states half the spacing.
 void TakeMergedOnsetsThatFitTheSequence(std::vector<Impact>& impacts,
                                         std::vector<MergedEvent>& merged,
                                         const std::vector<BounceSequence>& sequences);

@@ -366,6 +366,48 @@ TEST(PairedSounds, AnUnjudgedFirstMemberStatesTheSpacingWhereNoChoiceIsTaken) {
   EXPECT_NEAR(impacts[0].onset_uncertainty_s, std::hypot(30e-6, 0.5 * kLeadS), 1e-6);
 }
 
+// silent_wrong_sweep.py --precursors seed 8 #147's pattern: every member on its bounce, the
+// first four and the 9th and 11th with their clicks (6 ms before) merged, the 10th heard only in
+// the ringing and timed on its click (+-6 ms). Moving the 9th and 11th to their clicks fits the
+// 10th, and the first four moved with them by the same 6 ms keep their own intervals: that run
+// only rode along and made a switch at its end, so it stays on the bounces.
+TEST(PairedSounds, ARunOfMembersThatOnlyRodeAlongStays) {
+  constexpr double kLeadS = 6e-3;
+  auto impacts = Drop(12, 0);
+  std::vector<MergedEvent> merged;
+  for (const std::size_t k : {0, 1, 2, 3, 8, 10}) {
+    merged.push_back(Lost(impacts[k].onset_s - kLeadS, impacts[k].onset_s));
+    merged.back().level_difference_db = 10;
+  }
+  impacts[9].onset_s -= kLeadS;
+  impacts[9].onset_uncertainty_s = 6e-3;
+  impacts[9].residual_only = true;
+  const auto onsets = impacts;
+  TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
+  for (std::size_t k = 0; k < 4; ++k) {
+    EXPECT_EQ(impacts[k].onset_s, onsets[k].onset_s) << "member " << k;
+  }
+}
+
+// Three members with unrelated sounds 10 ms away (two merged before them, one later after its
+// own), every member on its bounce: moving either side's run makes two switches the ratios
+// clearly reject, so nothing moves and no member states the spacing.
+TEST(PairedSounds, RunsTheRatiosClearlyKeepInPlaceStateNothing) {
+  auto impacts = Drop(12, 0.005);
+  std::vector<MergedEvent> merged;
+  for (const std::size_t k : {5, 6}) {
+    merged.push_back(Lost(impacts[k].onset_s - 10e-3, impacts[k].onset_s));
+    merged.back().level_difference_db = 10;
+  }
+  impacts[7].later_onset_s = impacts[7].onset_s + 10.5e-3;
+  const auto onsets = impacts;
+  TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
+  for (std::size_t k = 0; k < impacts.size(); ++k) {
+    EXPECT_EQ(impacts[k].onset_s, onsets[k].onset_s) << k;
+    EXPECT_EQ(impacts[k].onset_uncertainty_s, onsets[k].onset_uncertainty_s) << k;
+  }
+}
+
 // Two members with a later sound and one with an earlier one at the same spacing: too few pairs
 // to say the sounds belong together, so each member is weighed on its own (and these, on their
 // bounces with unrelated sounds 6 ms away, stay).
