@@ -4,9 +4,11 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <numeric>
 #include <span>
 #include <utility>
+#include <vector>
 
 #include "detector/contact_duration.h"
 #include "detector/correlation_sums.h"
@@ -290,6 +292,32 @@ bool ConfirmOrReplace(Impact& impact, double onset_s, double sigma_s, double fir
   return agree;
 }
 
+// The sounds the merger set aside name the impact they lost to by its onset (MergedEvent::
+// winner_s), which is how the bounce sequence later offers them as the member's other sound
+// (merged_alternatives.h). A retimed impact takes its merged sounds along: left at the detector's
+// onset, they belonged to no impact, and a sequence whose members were aligned on their bounces
+// never saw the clicks merged into them (silent_wrong_sweep.py --precursors seed 923 #83, a 22
+// kHz WAV: five members aligned, each 5-63 us from its detector onset, with a click 7.8 ms before
+// it merged; the 2nd on its click at +-47 us, its bounce its later sound; whole-sequence weighing
+// found 2 pairs instead of 6 and left it there, eta-bar 60 sigmas off). `detected_onsets`: the
+// impacts' onsets before the retiming, in the impacts' order (Retime keeps it).
+void FollowRetimedWinners(const std::vector<double>& detected_onsets, DetectionResult& detection) {
+  std::vector<std::pair<double, double>> moved;  // (detected, retimed), by detected onset
+  for (std::size_t i = 0; i < detected_onsets.size(); ++i) {
+    if (detection.impacts[i].onset_s != detected_onsets[i]) {
+      moved.emplace_back(detected_onsets[i], detection.impacts[i].onset_s);
+    }
+  }
+  if (moved.empty()) return;
+  std::sort(moved.begin(), moved.end());
+  for (MergedEvent& event : detection.merged) {
+    const auto at =
+        std::lower_bound(moved.begin(), moved.end(),
+                         std::pair{event.winner_s, -std::numeric_limits<double>::infinity()});
+    if (at != moved.end() && at->first == event.winner_s) event.winner_s = at->second;
+  }
+}
+
 }  // namespace
 
 bool TransformCodec(const RecordingInfo& info) {
@@ -373,7 +401,10 @@ ResponseTimingSummary ResponseTimer::Apply(DetectionResult& detection,
   // Impacts whose stated sigma is the alignment's own; every other onset still carries the
   // first lobe's error.
   std::vector<bool> own(windows_.size(), false);
+  std::vector<double> detected_onsets;
+  for (const Impact& impact : detection.impacts) detected_onsets.push_back(impact.onset_s);
   const ResponseTimingSummary summary = Retime(detection, first_lobe_sigma_s, own);
+  FollowRetimedWinners(detected_onsets, detection);
   // Where the next impact's onset lies, for the pre-echo's later attack: not past it.
   std::vector<std::int64_t> impact_starts;
   for (const auto& w : windows_) {

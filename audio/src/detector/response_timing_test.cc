@@ -117,6 +117,38 @@ TEST(ResponseTiming, CleanOnsetsAreCombinedNotReplaced) {
   }
 }
 
+// The sounds the merger set aside name the impact they lost to by its onset, and the bounce
+// sequence offers them as that impact's other sound only while the names agree
+// (merged_alternatives.h): a retimed impact takes them along, an impact left where it was keeps
+// them, and a sound that lost to no impact (a name matching none) is left alone.
+TEST(ResponseTiming, SoundsMergedIntoAnImpactFollowItsRetimedOnset) {
+  const auto drop = SteelDrop(1, 48000);
+  auto detection = DetectImpacts(drop.channels[0]);
+  ASSERT_GE(detection.impacts.size(), 6u);
+  // One onset jumped 2 ms early, as a codec's pre-echo makes it: the stage replaces it.
+  detection.impacts[3].onset_s -= 2e-3;
+  detection.merged.clear();
+  for (const Impact& impact : detection.impacts) {
+    MergedEvent click;
+    click.time_s = impact.onset_s - 5e-3;
+    click.winner_s = impact.onset_s;
+    detection.merged.push_back(click);
+  }
+  MergedEvent orphan;
+  orphan.time_s = detection.impacts[2].onset_s + 4e-3;
+  orphan.winner_s = detection.impacts[2].onset_s + 1e-3;  // no impact's onset
+  detection.merged.push_back(orphan);
+  const auto before = detection;
+  RetimeFromResponses(detection, drop.channels[0].samples);
+  ASSERT_EQ(detection.impacts.size(), before.impacts.size());
+  ASSERT_NE(detection.impacts[3].onset_s, before.impacts[3].onset_s) << "nothing was retimed";
+  for (std::size_t i = 0; i < detection.impacts.size(); ++i) {
+    EXPECT_EQ(detection.merged[i].winner_s, detection.impacts[i].onset_s) << "impact " << i;
+    EXPECT_EQ(detection.merged[i].time_s, before.merged[i].time_s);
+  }
+  EXPECT_EQ(detection.merged.back().winner_s, orphan.winner_s);
+}
+
 // A 20 ms white noise burst of standard deviation `sd` half a second before the end of a 48 kHz
 // recording (after the last bounce); returns its onset (s).
 double AddNoiseBurstAfterTheDrop(std::vector<float>& samples, float sd) {

@@ -106,7 +106,8 @@ struct MergedEvent {
   double time_s = 0;
   double peak_dbfs = 0;
   std::string reason;
-  double winner_s = 0;  // onset of the member it lost to
+  // Onset of the member it lost to (where the response timing retimes that member, its new onset).
+  double winner_s = 0;
   // Later than the winner and the rest of its sound (the winner's candidate closed while still
   // rising), so it kept the winner's onset whatever its level.
   bool rest_of_sound = false;
