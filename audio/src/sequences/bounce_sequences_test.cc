@@ -602,6 +602,29 @@ TEST(BounceSequences, AShortChainOfEveryOtherBounceIsNoSequence) {
   EveryOtherBounceFoundInRinging(Drop(0.27, 0.3, 0.88, 9));
 }
 
+// --precursors seed 923 #163's pattern (22 kHz counter, e = 0.837): only the 1st and 4th bounces
+// rose in a band, the 5th was not heard at all and the others only in the ringing, so the chain
+// from the 4th stops at once and the chain through every third bounce (1st, 4th, 7th, ...) is the
+// longest. It times like a ball of e^3 = 0.59 (eta-bar 0.66 instead of 0.30: 70 sigmas, exit 0),
+// and the two skipped bounces of each of its flights are heard where they would be but one: no
+// sequence. The bounces lose 1 dB each.
+TEST(BounceSequences, AChainOfEveryThirdBounceIsNoSequence) {
+  std::vector<Impact> impacts;
+  const auto times = Drop(0.4668, 0.2787, 0.837, 13);
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    if (i == 4) continue;
+    impacts.push_back({.onset_s = times[i],
+                       .onset_uncertainty_s = 20e-6,
+                       .peak_dbfs = -10.0 - static_cast<double>(i),
+                       .residual_only = i != 0 && i != 3});
+  }
+  const auto result = FindBounceSequences(impacts);
+  EXPECT_TRUE(result.sequences.empty());
+  ASSERT_FALSE(result.rejected.empty());
+  EXPECT_NE(result.rejected[0].reason.find("every third bounce"), std::string::npos)
+      << result.rejected[0].reason;
+}
+
 // A 16 kHz plate drop (e = 0.884) whose 4th, 6th and 8th bounces were found neither as impacts nor
 // as tentative rises, the plate ringing at their level: only the 2nd bounce is heard where the
 // chain 1, 3, 5, 7, 9 skips a bounce, 4.5 us from that place in a 16 ms window (the sweep's seed
