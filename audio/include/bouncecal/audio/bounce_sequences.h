@@ -138,7 +138,10 @@ struct SequenceResult {
 // residual-only second). A chain that fails may drop residual-only members from its end while
 // min_impacts are left, its chance multiplied by the versions tried. A chain the test judges,
 // and every chain accepted, must also shrink its flights as a ball does: its last flight shorter
-// than its first by 3 sigmas of the four onsets' stated timing. Where the file's events repeat at
+// than its first by 3 sigmas of the four onsets' stated timing, and time its ratios as one ball
+// can: a line in the bounce number (e drifts with impact speed) with a scatter of 5 % from impact
+// to impact on top of the stated timing, beyond which random shrinking gaps lie with chance
+// below 1e-6 (sequences/ratio_scatter.h). Where the file's events repeat at
 // one period (mains hum heard as impacts, a motor, a clock: periodic_events), a chain whose
 // flights lie on its multiples more often than random flights would with probability 1e-3 is no
 // sequence, whatever its test. Deterministic. Throws ConfigError for bad options.
