@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "bouncecal/error.h"
+#include "sequence_test_support.h"
 
 namespace bouncecal::audio {
 namespace {
@@ -18,18 +19,7 @@ Impact At(double onset_s, bool residual_only = false) {
   return impact;
 }
 
-// Impacts as a detector gave them: onset s, sigma s, peak dBFS, residual-only (0 or 1).
-std::vector<Impact> FromDetected(
-    const std::vector<std::tuple<double, double, double, int>>& detected) {
-  std::vector<Impact> impacts;
-  for (const auto& [onset_s, sigma_s, peak_dbfs, residual_only] : detected) {
-    impacts.push_back({.onset_s = onset_s,
-                       .onset_uncertainty_s = sigma_s,
-                       .peak_dbfs = peak_dbfs,
-                       .residual_only = residual_only != 0});
-  }
-  return impacts;
-}
+using testing::FromDetected;
 
 // Six band-detected bounces with e = 0.8 from a 0.2 s flight, and one tentative impact exactly
 // where the seventh is due (flight 0.2 * 0.8^5 = 65.5 ms).

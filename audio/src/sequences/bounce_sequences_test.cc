@@ -12,6 +12,7 @@
 #include <tuple>
 
 #include "bouncecal/error.h"
+#include "sequence_test_support.h"
 
 namespace bouncecal::audio {
 namespace {
@@ -51,18 +52,7 @@ std::vector<double> FromRatios(double t1_s, double t2_s, std::initializer_list<d
   return times;
 }
 
-// Impacts as a detector gave them: onset s, sigma s, peak dBFS, residual-only (0 or 1).
-std::vector<Impact> FromDetected(
-    const std::vector<std::tuple<double, double, double, int>>& detected) {
-  std::vector<Impact> impacts;
-  for (const auto& [onset_s, sigma_s, peak_dbfs, residual_only] : detected) {
-    impacts.push_back({.onset_s = onset_s,
-                       .onset_uncertainty_s = sigma_s,
-                       .peak_dbfs = peak_dbfs,
-                       .residual_only = residual_only != 0});
-  }
-  return impacts;
-}
+using testing::FromDetected;
 
 // `detected` with a transform codec's faint residual-only sounds once a 20 ms frame from from_s
 // to to_s, where no sound lies within 12 ms (the detector's merge gap), as AAC at 64 kbit/s per
