@@ -2,7 +2,6 @@
 
 #include <gtest/gtest.h>
 
-#include <tuple>
 #include <vector>
 
 #include "bouncecal/error.h"
@@ -147,8 +146,8 @@ TEST(GroupBounces, SkippedBouncesHeardAFewDecibelsUnderTheirNeighboursStillCount
   for (const auto& sequence : grouping.sequences) {
     const auto& members = sequence.impact_indices;
     for (std::size_t k = 1; k < members.size(); ++k) {
-      // Consecutive members are consecutive bounces: no flight of this drop spans 0.6 s or more
-      // but its first (0.44 s).
+      // Consecutive members are consecutive bounces: this drop's longest flight, its first, is
+      // 0.44 s, and two of them 0.8 s.
       EXPECT_LT(detection.impacts[static_cast<std::size_t>(members[k])].onset_s -
                     detection.impacts[static_cast<std::size_t>(members[k - 1])].onset_s,
                 0.6);

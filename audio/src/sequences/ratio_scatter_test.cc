@@ -35,8 +35,8 @@ Chain FromRatios(const std::vector<double>& ratios, double sigma_s) {
 constexpr double kScatter = 0.05;
 
 // A constant restitution that scatters by 3 % from impact to impact (the coverage suite's steel
-// on copper) over 30 bounces is one ball: the chance of its ratios is that of a chi-square draw,
-// above 1e-3 in all but one of a thousand seeds; these five are checked.
+// on copper) over 30 bounces is one ball: against the 5 % the rule allows, its chi-square is
+// (3/5)^2 of a 5 % ball's, whose tail passes 1e-3 once in a thousand; five seeds are checked.
 TEST(RatioScatter, ABallWhoseRestitutionScattersByAFewPerCentIsOneBall) {
   for (unsigned seed = 1; seed <= 5; ++seed) {
     std::mt19937 random(seed);
