@@ -20,6 +20,21 @@ Impact At(double onset_s, bool residual_only = false) {
 
 using testing::FromDetected;
 
+// Groups `detection` and expects consecutive members of every sequence to be consecutive bounces:
+// no flight as long as `flight_limit_s`, a limit between the drop's longest flight and
+// the sum of two.
+void ExpectNoSequenceSkipsABounce(DetectionResult& detection, double flight_limit_s) {
+  const auto grouping = GroupBounces(detection);
+  for (const auto& sequence : grouping.sequences) {
+    const auto& members = sequence.impact_indices;
+    for (std::size_t k = 1; k < members.size(); ++k) {
+      EXPECT_LT(detection.impacts[static_cast<std::size_t>(members[k])].onset_s -
+                    detection.impacts[static_cast<std::size_t>(members[k - 1])].onset_s,
+                flight_limit_s);
+    }
+  }
+}
+
 // Six band-detected bounces with e = 0.8 from a 0.2 s flight, and one tentative impact exactly
 // where the seventh is due (flight 0.2 * 0.8^5 = 65.5 ms).
 DetectionResult DropWithATentativeSeventhBounce() {
@@ -142,17 +157,8 @@ TEST(GroupBounces, SkippedBouncesHeardAFewDecibelsUnderTheirNeighboursStillCount
                                       {2.887088542, 0.003555588, -23.62, 1},
                                       {3.084473958, 0.005070559, -29.47, 1},
                                       {3.149244792, 0.005657384, -31.13, 1}});
-  const auto grouping = GroupBounces(detection);
-  for (const auto& sequence : grouping.sequences) {
-    const auto& members = sequence.impact_indices;
-    for (std::size_t k = 1; k < members.size(); ++k) {
-      // Consecutive members are consecutive bounces: this drop's longest flight, its first, is
-      // 0.44 s, and two of them 0.8 s.
-      EXPECT_LT(detection.impacts[static_cast<std::size_t>(members[k])].onset_s -
-                    detection.impacts[static_cast<std::size_t>(members[k - 1])].onset_s,
-                0.6);
-    }
-  }
+  // This drop's longest flight, its first, is 0.44 s, and two of them 0.8 s.
+  ExpectNoSequenceSkipsABounce(detection, 0.6);
 }
 
 // A random-impairment sweep file (seed 928 --only-unreliable-lobe #282: an 11 kHz counter drop of
@@ -169,17 +175,8 @@ TEST(GroupBounces, ABounceHeardRightBeforeAChainOfEveryOtherBounceCounts) {
   detection.tentative = FromDetected({
 #include "every_other_mp3_tentative_test.inc"
   });
-  const auto grouping = GroupBounces(detection);
-  for (const auto& sequence : grouping.sequences) {
-    const auto& members = sequence.impact_indices;
-    for (std::size_t k = 1; k < members.size(); ++k) {
-      // Consecutive members are consecutive bounces: this drop's longest flight is 0.26 s, and
-      // two of them 0.48 s.
-      EXPECT_LT(detection.impacts[static_cast<std::size_t>(members[k])].onset_s -
-                    detection.impacts[static_cast<std::size_t>(members[k - 1])].onset_s,
-                0.35);
-    }
-  }
+  // This drop's longest flight is 0.26 s, and two of them 0.48 s.
+  ExpectNoSequenceSkipsABounce(detection, 0.35);
 }
 
 TEST(GroupBounces, BadOptionsAreConfigErrors) {
