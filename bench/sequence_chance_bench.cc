@@ -20,6 +20,8 @@
 //                         [--codec-frame-s F] [--tentative-hz R]
 //
 // It prints figures and asserts nothing.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -181,9 +183,11 @@ audio::BounceAnalysis RecordDrop(const DropKind& kind, double jitter, std::uint6
   synthesis.noise = audio::NoiseOptions{};
   synthesis.seed = seed * 16 + recording;
   const auto rendered = audio::SynthesizeBounces(synthesis);
-  const auto path =
-      std::filesystem::temp_directory_path() /
-      ("bouncecal_chance_" + std::to_string(seed) + "_" + std::to_string(recording) + ".wav");
+  // The process id keeps two runs of the bench apart: with the seed and recording alone, the
+  // second run's files were the first's, and one removed the other's before it was analysed.
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("bouncecal_chance_" + std::to_string(::getpid()) + "_" + std::to_string(seed) +
+                     "_" + std::to_string(recording) + ".wav");
   audio::WriteRecording(path, rendered.channels);
   audio::BounceAnalysis analysis = audio::AnalyzeBounces(path);
   std::filesystem::remove(path);
