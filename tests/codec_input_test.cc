@@ -1151,5 +1151,40 @@ TEST_F(CodecInput, TheCutThatEndsAnAacStreamIsNoBounce) {
   EXPECT_TRUE(end_sound_rejected) << recording["rejected_events"].dump();
 }
 
+// Issue 30: where a transform codec spends no bits (the quiet after a drop), it empties whole
+// bands, and from one of its frames to the next their near-zero residues rise by 20-34 dB, 60-160
+// dB under the noise: the ringing residual read them as new sound, and the Vorbis q4 copy of the
+// synthesiser's default drop 50 dB over white noise held 11 "impacts" in the second after its
+// last bounce (its WAV none; the shared Palla-audio.wav's AAC copy: 173 impacts against the WAV's
+// 17). Bins 20 dB or more under the noise now rise from the noise's level (ringing_residual.h).
+TEST_F(CodecInput, TheQuietAfterADropHoldsNoImpactsInItsLossyCopies) {
+  const fs::path wav = folder_ / "quiet_tail.wav";
+  const auto synth = RunBouncecal("synth -o '" + wav.string() + "' --snr-db 50 --seed 1");
+  ASSERT_EQ(synth.exit_status, 0) << synth.output;
+  const auto last_bounce_s = [&] {
+    const auto json = folder_.path() / "quiet_tail_wav.json";
+    EXPECT_EQ(
+        RunBouncecal("analyze '" + wav.string() + "' --json '" + json.string() + "'").exit_status,
+        0);
+    const auto onsets = ReadJson(json)["sequences"][0]["onsets_s"];
+    return onsets.back().get<double>();
+  }();
+  for (const auto& [name, options] : std::vector<std::pair<std::string, std::vector<std::string>>>{
+           {"quiet_tail.ogg", {"-c:a", "libvorbis", "-q:a", "4"}},
+           {"quiet_tail.mp3", {"-c:a", "libmp3lame", "-b:a", "128k"}}}) {
+    const auto copy = Encode(wav, name, options);
+    const auto json = folder_.path() / (name + ".json");
+    ASSERT_EQ(
+        RunBouncecal("analyze '" + copy.string() + "' --json '" + json.string() + "'").exit_status,
+        0);
+    const auto recording = ReadJson(json);
+    ASSERT_FALSE(recording["impacts"].empty()) << name;
+    // The sequence's own late members lie within a bounce flight (tens of ms) of its last one.
+    for (const auto& impact : recording["impacts"]) {
+      EXPECT_LT(impact["onset_s"].get<double>(), last_bounce_s + 0.05) << name;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace bouncecal::testing

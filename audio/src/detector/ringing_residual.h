@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "detector/noise_floor.h"
 #include "detector/sample_history.h"
 #include "dsp/real_fft.h"
 
@@ -114,6 +115,8 @@ class RingingResidual {
     std::int64_t spectrum_frame = -1;  // the frame whose bin powers `powers` holds, -1 none
     std::int64_t novelty_frame = -1;   // the frame whose novelty `novelty_db` holds, -1 none
     double novelty_db = 0;
+    // The least reference power of a bin when the frame completed (kReferenceFloorUnderNoise).
+    float reference_floor = 0;
   };
   void CompleteFrame();
   double ComputeNoveltyDb(std::int64_t frame);
@@ -146,8 +149,12 @@ class RingingResidual {
   std::vector<float> reference_;
   std::vector<float> select_scratch_;  // SelectKth's
   float last_quartile_ = 0;            // of the last noise estimate's bin powers, SelectKth's guess
+  float last_median_ = 0;              // the same for their median
   std::int64_t frames_ = 0;
   double noise_power_ = 0;
+  // The noise estimates' minimum over seconds, and the reference floor it sets.
+  NoiseFloor noise_minimum_;
+  float reference_floor_ = 0;
   double bin_hz_ = 0;
   std::vector<float> loudest_;  // per bin, over the windows of the noise estimates
   std::vector<float> edge_scratch_;
