@@ -38,6 +38,24 @@ struct Rig {
   testing::StageRig rig;
 };
 
+// Two impacts' sounds of the given amplitudes in noise, and what the merger reports of a band-rose
+// candidate at the first onset followed by `later` (its sound at its onset).
+DetectionResult MergeTwo(double first_s, double first_amplitude, const LocatedImpact& later,
+                         double later_amplitude) {
+  std::vector<float> x(kRate / 2, 0.0f);
+  testing::AddNoise(x, 1e-4, 5);
+  testing::AddImpact(x, kRate, first_s, first_amplitude);
+  testing::AddImpact(x, kRate, later.impact.onset_s, later_amplitude);
+  Rig rig(x);
+  EventMerger merger(DetectorOptions{}, 1.8e-3, kRate, rig.rig.bands);
+  merger.Add(At(first_s));
+  merger.Add(later);
+  merger.Flush();
+  DetectionResult result;
+  merger.Report(0.0, result);
+  return result;
+}
+
 std::vector<float> HitInATail(double hit_s) {
   std::vector<float> x(kRate / 2, 0.0f);
   testing::AddNoise(x, 1e-4, 5);
@@ -112,19 +130,9 @@ TEST(EventMerger, AnEchoAfterTheHitIsMergedIntoIt) {
 TEST(EventMerger, ALaterSoundWithoutABandRiseWinsOnlyWhenLouderByTheFullThreshold) {
   for (const double later_amplitude : {0.5, 0.12}) {
     SCOPED_TRACE(later_amplitude);
-    std::vector<float> x(kRate / 2, 0.0f);
-    testing::AddNoise(x, 1e-4, 5);
-    testing::AddImpact(x, kRate, 0.194, 0.1);
-    testing::AddImpact(x, kRate, 0.2, later_amplitude);
-    Rig rig(x);
-    EventMerger merger(DetectorOptions{}, 1.8e-3, kRate, rig.rig.bands);
     auto later = At(0.2);
     later.band_rose = false;
-    merger.Add(At(0.194));
-    merger.Add(later);
-    merger.Flush();
-    DetectionResult result;
-    merger.Report(0.0, result);
+    const DetectionResult result = MergeTwo(0.194, 0.1, later, later_amplitude);
     ASSERT_EQ(result.impacts.size(), 1u);
     ASSERT_EQ(result.merged.size(), 1u);
     if (later_amplitude > 0.3) {
@@ -207,17 +215,7 @@ TEST(EventMerger, InRingingALaterMemberLouderByHalfTheThresholdWinsWhateverItsRe
 TEST(EventMerger, ALaterSoundLouderByLessThanHalfTheThresholdIsTheFirstOnesBuildUp) {
   for (const double later_amplitude : {0.45, 0.9}) {
     SCOPED_TRACE(later_amplitude);
-    std::vector<float> x(kRate / 2, 0.0f);
-    testing::AddNoise(x, 1e-4, 5);
-    testing::AddImpact(x, kRate, 0.2, 0.3);
-    testing::AddImpact(x, kRate, 0.2028, later_amplitude);
-    Rig rig(x);
-    EventMerger merger(DetectorOptions{}, 1.8e-3, kRate, rig.rig.bands);
-    merger.Add(At(0.2));
-    merger.Add(At(0.2028));
-    merger.Flush();
-    DetectionResult result;
-    merger.Report(0.0, result);
+    const DetectionResult result = MergeTwo(0.2, 0.3, At(0.2028), later_amplitude);
     ASSERT_EQ(result.impacts.size(), 1u);
     ASSERT_EQ(result.merged.size(), 1u);
     const double louder_db = later_amplitude > 0.5 ? result.merged[0].level_difference_db
