@@ -1154,9 +1154,10 @@ TEST_F(CodecInput, TheCutThatEndsAnAacStreamIsNoBounce) {
 // Issue 30: where a transform codec spends no bits (the quiet after a drop), it empties whole
 // bands, and from one of its frames to the next their near-zero residues rise by 20-34 dB, 60-160
 // dB under the noise: the ringing residual read them as new sound, and the Vorbis q4 copy of the
-// synthesiser's default drop 50 dB over white noise held 11 "impacts" in the second after its
-// last bounce (its WAV none; the shared Palla-audio.wav's AAC copy: 173 impacts against the WAV's
-// 17). Bins 20 dB or more under the noise now rise from the noise's level (ringing_residual.h).
+// synthesiser's default drop 50 dB over white noise held 8 "impacts" in the second after its last
+// bounce (its WAV none; the shared Palla-audio.wav's AAC copy: 173 impacts against the WAV's 17).
+// A bin's rise is now measured from no less than a floor 20 dB under the noise
+// (ringing_residual.cc).
 TEST_F(CodecInput, TheQuietAfterADropHoldsNoImpactsInItsLossyCopies) {
   const fs::path wav = folder_ / "quiet_tail.wav";
   const auto synth = RunBouncecal("synth -o '" + wav.string() + "' --snr-db 50 --seed 1");
