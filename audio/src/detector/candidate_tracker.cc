@@ -4,14 +4,6 @@
 #include <cmath>
 
 namespace bouncecal::audio {
-namespace {
-
-// Rises of this fraction of rise_threshold_db open a candidate; it counts as an impact only if
-// it or a member of its min-gap group reaches the full threshold (see EventMerger).
-constexpr double kSecondaryRiseFraction = 0.5;
-
-}  // namespace
-
 CandidateTracker::CandidateTracker(const DetectorFrames& frames, const DetectorOptions& options,
                                    const BandEnvelopes& bands)
     : frames_(frames),

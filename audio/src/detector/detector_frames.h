@@ -9,6 +9,10 @@
 
 namespace bouncecal::audio {
 
+// Rises of this fraction of rise_threshold_db open a candidate (CandidateTracker); it counts as an
+// impact only if it or a member of its min-gap group reaches the full threshold (EventMerger).
+inline constexpr double kSecondaryRiseFraction = 0.5;
+
 // The time grid every detector stage shares: energy frames of options.frame_ms and the windows,
 // in frames, that the rise test and the candidate tracker read. Frame n covers samples
 // [n hop, (n + 1) hop).

@@ -165,9 +165,6 @@ class ImpactDetector::Impl {
     }
   }
 
-  // Rises of this fraction of rise_threshold_db open a candidate (see CandidateTracker).
-  static constexpr double kSecondaryRiseFraction = 0.5;
-
   DetectorFrames frames_;
   bool use_residual_;
   BandEnvelopes bands_;

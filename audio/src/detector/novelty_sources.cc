@@ -12,8 +12,6 @@ namespace {
 // Stationary noise gives 0.2-0.3 dB and the loudest beating plate tail measured ~0.4 dB (free
 // Kirchhoff plate, 12 drops); an impact that lifts a tenth of the bins by 6 dB gives 0.6 dB.
 constexpr double kNoveltyAtThresholdDb = 0.6;
-// Rises of this fraction of rise_threshold_db open a candidate (see CandidateTracker).
-constexpr double kSecondaryRiseFraction = 0.5;
 
 }  // namespace
 
