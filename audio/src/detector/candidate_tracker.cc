@@ -64,6 +64,8 @@ std::optional<Candidate> CandidateTracker::StepOpenOrRising(std::int64_t n, std:
       }
     }
     candidate_.residual_rise_db = std::max(candidate_.residual_rise_db, residual.rise_db);
+    candidate_.residual_codec_rise_db =
+        std::max(candidate_.residual_codec_rise_db, residual.codec_rise_db);
     residual_armed_ = false;
     if ((n - candidate_.peak_frame >= frames_.peak && n - candidate_.frame >= frames_.peak) ||
         n - candidate_.frame >= frames_.max_open) {
@@ -96,6 +98,7 @@ std::optional<Candidate> CandidateTracker::StepOpenOrRising(std::int64_t n, std:
     candidate_.band = band.band;
     candidate_.band_peak_frame = LoudestFrame(band.band, m, n);
     candidate_.residual_rise_db = residual.rise_db;
+    candidate_.residual_codec_rise_db = residual.codec_rise_db;
     const EnvelopeBand& level = bands_.band(0);
     candidate_.peak_db = level.Db(m);
     candidate_.peak_frame = m;

@@ -21,6 +21,9 @@ struct Candidate {
   std::int64_t band_peak_frame = 0;  // that band's loudest frame since the candidate opened
   double rise_db = 0;                // the largest band rise
   double residual_rise_db = 0;       // the largest ringing-residual novelty, on the band scale
+  // The same counted only over what a transform codec did not leave out (NoveltyRise::
+  // codec_rise_db): the sound's own evidence where no band carried it.
+  double residual_codec_rise_db = 0;
   // Opened right after a candidate that was closed while still rising: the rest of its sound.
   bool continues = false;
   // The first frame of a second, louder sound inside it: a full band rise that began more than

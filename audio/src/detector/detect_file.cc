@@ -95,9 +95,11 @@ FileDetection DetectImpactsInFile(const std::filesystem::path& path,
   // located to its reported onset (the timing reference's lead over the start of contact,
   // ReferenceToContactOffset).
   const auto margin = static_cast<std::int64_t>(std::ceil(kKeptMarginS * info.sample_rate_hz));
+  DetectorOptions detector_options = options.detector;
+  detector_options.transform_coded = detector_options.transform_coded || TransformCodec(info);
   std::vector<ImpactDetector> detectors;
   for (std::size_t i = 0; i < channels.size(); ++i) {
-    detectors.emplace_back(info.sample_rate_hz, options.detector);
+    detectors.emplace_back(info.sample_rate_hz, detector_options);
     detectors.back().KeepSamplesAroundImpacts(
         ResponseTimer::SamplesBeforeOnset(info.sample_rate_hz) + margin,
         ResponseTimer::SamplesAfterOnset(info.sample_rate_hz) + margin);

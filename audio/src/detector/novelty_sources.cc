@@ -51,7 +51,9 @@ RingingResidualNovelty::RingingResidualNovelty(const DetectorFrames& frames,
       residual_(frames.rate_hz, options.band_low_hz, options.band_high_hz, &bands.band(0).samples),
       latest_frame_(std::bit_ceil(frame_ring), -1),
       mask_(latest_frame_.size() - 1),
-      noise_floor_(frames.frame_s) {}
+      noise_floor_(frames.frame_s) {
+  residual_.set_transform_coded(options.transform_coded);
+}
 
 bool RingingResidualNovelty::TailPresentInDb(std::ptrdiff_t k) {
   EnvelopeBand& band = bands_.band(0);
@@ -60,16 +62,25 @@ bool RingingResidualNovelty::TailPresentInDb(std::ptrdiff_t k) {
 
 NoveltyRise RingingResidualNovelty::RiseInTail(std::int64_t n) {
   NoveltyRise rise;
-  const double db =
-      MaxNoveltyDb(n - frames_.attack, n) * rise_threshold_db_ / kNoveltyAtThresholdDb;
-  if (db >= secondary_threshold_db_) rise.rise_db = db;
+  const auto [novelty_db, codec_novelty_db] = MaxNoveltyDb(n - frames_.attack, n);
+  const double scale = rise_threshold_db_ / kNoveltyAtThresholdDb;
+  if (novelty_db * scale >= secondary_threshold_db_) {
+    rise.rise_db = novelty_db * scale;
+    rise.codec_rise_db = codec_novelty_db * scale;
+  }
   return rise;
 }
 
-double RingingResidualNovelty::MaxNoveltyDb(std::int64_t m, std::int64_t n) {
+std::pair<double, double> RingingResidualNovelty::MaxNoveltyDb(std::int64_t m, std::int64_t n) {
   double novelty_db = -std::numeric_limits<double>::infinity();
+  double codec_novelty_db = -std::numeric_limits<double>::infinity();
   const auto novelty_of = [&](std::int64_t frame) {
-    return frame < 0 ? 0.0 : residual_.NoveltyDb(frame);
+    if (frame < 0) {
+      codec_novelty_db = std::max(codec_novelty_db, 0.0);
+      return 0.0;
+    }
+    codec_novelty_db = std::max(codec_novelty_db, residual_.CodecNoveltyDb(frame));
+    return residual_.NoveltyDb(frame);
   };
   // The latest residual frame never decreases from one envelope frame to the next: where the
   // window's first and last are the same frame or neighbours, they are all the frames it holds,
@@ -80,7 +91,7 @@ double RingingResidualNovelty::MaxNoveltyDb(std::int64_t m, std::int64_t n) {
   if (last - first <= 1) {
     novelty_db = std::max(novelty_db, novelty_of(first));
     if (last != first) novelty_db = std::max(novelty_db, novelty_of(last));
-    return novelty_db;
+    return {novelty_db, codec_novelty_db};
   }
   std::int64_t previous = -2;
   for (std::int64_t i = m; i <= n; ++i) {
@@ -89,7 +100,7 @@ double RingingResidualNovelty::MaxNoveltyDb(std::int64_t m, std::int64_t n) {
     previous = frame;
     novelty_db = std::max(novelty_db, novelty_of(frame));
   }
-  return novelty_db;
+  return {novelty_db, codec_novelty_db};
 }
 
 double RingingResidualNovelty::SnrDb(double level_db) const {

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "detector/band_envelopes.h"
@@ -20,6 +21,10 @@ namespace bouncecal::audio {
 struct NoveltyRise {
   double rise_db = -std::numeric_limits<double>::infinity();
   std::size_t band = 0;
+  // The ringing residual's rise counted only over what a transform codec did not leave out and
+  // code again (RingingResidual::CodecNoveltyDb; rise_db itself in other files). Only the
+  // residual sets it.
+  double codec_rise_db = -std::numeric_limits<double>::infinity();
 };
 
 // Stage 2 of the impact detector: a measure of new sound, frame by frame. Every source is
@@ -130,8 +135,9 @@ class RingingResidualNovelty final : public NoveltySource {
   }
   bool TailPresentInDb(std::ptrdiff_t k);
   NoveltyRise RiseInTail(std::int64_t n);
-  // The loudest novelty of the residual frames that envelope frames [m, n] hold.
-  double MaxNoveltyDb(std::int64_t m, std::int64_t n);
+  // The loudest novelty of the residual frames that envelope frames [m, n] hold, and the loudest
+  // CodecNoveltyDb of them.
+  std::pair<double, double> MaxNoveltyDb(std::int64_t m, std::int64_t n);
 
   const DetectorFrames frames_;
   double rise_threshold_db_;

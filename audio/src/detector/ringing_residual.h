@@ -50,6 +50,10 @@ class RingingResidual {
   RingingResidual(const RingingResidual&) = delete;
   RingingResidual& operator=(const RingingResidual&) = delete;
 
+  // Whether the input was decoded from a transform codec (off by default): CodecNoveltyDb then
+  // counts each bin's rise only from 20 dB under the median bin's reference.
+  void set_transform_coded(bool transform_coded) { transform_coded_ = transform_coded; }
+
   int window_samples() const { return window_; }
   int hop_samples() const { return hop_; }
   // Feeds one sample (of the band-filtered signal); true when a frame completed. Its results are
@@ -93,6 +97,13 @@ class RingingResidual {
   }
   // The same for the latest frame.
   double novelty_db() { return NoveltyDb(latest_frame()); }
+  // NoveltyDb with each bin's reference at least the median bin's 20 dB down, in a transform
+  // codec's file (set_transform_coded; elsewhere NoveltyDb itself): what rose in the bands the
+  // codec left out and coded again does not count. Same frames as NoveltyDb.
+  double CodecNoveltyDb(std::int64_t frame) {
+    NoveltyDb(frame);
+    return slots_[SlotOf(frame)].codec_novelty_db;
+  }
   // Noise power per sample under the ringing: the lower quartile of the band's bin powers
   // (a ringing tail fills a few bins, the noise all of them), scaled to a mean square.
   double noise_power() const { return noise_power_; }
@@ -115,6 +126,7 @@ class RingingResidual {
     std::int64_t spectrum_frame = -1;  // the frame whose bin powers `powers` holds, -1 none
     std::int64_t novelty_frame = -1;   // the frame whose novelty `novelty_db` holds, -1 none
     double novelty_db = 0;
+    double codec_novelty_db = 0;  // CodecNoveltyDb's
     // The least reference power of a bin when the frame completed (kReferenceFloorUnderNoise).
     float reference_floor = 0;
   };
@@ -147,9 +159,12 @@ class RingingResidual {
   std::vector<Slot> slots_;
   std::vector<float> powers_;
   std::vector<float> reference_;
-  std::vector<float> select_scratch_;  // SelectKth's
-  float last_quartile_ = 0;            // of the last noise estimate's bin powers, SelectKth's guess
-  float last_median_ = 0;              // the same for their median
+  std::vector<float> codec_reference_;  // CodecNoveltyDb's
+  std::vector<float> select_scratch_;   // SelectKth's
+  float last_quartile_ = 0;          // of the last noise estimate's bin powers, SelectKth's guess
+  float last_median_ = 0;            // the same for their median
+  float last_reference_median_ = 0;  // the last novelty reference's median bin, its guess
+  bool transform_coded_ = false;
   std::int64_t frames_ = 0;
   double noise_power_ = 0;
   // The noise estimates' minimum over seconds, and the reference floor it sets.

@@ -45,6 +45,11 @@ struct DetectorOptions {
   bool ringing_residual = true;
   // Energy frame length of the envelope.
   double frame_ms = 0.25;
+  // The samples were decoded from a transform codec (AAC, MP3, Vorbis, Opus), which leaves out
+  // the bands a loud sound masks and codes them again as its bit allocation moves: a sound that
+  // no band carried and that rose in the ringing residual only there is no impact
+  // (ringing_residual.h, CodecNoveltyDb). DetectImpactsInFile sets it from the file's codec.
+  bool transform_coded = false;
 
   // Throws ConfigError naming the bad value and its valid range.
   void Validate(int sample_rate_hz) const;
