@@ -52,7 +52,9 @@ RingingResidualNovelty::RingingResidualNovelty(const DetectorFrames& frames,
       latest_frame_(std::bit_ceil(frame_ring), -1),
       mask_(latest_frame_.size() - 1),
       noise_floor_(frames.frame_s) {
-  residual_.set_transform_coded(options.transform_coded);
+  // Under the secondary threshold a novelty opens nothing, and the codec's floor is not needed.
+  residual_.set_transform_coded(options.transform_coded,
+                                kSecondaryRiseFraction * kNoveltyAtThresholdDb);
 }
 
 bool RingingResidualNovelty::TailPresentInDb(std::ptrdiff_t k) {

@@ -51,8 +51,13 @@ class RingingResidual {
   RingingResidual& operator=(const RingingResidual&) = delete;
 
   // Whether the input was decoded from a transform codec (off by default): CodecNoveltyDb then
-  // counts each bin's rise only from 20 dB under the median bin's reference.
-  void set_transform_coded(bool transform_coded) { transform_coded_ = transform_coded; }
+  // counts each bin's rise only from 20 dB under the median bin's reference, in the frames whose
+  // NoveltyDb reaches least_novelty_db (under it, CodecNoveltyDb is NoveltyDb: the caller decides
+  // nothing there).
+  void set_transform_coded(bool transform_coded, double least_novelty_db = 0) {
+    transform_coded_ = transform_coded;
+    codec_least_db_ = least_novelty_db;
+  }
 
   int window_samples() const { return window_; }
   int hop_samples() const { return hop_; }
@@ -165,6 +170,7 @@ class RingingResidual {
   float last_median_ = 0;            // the same for their median
   float last_reference_median_ = 0;  // the last novelty reference's median bin, its guess
   bool transform_coded_ = false;
+  double codec_least_db_ = 0;  // set_transform_coded's least_novelty_db
   std::int64_t frames_ = 0;
   double noise_power_ = 0;
   // The noise estimates' minimum over seconds, and the reference floor it sets.
