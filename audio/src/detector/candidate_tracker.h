@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <optional>
 
 #include "detector/band_envelopes.h"
@@ -47,8 +48,12 @@ struct Candidate {
 // frames after its last peak, at most `max_open` frames after it opened.
 class CandidateTracker {
  public:
+  // residual_window_frames: the ringing residual's window in envelope frames, after which a
+  // closed candidate in which no onset was found can no longer be the novelty's source (the
+  // default never counts it so).
   CandidateTracker(const DetectorFrames& frames, const DetectorOptions& options,
-                   const BandEnvelopes& bands);
+                   const BandEnvelopes& bands,
+                   std::int64_t residual_window_frames = std::numeric_limits<std::int64_t>::max());
 
   bool open() const { return open_; }
   // Band 0's level of frame n, for the peak of an open candidate (every frame, before Step).
@@ -78,6 +83,10 @@ class CandidateTracker {
     }
     return StepOpenOrRising(n, k, band, residual);
   }
+  // The onset locator found no change point in the candidate Step closed last: its search looked
+  // alike throughout (a codec's pre-echo or noise rising into what follows), so no sound of its
+  // own began there that could still be growing in the residual (see residual_window_frames).
+  void ClosedCandidateFoundNoOnset() { closed_found_no_onset_ = true; }
   // The candidate still open at the end of the stream, closed at frame `last`.
   std::optional<Candidate> Finish(std::int64_t last);
 
@@ -110,6 +119,10 @@ class CandidateTracker {
   // and whether the residual has since dipped half the threshold under it (see Step).
   double closed_residual_rise_db_ = 0;
   bool residual_dipped_ = false;
+  std::int64_t residual_window_frames_;
+  // The first frame of the last candidate closed, and whether the locator found no onset in it.
+  std::int64_t closed_frame_ = std::numeric_limits<std::int64_t>::min() / 2;
+  bool closed_found_no_onset_ = false;
   std::int64_t still_rising_until_ = -1;
   Candidate candidate_;
 };

@@ -66,7 +66,8 @@ class ImpactDetector::Impl {
         raw_(OnsetLocator::HistorySamples(sample_rate_hz) + 2 * bands_.max_latency_samples()),
         band_rise_(bands_, options.ringing_residual ? &residual_ : nullptr),
         residual_(frames_, options, bands_, FrameRing(frames_, bands_)),
-        tracker_(frames_, options, bands_),
+        tracker_(frames_, options, bands_,
+                 (residual_.window_samples() + frames_.hop - 1) / frames_.hop),
         locator_(frames_, options, bands_, residual_, raw_),
         merger_(options, static_cast<double>(residual_.hop_samples()) / sample_rate_hz,
                 sample_rate_hz, bands_) {
@@ -160,6 +161,7 @@ class ImpactDetector::Impl {
 
   void Locate(const Candidate& candidate) {
     if (auto located = locator_.Locate(candidate)) {
+      if (!located->change_point_found) tracker_.ClosedCandidateFoundNoOnset();
       if (keeper_) keeper_->Keep(located->onset_sample, raw_);
       merger_.Add(*located);
     }
