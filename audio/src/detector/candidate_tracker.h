@@ -120,6 +120,7 @@ class CandidateTracker {
   double closed_residual_rise_db_ = 0;
   bool residual_dipped_ = false;
   std::int64_t residual_window_frames_;
+  bool transform_coded_;  // DetectorOptions::transform_coded
   // The first frame of the last candidate closed, and whether the locator found no onset in it.
   std::int64_t closed_frame_ = std::numeric_limits<std::int64_t>::min() / 2;
   bool closed_found_no_onset_ = false;

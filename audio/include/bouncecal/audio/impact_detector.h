@@ -46,9 +46,11 @@ struct DetectorOptions {
   // Energy frame length of the envelope.
   double frame_ms = 0.25;
   // The samples were decoded from a transform codec (AAC, MP3, Vorbis, Opus), which leaves out
-  // the bands a loud sound masks and codes them again as its bit allocation moves: a sound that
-  // no band carried and that rose in the ringing residual only there is no impact
-  // (ringing_residual.h, CodecNoveltyDb). DetectImpactsInFile sets it from the file's codec.
+  // the bands a loud sound masks and codes them again as its bit allocation moves, and spreads an
+  // attack's noise ahead of it: a sound that no band carried and that rose in the ringing residual
+  // only in those bands is no impact (ringing_residual.h, CodecNoveltyDb), and the residual opens
+  // a new candidate a window after the last one began without waiting for a dip
+  // (candidate_tracker.cc). DetectImpactsInFile sets it from the file's codec.
   bool transform_coded = false;
 
   // Throws ConfigError naming the bad value and its valid range.
