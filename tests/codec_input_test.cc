@@ -1227,5 +1227,24 @@ TEST_F(CodecInput, CopiesOfTheSuitesReverbStrongDropKeepItsSequenceAndItsImpacts
   }
 }
 
+// Issue 30: noise_snr12 as Vorbis q4 (the WAV: 0.5507). The encoder's long block spread the 4th
+// bounce's noise 15 ms ahead of it; a candidate opened there, and the residual, re-armed a window
+// later (a transform codec's file: CandidateTracker), opened a second one whose pick, bounded by
+// the first's onset, landed 30 us after it: the pair counted as a full rise and made a stray
+// impact, with which the 5th bounce, heard only in the ringing, timed like chance (no sequence).
+// A candidate re-armed that way whose pick lies on the bound found no sound of its own, and is
+// none: the WAV's eta-bar.
+TEST_F(CodecInput, AVorbisCopyOfTheSuitesNoisyDropMakesNoImpactOfAPreEchoTwice) {
+  const fs::path wav = DetectorSuiteRecording("noise_snr12.wav");
+  if (!fs::exists(wav)) GTEST_SKIP() << wav << " is absent (BOUNCECAL_SHARED_DIR)";
+  const auto ogg = Encode(wav, "noise_snr12.ogg", {"-c:a", "libvorbis", "-q:a", "4"});
+  const auto reference = FirstSequence(wav, folder_.path());
+  const auto lossy = FirstSequence(ogg, folder_.path());
+  ASSERT_FALSE(lossy.is_null());
+  ASSERT_TRUE(lossy["energy_loss_mean_first_n"].is_number());
+  const auto [difference, combined] = CompareSequences(reference, lossy);
+  EXPECT_LE(difference, 0.002) << difference << " vs " << combined;
+}
+
 }  // namespace
 }  // namespace bouncecal::testing

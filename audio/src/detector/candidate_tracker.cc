@@ -67,9 +67,13 @@ std::optional<Candidate> CandidateTracker::StepOpenOrRising(std::int64_t n, std:
   const bool past_closed_window = (closed_found_no_onset_ || transform_coded_) &&
                                   n - frames_.attack - closed_frame_ >= residual_window_frames_;
   if (residual.rise_db < secondary_threshold_db_ ||
-      ((residual_dipped_ || past_closed_window) &&
-       residual.rise_db >= closed_residual_rise_db_ + threshold_db_)) {
+      (residual_dipped_ && residual.rise_db >= closed_residual_rise_db_ + threshold_db_)) {
     residual_armed_ = true;
+    armed_past_window_ = false;
+  } else if (!residual_armed_ && past_closed_window &&
+             residual.rise_db >= closed_residual_rise_db_ + threshold_db_) {
+    residual_armed_ = true;
+    armed_past_window_ = true;
   }
   if (open_) {
     NoteLaterSound(band, n, k);
@@ -118,6 +122,7 @@ std::optional<Candidate> CandidateTracker::StepOpenOrRising(std::int64_t n, std:
     candidate_.band_peak_frame = LoudestFrame(band.band, m, n);
     candidate_.residual_rise_db = residual.rise_db;
     candidate_.residual_codec_rise_db = residual.codec_rise_db;
+    candidate_.armed_past_window = band.rise_db < secondary_threshold_db_ && armed_past_window_;
     const EnvelopeBand& level = bands_.band(0);
     candidate_.peak_db = level.Db(m);
     candidate_.peak_frame = m;

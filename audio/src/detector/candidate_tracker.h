@@ -25,6 +25,9 @@ struct Candidate {
   // The same counted only over what a transform codec did not leave out (NoveltyRise::
   // codec_rise_db): the sound's own evidence where no band carried it.
   double residual_codec_rise_db = 0;
+  // Opened by the residual, re-armed a window after the last candidate without a fall or a dip
+  // (CandidateTracker): its pick may find nothing but the rise that candidate had found.
+  bool armed_past_window = false;
   // Opened right after a candidate that was closed while still rising: the rest of its sound.
   bool continues = false;
   // The first frame of a second, louder sound inside it: a full band rise that began more than
@@ -79,6 +82,7 @@ class CandidateTracker {
         residual_dipped_ = true;
       }
       residual_armed_ = true;
+      armed_past_window_ = false;
       return std::nullopt;
     }
     return StepOpenOrRising(n, k, band, residual);
@@ -124,6 +128,8 @@ class CandidateTracker {
   // The first frame of the last candidate closed, and whether the locator found no onset in it.
   std::int64_t closed_frame_ = std::numeric_limits<std::int64_t>::min() / 2;
   bool closed_found_no_onset_ = false;
+  // The residual was re-armed by the window after the last candidate, not by a fall or a dip.
+  bool armed_past_window_ = false;
   std::int64_t still_rising_until_ = -1;
   Candidate candidate_;
 };

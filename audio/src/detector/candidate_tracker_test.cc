@@ -179,6 +179,7 @@ TEST(CandidateTracker, ANoveltyFarAboveTheClosedCandidatesAfterADipOpensANewOne)
   };
   const auto new_sound = script(12.0, 35.0);  // dips 8 under 20, then 15 above it
   ASSERT_EQ(new_sound.size(), 2u);
+  EXPECT_FALSE(new_sound[1].armed_past_window);
   EXPECT_EQ(new_sound[1].opened_at - new_sound[0].opened_at, static_cast<std::int64_t>(2 * hold));
   EXPECT_EQ(script(20.0, 35.0).size(), 1u);  // no dip: the same sound growing
   EXPECT_EQ(script(12.0, 28.0).size(), 1u);  // under the full threshold above 20
@@ -203,6 +204,9 @@ TEST(CandidateTracker, AfterACandidateWithNoOnsetANoveltyFarAboveItOpensANewOneW
   const auto new_sound = TrackScriptedResidual(late, true, window);
   ASSERT_EQ(new_sound.size(), 2u);
   EXPECT_EQ(new_sound[1].opened_at - new_sound[0].opened_at, static_cast<std::int64_t>(2 * hold));
+  // Marked, so the onset locator can tell a pick that found only the last candidate's rise again.
+  EXPECT_FALSE(new_sound[0].armed_past_window);
+  EXPECT_TRUE(new_sound[1].armed_past_window);
   EXPECT_EQ(TrackScriptedResidual(late, false, window).size(), 1u);  // its onset was found
   DetectorOptions coded;
   coded.transform_coded = true;

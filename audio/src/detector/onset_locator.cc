@@ -26,6 +26,8 @@ constexpr int kInnovationFitSamplesPerCoefficient = 8;
 // log-likelihood: two sigmas of its profile likelihood), or it did not find where the impact
 // began (see LocatedImpact::change_point_found).
 constexpr double kMinChangePointAicExcess = 4.0;
+// A pick this close after the bound the last candidate set lies on that candidate's own rise.
+constexpr double kFloorHugSamples = 2.0;
 // History kept for the picker and the peak level; longer than every window above together.
 constexpr double kHistoryS = 0.1;
 
@@ -197,6 +199,7 @@ double OnsetLocator::PeakDbfsAfter(double onset_index) const {
 std::optional<LocatedImpact> OnsetLocator::Locate(const Candidate& candidate) {
   const std::optional<SnrGate> gate = CheckSnr(candidate);
   if (!gate) return std::nullopt;
+  const std::int64_t floor_before = pick_floor_sample_;
   // The onset is picked in the same band, where the impact stands out most from what was there
   // before (unless the recording holds too little of that band, PickBand).
   const SampleHistory<float>& samples = bands_.band(PickBand(candidate.band)).samples;
@@ -256,6 +259,15 @@ std::optional<LocatedImpact> OnsetLocator::Locate(const Candidate& candidate) {
   if (candidate.rise_db < secondary_threshold_db &&
       candidate.residual_rise_db >= secondary_threshold_db &&
       candidate.residual_codec_rise_db < secondary_threshold_db) {
+    return std::nullopt;
+  }
+
+  // Re-armed by the window alone, and picked against the bound the last candidate set: it found
+  // that candidate's rise again, not a sound of its own (the detector suite's noise_snr12 as
+  // Vorbis q4: a second candidate in a pre-echo 15 ms before the 4th bounce, picked 30 us after
+  // the first one's onset, made the pair a full rise and a stray impact).
+  if (candidate.armed_past_window &&
+      start_index <= static_cast<double>(floor_before) + kFloorHugSamples) {
     return std::nullopt;
   }
 
