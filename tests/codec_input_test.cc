@@ -151,6 +151,14 @@ void ExpectTheWavsDrop(const nlohmann::json& reference, const nlohmann::json& co
   EXPECT_LE(difference, 3 * combined) << difference << " vs " << combined;
 }
 
+// The copy's first sequence has an eta-bar, within `line` of the WAV's.
+void ExpectTheWavsEtaBar(const nlohmann::json& reference, const nlohmann::json& copy, double line) {
+  ASSERT_FALSE(copy.is_null());
+  ASSERT_TRUE(copy["energy_loss_mean_first_n"].is_number());
+  const auto [difference, combined] = CompareSequences(reference, copy);
+  EXPECT_LE(difference, line) << difference << " vs " << combined;
+}
+
 EtaBarAgreement CompareCopyWithItsWav(const fs::path& wav, const fs::path& copy,
                                       const fs::path& folder) {
   return CompareSequences(FirstSequence(wav, folder), FirstSequence(copy, folder));
@@ -984,12 +992,8 @@ TEST_F(CodecInput, AnAacCopyOfTheSuitesKnockDropKeepsTheBounceTheMergerLost) {
   const fs::path wav = DetectorSuiteRecording("knock_speech_before.wav");
   if (!fs::exists(wav)) GTEST_SKIP() << wav << " is absent (BOUNCECAL_SHARED_DIR)";
   const auto m4a = Encode(wav, "knock_speech_before.m4a", {"-c:a", "aac", "-b:a", "128k"});
-  const auto reference = FirstSequence(wav, folder_.path());
-  const auto lossy = FirstSequence(m4a, folder_.path());
-  ASSERT_FALSE(lossy.is_null());
-  ASSERT_TRUE(lossy["energy_loss_mean_first_n"].is_number());
-  const auto [difference, combined] = CompareSequences(reference, lossy);
-  EXPECT_LE(difference, 0.002) << difference << " vs " << combined;
+  ExpectTheWavsEtaBar(FirstSequence(wav, folder_.path()), FirstSequence(m4a, folder_.path()),
+                      0.002);
 }
 
 // silent_wrong_sweep.py seed 9 #27: a 35 us contact on a counter at 96 kHz, 20 dB SNR to the
@@ -1219,11 +1223,7 @@ TEST_F(CodecInput, CopiesOfTheSuitesReverbStrongDropKeepItsSequenceAndItsImpacts
     SCOPED_TRACE(name);
     const auto copy = Encode(wav, name, options);
     EXPECT_LE(impacts_of(copy), wav_impacts + 1);
-    const auto lossy = FirstSequence(copy, folder_.path());
-    ASSERT_FALSE(lossy.is_null());
-    ASSERT_TRUE(lossy["energy_loss_mean_first_n"].is_number());
-    const auto [difference, combined] = CompareSequences(reference, lossy);
-    EXPECT_LE(difference, 0.002) << difference << " vs " << combined;
+    ExpectTheWavsEtaBar(reference, FirstSequence(copy, folder_.path()), 0.002);
   }
 }
 
@@ -1238,12 +1238,8 @@ TEST_F(CodecInput, AVorbisCopyOfTheSuitesNoisyDropMakesNoImpactOfAPreEchoTwice) 
   const fs::path wav = DetectorSuiteRecording("noise_snr12.wav");
   if (!fs::exists(wav)) GTEST_SKIP() << wav << " is absent (BOUNCECAL_SHARED_DIR)";
   const auto ogg = Encode(wav, "noise_snr12.ogg", {"-c:a", "libvorbis", "-q:a", "4"});
-  const auto reference = FirstSequence(wav, folder_.path());
-  const auto lossy = FirstSequence(ogg, folder_.path());
-  ASSERT_FALSE(lossy.is_null());
-  ASSERT_TRUE(lossy["energy_loss_mean_first_n"].is_number());
-  const auto [difference, combined] = CompareSequences(reference, lossy);
-  EXPECT_LE(difference, 0.002) << difference << " vs " << combined;
+  ExpectTheWavsEtaBar(FirstSequence(wav, folder_.path()), FirstSequence(ogg, folder_.path()),
+                      0.002);
 }
 
 }  // namespace
