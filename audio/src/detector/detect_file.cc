@@ -1,13 +1,13 @@
 #include "bouncecal/audio/detect_file.h"
 
 #include <cmath>
-#include <cstdio>
 #include <string>
 #include <utility>
 
 #include "bouncecal/audio/response_timing.h"
 #include "bouncecal/error.h"
 #include "bouncecal/option_error.h"
+#include "detector/louder_rests.h"
 
 namespace bouncecal::audio {
 namespace {
@@ -16,60 +16,6 @@ namespace {
 // reported onset is the located one moved by the recording's reference-to-contact offset, a
 // fraction of a contact time, which is at most ~1 ms for the balls this tool is for.
 constexpr double kKeptMarginS = 5e-3;
-
-// A transform codec spreads the quantisation noise of a loud attack over the block before it
-// (pre-echo, up to a frame ahead), and that noise can rise into the attack without a break: the
-// merger then keeps the onset where the rise began and counts the attack as the rest of its
-// sound, whatever its level. Where such a rest follows within one frame, either onset may be the
-// impact's: half their distance goes into its uncertainty in quadrature, as the response timing
-// does where it and the detector disagree (a later alignment, if any, still decides).
-// Where the rest is louder by the full rise threshold over the same span from each onset, it is
-// the onset: a sound that much louder after a fainter one is a new hit (the merger's own test for
-// a precursor, event_merger.cc), which the codec's noise merely joined to the sound before it.
-// basketball.wav as MP3 128k: a -27 dBFS sound 8.1 ms before the first bounce, kept apart in the
-// WAV (the bounce's first 8 ms 18.7 dB louder), rose into the bounce in the copy and took its
-// onset: eta-bar 0.3000 against the WAV's 0.2937, stated +- 0.0003 (13 sigmas) before the
-// widening and +- 0.0051 with it. Taking the louder rest: 0.2938 +- 0.0032. alessia rimbalzi's
-// Palla-audio, whose 7th bounce has a sound 8 ms and 22-25 dB before it, moved 0.0002-0.0005
-// closer to the WAV in three of its four copies.
-void ResolvePreEchoMerges(DetectionResult& detection, double frame_s, double rise_threshold_db) {
-  for (MergedEvent& merged : detection.merged) {
-    const double gap_s = merged.time_s - merged.winner_s;
-    if (!merged.rest_of_sound || !(merged.level_difference_db < 0) || !(gap_s > 0) ||
-        gap_s > frame_s) {
-      continue;
-    }
-    const bool rest_is_the_hit = -merged.level_difference_db >= rise_threshold_db;
-    for (Impact& impact : detection.impacts) {
-      if (impact.onset_s != merged.winner_s) continue;
-      impact.onset_uncertainty_s = std::hypot(impact.onset_uncertainty_s, 0.5 * gap_s);
-      if (rest_is_the_hit) {
-        impact.onset_s = merged.time_s;
-        std::swap(impact.peak_dbfs, merged.peak_dbfs);
-      }
-    }
-    if (rest_is_the_hit) {
-      char reason[256];
-      std::snprintf(reason, sizeof reason,
-                    "precursor %.1f ms before the impact at %.5f s, %.1f dB quieter; a lossy "
-                    "codec's pre-echo joined them into one rise (merged; half their distance is "
-                    "in the impact's uncertainty)",
-                    gap_s * 1e3, merged.time_s, -merged.level_difference_db);
-      // The precursors and echoes merged into the kept sound now belong to the impact where it
-      // moved. Another rest of that sound keeps its old winner and so takes no part: its level
-      // was measured against the kept sound, not against the rest that became the impact.
-      for (MergedEvent& other : detection.merged) {
-        if (&other != &merged && !other.rest_of_sound && other.winner_s == merged.winner_s) {
-          other.winner_s = merged.time_s;
-        }
-      }
-      std::swap(merged.time_s, merged.winner_s);
-      merged.reason = reason;
-      merged.rest_of_sound = false;
-      merged.level_difference_db = -merged.level_difference_db;
-    }
-  }
-}
 
 }  // namespace
 
@@ -128,9 +74,9 @@ FileDetection DetectImpactsInFile(const std::filesystem::path& path,
   // AnalyzeBounces' other callers) carries it once, and the sequence search's tolerances see it.
   result.codec_timing = CodecTimingOf(info);
   const double codec_sigma_s = result.codec_timing ? result.codec_timing->onset_uncertainty_s : 0;
-  if (result.codec_timing && result.codec_timing->frame_s) {
-    ResolvePreEchoMerges(result.detection, *result.codec_timing->frame_s,
-                         options.detector.rise_threshold_db);
+  if (detector_options.transform_coded && result.codec_timing && result.codec_timing->frame_s) {
+    TakeLouderRestsAsImpacts(result.detection, result.codec_timing->frame_s,
+                             options.detector.rise_threshold_db);
   }
   ResponseTimer timer(result.detection, ResponseTimingFor(info));
   {

@@ -13,6 +13,7 @@
 #include "detector/detector_frames.h"
 #include "detector/event_merger.h"
 #include "detector/impact_sample_keeper.h"
+#include "detector/louder_rests.h"
 #include "detector/novelty_sources.h"
 #include "detector/onset_locator.h"
 #include "detector/ringing_residual.h"
@@ -59,6 +60,8 @@ class ImpactDetector::Impl {
   Impl(int sample_rate_hz, const DetectorOptions& options)
       : frames_((options.Validate(sample_rate_hz), DetectorFrames(sample_rate_hz, options))),
         use_residual_(options.ringing_residual),
+        transform_coded_(options.transform_coded),
+        rise_threshold_db_(options.rise_threshold_db),
         bands_(frames_, options, kSecondaryRiseFraction * options.rise_threshold_db,
                FrameRingExtra(frames_), OnsetLocator::HistorySamples(sample_rate_hz),
                std::max(OnsetLocator::HistorySamples(sample_rate_hz),
@@ -101,6 +104,8 @@ class ImpactDetector::Impl {
     merger_.Flush();
     result_.samples = raw_.end();
     merger_.Report(ReferenceToContactOffset(merger_.impacts()), result_);
+    // A codec's file has its frame's rule instead, where the codec is known (detect_file.cc).
+    if (!transform_coded_) TakeLouderRestsAsImpacts(result_, std::nullopt, rise_threshold_db_);
     std::vector<double> snr;
     for (const auto& impact : result_.impacts) snr.push_back(impact.snr_db);
     if (snr.empty()) {
@@ -169,6 +174,8 @@ class ImpactDetector::Impl {
 
   DetectorFrames frames_;
   bool use_residual_;
+  bool transform_coded_;
+  double rise_threshold_db_;
   BandEnvelopes bands_;
   SampleHistory<float> raw_;
   BandRiseNovelty band_rise_;
