@@ -1,5 +1,6 @@
 #include "detector/louder_rests.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <utility>
@@ -47,15 +48,19 @@ void TakeLouderRestsAsImpacts(DetectionResult& detection, std::optional<double> 
     const double rises = within_a_codec_frame ? kRisesWithinACodecFrame : kRisesInAnyFile;
     const bool rest_is_the_hit = -merged.level_difference_db >= rises * rise_threshold_db;
     if (!rest_is_the_hit && !within_a_codec_frame) continue;
+    // Impacts are in time order, and one that moves stays before the next: a rest lies within
+    // min_gap_ms of its kept onset, and the next impact beyond it.
     bool moved = false;
-    for (Impact& impact : detection.impacts) {
-      if (impact.onset_s != merged.winner_s) continue;
+    auto impact = std::lower_bound(
+        detection.impacts.begin(), detection.impacts.end(), merged.winner_s,
+        [](const Impact& candidate, double onset_s) { return candidate.onset_s < onset_s; });
+    for (; impact != detection.impacts.end() && impact->onset_s == merged.winner_s; ++impact) {
       if (within_a_codec_frame) {
-        impact.onset_uncertainty_s = std::hypot(impact.onset_uncertainty_s, 0.5 * gap_s);
+        impact->onset_uncertainty_s = std::hypot(impact->onset_uncertainty_s, 0.5 * gap_s);
       }
       if (rest_is_the_hit) {
-        impact.onset_s = merged.time_s;
-        std::swap(impact.peak_dbfs, merged.peak_dbfs);
+        impact->onset_s = merged.time_s;
+        std::swap(impact->peak_dbfs, merged.peak_dbfs);
         moved = true;
       }
     }
