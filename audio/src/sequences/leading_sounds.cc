@@ -122,6 +122,45 @@ double Spread(const LineAtRatio& line, double own_variance) {
   return std::max(std::sqrt(line.variance + own_variance), 1e-6);
 }
 
+// ShortChainsFirstFlightMisfits: how far a ball's restitution may differ between its first
+// flight ratio and the mean of its next ones, timing aside (the chain finder's default
+// ratio_step_tolerance, how far one ratio may step from the last), and the sigmas of timing
+// beyond that which the difference must exceed.
+constexpr double kBallRatioStep = 0.12;
+constexpr double kFirstFlightSigmas = 3.0;
+
+// For a chain of 5 or 6 members, too few for a line through 4 later ratios: whether its first
+// ratio r_0 = D_2 / D_1 (D_k the flight between members k - 1 and k) differs from the ball's
+// restitution over its later flights, e = (D_L / D_2)^(1 / (L - 2)) (L its last flight, whose
+// members are not D_2's), by more than kBallRatioStep plus kFirstFlightSigmas of the stated onset
+// sigmas propagated through both, each member once (they share members 1 and 2).
+bool ShortChainsFirstFlightMisfits(const std::vector<Impact>& impacts,
+                                   const std::vector<int>& members) {
+  if (members.size() < 5 || members.size() > 6) return false;
+  const auto onset = [&](std::size_t k) {
+    return impacts[static_cast<size_t>(members[k])].onset_s;
+  };
+  const auto sigma = [&](std::size_t k) {
+    return impacts[static_cast<size_t>(members[k])].onset_uncertainty_s;
+  };
+  const std::size_t last = members.size() - 1;
+  const double d1 = onset(1) - onset(0);
+  const double d2 = onset(2) - onset(1);
+  const double dl = onset(last) - onset(last - 1);
+  if (!(d1 > 0 && d2 > 0 && dl > 0)) return false;
+  const double p = static_cast<double>(last - 2);
+  const double r0 = d2 / d1;
+  const double e = std::pow(dl / d2, 1.0 / p);
+  // d(r0 - e)/d(onset of member k).
+  const double by_d2 = 1.0 / d1 + e / (p * d2);
+  const double by_dl = e / (p * dl);
+  const double variance = std::pow(r0 / d1 * sigma(0), 2) +
+                          std::pow((r0 / d1 + by_d2) * sigma(1), 2) +
+                          std::pow(by_d2 * sigma(2), 2) + std::pow(by_dl * sigma(last - 1), 2) +
+                          std::pow(by_dl * sigma(last), 2);
+  return std::fabs(r0 - e) > kBallRatioStep + kFirstFlightSigmas * std::sqrt(variance);
+}
+
 }  // namespace
 
 // How many of a chain's first members are sounds before the drop, not bounces: a knock, a thump
@@ -144,6 +183,7 @@ double Spread(const LineAtRatio& line, double own_variance) {
 std::size_t LeadingSoundsBeforeTheDrop(const std::vector<Impact>& impacts,
                                        const std::vector<int>& members) {
   const ChainRatios chain = RatiosOf(impacts, members);
+  if (ShortChainsFirstFlightMisfits(impacts, members)) return 1;
   std::size_t leading = 0;
   for (std::size_t j = 0; j < kLeadingRatiosJudged && j < chain.ratios.size(); ++j) {
     const LineAtRatio line = JudgeByLaterRatios(chain, j);

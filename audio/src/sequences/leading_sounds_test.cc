@@ -187,5 +187,46 @@ TEST(LeadingSounds, AFirstRatioWithinThreeSigmasOfTheLineKeepsItsMember) {
   EXPECT_EQ(FirstMemberThatFitsTheDrop(impacts, free, FromTheEcho(impacts)), 1);
 }
 
+// A five-member chain whose first flight spans a bounce nobody heard: its first ratio is then
+// e^2 / (1 + e), 0.39 for e = 0.855, against the 0.855 its later flights show. The detector suite
+// had such a chain at 8 kHz in G.711 (zaky-ptv's ping-pong: 0.4055 then 0.857 and 0.853, its
+// third member +-2.4 ms), stated eta-bar 0.4579 +- 0.027 against the WAV's 0.2527.
+TEST(LeadingSounds, AShortChainsFirstFlightOverAnUnheardBounceIsNoFlightOfTheBall) {
+  auto impacts = Drop(0.855, 6);
+  impacts.erase(impacts.begin() + 1);  // the bounce nobody heard
+  EXPECT_EQ(LeadingSoundsBeforeTheDrop(impacts, All(impacts)), 1u);
+  // The same with that recording's stated sigmas, the third member's +-2.4 ms among them: the
+  // difference still exceeds the ball's step and three sigmas of it (0.45 against 0.29).
+  const double sigmas_s[] = {327e-6, 532e-6, 2438e-6, 502e-6, 300e-6};
+  for (std::size_t k = 0; k < impacts.size(); ++k) {
+    impacts[k].onset_uncertainty_s = sigmas_s[k];
+  }
+  EXPECT_EQ(LeadingSoundsBeforeTheDrop(impacts, All(impacts)), 1u);
+}
+
+// A ball's own restitution may drift and scatter: a first ratio 0.1 from the later ones' mean
+// (the ball's step is 0.12) keeps its member however well timed; and where timing alone could
+// explain a larger difference, nothing is judged either.
+TEST(LeadingSounds, AShortChainsFirstRatioWithinTheBallsStepOrItsTimingKeepsItsMember) {
+  const auto at = [](const std::vector<double>& flights, double sigma_s) {
+    std::vector<Impact> impacts;
+    double t = 1.0;
+    impacts.push_back({.onset_s = t, .onset_uncertainty_s = sigma_s, .peak_dbfs = -6});
+    for (double flight : flights) {
+      t += flight;
+      impacts.push_back({.onset_s = t, .onset_uncertainty_s = sigma_s, .peak_dbfs = -6});
+    }
+    return impacts;
+  };
+  // Flights 0.5, then ratios 0.70 and 0.80 twice: e over the later flights 0.80.
+  const auto drifting = at({0.5, 0.35, 0.28, 0.224}, 20e-6);
+  EXPECT_EQ(LeadingSoundsBeforeTheDrop(drifting, All(drifting)), 0u);
+  // A first ratio 0.25 off, but flights of 40 ms timed +-2 ms.
+  const auto loose = at({0.04, 0.022, 0.0176, 0.01408}, 2e-3);
+  EXPECT_EQ(LeadingSoundsBeforeTheDrop(loose, All(loose)), 0u);
+  const auto tight = at({0.04, 0.022, 0.0176, 0.01408}, 20e-6);
+  EXPECT_EQ(LeadingSoundsBeforeTheDrop(tight, All(tight)), 1u);
+}
+
 }  // namespace
 }  // namespace bouncecal::audio
