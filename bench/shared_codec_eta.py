@@ -12,8 +12,21 @@ On main, 2026-11-28, the shared folder's 12 recordings x 4 settings: 44 copies w
 zaky-ptv ping-pong Opus and MP3, 34-40 sigma: another sequence; basketball MP3), 2 with none;
 the same counts before and after the response timing's disagreement rule (docs/detector.md).
 
+`--settings formats` writes lossless copies instead (32-bit float, 24-bit, 44.1 and 48 kHz
+resampled as 16-bit and as float, 6 dB quieter, FLAC): the same samples as a DAW or a converter
+exports them, whose answers should be the WAV's. With `--onsets` every first-sequence member is
+also matched to the WAV's (within 20 ms) and listed where the two differ by more than 3 combined
+stated sigmas and 0.3 ms: a confident onset that the file's format alone moved. 2026-12-06, the
+shared recordings (88 copies) and the detector suite (160; 8 without an eta-bar, as their WAVs):
+before `TakeLouderRestsAsImpacts` ran in every file (docs/detector.md) 86 and 152 within 0.002
+(Palla-audio's two 48 kHz copies 3+ combined sigmas off: they timed its 3rd bounce, the WAV a
+faint sound 8.4 ms before it) and 13 of 4354 members moved; after, 88 and 152, and 9 (eeps
+ping-pong and fr4nci Audio at 48 kHz 0.3-0.7 ms at +-0.01-0.14 ms; rimbalzi's 10th bounce at
+48 kHz on a faint sound 4.6 ms before it, 13 dB under its rest; ub-mth337 ping-pong's last
+bounce, another sound 20 ms on).
+
 Usage: shared_codec_eta.py BOUNCECAL [--recordings DIR] [--cache DIR] [--json OUT]
-                          [--settings issue|rates]
+                          [--settings issue|rates|formats] [--onsets]
 """
 import argparse
 import json
@@ -48,16 +61,58 @@ RATES = {
     "aac44k128": ("m4a", ["-ar", "44100", "-c:a", "aac", "-b:a", "128k"]),
 }
 
+# `--settings formats`: lossless exports of the same recording.
+FORMATS = {
+    "float": ("wav", ["-c:a", "pcm_f32le"]),
+    "s24": ("wav", ["-c:a", "pcm_s24le"]),
+    "44k1": ("wav", ["-ar", "44100", "-c:a", "pcm_s16le"]),
+    "48k": ("wav", ["-ar", "48000", "-c:a", "pcm_s16le"]),
+    "44k1_float": ("wav", ["-ar", "44100", "-c:a", "pcm_f32le"]),
+    "48k_float": ("wav", ["-ar", "48000", "-c:a", "pcm_f32le"]),
+    "minus6db": ("wav", ["-af", "volume=-6dB", "-c:a", "pcm_s16le"]),
+    "flac": ("flac", ["-c:a", "flac"]),
+}
 
-def eta_bar(binary, path):
+SETTINGS = {"issue": CODECS, "rates": RATES, "formats": FORMATS}
+
+
+def analysis(binary, path):
     run = subprocess.run([binary, "analyze", str(path), "--json", "-"], capture_output=True,
                          text=True)
     if run.returncode != 0:
         return None
     try:
-        sequences = json.loads(run.stdout)["recordings"][0]["sequences"]
+        return json.loads(run.stdout)["recordings"][0]
     except (ValueError, KeyError, IndexError):
         return None
+
+
+def members(recording):
+    """(onset, sigma) of the first sequence's members."""
+    if not recording:
+        return []
+    return [(i["onset_s"], i["onset_uncertainty_s"]) for i in recording["impacts"]
+            if i.get("sequence") == 0]
+
+
+def moved_members(reference, copy):
+    """The copy's members more than 3 combined sigmas and 0.3 ms from the WAV's nearest."""
+    moved = []
+    for onset, sigma in copy:
+        near = [m for m in reference if abs(m[0] - onset) < 0.02]
+        if not near:
+            continue
+        wav_onset, wav_sigma = min(near, key=lambda m: abs(m[0] - onset))
+        distance = abs(onset - wav_onset)
+        if distance > max(3 * math.hypot(sigma, wav_sigma), 3e-4):
+            moved.append((onset, wav_onset, sigma, wav_sigma))
+    return moved
+
+
+def eta_bar_of(recording):
+    if not recording:
+        return None
+    sequences = recording["sequences"]
     if not sequences or sequences[0].get("energy_loss_mean_first_n") is None:
         return None
     s = sequences[0]
@@ -70,22 +125,37 @@ def main():
     parser.add_argument("--recordings", default="/work/shared/recordings")
     parser.add_argument("--cache", default="/tmp/shared_codec_eta")
     parser.add_argument("--json")
-    parser.add_argument("--settings", choices=["issue", "rates"], default="issue",
-                        help="issue: the 4 codecs of issue 30; rates: 14 rates and bit rates")
+    parser.add_argument("--settings", choices=sorted(SETTINGS), default="issue",
+                        help="issue: the 4 codecs of issue 30; rates: 14 rates and bit rates; "
+                        "formats: 8 lossless exports")
+    parser.add_argument("--onsets", action="store_true",
+                        help="also list sequence members a copy moved beyond 3 sigmas")
     args = parser.parse_args()
     cache = pathlib.Path(args.cache)
     cache.mkdir(parents=True, exist_ok=True)
     wavs = sorted(pathlib.Path(args.recordings).rglob("*.wav"))
     rows = []
+    compared = moved = 0
     for wav in wavs:
-        reference = eta_bar(args.binary, wav)
-        for name, (ext, options) in (RATES if args.settings == "rates" else CODECS).items():
+        wav_analysis = analysis(args.binary, wav)
+        reference = eta_bar_of(wav_analysis)
+        for name, (ext, options) in SETTINGS[args.settings].items():
             copy = cache / f"{wav.parent.name}_{wav.stem}_{name}.{ext}"
             if not copy.exists():
                 subprocess.run(["ffmpeg", "-nostdin", "-loglevel", "error", "-y", "-i", str(wav)] +
                                options + [str(copy)], check=True)
-            encoded = eta_bar(args.binary, copy)
+            copy_analysis = analysis(args.binary, copy)
+            encoded = eta_bar_of(copy_analysis)
             row = {"recording": f"{wav.parent.name}/{wav.name}", "codec": name}
+            if args.onsets:
+                copy_members = members(copy_analysis)
+                compared += len(copy_members)
+                for onset, wav_onset, sigma, wav_sigma in moved_members(members(wav_analysis),
+                                                                        copy_members):
+                    moved += 1
+                    print(f"  moved: {row['recording']} {name} {onset:.5f} s against the WAV's "
+                          f"{wav_onset:.5f} s, stated +-{sigma * 1e3:.2f} / +-{wav_sigma * 1e3:.2f} ms",
+                          flush=True)
             if reference and encoded:
                 diff = abs(encoded[0] - reference[0])
                 sigma = math.hypot(encoded[1], reference[1])
@@ -112,6 +182,8 @@ def main():
           f"beyond 3 sigma {sum(r['sigmas'] > 3 for r in done)}, "
           f"no eta-bar {len(rows) - len(done)} "
           f"(the WAV has none either: {sum(bool(r.get('wav_has_none')) for r in rows)})")
+    if args.onsets:
+        print(f"members {compared}: beyond 3 combined sigmas and 0.3 ms of the WAV's {moved}")
     if args.json:
         pathlib.Path(args.json).write_text(json.dumps(rows, indent=1) + "\n")
     return 0
