@@ -129,11 +129,40 @@ double Spread(const LineAtRatio& line, double own_variance) {
 constexpr double kBallRatioStep = 0.12;
 constexpr double kFirstFlightSigmas = 3.0;
 
-// For a chain of 5 or 6 members, too few for a line through 4 later ratios: whether its first
-// ratio r_0 = D_2 / D_1 (D_k the flight between members k - 1 and k) differs from the ball's
-// restitution over its later flights, e = (D_L / D_2)^(1 / (L - 2)) (L its last flight, whose
-// members are not D_2's), by more than kBallRatioStep plus kFirstFlightSigmas of the stated onset
-// sigmas propagated through both, each member once (they share members 1 and 2).
+}  // namespace
+
+// How many of a chain's first members are sounds before the drop, not bounces: a knock, a thump
+// or speech before a drop lands inside ratio_step_tolerance of where a bounce before the first
+// would be often enough (bench/knock_sweep.py, 2-6 knocks, thumps and strays before each of 150
+// drops of e 0.5-0.92: 41 of 124 sequences started at one, eta-bar off by up to 0.05 at exit 0;
+// 21 with this, 17 with the level rule below too), yet a ball's own ratios vary smoothly with
+// impact speed plus its scatter, which the ratios after a leading one show. Ratio j (of flights j
+// and j + 1) is judged against a line through the next kLeadingReferenceRatios (at least 4): its
+// distance from the line's value at j, over the residual sd (at least the scatter the later ratios'
+// steps show) times sqrt(1 + leverage) and its own timing noise in quadrature, beyond Student's t
+// at 1e-4 (two-sided) makes its first member a sound before the drop; the chain then starts after
+// the last such ratio among the first kLeadingRatiosJudged. At 1e-3 without the floor, drops whose
+// e scatters by 5 % lost their first impact in 8 of 1000 more recordings (the chain bench's anvil
+// with its height, then refused by the drop-height check); as it is, in none, and the
+// silent-wrong sweep's seed 101 #195 (an 8 kHz drop whose sequence began 0.5 s before its first
+// bounce) starts right. The 11 shared recordings, the detector suite's 20 and the coverage
+// suite's 40 keep their first impacts. The rest of the knock sweep's come before balls whose few
+// ratios (low e) or poorly timed late ones cannot judge them.
+std::size_t LeadingSoundsBeforeTheDrop(const std::vector<Impact>& impacts,
+                                       const std::vector<int>& members) {
+  const ChainRatios chain = RatiosOf(impacts, members);
+  std::size_t leading = 0;
+  for (std::size_t j = 0; j < kLeadingRatiosJudged && j < chain.ratios.size(); ++j) {
+    const LineAtRatio line = JudgeByLaterRatios(chain, j);
+    if (line.references == 0) break;
+    const double limit = kLeadingOutlierT[line.references - 4];
+    if (std::fabs(chain.ratios[j] - line.value) > limit * Spread(line, chain.variances[j])) {
+      leading = j + 1;
+    }
+  }
+  return leading;
+}
+
 bool ShortChainsFirstFlightMisfits(const std::vector<Impact>& impacts,
                                    const std::vector<int>& members) {
   if (members.size() < 5 || members.size() > 6) return false;
@@ -159,41 +188,6 @@ bool ShortChainsFirstFlightMisfits(const std::vector<Impact>& impacts,
                           std::pow(by_d2 * sigma(2), 2) + std::pow(by_dl * sigma(last - 1), 2) +
                           std::pow(by_dl * sigma(last), 2);
   return std::fabs(r0 - e) > kBallRatioStep + kFirstFlightSigmas * std::sqrt(variance);
-}
-
-}  // namespace
-
-// How many of a chain's first members are sounds before the drop, not bounces: a knock, a thump
-// or speech before a drop lands inside ratio_step_tolerance of where a bounce before the first
-// would be often enough (bench/knock_sweep.py, 2-6 knocks, thumps and strays before each of 150
-// drops of e 0.5-0.92: 41 of 124 sequences started at one, eta-bar off by up to 0.05 at exit 0;
-// 21 with this, 17 with the level rule below too), yet a ball's own ratios vary smoothly with
-// impact speed plus its scatter, which the ratios after a leading one show. Ratio j (of flights j
-// and j + 1) is judged against a line through the next kLeadingReferenceRatios (at least 4): its
-// distance from the line's value at j, over the residual sd (at least the scatter the later ratios'
-// steps show) times sqrt(1 + leverage) and its own timing noise in quadrature, beyond Student's t
-// at 1e-4 (two-sided) makes its first member a sound before the drop; the chain then starts after
-// the last such ratio among the first kLeadingRatiosJudged. At 1e-3 without the floor, drops whose
-// e scatters by 5 % lost their first impact in 8 of 1000 more recordings (the chain bench's anvil
-// with its height, then refused by the drop-height check); as it is, in none, and the
-// silent-wrong sweep's seed 101 #195 (an 8 kHz drop whose sequence began 0.5 s before its first
-// bounce) starts right. The 11 shared recordings, the detector suite's 20 and the coverage
-// suite's 40 keep their first impacts. The rest of the knock sweep's come before balls whose few
-// ratios (low e) or poorly timed late ones cannot judge them.
-std::size_t LeadingSoundsBeforeTheDrop(const std::vector<Impact>& impacts,
-                                       const std::vector<int>& members) {
-  const ChainRatios chain = RatiosOf(impacts, members);
-  if (ShortChainsFirstFlightMisfits(impacts, members)) return 1;
-  std::size_t leading = 0;
-  for (std::size_t j = 0; j < kLeadingRatiosJudged && j < chain.ratios.size(); ++j) {
-    const LineAtRatio line = JudgeByLaterRatios(chain, j);
-    if (line.references == 0) break;
-    const double limit = kLeadingOutlierT[line.references - 4];
-    if (std::fabs(chain.ratios[j] - line.value) > limit * Spread(line, chain.variances[j])) {
-      leading = j + 1;
-    }
-  }
-  return leading;
 }
 
 int FirstMemberThatFitsTheDrop(const std::vector<Impact>& impacts, const std::vector<bool>& free,

@@ -18,6 +18,18 @@ namespace bouncecal::audio {
 std::size_t LeadingSoundsBeforeTheDrop(const std::vector<Impact>& impacts,
                                        const std::vector<int>& members);
 
+// By timing, in a chain of 5 or 6 members (too few for that line): whether its first ratio r_0 =
+// D_2 / D_1 (D_k the flight between members k - 1 and k) differs from the ball's restitution over
+// its later flights, e = (D_L / D_2)^(1 / (L - 2)) (L its last flight, whose members are not
+// D_2's), by more than a ball's step (0.12, the chain finder's default ratio_step_tolerance) plus
+// 3 sigmas of the members' stated onsets propagated through both, each member once. A first
+// flight over a bounce nobody heard reads e^2 / (1 + e), 0.39 for e = 0.855: zaky-ptv's ping-pong
+// as G.711 at 8 kHz answered with such a chain of the ball's last bounces (0.4055, then 0.857 and
+// 0.853), eta-bar 0.4579 +- 0.027 against the WAV's 0.2527. The chain then starts at its second
+// member, which answers to the chance test as if found so (FindBounceSequences).
+bool ShortChainsFirstFlightMisfits(const std::vector<Impact>& impacts,
+                                   const std::vector<int>& members);
+
 // By timing too, but choosing: a chain's first member is the loudest of the sounds that could start
 // it (ChainFinder::Better breaks ties by loudness), and an impact's echo 12-30 ms after it (beyond
 // the detector's merge gap) can be the louder. Where the first ratio misses the line through the
