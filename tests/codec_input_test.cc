@@ -781,7 +781,7 @@ TEST_F(CodecInput, OpusAndVorbisCopiesOfZakyPingpongGiveTheWavsEtaBarOrNoneNotTh
 // of the file's sounds, the drop's chains timed like chance among them, and a five-member chain
 // of the ball's last bounces took its place, its first flight over a bounce nobody heard: ratio
 // 0.4055 (e^2 / (1 + e) = 0.394 for e = 0.855), then 0.857 and 0.853. Its first member is now a
-// sound before the drop (LeadingSoundsBeforeTheDrop), and four members give no eta-bar.
+// sound before the drop (ShortChainsFirstFlightMisfits), and four members give no eta-bar.
 TEST_F(CodecInput, AMuLawCopyOfZakyPingpongAtEightKilohertzGivesTheWavsEtaBarOrNone) {
   const fs::path wav =
       SharedDir() / "recordings" / "zaky-ptv-pingpong" / "pingpongvid2_48k_mono.wav";

@@ -188,9 +188,9 @@ TEST(LeadingSounds, AFirstRatioWithinThreeSigmasOfTheLineKeepsItsMember) {
 }
 
 // A five-member chain whose first flight spans a bounce nobody heard: its first ratio is then
-// e^2 / (1 + e), 0.39 for e = 0.855, against the 0.855 its later flights show. The detector suite
-// had such a chain at 8 kHz in G.711 (zaky-ptv's ping-pong: 0.4055 then 0.857 and 0.853, its
-// third member +-2.4 ms), stated eta-bar 0.4579 +- 0.027 against the WAV's 0.2527.
+// e^2 / (1 + e), 0.39 for e = 0.855, against the 0.855 its later flights show. zaky-ptv's
+// ping-pong (a shared recording) as G.711 at 8 kHz had such a chain (0.4055 then 0.857 and 0.853,
+// its third member +-2.4 ms), stated eta-bar 0.4579 +- 0.027 against the WAV's 0.2527.
 TEST(LeadingSounds, AShortChainsFirstFlightOverAnUnheardBounceIsNoFlightOfTheBall) {
   auto impacts = Drop(0.855, 6);
   impacts.erase(impacts.begin() + 1);  // the bounce nobody heard
