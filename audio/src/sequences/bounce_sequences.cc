@@ -1339,8 +1339,8 @@ SequenceResult FindSequences(const std::vector<Impact>& impacts, const SequenceO
     if (ShortChainsFirstFlightMisfits(impacts, best.members)) {
       // What is left was judged by the chance test only with that member, and answers to it
       // again: random events whose first ratio stood out, cut so, passed the ratio-scatter test
-      // below untested (BounceSequences.SparseBandEventsAmongResidualOnlyOnesRarelyPassTheChance
-      // Test's 800 ten-minute files admitted 31 random chains, 16 allowed).
+      // below untested (the 800 ten-minute files of random events among the chance tests of
+      // bounce_sequences_test.cc admitted 31 chains, where 16 are allowed).
       best.members.erase(best.members.begin());
       best.chance_alignment = std::numeric_limits<double>::quiet_NaN();
       if (!passes_the_chance_test(best)) continue;

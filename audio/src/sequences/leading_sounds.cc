@@ -122,10 +122,10 @@ double Spread(const LineAtRatio& line, double own_variance) {
   return std::max(std::sqrt(line.variance + own_variance), 1e-6);
 }
 
-// ShortChainsFirstFlightMisfits: how far a ball's restitution may differ between its first
-// flight ratio and the mean of its next ones, timing aside (the chain finder's default
-// ratio_step_tolerance, how far one ratio may step from the last), and the sigmas of timing
-// beyond that which the difference must exceed.
+// ShortChainsFirstFlightMisfits: how far a ball's first flight ratio may lie from the restitution
+// its later flights show, timing aside (the chain finder's default ratio_step_tolerance, how far
+// one ratio may step from the last), and the sigmas of timing beyond that which the difference
+// must exceed.
 constexpr double kBallRatioStep = 0.12;
 constexpr double kFirstFlightSigmas = 3.0;
 
