@@ -116,9 +116,12 @@ IMPAIRMENTS = {
                         "aformat=channel_layouts={layout}[n];"
                         "[0:a][n]amix=inputs=2:duration=first:normalize=0"] + PCM),
     "dc": ("wav", ["-af", "dcshift=0.02"] + PCM),
+    "trim333": ("wav", ["-af", "atrim=start_sample=333"] + PCM),
+    "plus20db": ("wav", ["-af", "volume=20dB"] + PCM),
 }
-# Where a setting moves the recording in time, by how much (s).
+# Where a setting moves the recording in time, by how much: seconds, or samples at its rate.
 SHIFT_S = {"pad100ms": 0.1}
+SHIFT_SAMPLES = {"trim333": -333}
 
 SETTINGS = {"issue": CODECS, "rates": RATES, "formats": FORMATS, "impairments": IMPAIRMENTS}
 
@@ -213,8 +216,11 @@ def main():
             if args.onsets:
                 copy_members = members(copy_analysis)
                 compared += len(copy_members)
+                shift_s = SHIFT_S.get(name, 0.0)
+                if name in SHIFT_SAMPLES and copy_analysis:
+                    shift_s = SHIFT_SAMPLES[name] / copy_analysis["sample_rate_hz"]
                 for onset, wav_onset, sigma, wav_sigma in moved_members(
-                        members(wav_analysis), copy_members, SHIFT_S.get(name, 0.0)):
+                        members(wav_analysis), copy_members, shift_s):
                     moved += 1
                     print(f"  moved: {row['recording']} {name} {onset:.5f} s against the WAV's "
                           f"{wav_onset:.5f} s, stated +-{sigma * 1e3:.2f} / +-{wav_sigma * 1e3:.2f} ms",

@@ -1,0 +1,28 @@
+#include "detector/clipped_span.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace bouncecal::audio {
+namespace {
+
+bool Clipped(const SampleHistory<float>& raw, std::int64_t i) {
+  const float x = raw[i];
+  if (!(std::fabs(x) >= kClippedLevel)) return false;
+  return (i > raw.begin() && raw[i - 1] == x) || (i + 1 < raw.end() && raw[i + 1] == x);
+}
+
+}  // namespace
+
+std::int64_t ClippedSamplesBefore(const SampleHistory<float>& raw, std::int64_t onset,
+                                  std::int64_t bridge, std::int64_t reach) {
+  onset = std::min(onset, raw.end());
+  const std::int64_t earliest = std::max(raw.begin(), onset - reach);
+  std::int64_t start = onset;  // of the clipped stretch found so far
+  for (std::int64_t i = onset - 1; i >= earliest && start - i <= bridge + 1; --i) {
+    if (Clipped(raw, i)) start = i;
+  }
+  return onset - start;
+}
+
+}  // namespace bouncecal::audio
