@@ -25,4 +25,21 @@ std::int64_t ClippedSamplesBefore(const SampleHistory<float>& raw, std::int64_t 
   return onset - start;
 }
 
+std::int64_t ClippedLobeAfter(const SampleHistory<float>& raw, std::int64_t onset,
+                              std::int64_t horizon) {
+  const std::int64_t begin = std::max(onset, raw.begin());
+  const std::int64_t end = std::min(onset + horizon, raw.end());
+  bool positive = false, negative = false;
+  for (std::int64_t i = begin; i < end; ++i) {
+    if (Clipped(raw, i)) {
+      // The clipped lobe's own sign does not count: only lobes before it.
+      const bool clipped_positive = raw[i] > 0;
+      return (clipped_positive ? negative : positive) ? i - onset : 0;
+    }
+    positive = positive || raw[i] > 0;
+    negative = negative || raw[i] < 0;
+  }
+  return 0;
+}
+
 }  // namespace bouncecal::audio

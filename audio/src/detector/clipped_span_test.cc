@@ -81,5 +81,36 @@ TEST(ClippedSpan, TheLookBackStopsAtTheReachAndAtTheHistorysStart) {
   EXPECT_EQ(ClippedSamplesBefore(held, 400, kBridge, kReach), 64);
 }
 
+// A click's small first waves, then its spike clipped at the positive rail 20 samples on: the
+// timing reference took the small waves' level against the clipped spike, which the true peak
+// exceeds, so the onset may belong on the spike.
+TEST(ClippedLobe, ASmallWaveBeforeAClippedSpikeLiesItsDistanceFromIt) {
+  std::vector<float> x(100, 0.0F);
+  for (std::size_t i = 0; i < 20; ++i) {
+    x[40 + i] =
+        static_cast<float>(0.2 * std::sin(std::numbers::pi * static_cast<double>(i) / 10.0));
+  }
+  for (std::size_t i = 60; i < 66; ++i) x[i] = 32767.0F / 32768.0F;
+  const auto history = History(x);
+  EXPECT_EQ(ClippedLobeAfter(history, 40, 48), 20);
+  // The horizon ends before the spike: nothing clipped ahead.
+  EXPECT_EQ(ClippedLobeAfter(history, 40, 15), 0);
+}
+
+// An onset on the clipped lobe's own rising edge: no lobe before it, so the clipping moves the
+// reference along that edge only.
+TEST(ClippedLobe, AnOnsetOnTheClippedLobesOwnEdgeIsNotDoubted) {
+  std::vector<float> x(100, 0.0F);
+  for (std::size_t i = 0; i < 8; ++i) x[50 + i] = 0.15F * static_cast<float>(i + 1);
+  for (std::size_t i = 58; i < 64; ++i) x[i] = 32767.0F / 32768.0F;
+  const auto history = History(x);
+  EXPECT_EQ(ClippedLobeAfter(history, 50, 48), 0);
+}
+
+TEST(ClippedLobe, NoClippingAheadIsNoDoubt) {
+  const auto history = History(ClippedTone(200, 0.5));
+  EXPECT_EQ(ClippedLobeAfter(history, 10, 48), 0);
+}
+
 }  // namespace
 }  // namespace bouncecal::audio
