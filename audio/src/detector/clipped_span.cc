@@ -26,7 +26,7 @@ std::int64_t ClippedSamplesBefore(const SampleHistory<float>& raw, std::int64_t 
 }
 
 std::int64_t ClippedLobeAfter(const SampleHistory<float>& raw, std::int64_t onset,
-                              std::int64_t horizon) {
+                              std::int64_t horizon, float min_lobe) {
   const std::int64_t begin = std::max(onset, raw.begin());
   const std::int64_t end = std::min(onset + horizon, raw.end());
   bool positive = false, negative = false;
@@ -36,8 +36,8 @@ std::int64_t ClippedLobeAfter(const SampleHistory<float>& raw, std::int64_t onse
       const bool clipped_positive = raw[i] > 0;
       return (clipped_positive ? negative : positive) ? i - onset : 0;
     }
-    positive = positive || raw[i] > 0;
-    negative = negative || raw[i] < 0;
+    positive = positive || raw[i] >= min_lobe;
+    negative = negative || raw[i] <= -min_lobe;
   }
   return 0;
 }

@@ -21,13 +21,14 @@ inline constexpr float kClippedLevel = 0.99F;
 std::int64_t ClippedSamplesBefore(const SampleHistory<float>& raw, std::int64_t onset,
                                   std::int64_t bridge, std::int64_t reach);
 
-// Samples from `onset` to the first clipped sample within `horizon` after it, where the raw
-// signal changes sign in between (the onset lies on a lobe before the clipped one); 0 where there
-// is none. The timing reference is a fraction of the largest sample ahead (kReferenceFraction,
-// onset_picker.h): where that sample is clipped the true level is higher and the reference could
-// lie on the clipped lobe instead of the earlier one it fell on.
+// Samples from `onset` to the first clipped sample within `horizon` after it, where a lobe of the
+// other sign reaching `min_lobe` lies in between (the onset lies on a lobe before the clipped one);
+// 0 where there is none. The timing reference is a fraction of the largest sample ahead
+// (kReferenceFraction, onset_picker.h): where that sample is clipped the true level is higher, and
+// the reference could lie on the clipped lobe instead of the earlier one it fell on. A lobe under
+// that fraction of full scale never carried it, nor does noise before the clipped lobe's own edge.
 std::int64_t ClippedLobeAfter(const SampleHistory<float>& raw, std::int64_t onset,
-                              std::int64_t horizon);
+                              std::int64_t horizon, float min_lobe);
 
 }  // namespace bouncecal::audio
 

@@ -81,6 +81,9 @@ TEST(ClippedSpan, TheLookBackStopsAtTheReachAndAtTheHistorysStart) {
   EXPECT_EQ(ClippedSamplesBefore(held, 400, kBridge, kReach), 64);
 }
 
+// The timing reference's fraction of full scale: lobes under it never carried the reference.
+constexpr float kMinLobe = 0.12F;
+
 // A click's small first waves, then its spike clipped at the positive rail 20 samples on: the
 // timing reference took the small waves' level against the clipped spike, which the true peak
 // exceeds, so the onset may belong on the spike.
@@ -92,24 +95,25 @@ TEST(ClippedLobe, ASmallWaveBeforeAClippedSpikeLiesItsDistanceFromIt) {
   }
   for (std::size_t i = 60; i < 66; ++i) x[i] = 32767.0F / 32768.0F;
   const auto history = History(x);
-  EXPECT_EQ(ClippedLobeAfter(history, 40, 48), 20);
+  EXPECT_EQ(ClippedLobeAfter(history, 40, 48, kMinLobe), 20);
   // The horizon ends before the spike: nothing clipped ahead.
-  EXPECT_EQ(ClippedLobeAfter(history, 40, 15), 0);
+  EXPECT_EQ(ClippedLobeAfter(history, 40, 15, kMinLobe), 0);
 }
 
-// An onset on the clipped lobe's own rising edge: no lobe before it, so the clipping moves the
-// reference along that edge only.
+// An onset on the clipped lobe's own rising edge, after noise of either sign: no lobe before it,
+// so the clipping moves the reference along that edge only.
 TEST(ClippedLobe, AnOnsetOnTheClippedLobesOwnEdgeIsNotDoubted) {
   std::vector<float> x(100, 0.0F);
+  for (std::size_t i = 40; i < 50; ++i) x[i] = i % 2 ? 0.01F : -0.01F;
   for (std::size_t i = 0; i < 8; ++i) x[50 + i] = 0.15F * static_cast<float>(i + 1);
   for (std::size_t i = 58; i < 64; ++i) x[i] = 32767.0F / 32768.0F;
   const auto history = History(x);
-  EXPECT_EQ(ClippedLobeAfter(history, 50, 48), 0);
+  EXPECT_EQ(ClippedLobeAfter(history, 40, 48, kMinLobe), 0);
 }
 
 TEST(ClippedLobe, NoClippingAheadIsNoDoubt) {
   const auto history = History(ClippedTone(200, 0.5));
-  EXPECT_EQ(ClippedLobeAfter(history, 10, 48), 0);
+  EXPECT_EQ(ClippedLobeAfter(history, 10, 48, kMinLobe), 0);
 }
 
 }  // namespace

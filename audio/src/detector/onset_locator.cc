@@ -334,7 +334,8 @@ std::optional<LocatedImpact> OnsetLocator::Locate(const Candidate& candidate) {
   // a stated 50 us (eta-bar 3.3 combined sigmas from the WAV's).
   const std::int64_t to_clipped_lobe =
       ClippedLobeAfter(raw_, static_cast<std::int64_t>(std::ceil(onset_index)),
-                       2 * static_cast<std::int64_t>(kReferenceHorizonSamples));
+                       2 * static_cast<std::int64_t>(kReferenceHorizonSamples),
+                       static_cast<float>(kReferenceFraction) * kClippedLevel);
   if (to_clipped_lobe > 0) {
     impact.onset_uncertainty_s = std::hypot(
         impact.onset_uncertainty_s, 0.5 * static_cast<double>(to_clipped_lobe) / frames_.rate_hz);
