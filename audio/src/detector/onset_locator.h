@@ -78,6 +78,9 @@ class OnsetLocator {
     std::int64_t begin = 0;         // the sample index of window_[0]
     std::size_t search_offset = 0;  // search_begin as an index into window_
     std::int64_t peak = 0;          // the impact's largest sample: its edge ends there
+    // window_ holds the prediction innovation (SwitchToInnovation) up to the candidate's end,
+    // not just up to the peak.
+    bool innovation = false;
   };
 
   // Nothing when the candidate fails the SNR gate.

@@ -569,4 +569,19 @@ OnsetPick PickOnset(std::span<const float> x, std::size_t search_begin, std::siz
   return pick;
 }
 
+OnsetPick PickOnsetInInnovation(std::span<const float> innovation, std::size_t search_begin,
+                                std::size_t largest, std::size_t burst_samples,
+                                double min_start_aic_excess) {
+  const std::size_t edge_end = std::min(innovation.size(), largest + 2);
+  const std::size_t search_end = std::min(edge_end, largest + 1);
+  const OnsetPick pick = PickOnset(innovation.first(edge_end), search_begin, search_end);
+  if (edge_end >= innovation.size() ||
+      pick.index < static_cast<double>(largest) - kDegenerateChangePointSamples) {
+    return pick;
+  }
+  const std::size_t burst_end = std::min(innovation.size(), edge_end + burst_samples);
+  const OnsetPick burst = PickOnset(innovation.first(burst_end), search_begin, search_end);
+  return burst.start_aic_excess >= min_start_aic_excess ? burst : pick;
+}
+
 }  // namespace bouncecal::audio

@@ -38,6 +38,9 @@ inline constexpr double kReferenceFraction = 0.12;
 // the ratio of the two, which changes from impact to impact, and the intervals then jump by a
 // lobe's width (the detector suite's rubber ball: +150..+190 us on 4 of 10 impacts).
 inline constexpr std::size_t kReferenceHorizonSamples = 24;
+// A change point this many samples or fewer before an innovation's largest sample (see
+// PickOnsetInInnovation) has a second segment too short to estimate a variance from.
+inline constexpr double kDegenerateChangePointSamples = 2.0;
 
 // Start of contact inside a window of band-passed samples that holds noise (or the tail of an
 // earlier impact) followed by the rising edge of one impact, up to its first peak.
@@ -56,6 +59,20 @@ inline constexpr std::size_t kReferenceHorizonSamples = 24;
 // intervals between impacts do not depend on their loudness.
 OnsetPick PickOnset(std::span<const float> window, std::size_t search_begin,
                     std::size_t search_end);
+
+// PickOnset on a prediction innovation (an impact inside ringing, OnsetLocator), searched from
+// search_begin up to its largest sample `largest`, with the window ending just after it as for an
+// edge. But an innovation is no edge that grows to its peak: it is a burst as long as the contact
+// pushes, and for a soft contact (a rubber ball's 1.3 ms) its largest sample can lie late in it.
+// The AIC's second segment then holds the one or two samples up to that sample, their variance
+// outweighs the burst's, and the change point lands on them: the detector suite's rubber_ball,
+// 11th impact, 1.31 ms late. Where the change point lies within kDegenerateChangePointSamples of
+// `largest`, burst_samples more of `innovation` after the cut are taken in and the change point
+// searched again over the same span; the new pick is kept where it still stands out of the
+// search's start by min_start_aic_excess (else the burst did not show where it began).
+OnsetPick PickOnsetInInnovation(std::span<const float> innovation, std::size_t search_begin,
+                                std::size_t largest, std::size_t burst_samples,
+                                double min_start_aic_excess);
 
 // Constant-fraction timing, the discriminator that pulse-timing electronics use against the
 // amplitude walk of a fixed threshold: the time the impact's edge first reaches
