@@ -255,9 +255,10 @@ TEST(OnsetPicker, PrecursorsAndPreRingingAreNotTakenForTheFirstLobe) {
 
 // A prediction innovation (the ringing of earlier impacts removed, PredictionInnovation) of a
 // soft impact: unit noise, then from `onset` a burst burst_db louder for as long as the contact
-// pushes (`contact` samples), with a sample of 5 burst sds `largest_after` samples into it.
+// pushes (`contact` samples), with a sample of largest_sds burst sds `largest_after` samples in.
 std::vector<float> InnovationBurst(std::size_t onset, std::size_t contact,
-                                   std::size_t largest_after, double burst_db, unsigned seed) {
+                                   std::size_t largest_after, double largest_sds, double burst_db,
+                                   unsigned seed) {
   std::mt19937 generator(seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   std::vector<float> x(onset + 2 * contact);
@@ -266,7 +267,7 @@ std::vector<float> InnovationBurst(std::size_t onset, std::size_t contact,
     const bool pushing = i >= onset && i < onset + contact;
     x[i] = static_cast<float>(normal(generator) * (pushing ? gain : 1.0));
   }
-  x[onset + largest_after] = static_cast<float>(5.0 * gain);
+  x[onset + largest_after] = static_cast<float>(largest_sds * gain);
   return x;
 }
 
@@ -283,8 +284,7 @@ TEST(OnsetPicker, AnInnovationBurstIsPickedWhereItBeginsNotAtItsLargestSample) {
   std::vector<double> cut_errors;
   std::vector<double> errors;
   for (unsigned seed = 1; seed <= 32; ++seed) {
-    auto x = InnovationBurst(kOnset, 62, 50, kBurstDb, seed);
-    x[kLargest] = static_cast<float>(8.0 * std::pow(10.0, kBurstDb / 20.0));
+    const auto x = InnovationBurst(kOnset, 62, 50, 8.0, kBurstDb, seed);
     const OnsetPick cut =
         PickOnset(std::span<const float>(x).first(kLargest + 2), 100, kLargest + 1);
     cut_errors.push_back(std::fabs(cut.index - static_cast<double>(kOnset)));
@@ -304,12 +304,12 @@ TEST(OnsetPicker, AnInnovationBurstIsPickedWhereItBeginsNotAtItsLargestSample) {
 // the cut window's pick stays.
 TEST(OnsetPicker, AnInnovationPickAwayFromItsLargestSampleIsLeftAsItWas) {
   constexpr std::size_t kOnset = 400;
-  const auto x = InnovationBurst(kOnset, 62, 5, 12.0, 3);
+  const auto x = InnovationBurst(kOnset, 62, 5, 5.0, 12.0, 3);
   const OnsetPick cut = PickOnset(std::span<const float>(x).first(kOnset + 7), 100, kOnset + 6);
   ASSERT_LT(cut.index, static_cast<double>(kOnset + 5) - kDegenerateChangePointSamples);
   EXPECT_EQ(PickOnsetInInnovation(x, 100, kOnset + 5, 48, 4.0).index, cut.index);
 
-  const auto late = InnovationBurst(kOnset, 62, 50, 6.0, 1);
+  const auto late = InnovationBurst(kOnset, 62, 50, 5.0, 6.0, 1);
   const OnsetPick late_cut =
       PickOnset(std::span<const float>(late).first(kOnset + 52), 100, kOnset + 51);
   EXPECT_EQ(PickOnsetInInnovation(late, 100, kOnset + 50, 48, 1e9).index, late_cut.index);
