@@ -35,7 +35,8 @@ namespace bouncecal::audio {
 // and some on the other, each interval across a switch off by the spacing. The members move to
 // one sound of their pairs where that fits the ratios clearly better, timed-from-response members
 // too (a run of consecutive members only where its ends fit better moved), and a first or last
-// member whose sound is not known then states half the spacing.
+// member whose sound is not known then states half the spacing, as does one inside the sequence
+// whose own move by the spacing the ratios clearly prefer, to a run's on either side of it.
 void TakeMergedOnsetsThatFitTheSequence(std::vector<Impact>& impacts,
                                         std::vector<MergedEvent>& merged,
                                         const std::vector<BounceSequence>& sequences);
