@@ -34,7 +34,7 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from silent_wrong_sweep import eta_bar  # noqa: E402
+from silent_wrong_sweep import eta_bar, verdict  # noqa: E402
 
 LOSSY_EXTENSIONS = ("mp3", "ogg", "opus", "m4a")
 CLASSES = [
@@ -93,11 +93,9 @@ def analyse(bouncecal, entry):
         first = rows[0]["truth"]
         exact = eta_bar(truth[first:first + count + 2], count)
         sigma = sequence["energy_loss_mean_first_n_uncertainty"]
-        z = (measured - exact) / sigma if sigma > 0 else float("inf")
+        z, wrong = verdict(measured, exact, sigma)
         result["eta_bar"] = {"measured": measured, "exact": None if math.isnan(exact) else exact,
-                             "z": None if math.isnan(exact) else z,
-                             "wrong": math.isnan(exact) or (abs(measured - exact) > 0.002
-                                                            and abs(z) > 3)}
+                             "z": None if math.isnan(exact) else z, "wrong": wrong}
     return key, result
 
 
