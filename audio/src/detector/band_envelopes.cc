@@ -24,6 +24,17 @@ std::vector<double> DetectionBands(int rate, const DetectorOptions& options) {
   return edges;
 }
 
+// Upper edge of the low detection band (band_low_hz up to it): speech's sibilants and a room's
+// hiss fill the bands above a few kHz for many milliseconds, so a bounce among them rises only in
+// the band's low part (zaky-ptv's first bounce, docs/codecs.md).
+constexpr double kLowBandHighHz = 2000.0;
+
+double LowBandHighHz(int rate, const DetectorOptions& options) {
+  const bool fits = kLowBandHighHz > options.band_low_hz * 1.5 && kLowBandHighHz < 0.35 * rate &&
+                    (options.band_high_hz <= 0 || kLowBandHighHz < 0.5 * options.band_high_hz);
+  return fits ? kLowBandHighHz : 0.0;
+}
+
 // may_rise[k] |= (the attack window's maximum reaches ratio times the lookback's at frame k),
 // on the powers floored like EnvelopeDb's. On plain pointers to flags as wide as the powers:
 // over the members and char flags (a char may alias anything) every pointer was loaded again
@@ -49,7 +60,7 @@ BandEnvelopes::BandEnvelopes(const DetectorFrames& frames, const DetectorOptions
                              std::size_t history_samples, std::size_t band_zero_history)
     : frames_(frames),
       filter_(frames.rate_hz, options.band_low_hz, options.band_high_hz,
-              DetectionBands(frames.rate_hz, options)),
+              DetectionBands(frames.rate_hz, options), LowBandHighHz(frames.rate_hz, options)),
       secondary_rise_ratio_(std::pow(10.0, 0.1 * secondary_rise_db) * (1.0 - 1e-6)),
       ahead_frames_(static_cast<std::size_t>(frames.attack + 1)),
       reference_frames_(
@@ -67,6 +78,8 @@ BandEnvelopes::BandEnvelopes(const DetectorFrames& frames, const DetectorOptions
       static_cast<std::int64_t>(filter_.max_latency_samples()) / frames.hop + 1);
   low_hz_.push_back(options.band_low_hz);
   for (double hz : DetectionBands(frames.rate_hz, options)) low_hz_.push_back(hz);
+  high_pass_bands_ = low_hz_.size();
+  if (LowBandHighHz(frames.rate_hz, options) > 0) low_hz_.push_back(options.band_low_hz);
   floors_.resize(filter_.output_count());
   floor_inputs_.resize(filter_.output_count());
   floor_outputs_.resize(filter_.output_count());
@@ -193,6 +206,9 @@ void BandEnvelopes::Take(std::size_t b, std::span<const float> samples) {
     band.reference_latest = band.reference_maxima.back();
   }
   band.window_start += count;
+  // The low band opens no candidate (NoveltyRise::low_band_rise_db): it is read only while one is
+  // open, and the frames outside candidates stay decided by the other bands' rises alone.
+  if (is_low_band(b)) return;
   MarkMayRise(band.ahead_maxima.data(), band.reference_maxima.data(), secondary_rise_ratio_, count,
               may_rise_.data());
 }

@@ -93,9 +93,10 @@ struct EnvelopeBand {
 
 // Stage 1 of the impact detector: the recording through the causal band-pass (band 0) and
 // high-passed sub-bands (a new impact brings fresh high-frequency energy while the tail of the
-// previous one is mostly low modes, whose damping is lower), each cut into energy frames with a
-// minimum-statistics noise floor and the two windows of the rise test. Memory is fixed: every
-// band keeps its recent samples and frames in rings.
+// previous one is mostly low modes, whose damping is lower), and a low band (band 0 up to 2 kHz,
+// for a bounce under a hiss that fills the others: OnsetLocator::Locate), each cut into energy
+// frames with a minimum-statistics noise floor and the two windows of the rise test. Memory is
+// fixed: every band keeps its recent samples and frames in rings.
 //
 // The filter delivers whole blocks; Filter() returns how many samples it delivered, and the
 // frames they completed are then examined in order with the block-relative index k (0 for the
@@ -120,8 +121,13 @@ class BandEnvelopes {
   std::size_t max_latency_samples() const { return filter_.max_latency_samples(); }
 
   std::size_t size() const { return bands_.size(); }
-  // The band's lower edge: band 0's high-pass, the sub-bands' extra high-pass.
+  // The band's lower edge: band 0's high-pass (also the low band's), the sub-bands' extra
+  // high-pass.
   double low_hz(std::size_t b) const { return low_hz_[b]; }
+  // Band 0 and its high-passed sub-bands come first; a low band (band 0 low-passed), where
+  // present, is the last.
+  std::size_t high_pass_bands() const { return high_pass_bands_; }
+  bool is_low_band(std::size_t b) const { return b >= high_pass_bands_; }
   EnvelopeBand& band(std::size_t b) { return bands_[b]; }
   const EnvelopeBand& band(std::size_t b) const { return bands_[b]; }
   // Frames completed before the latest delivered block, and how far the frame then being
@@ -156,6 +162,7 @@ class BandEnvelopes {
   std::size_t window_history_;    // frames before a block that the windows read
   std::vector<EnvelopeBand> bands_;
   std::vector<double> low_hz_;
+  std::size_t high_pass_bands_ = 0;
   std::size_t delivered_ = 0;
   std::vector<std::int64_t> may_rise_;  // per frame of the block: some band may rise
   std::vector<double> window_scratch_;  // WindowMaxima's

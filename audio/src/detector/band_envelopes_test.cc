@@ -42,7 +42,7 @@ TEST(BandEnvelopes, FramesDoNotDependOnHowTheStreamIsCut) {
   const auto whole = Frames(x, 0);
   EXPECT_EQ(Frames(x, 997), whole);
   EXPECT_EQ(Frames(x, 4096), whole);
-  ASSERT_EQ(whole.size(), 3u);        // band 0 and the 2 and 6 kHz sub-bands at 48 kHz
+  ASSERT_EQ(whole.size(), 4u);  // band 0, the 2 and 6 kHz sub-bands and the low band at 48 kHz
   EXPECT_EQ(whole[0].size(), 4000u);  // 0.25 ms frames
 }
 
@@ -75,7 +75,7 @@ TEST(BandEnvelopes, WindowMaximaAreTheMaximaOfTheirFrames) {
       ++checked;
     }
   });
-  EXPECT_EQ(checked, 3 * 16000);  // 4 s of 0.25 ms frames in 3 bands: ~45 filter blocks
+  EXPECT_EQ(checked, 4 * 16000);  // 4 s of 0.25 ms frames in 4 bands: ~45 filter blocks
 }
 
 // The rise compares the attack window with the lookback: an impact 0.5 full scale over noise of
@@ -105,16 +105,47 @@ TEST(BandEnvelopes, AnImpactRisesByItsLevelOverTheNoiseAndNoiseDoesNotRise) {
 }
 
 // A sub-band exists where its edge is above 1.5 times band 0's low edge and below 0.35 of the
-// sample rate: both at 48 kHz, only the 2 kHz one at 16 kHz (6 kHz > 5.6 kHz).
+// sample rate: both at 48 kHz, only the 2 kHz one at 16 kHz (6 kHz > 5.6 kHz). The low band
+// (band 0 up to 2 kHz) follows the same rule for its upper edge, and comes last.
 TEST(BandEnvelopes, SubBandsFollowTheSampleRate) {
   testing::StageRig at48(48000);
-  ASSERT_EQ(at48.bands.size(), 3u);
+  ASSERT_EQ(at48.bands.size(), 4u);
+  EXPECT_EQ(at48.bands.high_pass_bands(), 3u);
   EXPECT_EQ(at48.bands.low_hz(0), 300.0);
   EXPECT_EQ(at48.bands.low_hz(1), 2000.0);
   EXPECT_EQ(at48.bands.low_hz(2), 6000.0);
+  EXPECT_TRUE(at48.bands.is_low_band(3));
+  EXPECT_FALSE(at48.bands.is_low_band(0));
   testing::StageRig at16(16000);
-  ASSERT_EQ(at16.bands.size(), 2u);
+  ASSERT_EQ(at16.bands.size(), 3u);
+  EXPECT_EQ(at16.bands.high_pass_bands(), 2u);
   EXPECT_EQ(at16.bands.low_hz(1), 2000.0);
+  EXPECT_TRUE(at16.bands.is_low_band(2));
+}
+
+// The low band passes a bounce's low modes and leaves out a hiss above a few kHz (what it is
+// for, onset_locator.cc): 1 kHz within 1 dB, 8 kHz 35 dB or more under it (4th-order
+// Butterworth at 2 kHz: 24 dB per octave over 2 octaves, 48 dB nominal, less the knee).
+TEST(BandEnvelopes, TheLowBandPassesLowModesAndLeavesOutAHiss) {
+  constexpr int kRate = 48000;
+  const auto power_at = [&](double hz) {
+    testing::StageRig rig(kRate);
+    std::vector<float> tone(kRate);
+    for (std::size_t i = 0; i < tone.size(); ++i) {
+      tone[i] = static_cast<float>(0.1 * std::sin(2 * std::numbers::pi * hz * i / kRate));
+    }
+    double low = 0;
+    double whole = 0;
+    rig.Run(tone, [&](std::int64_t n, std::ptrdiff_t) {
+      if (n > 2000) {  // past the filters' start
+        low += rig.bands.band(3).Power(n);
+        whole += rig.bands.band(0).Power(n);
+      }
+    });
+    return 10 * std::log10(low / whole);
+  };
+  EXPECT_NEAR(power_at(1000.0), 0.0, 1.0);
+  EXPECT_LT(power_at(8000.0), -35.0);
 }
 
 }  // namespace

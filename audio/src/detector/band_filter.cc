@@ -110,11 +110,14 @@ std::vector<float> DesignBandKernel(int sample_rate_hz, double low_hz, double hi
 }
 
 BandFilter::BandFilter(int sample_rate_hz, double low_hz, double high_hz,
-                       const std::vector<double>& extra_high_pass_hz)
+                       const std::vector<double>& extra_high_pass_hz, double extra_low_pass_hz)
     : kernel_(DesignBandKernel(sample_rate_hz, low_hz, high_hz)) {
   std::vector<std::vector<float>> kernels = {kernel_};
   for (double hz : extra_high_pass_hz) {
     kernels.push_back(DesignBandKernel(sample_rate_hz, low_hz, high_hz, hz));
+  }
+  if (extra_low_pass_hz > 0) {
+    kernels.push_back(DesignBandKernel(sample_rate_hz, low_hz, extra_low_pass_hz));
   }
   std::size_t longest = 0;
   for (const auto& kernel : kernels) longest = std::max(longest, kernel.size());

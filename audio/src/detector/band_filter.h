@@ -27,9 +27,10 @@ class BandFilter {
  public:
   // Throws ConfigError when 0 < low_hz < high_hz < sample_rate_hz / 2 is violated (high_hz <= 0
   // means "no low-pass"). extra_high_pass_hz adds outputs (channels 1, 2, ...) that are also
-  // high-passed at those frequencies; they share the forward FFT, so each costs one inverse.
+  // high-passed at those frequencies, and extra_low_pass_hz > 0 one more, last, low-passed there
+  // instead of at high_hz; they share the forward FFT, so each costs one inverse.
   BandFilter(int sample_rate_hz, double low_hz, double high_hz,
-             const std::vector<double>& extra_high_pass_hz = {});
+             const std::vector<double>& extra_high_pass_hz = {}, double extra_low_pass_hz = 0);
   BandFilter(const BandFilter&) = delete;
   BandFilter& operator=(const BandFilter&) = delete;
   ~BandFilter();

@@ -85,6 +85,7 @@ std::optional<Candidate> CandidateTracker::StepOpenOrRising(std::int64_t n, std:
       }
     }
     candidate_.residual_rise_db = std::max(candidate_.residual_rise_db, residual.rise_db);
+    candidate_.low_band_rise_db = std::max(candidate_.low_band_rise_db, band.low_band_rise_db);
     candidate_.residual_codec_rise_db =
         std::max(candidate_.residual_codec_rise_db, residual.codec_rise_db);
     residual_armed_ = false;
@@ -121,6 +122,7 @@ std::optional<Candidate> CandidateTracker::StepOpenOrRising(std::int64_t n, std:
     candidate_.band = band.band;
     candidate_.band_peak_frame = LoudestFrame(band.band, m, n);
     candidate_.residual_rise_db = residual.rise_db;
+    candidate_.low_band_rise_db = band.low_band_rise_db;
     candidate_.residual_codec_rise_db = residual.codec_rise_db;
     candidate_.armed_past_window = band.rise_db < secondary_threshold_db_ && armed_past_window_;
     const EnvelopeBand& level = bands_.band(0);

@@ -25,6 +25,8 @@ struct Candidate {
   // The same counted only over what a transform codec did not leave out (NoveltyRise::
   // codec_rise_db): the sound's own evidence where no band carried it.
   double residual_codec_rise_db = 0;
+  // The largest rise of the low band (NoveltyRise::low_band_rise_db).
+  double low_band_rise_db = -std::numeric_limits<double>::infinity();
   // Opened by the residual, re-armed a window after the last candidate without a fall or a dip
   // (CandidateTracker): its pick may find nothing but the rise that candidate had found.
   bool armed_past_window = false;

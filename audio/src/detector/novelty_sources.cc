@@ -19,7 +19,7 @@ std::size_t UsableBands(const BandEnvelopes& bands, double content_edge_hz) {
   // 2^-1/2: a band's low edge must lie half an octave under the content edge.
   constexpr double kMinContentOctaveRatio = 0.70710678118654752;
   std::size_t usable = 1;
-  while (usable < bands.size() &&
+  while (usable < bands.high_pass_bands() &&
          bands.low_hz(usable) <= content_edge_hz * kMinContentOctaveRatio) {
     ++usable;
   }
@@ -29,13 +29,16 @@ std::size_t UsableBands(const BandEnvelopes& bands, double content_edge_hz) {
 NoveltyRise BandRiseNovelty::Rises(std::ptrdiff_t k) {
   NoveltyRise rise;
   const std::size_t usable =
-      residual_ ? UsableBands(bands_, residual_->content_edge_hz()) : bands_.size();
+      residual_ ? UsableBands(bands_, residual_->content_edge_hz()) : bands_.high_pass_bands();
   for (std::size_t b = 0; b < usable; ++b) {
     const double db = bands_.Rise(b, k);
     if (db > rise.rise_db) {
       rise.rise_db = db;
       rise.band = b;
     }
+  }
+  for (std::size_t b = bands_.high_pass_bands(); b < bands_.size(); ++b) {
+    rise.low_band_rise_db = std::max(rise.low_band_rise_db, bands_.Rise(b, k));
   }
   return rise;
 }

@@ -25,6 +25,9 @@ struct NoveltyRise {
   // code again (RingingResidual::CodecNoveltyDb; rise_db itself in other files). Only the
   // residual sets it.
   double codec_rise_db = -std::numeric_limits<double>::infinity();
+  // The low band's rise (BandEnvelopes::is_low_band), outside rise_db and band: it neither opens
+  // a candidate nor names the band its onset is picked in. Only the band rise sets it.
+  double low_band_rise_db = -std::numeric_limits<double>::infinity();
 };
 
 // Stage 2 of the impact detector: a measure of new sound, frame by frame. Every source is
