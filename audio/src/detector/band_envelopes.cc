@@ -80,9 +80,11 @@ BandEnvelopes::BandEnvelopes(const DetectorFrames& frames, const DetectorOptions
   for (double hz : DetectionBands(frames.rate_hz, options)) low_hz_.push_back(hz);
   high_pass_bands_ = low_hz_.size();
   if (LowBandHighHz(frames.rate_hz, options) > 0) low_hz_.push_back(options.band_low_hz);
-  floors_.resize(filter_.output_count());
-  floor_inputs_.resize(filter_.output_count());
-  floor_outputs_.resize(filter_.output_count());
+  // The low band's floor is never read (its rises open nothing and name no band whose SNR is
+  // measured): the floors are kept for the other bands only.
+  floors_.resize(high_pass_bands_);
+  floor_inputs_.resize(high_pass_bands_);
+  floor_outputs_.resize(high_pass_bands_);
   for (std::size_t b = 0; b < filter_.output_count(); ++b) {
     // Each band's history holds a whole filter block ahead of the frames being examined.
     const std::size_t history =
@@ -109,7 +111,7 @@ void BandEnvelopes::EndBlock() {
   // The floors of every band's frames of this block, side by side (NoiseFloor::AddBlocks); the
   // frames are examined only after this.
   if (taken_) {
-    for (std::size_t b = 0; b < bands_.size(); ++b) {
+    for (std::size_t b = 0; b < floors_.size(); ++b) {
       floors_[b] = &bands_[b].floor;
       floor_inputs_[b] = bands_[b].frame_powers;
       floor_outputs_[b] = bands_[b].floor_powers.data();
