@@ -37,6 +37,9 @@ constexpr int kInnovationFitSamplesPerCoefficient = 8;
 // 200 us: 99 and 32), against 157 and 78 (93 and 21) with this, and the coverage suite's
 // lead_e050_j4_s4112 took its 5th bounce 1.56 ms early (0.15 ms late before, 0.03 ms with this).
 constexpr double kInnovationBurstS = 1e-3;
+// How far, in units of the rise threshold, the low band's rise must lead every other band's for a
+// sound to count as risen there (Locate).
+constexpr double kLowBandLeadFraction = 0.25;
 // The change point must stand out of the search's own start by this much in the AIC (-2
 // log-likelihood: two sigmas of its profile likelihood), or it did not find where the impact
 // began (see LocatedImpact::change_point_found).
@@ -218,16 +221,18 @@ std::optional<LocatedImpact> OnsetLocator::Locate(const Candidate& candidate) {
   // The onset is picked in the same band, where the impact stands out most from what was there
   // before (unless the recording holds too little of that band, PickBand).
   // A sound that rose by the full threshold only in the low band (band 0 low-passed,
-  // BandEnvelopes::is_low_band), and by half the threshold more there than in any other band, is
-  // a bounce whose higher bands something louder filled just before it: zaky-ptv's first bounce,
-  // the file's loudest sound, rose 9.1 dB in the bands while speech's sibilants filled its 12 ms
-  // lookback above 2 kHz, and the drop's sequence began at its second bounce (docs/codecs.md).
-  // Its edge is picked in band 0, which holds the low band. Without the margin, a weak sound that
-  // rose nearly as much above 2 kHz counted too (the zaky clip low-passed at 3 kHz: a sound at
-  // 0.608 s, 10.0 dB in the bands and 10.8 below 2 kHz, band-detected, broke the drop's sequence).
+  // BandEnvelopes::is_low_band), and clearly more there than in any other band, is a bounce whose
+  // higher bands something louder filled just before it: zaky-ptv's first bounce, the file's
+  // loudest sound, rose 9.1 dB in the bands while speech's sibilants filled its 12 ms lookback
+  // above 2 kHz, and the drop's sequence began at its second bounce (docs/codecs.md). Its edge
+  // is picked in band 0, which holds the low band. "Clearly": by a quarter of the threshold
+  // (2.5 dB), as much as a rise moves with where the 0.25 ms frames fall (docs/codecs.md, "Where
+  // the file starts"). Without it a weak sound that rose as much above 2 kHz counted too (the zaky
+  // clip low-passed at 3 kHz: a sound at 0.608 s, 10.0 dB in the bands and 10.8 below 2 kHz, broke
+  // the drop's sequence); with half the threshold the sweep's files gained 8 fewer eta-bars.
   const bool rose_in_low_band =
       candidate.rise_db < rise_threshold_db_ && candidate.low_band_rise_db >= rise_threshold_db_ &&
-      candidate.low_band_rise_db >= candidate.rise_db + kSecondaryRiseFraction * rise_threshold_db_;
+      candidate.low_band_rise_db >= candidate.rise_db + kLowBandLeadFraction * rise_threshold_db_;
   const double band_rise_db = rose_in_low_band ? candidate.low_band_rise_db : candidate.rise_db;
   const std::size_t rising_band = rose_in_low_band ? 0 : candidate.band;
   const SampleHistory<float>& samples = bands_.band(PickBand(rising_band)).samples;
