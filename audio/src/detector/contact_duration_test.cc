@@ -65,6 +65,47 @@ std::vector<double> RelativeErrors(const DetectionResult& detection,
   return errors;
 }
 
+// 30 dB referred to the weakest impact, as the benches' drops are recorded.
+NoiseOptions ThirtyDbOverTheWeakestImpact() {
+  NoiseOptions noise;
+  noise.snr_db = 30;
+  noise.reference = SnrReference::kWeakestImpact;
+  return noise;
+}
+
+// A drop synthesised, detected and retimed as its file would be.
+struct RetimedDrop {
+  SynthesizedRecording drop;
+  DetectionResult detection;
+  ResponseTimingSummary summary;
+};
+
+RetimedDrop SynthesizeAndRetime(const SynthesisOptions& options) {
+  RetimedDrop result{SynthesizeBounces(options), {}, {}};
+  result.detection = DetectImpacts(result.drop.channels[0]);
+  result.summary = RetimeAsItsFile(result.detection, result.drop);
+  return result;
+}
+
+// The drift's signature: the mean relative error of the last four impacts less that of the
+// first four (late impacts, with longer contacts, later than early ones where uncorrected).
+double LateMinusEarly(const std::vector<double>& errors) {
+  double early = 0;
+  double late = 0;
+  for (std::size_t k = 0; k < 4; ++k) {
+    early += errors[k] / 4;
+    late += errors[errors.size() - 1 - k] / 4;
+  }
+  return late - early;
+}
+
+// The drop's first ball impact: the loudest, the template.
+const SynthesizedEvent& FirstBallImpact(const SynthesizedRecording& drop) {
+  return *std::find_if(drop.events.begin(), drop.events.end(), [](const SynthesizedEvent& e) {
+    return e.kind == SoundEventKind::kBallImpact;
+  });
+}
+
 // The template's contact duration is recovered from the responses' spectra alone, for a hard
 // and a softer contact.
 TEST(ContactDurations, TheTemplatesDurationIsRecoveredFromTheSpectra) {
@@ -75,9 +116,7 @@ TEST(ContactDurations, TheTemplatesDurationIsRecoveredFromTheSpectra) {
       const auto summary = RetimeAsItsFile(detection, drop);
       ASSERT_GT(summary.contact_duration_s, 0) << duration << " seed " << seed;
       // The template is the loudest impact: the first, at the release speed.
-      const auto& first = *std::find_if(
-          drop.events.begin(), drop.events.end(),
-          [](const SynthesizedEvent& e) { return e.kind == SoundEventKind::kBallImpact; });
+      const auto& first = FirstBallImpact(drop);
       SynthesisOptions defaults;
       defaults.contact_duration_s = duration;
       const double truth = TrueDuration(defaults, first.impact_speed_mps);
@@ -103,17 +142,11 @@ TEST(ContactDurations, RetimedOnsetsOfAWavDoNotDriftWithTheContactsDuration) {
     ASSERT_GT(summary.aligned, 8);
     const auto errors = RelativeErrors(detection, truth);
     ASSERT_GE(errors.size(), 10u);
-    // The drift's signature: late impacts (longer contacts) later than early ones. Uncorrected,
-    // the last four average 13-14 us after the first four; corrected, within 3 us (a seventh
-    // of a sample, the alignments' own scatter here is ~1 us).
-    double early = 0;
-    double late = 0;
-    for (std::size_t k = 0; k < 4; ++k) {
-      early += errors[k] / 4;
-      late += errors[errors.size() - 1 - k] / 4;
-    }
-    EXPECT_LT(std::fabs(late - early), 3e-6)
-        << "seed " << seed << ": late - early " << (late - early) * 1e6 << " us";
+    // Uncorrected, the last four average 13-14 us after the first four; corrected, within 3 us
+    // (a seventh of a sample, the alignments' own scatter here is ~1 us).
+    const double drift = LateMinusEarly(errors);
+    EXPECT_LT(std::fabs(drift), 3e-6)
+        << "seed " << seed << ": late - early " << drift * 1e6 << " us";
   }
 }
 
@@ -132,15 +165,10 @@ TEST(ContactDurations, BelowTwentyKilohertzAShortContactClaimsNone) {
   ReverbOptions reverb;
   reverb.rt60_s = 0.2;
   options.reverb = reverb;
-  NoiseOptions noise;
-  noise.snr_db = 30;
-  noise.reference = SnrReference::kWeakestImpact;
-  options.noise = noise;
-  const auto drop = SynthesizeBounces(options);
-  auto detection = DetectImpacts(drop.channels[0]);
-  const auto summary = RetimeAsItsFile(detection, drop);
-  EXPECT_GT(summary.aligned, 3);
-  EXPECT_EQ(summary.contact_duration_s, 0.0);
+  options.noise = ThirtyDbOverTheWeakestImpact();
+  const auto retimed = SynthesizeAndRetime(options);
+  EXPECT_GT(retimed.summary.aligned, 3);
+  EXPECT_EQ(retimed.summary.contact_duration_s, 0.0);
 }
 
 // A fit at 16 kHz can also land on a long duration for a short contact: codec_timing_bench's
@@ -163,15 +191,10 @@ TEST(ContactDurations, AtSixteenKilohertzADurationTheResponseContradictsIsNotCla
     reverb.rt60_s = 0.2;
     reverb.echoes = {{0.009, -12.0}};
     options.reverb = reverb;
-    NoiseOptions noise;
-    noise.snr_db = 30;
-    noise.reference = SnrReference::kWeakestImpact;
-    options.noise = noise;
-    const auto drop = SynthesizeBounces(options);
-    auto detection = DetectImpacts(drop.channels[0]);
-    const auto summary = RetimeAsItsFile(detection, drop);
-    EXPECT_EQ(summary.contact_duration_s, 0.0)
-        << "seed " << seed << ": claimed " << summary.contact_duration_s * 1e6 << " us";
+    options.noise = ThirtyDbOverTheWeakestImpact();
+    const auto retimed = SynthesizeAndRetime(options);
+    EXPECT_EQ(retimed.summary.contact_duration_s, 0.0)
+        << "seed " << seed << ": claimed " << retimed.summary.contact_duration_s * 1e6 << " us";
   }
 }
 
@@ -196,35 +219,24 @@ TEST(ContactDurations, AtSixteenKilohertzASoftContactIsResolvedAndItsDriftRemove
     ReverbOptions reverb;
     reverb.rt60_s = 0.3;
     options.reverb = reverb;
-    NoiseOptions noise;
-    noise.snr_db = 30;
-    noise.reference = SnrReference::kWeakestImpact;
-    options.noise = noise;
-    const auto drop = SynthesizeBounces(options);
-    auto detection = DetectImpacts(drop.channels[0]);
-    const auto summary = RetimeAsItsFile(detection, drop);
+    options.noise = ThirtyDbOverTheWeakestImpact();
+    const auto retimed = SynthesizeAndRetime(options);
+    const auto& summary = retimed.summary;
     ASSERT_GT(summary.contact_duration_s, 0) << "seed " << seed;
-    const auto& first = *std::find_if(
-        drop.events.begin(), drop.events.end(),
-        [](const SynthesizedEvent& e) { return e.kind == SoundEventKind::kBallImpact; });
+    const auto& first = FirstBallImpact(retimed.drop);
     // 50 %: at 16 kHz the estimate reads 0.49-0.62 ms for the first bounce's 0.73 ms (the table's
     // modes above the band's top are gone, and with them part of the spectrum's bend).
     EXPECT_NEAR(
         std::log(summary.contact_duration_s / TrueDuration(options, first.impact_speed_mps)), 0.0,
         0.5)
         << "seed " << seed << ": estimated " << summary.contact_duration_s * 1e6 << " us";
-    const auto errors = RelativeErrors(detection, drop.BallImpactOnsetsS());
+    const auto errors = RelativeErrors(retimed.detection, retimed.drop.BallImpactOnsetsS());
     ASSERT_GE(errors.size(), 8u);
-    double early = 0;
-    double late = 0;
-    for (std::size_t k = 0; k < 4; ++k) {
-      early += errors[k] / 4;
-      late += errors[errors.size() - 1 - k] / 4;
-    }
     // Uncorrected 153-165 us; corrected -77..+60 us here (the estimate's error above, and the
     // ringing the tail's bounces are timed in). 100 us: clearly under the drift left alone.
-    EXPECT_LT(std::fabs(late - early), 100e-6)
-        << "seed " << seed << ": late - early " << (late - early) * 1e6 << " us";
+    const double drift = LateMinusEarly(errors);
+    EXPECT_LT(std::fabs(drift), 100e-6)
+        << "seed " << seed << ": late - early " << drift * 1e6 << " us";
   }
 }
 
