@@ -19,15 +19,16 @@ namespace bouncecal::audio {
 // 22 kHz WAV: four members on their precursors, the fifth on its bounce 5.9 ms later at +-65 us,
 // eta-bar 0.4359 +- 0.0002 against 0.4480). A bounce sequence knows more than the merger: its
 // neighbours' intervals. A member is compared with each sound merged into it between its
-// neighbours, earlier or later, by how well each continues the sequence's interval ratios (a line
-// in ln ratio through the ratios neither moves); where another fits clearly better, it becomes
-// the member's onset. What the sequence calls the bounce is then the sound its members share, a
-// precursor at a constant lead as good as the bounce for the intervals. Only members the response
-// timing did not time (Impact::timed_from_response: an aligned onset is its own evidence) and left
-// where the merger put them. The taken sound's entry in `merged` then records the onset the merger
-// kept, as the sound set aside. A band-detected member that keeps its onset over an earlier sound
-// it out-levelled by less than a rise threshold, which the ratios do not clearly reject either,
-// states half their distance: the two may be one slowly rising sound.
+// neighbours, earlier or later (the last member: earlier only), by how well each continues the
+// sequence's interval ratios (a line in ln ratio through the ratios neither moves); where another
+// fits clearly better, it becomes the member's onset. What the sequence calls the bounce is then
+// the sound its members share, a precursor at a constant lead as good as the bounce for the
+// intervals. Only members the response timing did not time (Impact::timed_from_response: an aligned
+// onset is its own evidence) and left where the merger put them. The taken sound's entry in
+// `merged` then records the onset the merger kept, as the sound set aside. A band-detected member
+// that keeps its onset over an earlier sound it out-levelled by less than a rise threshold, which
+// the ratios do not clearly reject either, states half their distance: the two may be one slowly
+// rising sound.
 //
 // Before that, each sequence is weighed whole where three or more of its members show another
 // sound at one spacing (2 ms or more), merged into them or their own later, louder sound
