@@ -18,7 +18,8 @@ a late bounce) counts with its whole error: the tails are mostly those.
 With --against, the same files are analysed by the other binary too and compared member by
 member (same file, same exact impact): how many moved by more than 5 us, got closer or further,
 by more than 200 us either way, and how many crossed 3 stated sigmas; then each file's eta-bar
-as silent_wrong_sweep.py scores it (silent wrong, sequences gained and lost). This is how a
+as silent_wrong_sweep.py scores it (silent wrong, sequences gained and lost, and how many of the
+changed eta-bars came closer to the exact onsets' or went further). This is how a
 timing change is judged before the sweep is rerun from scratch: the same 8516 files, both
 binaries, in a few minutes. Deterministic; needs only Python's standard library.
 """
@@ -166,6 +167,16 @@ def compare(base, other):
     print(f"eta-bars: {len(bars_a)} -> {len(bars_b)} (gained {len(gained)}, lost {len(lost)}), "
           f"{len(changed)} changed; silent wrong {len(gone_wrong)} gone {gone_wrong[:8]}, "
           f"{len(new_wrong)} new {new_wrong[:8]}")
+
+    def off(bar):
+        return abs(bar["measured"] - bar["exact"])
+
+    judged = [k for k in changed if bars_a[k]["exact"] is not None]
+    closer = [k for k in judged if off(bars_b[k]) < off(bars_a[k])]
+    much_closer = sum(1 for k in judged if off(bars_b[k]) < off(bars_a[k]) - 0.001)
+    much_further = sum(1 for k in judged if off(bars_b[k]) > off(bars_a[k]) + 0.001)
+    print(f"  changed eta-bars closer to the exact {len(closer)}, further "
+          f"{len(judged) - len(closer)}; by > 0.001 {much_closer} / {much_further}")
     moved_z = sorted(((abs(bars_b[k]["z"]) - abs(bars_a[k]["z"]), k) for k in changed
                       if bars_a[k]["z"] is not None and bars_b[k]["z"] is not None),
                      reverse=True)
