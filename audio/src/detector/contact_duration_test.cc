@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "bouncecal/audio/response_timing.h"
@@ -238,6 +239,57 @@ TEST(ContactDurations, AtSixteenKilohertzASoftContactIsResolvedAndItsDriftRemove
     EXPECT_LT(std::fabs(drift), 100e-6)
         << "seed " << seed << ": late - early " << drift * 1e6 << " us";
   }
+}
+
+// The duration law reads each impact's speed ratio from its impulse ratio (J = m (1 + e) v), which
+// the spectra give as the ratio of their low-frequency levels. A recording whose loudness grows
+// faster than the impulse (this rubber ball's, as v^1.5: the spectra read v^1.5 for v) is
+// corrected by 1.5 times its drift, and no spectrum tells the two apart, so a third of each shift
+// is stated with it. detector_accuracy_bench's rubber on a table, seeds 1-12 at 48 kHz: of the
+// aligned onsets relative to their drop's median, 111 of 123 (90 %) lay within two stated sigmas
+// without that share (late bounces over-corrected by up to 40 us at stated 10-20 us), 122 (99 %)
+// with it. 93 %: between the two, a binomial sd (2 %) under 95 %.
+TEST(ContactDurations, AShiftTheLoudnessLawCouldOverstateIsStatedWithIt) {
+  int onsets = 0;
+  int within = 0;
+  for (int seed = 1; seed <= 12; ++seed) {
+    SynthesisOptions options;
+    options.seed = static_cast<std::uint64_t>(seed);
+    options.modes = TableTopModes();
+    options.contact_duration_s = 800e-6;
+    options.drop.drop_height_m = 0.5;
+    options.drop.restitution.constant = 0.74 + 0.06 * std::fmod(0.7548776662 * seed, 1.0);
+    options.chain = RecordingChain{};
+    options.click_gain = 0.15;
+    options.amplitude_speed_exponent = 1.5;
+    ReverbOptions reverb;
+    reverb.rt60_s = 0.3;
+    reverb.direct_to_reverberant_db = 4;
+    reverb.echoes = {{0.0015, -14.0}, {0.006, -10.0}};
+    options.reverb = reverb;
+    options.noise = ThirtyDbOverTheWeakestImpact();
+    const auto retimed = SynthesizeAndRetime(options);
+    ASSERT_GT(retimed.summary.contact_duration_s, 0) << "seed " << seed;
+    std::vector<std::pair<double, double>> aligned;  // (error, stated sigma)
+    for (double t : retimed.drop.BallImpactOnsetsS()) {
+      for (const Impact& impact : retimed.detection.impacts) {
+        if (impact.timed_from_response && std::fabs(impact.onset_s - t) < 1e-3) {
+          aligned.emplace_back(impact.onset_s - t, impact.onset_uncertainty_s);
+        }
+      }
+    }
+    ASSERT_GE(aligned.size(), 8u) << "seed " << seed;
+    std::vector<double> sorted;
+    for (const auto& [error, sigma] : aligned) sorted.push_back(error);
+    std::sort(sorted.begin(), sorted.end());
+    const double median = sorted[sorted.size() / 2];
+    for (const auto& [error, sigma] : aligned) {
+      ++onsets;
+      within += std::fabs(error - median) <= 2 * sigma ? 1 : 0;
+    }
+  }
+  std::printf("aligned onsets within 2 stated sigmas: %d of %d\n", within, onsets);
+  EXPECT_GE(within, 0.93 * onsets) << within << " of " << onsets;
 }
 
 }  // namespace

@@ -150,6 +150,9 @@ TEST(ResponseTiming, InALossyFileTheTemplatesOwnOnsetDoesNotSetTheOthers) {
 
 // On a clean WAV the detector's onsets are already right to a sample: the stage agrees with them,
 // so it only combines (never replaces) and no onset moves by more than its stated uncertainty.
+// Nor does a sigma grow, but by the loudness law's share of the centroid shift
+// (response_timing.cc): a sixth of a contact's lengthening, which for this 70 us contact, the
+// last bounce 10 times slower than the first (60 % longer), is 7 us; 10 us in quadrature.
 TEST(ResponseTiming, CleanOnsetsAreCombinedNotReplaced) {
   for (int seed = 1; seed <= 3; ++seed) {
     const auto drop = SteelDrop(seed, 48000);
@@ -162,7 +165,8 @@ TEST(ResponseTiming, CleanOnsetsAreCombinedNotReplaced) {
     for (std::size_t i = 0; i < before.impacts.size(); ++i) {
       EXPECT_LE(std::fabs(detection.impacts[i].onset_s - before.impacts[i].onset_s),
                 3 * before.impacts[i].onset_uncertainty_s);
-      EXPECT_LE(detection.impacts[i].onset_uncertainty_s, before.impacts[i].onset_uncertainty_s);
+      EXPECT_LE(detection.impacts[i].onset_uncertainty_s,
+                std::hypot(before.impacts[i].onset_uncertainty_s, 10e-6));
     }
   }
 }
