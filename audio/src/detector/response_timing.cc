@@ -164,7 +164,7 @@ double WeightedMedian(std::vector<std::pair<double, double>> values) {
 // third (1 - 1/1.5) of the shift. detector_accuracy_bench's rubber on a table (48 kHz, 0.8 ms
 // contact): within two stated sigmas 91 -> 96 % of the onsets, intervals 98 -> 99 %, no onset
 // moved; a hard contact's shifts are a few us, and its sigmas barely move (chain-coverage bench,
-// steel on an anvil: every interval and trend claim the same).
+// steel on an anvil: every row's coverage and trend claims the same, widths within 2 %).
 constexpr double kLoudnessLawShare = 1.0 / 3.0;
 
 // Moves each aligned onset from its contact force's centroid back to its start of contact

@@ -175,7 +175,8 @@ double LastMemberAfterWeighing(double member_s, double merged_s) {
 }
 
 // The last member has only the ratio before it, but that one still rejects a 3 ms late onset:
-// the start of its sound, merged before it, takes the onset.
+// the start of its sound, merged before it, takes the onset; and a sound 3 ms before a member on
+// its bounce stays merged.
 TEST(MergedAlternatives, TheLastMembersEarlierSoundThatContinuesTheRatiosIsTheBounce) {
   EXPECT_NEAR(LastMemberAfterWeighing(3e-3, 0), 0, kSameOnsetS);
   EXPECT_NEAR(LastMemberAfterWeighing(0, -3e-3), 0, kSameOnsetS);
