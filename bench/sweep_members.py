@@ -19,7 +19,8 @@ With --against, the same files are analysed by the other binary too and compared
 member (same file, same exact impact): how many moved by more than 5 us, got closer or further,
 by more than 200 us either way, and how many crossed 3 stated sigmas; then each file's eta-bar
 as silent_wrong_sweep.py scores it (silent wrong, sequences gained and lost, and how many of the
-changed eta-bars came closer to the exact onsets' or went further). This is how a
+changed eta-bars came closer to the exact onsets' or went further, and how many stated sigmas
+grew or shrank by more than 10 %). This is how a
 timing change is judged before the sweep is rerun from scratch: the same 8516 files, both
 binaries, in a few minutes. Deterministic; needs only Python's standard library.
 """
@@ -95,7 +96,8 @@ def analyse(bouncecal, entry):
         exact = eta_bar(truth[first:first + count + 2], count)
         sigma = sequence["energy_loss_mean_first_n_uncertainty"]
         z, wrong = verdict(measured, exact, sigma)
-        result["eta_bar"] = {"measured": measured, "exact": None if math.isnan(exact) else exact,
+        result["eta_bar"] = {"measured": measured, "sigma": sigma,
+                             "exact": None if math.isnan(exact) else exact,
                              "z": None if math.isnan(exact) else z, "wrong": wrong}
     return key, result
 
@@ -177,6 +179,16 @@ def compare(base, other):
     much_further = sum(1 for k in judged if off(bars_b[k]) > off(bars_a[k]) + 0.001)
     print(f"  changed eta-bars closer to the exact {len(closer)}, further "
           f"{len(judged) - len(closer)}; by > 0.001 {much_closer} / {much_further}")
+    # A change of stated uncertainty alone moves no eta-bar but can make or mend a silent wrong
+    # answer, and a wider sigma on answers that were right costs every user of the file.
+    both = [k for k in set(bars_a) & set(bars_b)
+            if "sigma" in bars_a[k] and "sigma" in bars_b[k]]
+    wider = [k for k in both if bars_b[k]["sigma"] > 1.1 * bars_a[k]["sigma"]]
+    narrower = [k for k in both if bars_b[k]["sigma"] < bars_a[k]["sigma"] / 1.1]
+    right_wider = [k for k in wider if bars_a[k]["exact"] is not None
+                   and off(bars_a[k]) <= bars_a[k]["sigma"]]
+    print(f"  eta-bar sigmas by more than 10 %: wider {len(wider)} (of them within one sigma "
+          f"of the exact before: {len(right_wider)}), narrower {len(narrower)}")
     moved_z = sorted(((abs(bars_b[k]["z"]) - abs(bars_a[k]["z"]), k) for k in changed
                       if bars_a[k]["z"] is not None and bars_b[k]["z"] is not None),
                      reverse=True)
