@@ -427,6 +427,49 @@ TEST(PairedSounds, AnUnjudgedFirstMemberStatesTheSpacingWhereNoChoiceIsTaken) {
   EXPECT_NEAR(impacts[0].onset_uncertainty_s, std::hypot(30e-6, 0.5 * kLeadS), 1e-6);
 }
 
+// --precursors seed 948 #158's pattern: clicks 5.6 ms before each bounce, the first member on
+// its click with its bounce as its later sound, the 3rd and 7th on their bounces with their
+// clicks merged, the rest on their bounces with nothing recorded. Moving the 3rd or the 7th to
+// its click the ratios clearly reject, so the choice of the earlier sound moves nothing and fits
+// as well as the choice of the later, whose move of the first member they cannot judge: no choice
+// is taken, and where the tie fell to the earlier sound, the first member, on the other sound of
+// its pair than the paired members are, stated nothing (eta-bar 47 sigmas off). It states half
+// the spacing whichever choice the tie falls to.
+TEST(PairedSounds, AnEndMemberOnTheOtherSoundThanThePairedMembersStatesTheSpacing) {
+  constexpr double kLeadS = 5.6e-3;
+  auto impacts = Drop(12, 0);
+  std::vector<MergedEvent> merged;
+  impacts[0].later_onset_s = impacts[0].onset_s;
+  impacts[0].onset_s -= kLeadS;
+  for (const std::size_t k : {std::size_t{2}, std::size_t{6}}) {
+    merged.push_back(Lost(impacts[k].onset_s - kLeadS, impacts[k].onset_s));
+    merged.back().level_difference_db = 10;
+  }
+  const auto onsets = impacts;
+  TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
+  for (std::size_t k = 0; k < impacts.size(); ++k) {
+    ASSERT_EQ(impacts[k].onset_s, onsets[k].onset_s) << "member " << k << " moved";
+  }
+  EXPECT_NEAR(impacts[0].onset_uncertainty_s, std::hypot(30e-6, 0.5 * kLeadS), 1e-6);
+}
+
+// --precursors seed 940 #137's pattern: every member on its bounce, the first, 3rd, 5th and 7th
+// with their clicks (6.9 ms before) merged, the 8th with a later sound at that spacing (its
+// ringing swelling). The first member is on the sound the others' pairs show them on, and keeps
+// its sigma.
+TEST(PairedSounds, AnEndMemberOnTheSoundMostPairedMembersAreOnKeepsItsSigma) {
+  constexpr double kLeadS = 6.9e-3;
+  auto impacts = Drop(12, 0);
+  std::vector<MergedEvent> merged;
+  for (const std::size_t k : {std::size_t{0}, std::size_t{2}, std::size_t{4}, std::size_t{6}}) {
+    merged.push_back(Lost(impacts[k].onset_s - kLeadS, impacts[k].onset_s));
+    merged.back().level_difference_db = 10;
+  }
+  impacts[7].later_onset_s = impacts[7].onset_s + kLeadS;
+  TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
+  EXPECT_EQ(impacts[0].onset_uncertainty_s, 30e-6);
+}
+
 // silent_wrong_sweep.py --precursors seed 8 #147's pattern: every member on its bounce, the
 // first four and the 9th and 11th with their clicks (6 ms before) merged, the 10th heard only in
 // the ringing and timed on its click (+-6 ms). Moving the 9th and 11th to their clicks fits the
