@@ -409,14 +409,18 @@ TEST(PairedSounds, AFirstMemberWhoseMoveTheRatiosCannotJudgeStays) {
 // their bounces with nothing recorded, the last four on their bounces with their clicks merged.
 // No choice is taken, the members sit on both sounds, and the first member, whose move the choice
 // of the later sound would have made had the ratios judged it, states half the spacing.
-TEST(PairedSounds, AnUnjudgedFirstMemberStatesTheSpacingWhereNoChoiceIsTaken) {
-  constexpr double kLeadS = 2.5e-3;
+// A 12-bounce drop with clicks `lead_s` before every bounce and 10 dB under it: the first member
+// on its click with its bounce as its later sound, the members `merged_into` on their bounces with
+// their clicks merged, the rest on their bounces with nothing recorded. Expects that no member
+// moves and that the first states half the lead.
+void ExpectAFirstMemberOnItsClickStatesHalfTheLead(double lead_s,
+                                                   const std::vector<std::size_t>& merged_into) {
   auto impacts = Drop(12, 0);
   std::vector<MergedEvent> merged;
   impacts[0].later_onset_s = impacts[0].onset_s;
-  impacts[0].onset_s -= kLeadS;
-  for (std::size_t k = 8; k < impacts.size(); ++k) {
-    merged.push_back(Lost(impacts[k].onset_s - kLeadS, impacts[k].onset_s));
+  impacts[0].onset_s -= lead_s;
+  for (const std::size_t k : merged_into) {
+    merged.push_back(Lost(impacts[k].onset_s - lead_s, impacts[k].onset_s));
     merged.back().level_difference_db = 10;
   }
   const auto onsets = impacts;
@@ -424,7 +428,11 @@ TEST(PairedSounds, AnUnjudgedFirstMemberStatesTheSpacingWhereNoChoiceIsTaken) {
   for (std::size_t k = 0; k < impacts.size(); ++k) {
     ASSERT_EQ(impacts[k].onset_s, onsets[k].onset_s) << "member " << k << " moved";
   }
-  EXPECT_NEAR(impacts[0].onset_uncertainty_s, std::hypot(30e-6, 0.5 * kLeadS), 1e-6);
+  EXPECT_NEAR(impacts[0].onset_uncertainty_s, std::hypot(30e-6, 0.5 * lead_s), 1e-6);
+}
+
+TEST(PairedSounds, AnUnjudgedFirstMemberStatesTheSpacingWhereNoChoiceIsTaken) {
+  ExpectAFirstMemberOnItsClickStatesHalfTheLead(2.5e-3, {8, 9, 10, 11});
 }
 
 // --precursors seed 948 #158's pattern: clicks 5.6 ms before each bounce, the first member on
@@ -436,21 +444,7 @@ TEST(PairedSounds, AnUnjudgedFirstMemberStatesTheSpacingWhereNoChoiceIsTaken) {
 // its pair than the paired members are, stated nothing (eta-bar 47 sigmas off). It states half
 // the spacing whichever choice the tie falls to.
 TEST(PairedSounds, AnEndMemberOnTheOtherSoundThanThePairedMembersStatesTheSpacing) {
-  constexpr double kLeadS = 5.6e-3;
-  auto impacts = Drop(12, 0);
-  std::vector<MergedEvent> merged;
-  impacts[0].later_onset_s = impacts[0].onset_s;
-  impacts[0].onset_s -= kLeadS;
-  for (const std::size_t k : {std::size_t{2}, std::size_t{6}}) {
-    merged.push_back(Lost(impacts[k].onset_s - kLeadS, impacts[k].onset_s));
-    merged.back().level_difference_db = 10;
-  }
-  const auto onsets = impacts;
-  TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
-  for (std::size_t k = 0; k < impacts.size(); ++k) {
-    ASSERT_EQ(impacts[k].onset_s, onsets[k].onset_s) << "member " << k << " moved";
-  }
-  EXPECT_NEAR(impacts[0].onset_uncertainty_s, std::hypot(30e-6, 0.5 * kLeadS), 1e-6);
+  ExpectAFirstMemberOnItsClickStatesHalfTheLead(5.6e-3, {2, 6});
 }
 
 // The random mix's seed 947 #99 (22 kHz counter, clicks 4.3 ms before each bounce, ratios
