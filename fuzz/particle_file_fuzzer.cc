@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
 
 #include "bouncecal/error.h"
 #include "scene/particle_file.h"
@@ -44,5 +45,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const bouncecal::InputError& error) {
     if (std::string(error.what()).find('\n') != std::string::npos) std::abort();
   }
+  // Removed after every input: libFuzzer ends at -max_total_time without a clean-up hook, and
+  // each run left its two files in the temporary folder.
+  std::error_code ignored;
+  std::filesystem::remove(path, ignored);
   return 0;
 }

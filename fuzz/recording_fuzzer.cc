@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
 
 #include "bouncecal/audio/detect_file.h"
 #include "bouncecal/error.h"
@@ -36,5 +37,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // The CLI prints the message as it is: it must stay one line.
     if (std::string(error.what()).find('\n') != std::string::npos) std::abort();
   }
+  // libFuzzer ends at -max_total_time without running static destructors' clean-up: removed
+  // after every input, or each run leaves its file in the temporary folder.
+  std::error_code ignored;
+  std::filesystem::remove(ScratchPath(), ignored);
   return 0;
 }
