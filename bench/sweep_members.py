@@ -2,7 +2,7 @@
 """Times every sequence member of kept silent_wrong_sweep.py files against its exact onset.
 
     bench/sweep_members.py build/apps/bouncecal WORKDIR... [--against OTHER_BOUNCECAL]
-                           [--jobs 2] [--save RESULTS.json]
+                           [--jobs 2] [--save RESULTS.json] [--reuse RESULTS.json]
 
 Re-analyses each file a `silent_wrong_sweep.py --workdir WORKDIR` run left (its N.csv truth and
 the N.wav, or the lossy N.mp3 / .ogg / .opus / .m4a it was scored on) and matches every member
@@ -20,9 +20,11 @@ member (same file, same exact impact): how many moved by more than 5 us, got clo
 by more than 200 us either way, and how many crossed 3 stated sigmas; then each file's eta-bar
 as silent_wrong_sweep.py scores it (silent wrong, sequences gained and lost, and how many of the
 changed eta-bars came closer to the exact onsets' or went further, and how many stated sigmas
-grew or shrank by more than 10 %). This is how a
-timing change is judged before the sweep is rerun from scratch: the same files (8933 with a
-sequence on the machine of 2026-12-06), both binaries, in a few minutes. Deterministic; needs only Python's standard library.
+grew or shrank by more than 10 %). This is how a timing change is judged before the sweep is
+rerun from scratch: the same files (10782 with a sequence on the machine of 2026-12-06), both
+binaries, in a few minutes (--reuse reads the first binary's results from an earlier --save
+instead of running it again: half the time when one base is compared with several changes).
+Deterministic; needs only Python's standard library.
 """
 import argparse
 import csv
@@ -169,6 +171,10 @@ def compare(base, other):
     print(f"eta-bars: {len(bars_a)} -> {len(bars_b)} (gained {len(gained)}, lost {len(lost)}), "
           f"{len(changed)} changed; silent wrong {len(gone_wrong)} gone {gone_wrong[:8]}, "
           f"{len(new_wrong)} new {new_wrong[:8]}")
+    # A refusal is honest, but one of an answer that was right is a loss to its user.
+    lost_right = [k for k in lost if not bars_a[k]["wrong"]]
+    if lost_right:
+        print(f"  lost eta-bars that were right: {len(lost_right)} {lost_right[:8]}")
 
     def off(bar):
         return abs(bar["measured"] - bar["exact"])
@@ -203,13 +209,26 @@ def main():
     parser.add_argument("--against", help="a second bouncecal to compare member by member")
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--save", help="write the per-member results (JSON) here")
+    parser.add_argument("--reuse", help="results saved by --save: the first bouncecal's are read "
+                        "from there (the same files, the same binary) instead of run again")
     options = parser.parse_args()
     files = sweep_files(options.workdirs)
     if not files:
         print(f"no silent_wrong_sweep.py files (N.csv with N.wav) in {options.workdirs}",
               file=sys.stderr)
         return 2
-    base = run_all(options.bouncecal, files, options.jobs)
+    base = None
+    if options.reuse:
+        with open(options.reuse) as f:
+            saved = json.load(f).get(options.bouncecal)
+        # Only where every file was measured: a saved run over fewer folders would miss some.
+        if saved is not None and all(key in saved for key, _, _ in files):
+            base = {key: saved[key] for key, _, _ in files}
+        else:
+            print(f"{options.reuse} holds no run of {options.bouncecal} over these files: "
+                  "running it", file=sys.stderr)
+    if base is None:
+        base = run_all(options.bouncecal, files, options.jobs)
     report(options.bouncecal, base)
     results = {options.bouncecal: base}
     if options.against:
