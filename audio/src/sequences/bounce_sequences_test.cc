@@ -615,11 +615,11 @@ TEST(BounceSequences, AChainOfEveryThirdBounceIsNoSequence) {
       << result.rejected[0].reason;
 }
 
-// The random-impairment sweep's seed 951 #134 as detected (8 kHz plate band-limited at 1.6 kHz,
-// e = 0.912, pink noise 30 dB under its weakest bounce, 50 Hz hum): only every fourth bounce from
-// the 7th rose in a band, so the longest chain took them (ratios e^4 = 0.69; eta-bar 0.5219
-// against 0.1683, 57 sigmas, exit 0). The three skipped bounces of each flight are heard in the
-// ringing where they would be but one of twelve: no sequence.
+// The random-impairment sweep's seed 951 #134 as `analyze` reported its impacts (8 kHz plate
+// band-limited at 1.6 kHz, e = 0.912, pink noise 30 dB under its weakest bounce, 50 Hz hum): only
+// every fourth bounce from the 7th rose in a band, so the longest chain took them (ratios e^4 =
+// 0.69; eta-bar 0.5219 against 0.1683, 57 sigmas, exit 0). The three skipped bounces of each
+// flight are heard in the ringing where they would be but one of twelve: no sequence.
 TEST(BounceSequences, AChainOfEveryFourthBounceIsNoSequence) {
   const auto impacts = FromDetected(
       {{0.055188, 3039e-6, -32.9, 1}, {0.116187, 3646e-6, -33.0, 1}, {0.175437, 7045e-6, -33.0, 1},
