@@ -38,6 +38,8 @@ struct SynthArguments {
   double hum_dbfs = audio::HumOptions{}.fundamental_dbfs;
   int hum_harmonics = audio::HumOptions{}.harmonics_count;
   std::optional<double> clip_level;
+  std::optional<double> limiter_gain_db;
+  audio::LimiterOptions limiter;
   std::vector<double> knock_s;
   std::vector<double> thump_s;
   std::vector<double> stray_s;
@@ -84,6 +86,10 @@ audio::SynthesisOptions BuildOptions(const SynthArguments& args) {
     options.hum = audio::HumOptions{*args.hum_hz, args.hum_dbfs, args.hum_harmonics};
   }
   options.clip_level = args.clip_level;
+  if (args.limiter_gain_db) {
+    options.limiter = args.limiter;
+    options.limiter->gain_db = *args.limiter_gain_db;
+  }
   if (!args.adc.empty()) {
     options.chain = args.chain;
     options.chain->phase = args.adc == "minimum-phase" ? audio::AdcFilterPhase::kMinimum
@@ -312,6 +318,40 @@ void AddSynthCommand(CLI::App& app) {
   command->add_option("--dc-offset", o.dc_offset, "DC offset (full scale)")->capture_default_str();
   command->add_option("--clip-level", args->clip_level,
                       "Hard-clip at +-this level (full scale, 0 < level <= 1)");
+  auto* limiter = command->add_option(
+      "--limiter-gain-db", args->limiter_gain_db,
+      "Record through a phone's gain stage: this make-up gain (dB, 0-60, e.g. 20), then a "
+      "look-ahead peak limiter (the end of every AGC)");
+  command
+      ->add_option("--limiter-ceiling-dbfs", args->limiter.ceiling_dbfs,
+                   "The limiter's ceiling (dBFS)")
+      ->capture_default_str()
+      ->needs(limiter);
+  command
+      ->add_option("--limiter-lookahead-s", args->limiter.lookahead_s,
+                   "How far ahead the limiter sees (s)")
+      ->capture_default_str()
+      ->needs(limiter);
+  command
+      ->add_option("--limiter-release-s", args->limiter.release_s,
+                   "The limiter's release time constant (s)")
+      ->capture_default_str()
+      ->needs(limiter);
+  auto* target = command->add_option(
+      "--agc-target-dbfs", args->limiter.target_dbfs,
+      "Steer the gain (from --limiter-gain-db, never above it) toward this level (dBFS, RMS over "
+      "--agc-level-time-s); unset: the gain stays");
+  target->needs(limiter);
+  command
+      ->add_option("--agc-slew-db-per-s", args->limiter.slew_db_per_s,
+                   "How fast the AGC's gain may move (dB/s)")
+      ->capture_default_str()
+      ->needs(target);
+  command
+      ->add_option("--agc-level-time-s", args->limiter.level_time_s,
+                   "Time constant of the level the AGC steers by (s)")
+      ->capture_default_str()
+      ->needs(target);
   command->add_option("--band-limit-hz", o.band_limit_hz,
                       "Low-pass everything here like a lossy codec (Hz), e.g. 7000");
   auto* adc =

@@ -12,6 +12,7 @@
 #include "synth/band_limit.h"
 #include "synth/contact_click.h"
 #include "synth/extra_event_sound.h"
+#include "synth/limiter.h"
 #include "synth/modal_impact.h"
 #include "synth/noise.h"
 #include "synth/recording_chain.h"
@@ -594,6 +595,7 @@ ChannelImpairments AddDeviceImpairments(const SynthesisOptions& options, const R
   if (options.dc_offset != 0.0) {
     for (float& sample : live) sample += static_cast<float>(options.dc_offset);
   }
+  if (options.limiter) ApplyLimiter(*options.limiter, rate_hz, live);
   if (options.clip_level) {
     const auto level = static_cast<float>(*options.clip_level);
     for (float& sample : out) {

@@ -461,6 +461,23 @@ TEST(SynthesizeBounces, NonBallEventsSoundDifferentFromBallImpacts) {
   EXPECT_GT(window(ball), 2500.0);
 }
 
+// The limiter runs on the recording as the device's last gain stage: a drop whose first bounce
+// peaks at 0.5 with 20 dB of make-up gain leaves no sample above the -1 dBFS ceiling, and the
+// truth's onsets are those of the same drop without it.
+TEST(SynthesizeBounces, TheLimiterHoldsTheCeilingAndLeavesTheOnsets) {
+  SynthesisOptions options = ExplicitImpacts({{0.5, 2.0}, {0.9, 1.5}});
+  const auto plain = SynthesizeBounces(options);
+  options.limiter = LimiterOptions{};
+  options.limiter->gain_db = 20;
+  const auto limited = SynthesizeBounces(options);
+  const auto& x = limited.channels[0].samples;
+  float peak = 0;
+  for (const float v : x) peak = std::max(peak, std::fabs(v));
+  EXPECT_LE(20 * std::log10(peak), -1.0 + 1e-6);
+  EXPECT_GT(20 * std::log10(peak), -1.5);  // driven to it
+  EXPECT_EQ(limited.BallImpactOnsetsS(), plain.BallImpactOnsetsS());
+}
+
 TEST(SynthesizeBounces, HumDcClippingAndDigitalSilenceAreApplied) {
   SynthesisOptions options = ExplicitImpacts({{0.5, 2.0}});
   options.hum = HumOptions{.frequency_hz = 50.0, .fundamental_dbfs = -30.0, .harmonics_count = 1};
@@ -805,6 +822,10 @@ TEST(SynthesizeBounces, InvalidOptionsGiveOneLineErrorsNamingTheOption) {
   options = {};
   options.band_limit_hz = 30000.0;
   ExpectConfigErrorNaming(options, "band_limit_hz");
+  options = ExplicitImpacts({{0.5, 2.0}});
+  options.limiter = LimiterOptions{};
+  options.limiter->gain_db = 80;
+  ExpectConfigErrorNaming(options, "limiter.gain_db = 80 is outside [0, 60]");
   options = {};
   options.clip_level = 1.5;
   ExpectConfigErrorNaming(options, "clip_level");

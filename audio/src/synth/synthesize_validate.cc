@@ -139,6 +139,18 @@ void ValidateSynthesisOptions(const SynthesisOptions& options) {
     RequireAbove(name + ".peak_amplitude", event.peak_amplitude, 0.0, 100.0, "full scale");
   }
   RequireRange("dc_offset", options.dc_offset, -1.0, 1.0, "full scale");
+  if (options.limiter) {
+    const LimiterOptions& limiter = *options.limiter;
+    RequireRange("limiter.gain_db", limiter.gain_db, 0.0, 60.0, "dB");
+    RequireRange("limiter.ceiling_dbfs", limiter.ceiling_dbfs, -40.0, 0.0, "dBFS");
+    RequireRange("limiter.lookahead_s", limiter.lookahead_s, 0.0, 0.02, "s");
+    RequireRange("limiter.release_s", limiter.release_s, 1e-3, 5.0, "s");
+    if (limiter.target_dbfs) {
+      RequireRange("limiter.target_dbfs", *limiter.target_dbfs, -60.0, 0.0, "dBFS");
+      RequireRange("limiter.slew_db_per_s", limiter.slew_db_per_s, 0.1, 1000.0, "dB/s");
+      RequireRange("limiter.level_time_s", limiter.level_time_s, 1e-3, 5.0, "s");
+    }
+  }
   if (options.clip_level) RequireAbove("clip_level", *options.clip_level, 0.0, 1.0, "full scale");
   if (options.band_limit_hz) {
     RequireRange("band_limit_hz", *options.band_limit_hz, 500.0, 0.45 * options.sample_rate_hz,

@@ -178,6 +178,22 @@ struct HumOptions {
   int harmonics_count = 5;
 };
 
+// A phone's or a recorder's digital gain stage (synth/limiter.h): an automatic gain control
+// whose gain starts at gain_db (where it stood in the quiet before the drop) and, with a target,
+// is steered at a limited rate toward target_dbfs over the recent level, never above gain_db;
+// then a look-ahead peak limiter at the ceiling. Applied after noise, hum and DC, before clipping
+// and the band limit.
+struct LimiterOptions {
+  double gain_db = 20.0;       // the gain at the start and at most, 0 to 60 dB
+  double ceiling_dbfs = -1.0;  // no sample leaves louder, -40 to 0 dBFS
+  double lookahead_s = 2e-3;   // the limiter sees this far ahead, 0 to 20 ms
+  double release_s = 0.06;     // time constant of its recovery, 1 ms to 5 s
+  // Unset: the gain stays at gain_db (an AGC that adapts only to speech, as WebRTC's does).
+  std::optional<double> target_dbfs;  // level (RMS over level_time_s) steered to, -60 to 0 dBFS
+  double slew_db_per_s = 6.0;         // how fast the gain may move, 0.1 to 1000 dB/s
+  double level_time_s = 0.2;          // time constant of that level, 1 ms to 5 s
+};
+
 // Non-ball events, listed in the truth with their kind so a detector can be checked for
 // rejecting them.
 enum class SoundEventKind {
@@ -287,7 +303,8 @@ struct SynthesisOptions {
   std::optional<NoiseOptions> noise;
   std::optional<HumOptions> hum;
   std::vector<ExtraEvent> extra_events;
-  double dc_offset = 0.0;            // added to every sample, full-scale units
+  double dc_offset = 0.0;  // added to every sample, full-scale units
+  std::optional<LimiterOptions> limiter;
   std::optional<double> clip_level;  // hard clip at +-clip_level (0 < level <= 1) when set
   // Band limit of a lossy codec or phone path (the last step before the digital silence): a
   // zero-phase low-pass with a 10 % transition band, -74 dB above it. Like real codecs it rings
