@@ -2,7 +2,7 @@
 """Hunts for silent wrong answers: random recordings, each with exact ground truth.
 
     bench/silent_wrong_sweep.py build/apps/bouncecal [--seed 11] [--count 60] [--workdir DIR]
-                                [--only-unreliable-lobe] [--precursors]
+                                [--only-unreliable-lobe] [--precursors] [--limiter]
 
 Each file is a `bouncecal synth` drop with a random mix of what real recordings bring: sample
 rate 8-96 kHz, contact 35 us - 1 ms, plate or counter, restitution 0.3-0.92, noise (white or
@@ -89,6 +89,25 @@ def precursor_recording(rng, index):
     return args, None
 
 
+def limiter_args(seed, index):
+    """A phone's gain stage for file `index` (--limiter, synth --limiter-gain-db): an automatic gain
+    control, then a look-ahead peak limiter at -1 dBFS. Half the files: the gain steered toward
+    -24 to -12 dBFS at 3-20 dB/s from 10-30 dB, where it stood in the quiet before the drop (the
+    drops peak at -6 to 0 dBFS, so the first bounces are limited by up to ~30 dB and the gain then
+    comes down); the other half: a gain that stays at 3-15 dB (an AGC that adapts only to speech).
+    More fixed gain leaves a plate's ringing at the ceiling for seconds, with no rise to find.
+    Drawn from a stream of its own, so a seed's files are the same drops with and without it."""
+    rng = random.Random(f"{seed}-limiter-{index}")
+    args = ["--limiter-lookahead-s", str(rng.choice([0.5e-3, 1e-3, 2e-3, 5e-3])),
+            "--limiter-release-s", str(rng.choice([0.02, 0.06, 0.2]))]
+    if rng.random() < 0.5:
+        return args + ["--limiter-gain-db", f"{rng.uniform(10, 30):.1f}",
+                       "--agc-target-dbfs", f"{rng.uniform(-24, -12):.1f}",
+                       "--agc-slew-db-per-s", str(rng.choice([3, 6, 20])),
+                       "--agc-level-time-s", str(rng.choice([0.1, 0.3]))]
+    return args + ["--limiter-gain-db", f"{rng.uniform(3, 15):.1f}"]
+
+
 def eta_bar(onsets, count):
     intervals = [b - a for a, b in zip(onsets, onsets[1:])]
     ratios = [b / a for a, b in zip(intervals, intervals[1:])]
@@ -117,6 +136,10 @@ def main():
     parser.add_argument("--precursors", action="store_true",
                         help="every file a drop with a click 9-14 dB under each bounce, 2-8 ms "
                              "ahead of it (precursor_recording), instead of the random mix")
+    parser.add_argument("--limiter", action="store_true",
+                        help="every file through a phone's gain stage: an AGC and a look-ahead peak "
+                             "limiter (limiter_args), which bring the loudest bounces down "
+                             "towards the sounds before them")
     options = parser.parse_args()
     workdir = options.workdir or tempfile.mkdtemp(prefix="silent_wrong_")
     os.makedirs(workdir, exist_ok=True)
@@ -125,6 +148,8 @@ def main():
     for index in range(options.count):
         recipe = precursor_recording if options.precursors else random_recording
         args, codec = recipe(rng, index)
+        if options.limiter:
+            args += limiter_args(options.seed, index)
         rate = int(args[args.index("--sample-rate-hz") + 1])
         if options.only_unreliable_lobe and not codec and rate >= 20000:
             continue
