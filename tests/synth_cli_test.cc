@@ -65,6 +65,11 @@ TEST(SynthCli, BadOptionsMissingInputsAndUnwritableOutputsMapToExitStatuses) {
   EXPECT_EQ(result.exit_status, 4) << result.output;
   result = RunBouncecal("synth" + out + " --echo-delay-s 0.009");  // gain missing
   EXPECT_EQ(result.exit_status, 3) << result.output;
+  result = RunBouncecal("synth" + out + " --agc-target-dbfs -20");  // no gain stage
+  EXPECT_EQ(result.exit_status, 3) << result.output;
+  result = RunBouncecal("synth" + out + " --limiter-gain-db 70");
+  EXPECT_EQ(result.exit_status, 3) << result.output;
+  EXPECT_NE(result.output.find("limiter.gain_db"), std::string::npos) << result.output;
   result = RunBouncecal("synth -o " + (dir / "x.flac").string() + " --format float");
   EXPECT_EQ(result.exit_status, 3) << result.output;
   EXPECT_TRUE(std::filesystem::is_empty(dir));  // nothing written by any failed run
