@@ -408,6 +408,30 @@ TEST(AnalyzeCli, AFirstBounceTimedOnItsClickStatesTheBounceAfterIt) {
   ExpectNotSilentWrong(sequence, truth);
 }
 
+// The same pattern through a phone's gain stage (silent_wrong_sweep.py --limiter --precursors seed
+// 957 #101): 96 kHz, a plate, a click 12.7 dB under each bounce 7.2 ms before it, and an AGC that
+// stood at 10.7 dB in the quiet before the drop, then a look-ahead limiter at -1 dBFS. The limiter
+// brought the first bounce down towards its click, which rang into it and kept one candidate,
+// timed on the click at a stated 19 us with nothing recorded of the bounce (no merged sound, no
+// later sound 6 dB over the click's first millisecond), while every later bounce, left louder than
+// its click, was timed on itself with its click merged: eta-bar 0.3310 +- 0.0001 against the
+// exact onsets' 0.3243 (68 sigmas, exit 0). A first member of unknown sound where every paired
+// member is on its bounce states half the spacing (merged_alternatives.cc).
+TEST(AnalyzeCli, AFirstBounceALimiterBroughtDownToItsClickStatesTheBounceAfterIt) {
+  const auto [truth, sequence] = AnalyzeSynthesized(
+      "limited_first",
+      "--sample-rate-hz 96000 --contact-duration-s 0.0004 --surface plate --restitution 0.822 "
+      "--drop-height-m 0.416 --seed 102 --precursor-lead-s 0.0072 --precursor-gain-db -12.7 "
+      "--level-jitter-db 3 --snr-db 40 --adc linear-phase --limiter-lookahead-s 0.001 "
+      "--limiter-release-s 0.02 --limiter-gain-db 10.7 --agc-target-dbfs -13.3 "
+      "--agc-slew-db-per-s 3 --agc-level-time-s 0.3");
+  ASSERT_FALSE(sequence.is_null());
+  ASSERT_GE(sequence["onsets_s"].size(), 5u);
+  ASSERT_GE(truth.size(), 5u);
+  ASSERT_LT(std::fabs(sequence["onsets_s"][0].get<double>() - truth[0]), 8e-3);
+  ExpectNotSilentWrong(sequence, truth);
+}
+
 // A 32 kHz drop on a counter in a 0.29 s reverb with 60 Hz hum at -27 dBFS (the sweep's seed 101
 // #68): its 5th bounce is buried in the tail of the 4th, and the only sound the tracking finds
 // where it is due is a swell of that tail 7.0 ms after it, found by the ringing residual alone and

@@ -381,6 +381,40 @@ TEST(PairedSounds, AFirstMemberOfUnknownSoundStatesHalfTheSpacing) {
   EXPECT_EQ(impacts[6].onset_uncertainty_s, 30e-6);
 }
 
+// A limiter's pattern (silent_wrong_sweep.py --limiter --precursors seed 957 #101): every member
+// from the second on, on its bounce with its click merged, and the first on its click with
+// nothing recorded of its bounce (the limiter brought the loud first bounce down towards the
+// click's level). No move is taken (all paired members are on their bounces; the first one's
+// move shifts one ratio by 1.5 %, under the 1 % floor's 12 scatters squared), and the first member
+// states half the 6 ms spacing. On its bounce with its click merged, even 21 dB under it (beyond
+// the level the pairs weigh), or timed from its response, it keeps its sigma.
+TEST(PairedSounds, AFirstMemberOfUnknownSoundAmongBouncesStatesHalfTheSpacing) {
+  constexpr double kLeadS = 6e-3;
+  for (int variant = 0; variant < 3; ++variant) {
+    SCOPED_TRACE(variant);
+    std::vector<Impact> impacts;
+    std::vector<MergedEvent> merged;
+    const auto truth = ClickedDrop(0, impacts, merged);
+    if (variant == 1) {
+      merged[0].level_difference_db = 21;
+    } else {
+      std::erase_if(merged, [&](const MergedEvent& e) { return e.winner_s == truth[0]; });
+      impacts[0].onset_s -= kLeadS;
+      impacts[0].timed_from_response = variant == 2;
+    }
+    const auto onsets = impacts;
+    TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
+    for (std::size_t k = 0; k < impacts.size(); ++k) {
+      ASSERT_EQ(impacts[k].onset_s, onsets[k].onset_s) << "member " << k << " moved";
+      if (k > 0) {
+        EXPECT_EQ(impacts[k].onset_uncertainty_s, 30e-6) << k;
+      }
+    }
+    const double first_sigma = variant == 0 ? std::hypot(30e-6, 0.5 * kLeadS) : 30e-6;
+    EXPECT_NEAR(impacts[0].onset_uncertainty_s, first_sigma, 1e-9);
+  }
+}
+
 // silent_wrong_sweep.py seed 921 #156's pattern: the first member on its bounce with its click
 // merged, the next members on their bounces with no click recorded, the 9th and 10th on their
 // bounces with their clicks merged and the last two on their clicks with nothing recorded. The
@@ -690,6 +724,44 @@ TEST(FirstMember, TimedFromItsResponseCloseToItsLaterSoundOrNotFarUnderItItKeeps
     std::vector<MergedEvent> merged;
     TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
     EXPECT_EQ(impacts[0].onset_uncertainty_s, 30e-6) << variant;
+  }
+}
+
+// The first member won the merge over a later sound 5 ms after it that is as loud as itself or
+// louder (a limited bounce after its click, or a loud reflection): the ratios cannot tell which
+// is the bounce, and it states half the spacing. A later sound quieter than it (an echo), one that
+// most members show at that spacing (the ball's own pattern), or a member timed from its
+// response keeps its sigma.
+TEST(FirstMember, BeforeALouderMergedSoundItStatesHalfTheSpacing) {
+  constexpr double kSpacingS = 5e-3;
+  struct Case {
+    double later_quieter_db;
+    bool most_show_it;
+    bool timed_from_response;
+    double doubt_s;
+  };
+  for (const Case c :
+       {Case{-6.5, false, false, 0.5 * kSpacingS}, Case{0, false, false, 0.5 * kSpacingS},
+        Case{3, false, false, 0}, Case{-6.5, true, false, 0}, Case{-6.5, false, true, 0}}) {
+    SCOPED_TRACE(c.later_quieter_db);
+    SCOPED_TRACE(c.most_show_it);
+    SCOPED_TRACE(c.timed_from_response);
+    auto impacts = Drop(8, 0.005);
+    impacts[0].timed_from_response = c.timed_from_response;
+    std::vector<MergedEvent> merged{Lost(impacts[0].onset_s + kSpacingS, impacts[0].onset_s)};
+    merged[0].level_difference_db = c.later_quieter_db;
+    if (c.most_show_it) {
+      for (std::size_t k = 1; k < 5; ++k) {
+        merged.push_back(Lost(impacts[k].onset_s + kSpacingS, impacts[k].onset_s));
+        merged.back().level_difference_db = 3;
+      }
+    }
+    const auto onsets = impacts;
+    TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
+    for (std::size_t k = 0; k < impacts.size(); ++k) {
+      ASSERT_EQ(impacts[k].onset_s, onsets[k].onset_s) << "member " << k << " moved";
+    }
+    EXPECT_NEAR(impacts[0].onset_uncertainty_s, std::hypot(30e-6, c.doubt_s), 1e-9);
   }
 }
 
