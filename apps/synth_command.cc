@@ -320,8 +320,8 @@ void AddSynthCommand(CLI::App& app) {
                       "Hard-clip at +-this level (full scale, 0 < level <= 1)");
   auto* limiter = command->add_option(
       "--limiter-gain-db", args->limiter_gain_db,
-      "Record through a phone's gain stage: this make-up gain (dB, 0-60, e.g. 20), then a "
-      "look-ahead peak limiter (the end of every AGC)");
+      "Record through a phone's gain stage: an AGC's gain (dB, 0-60, e.g. 20; with "
+      "--agc-target-dbfs where it starts and its most), then a look-ahead peak limiter");
   command
       ->add_option("--limiter-ceiling-dbfs", args->limiter.ceiling_dbfs,
                    "The limiter's ceiling (dBFS)")
