@@ -188,7 +188,8 @@ struct LimiterOptions {
   double ceiling_dbfs = -1.0;  // no sample leaves louder, -40 to 0 dBFS
   double lookahead_s = 2e-3;   // the limiter sees this far ahead, 0 to 20 ms
   double release_s = 0.06;     // time constant of its recovery, 1 ms to 5 s
-  // Unset: the gain stays at gain_db (an AGC that adapts only to speech, as WebRTC's does).
+  // Unset: the gain stays at gain_db (an AGC that adapts only while its voice detector hears
+  // speech).
   std::optional<double> target_dbfs;  // level (RMS over level_time_s) steered to, -60 to 0 dBFS
   double slew_db_per_s = 6.0;         // how fast the gain may move, 0.1 to 1000 dB/s
   double level_time_s = 0.2;          // time constant of that level, 1 ms to 5 s
