@@ -444,6 +444,25 @@ TEST(AnalyzeCli, AFirstBounceALimiterBroughtDownToItsClickStatesTheBounceAfterIt
   ExpectNotSilentWrong(drop.sequence, drop.truth);
 }
 
+// Through a stronger gain stage (silent_wrong_sweep.py --limiter --precursors seed 959 #55): 96
+// kHz, a plate, a click 10.4 dB under each bounce 7.0 ms before it, an AGC from 25.7 dB. The first
+// four bounces, all limited, were timed on their clicks and aligned to one another (+-5 us) with
+// nothing recorded of the bounces; from the fifth on the pairs put the members on their bounces.
+// Every interval in the run was right, the one after it 7 ms short: eta-bar 0.3894 +- 0.0001
+// against the exact onsets' 0.4025 (224 sigmas, exit 0). The run's last member states half the
+// spacing where moving the run fits the ratios clearly better (merged_alternatives.cc).
+TEST(AnalyzeCli, ALeadingRunOfLimitedBouncesOnTheirClicksStatesTheSwitchAfterIt) {
+  const auto drop = AnalyzeSynthesized(
+      "limited_run",
+      "--sample-rate-hz 96000 --contact-duration-s 7e-05 --surface plate --restitution 0.773 "
+      "--drop-height-m 0.452 --seed 56 --precursor-lead-s 0.0070 --precursor-gain-db -10.4 "
+      "--level-jitter-db 3 --snr-db 40 --limiter-lookahead-s 0.0005 --limiter-release-s 0.06 "
+      "--limiter-gain-db 25.7 --agc-target-dbfs -12.8 --agc-slew-db-per-s 6 "
+      "--agc-level-time-s 0.1");
+  ASSERT_TRUE(FoundFromTheFirstBounce(drop, 8e-3));
+  ExpectNotSilentWrong(drop.sequence, drop.truth);
+}
+
 // A 32 kHz drop on a counter in a 0.29 s reverb with 60 Hz hum at -27 dBFS (the sweep's seed 101
 // #68): its 5th bounce is buried in the tail of the 4th, and the only sound the tracking finds
 // where it is due is a swell of that tail 7.0 ms after it, found by the ringing residual alone and
