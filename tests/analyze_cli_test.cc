@@ -423,44 +423,44 @@ TEST(AnalyzeCli, AFirstBounceTimedOnItsClickStatesTheBounceAfterIt) {
   ExpectNotSilentWrong(drop.sequence, drop.truth);
 }
 
-// The same pattern through a phone's gain stage (silent_wrong_sweep.py --limiter --precursors seed
-// 957 #101): 96 kHz, a plate, a click 12.7 dB under each bounce 7.2 ms before it, and an AGC that
-// stood at 10.7 dB in the quiet before the drop, then a look-ahead limiter at -1 dBFS. The limiter
-// brought the first bounce down towards its click, which rang into it and kept one candidate,
-// timed on the click at a stated 19 us with nothing recorded of the bounce (no merged sound, no
-// later sound 6 dB over the click's first millisecond), while every later bounce, left louder than
-// its click, was timed on itself with its click merged: eta-bar 0.3310 +- 0.0001 against the
-// exact onsets' 0.3243 (68 sigmas, exit 0). A first member of unknown sound where every paired
-// member is on its bounce states half the spacing (merged_alternatives.cc).
-TEST(AnalyzeCli, AFirstBounceALimiterBroughtDownToItsClickStatesTheBounceAfterIt) {
-  const auto drop = AnalyzeSynthesized(
-      "limited_first",
-      "--sample-rate-hz 96000 --contact-duration-s 0.0004 --surface plate --restitution 0.822 "
-      "--drop-height-m 0.416 --seed 102 --precursor-lead-s 0.0072 --precursor-gain-db -12.7 "
-      "--level-jitter-db 3 --snr-db 40 --adc linear-phase --limiter-lookahead-s 0.001 "
-      "--limiter-release-s 0.02 --limiter-gain-db 10.7 --agc-target-dbfs -13.3 "
-      "--agc-slew-db-per-s 3 --agc-level-time-s 0.3");
-  ASSERT_TRUE(FoundFromTheFirstBounce(drop, 8e-3));
-  ExpectNotSilentWrong(drop.sequence, drop.truth);
-}
-
-// Through a stronger gain stage (silent_wrong_sweep.py --limiter --precursors seed 959 #55): 96
-// kHz, a plate, a click 10.4 dB under each bounce 7.0 ms before it, an AGC from 25.7 dB. The first
-// four bounces, all limited, were timed on their clicks and aligned to one another (+-5 us) with
-// nothing recorded of the bounces; from the fifth on the pairs put the members on their bounces.
-// Every interval in the run was right, the one after it 7 ms short: eta-bar 0.3894 +- 0.0001
-// against the exact onsets' 0.4025 (224 sigmas, exit 0). The run's last member states half the
-// spacing where moving the run fits the ratios clearly better (merged_alternatives.cc).
-TEST(AnalyzeCli, ALeadingRunOfLimitedBouncesOnTheirClicksStatesTheSwitchAfterIt) {
-  const auto drop = AnalyzeSynthesized(
-      "limited_run",
-      "--sample-rate-hz 96000 --contact-duration-s 7e-05 --surface plate --restitution 0.773 "
-      "--drop-height-m 0.452 --seed 56 --precursor-lead-s 0.0070 --precursor-gain-db -10.4 "
-      "--level-jitter-db 3 --snr-db 40 --limiter-lookahead-s 0.0005 --limiter-release-s 0.06 "
-      "--limiter-gain-db 25.7 --agc-target-dbfs -12.8 --agc-slew-db-per-s 6 "
-      "--agc-level-time-s 0.1");
-  ASSERT_TRUE(FoundFromTheFirstBounce(drop, 8e-3));
-  ExpectNotSilentWrong(drop.sequence, drop.truth);
+// The same pattern through a phone's gain stage: an AGC, then a look-ahead limiter at -1 dBFS,
+// 96 kHz drops on a plate with a click 10-13 dB under each bounce 7 ms before it. The limiter
+// brings the loud bounces down towards their clicks; the later, quieter ones are timed on
+// themselves with their clicks merged (merged_alternatives.cc, each case's rule).
+TEST(AnalyzeCli, LimitedBouncesTimedOnTheirClicksStateTheBounceAfterThem) {
+  struct Case {
+    const char* name;
+    const char* options;
+  };
+  const Case cases[] = {
+      // silent_wrong_sweep.py --limiter --precursors seed 957 #101 (AGC at 10.7 dB): the first
+      // bounce's click rang into it and kept one candidate, timed on the click at a stated 19 us
+      // with nothing recorded of the bounce: eta-bar 0.3310 +- 0.0001 against the exact onsets'
+      // 0.3243 (68 sigmas, exit 0). A first member of unknown sound where every paired member is
+      // on its bounce states half the spacing.
+      {"limited_first",
+       "--sample-rate-hz 96000 --contact-duration-s 0.0004 --surface plate --restitution 0.822 "
+       "--drop-height-m 0.416 --seed 102 --precursor-lead-s 0.0072 --precursor-gain-db -12.7 "
+       "--level-jitter-db 3 --snr-db 40 --adc linear-phase --limiter-lookahead-s 0.001 "
+       "--limiter-release-s 0.02 --limiter-gain-db 10.7 --agc-target-dbfs -13.3 "
+       "--agc-slew-db-per-s 3 --agc-level-time-s 0.3"},
+      // Seed 959 #55 (AGC from 25.7 dB): the first four bounces, all limited, timed on their clicks
+      // and aligned to one another (+-5 us) with nothing recorded of the bounces, the pairs putting
+      // the rest on their bounces; the interval after the run 7 ms short: eta-bar 0.3894 +-
+      // 0.0001 against 0.4025 (224 sigmas). The run's last member states half the spacing.
+      {"limited_run",
+       "--sample-rate-hz 96000 --contact-duration-s 7e-05 --surface plate --restitution 0.773 "
+       "--drop-height-m 0.452 --seed 56 --precursor-lead-s 0.0070 --precursor-gain-db -10.4 "
+       "--level-jitter-db 3 --snr-db 40 --limiter-lookahead-s 0.0005 --limiter-release-s 0.06 "
+       "--limiter-gain-db 25.7 --agc-target-dbfs -12.8 --agc-slew-db-per-s 6 "
+       "--agc-level-time-s 0.1"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const auto drop = AnalyzeSynthesized(c.name, c.options);
+    ASSERT_TRUE(FoundFromTheFirstBounce(drop, 8e-3));
+    ExpectNotSilentWrong(drop.sequence, drop.truth);
+  }
 }
 
 // A 32 kHz drop on a counter in a 0.29 s reverb with 60 Hz hum at -27 dBFS (the sweep's seed 101
