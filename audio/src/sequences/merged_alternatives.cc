@@ -215,6 +215,20 @@ bool QuieterSoundIsTheEarlier(double offset_s, const OtherSound& other) {
   return offset_s > 0 ? other_louder : !other_louder;
 }
 
+// Whether the quieter sound of most recorded pairs is the earlier one: a click before each bounce,
+// not an echo after it.
+bool MostPairsAreClicks(const std::vector<Impact>& impacts, const std::vector<int>& members,
+                        const std::vector<std::pair<int, const OtherSound*>>& pairs) {
+  int clicks = 0, echoes = 0;
+  for (std::size_t k = 0; k < members.size(); ++k) {
+    const OtherSound* other = pairs[k].second;
+    if (!other) continue;
+    const double offset = other->time_s - impacts[static_cast<std::size_t>(members[k])].onset_s;
+    (QuieterSoundIsTheEarlier(offset, *other) ? clicks : echoes) += 1;
+  }
+  return clicks > echoes;
+}
+
 // Once members were moved to one sound of their pairs, a member with no pair recorded may still be
 // on the other: a click that rings into its bounce keeps one candidate, and whether the detector
 // then times the click or the bounce leaves no trace where the click is within 6 dB of the bounce.
@@ -236,17 +250,14 @@ bool QuieterSoundIsTheEarlier(double offset_s, const OtherSound& other) {
 void DoubtAnEndMemberOfUnknownSound(std::vector<Impact>& impacts, const std::vector<int>& members,
                                     const std::vector<std::pair<int, const OtherSound*>>& pairs,
                                     const std::vector<bool>& moved, double spacing_s) {
+  if (!MostPairsAreClicks(impacts, members, pairs)) return;
   const int n = static_cast<int>(members.size());
-  int clicks = 0, echoes = 0;
   std::vector<int> sound(static_cast<std::size_t>(n), 0);  // +1 earlier, -1 later, 0 unknown
   for (int k = 0; k < n; ++k) {
     const auto& [role, other] = pairs[static_cast<std::size_t>(k)];
-    if (!other) continue;
-    const double offset = other->time_s - impacts[static_cast<std::size_t>(members[k])].onset_s;
-    (QuieterSoundIsTheEarlier(offset, *other) ? clicks : echoes) += 1;
-    sound[static_cast<std::size_t>(k)] = moved[static_cast<std::size_t>(k)] ? -role : role;
+    if (other)
+      sound[static_cast<std::size_t>(k)] = moved[static_cast<std::size_t>(k)] ? -role : role;
   }
-  if (clicks <= echoes) return;
   for (const auto& [end, neighbour] : {std::pair{0, 1}, std::pair{n - 1, n - 2}}) {
     if (sound[static_cast<std::size_t>(end)] != 0 ||
         sound[static_cast<std::size_t>(neighbour)] == 0) {
@@ -264,31 +275,23 @@ void DoubtAnEndMemberOfUnknownSound(std::vector<Impact>& impacts, const std::vec
 // bounce and keeps one candidate, timed on the click, and neither a merged sound nor a later
 // sound 6 dB over the click's first millisecond (later_attack.h) records the bounce, while each
 // later, quieter bounce stays louder than its click and is timed on itself. Its move shifts one
-// ratio by a percent of the first flight, which the ratios cannot judge (DoubtAnEndMemberOfUnknown
-// Sound), so it states half the spacing; not where a sound is merged before it at the spacing
-// (its click, at any level: it is on its bounce), nor where the response timing timed it (its own
-// evidence). bench/silent_wrong_sweep.py --limiter (stop 73): seed 957 #70 (a counter drop
-// through a 10-30 dB AGC, clicks 5.2 ms ahead) had its first member on its click at a stated 28
-// us, eta-bar 0.5263 +- 0.0001 against the exact 0.5225 (64 sigmas), now +- 0.0019; --precursors
-// seed 957 #101 the same (7.2 ms, 68 sigmas; now +- 0.0031). Without the merged-click and
-// response-timing conditions, 33 right answers of the sweep's 10782 earlier files widened, up to
-// 69 times (their first, loudest bounce's click was merged 20.5 dB under it, beyond the level the
-// pairs weigh); with them 6, by 1.1-1.5 times but one first member 3.9 sigmas off (4.9 times).
+// ratio by a percent of the first flight, which the ratios cannot judge (as for
+// DoubtAnEndMemberOfUnknownSound), so it states half the spacing; not where a sound is merged
+// before it at the spacing (its click, at any level: it is on its bounce), nor where the response
+// timing timed it (its own evidence). bench/silent_wrong_sweep.py --limiter (stop 73): seed 957 #70
+// (a counter drop through a 10-30 dB AGC, clicks 5.2 ms ahead) had its first member on its click at
+// a stated 28 us, eta-bar 0.5263 +- 0.0001 against the exact 0.5225 (64 sigmas), now +- 0.0019;
+// --precursors seed 957 #101 the same (7.2 ms, 68 sigmas; now +- 0.0031). Without the merged-click
+// and response-timing conditions, 33 right answers of the sweep's 10782 earlier files widened, up
+// to 69 times (their first, loudest bounce's click was merged 20.5 dB under it, beyond the level
+// the pairs weigh); with them 6, by 1.1-1.5 times but one first member 3.9 sigmas off (4.9 times).
 void DoubtAFirstMemberOfUnknownSoundAmongBounces(
     std::vector<Impact>& impacts, const std::vector<MergedEvent>& merged,
     const std::vector<int>& members, const std::vector<std::pair<int, const OtherSound*>>& pairs,
     double spacing_s) {
   if (pairs[0].second || !pairs[1].second) return;
   Impact& first = impacts[static_cast<std::size_t>(members[0])];
-  if (first.timed_from_response) return;
-  int clicks = 0, echoes = 0;
-  for (std::size_t k = 0; k < members.size(); ++k) {
-    const auto& [role, other] = pairs[k];
-    if (!other) continue;
-    const double offset = other->time_s - impacts[static_cast<std::size_t>(members[k])].onset_s;
-    (QuieterSoundIsTheEarlier(offset, *other) ? clicks : echoes) += 1;
-  }
-  if (clicks <= echoes) return;
+  if (first.timed_from_response || !MostPairsAreClicks(impacts, members, pairs)) return;
   for (const MergedEvent& event : merged) {
     if (event.winner_s == first.onset_s &&
         std::fabs(first.onset_s - event.time_s - spacing_s) <= PairTolerance(spacing_s)) {
@@ -375,18 +378,16 @@ void DoubtTheEndOfALeadingRunOfUnknownSound(
     const std::vector<std::pair<int, const OtherSound*>>& pairs, const std::vector<bool>& moved,
     const std::vector<double>& times, double spacing_s) {
   const int n = static_cast<int>(members.size());
-  int clicks = 0, echoes = 0, on_earlier = 0;
+  int on_earlier = 0;
   int run = -1;
   for (int k = 0; k < n; ++k) {
     const auto& [role, other] = pairs[static_cast<std::size_t>(k)];
     if (!other) continue;
     if (run < 0) run = k;
-    const double offset = other->time_s - impacts[static_cast<std::size_t>(members[k])].onset_s;
-    (QuieterSoundIsTheEarlier(offset, *other) ? clicks : echoes) += 1;
     const int sound = moved[static_cast<std::size_t>(k)] ? -role : role;
     on_earlier += sound > 0 ? 1 : 0;
   }
-  if (run < 2 || clicks <= echoes || on_earlier > 0) return;
+  if (run < 2 || on_earlier > 0 || !MostPairsAreClicks(impacts, members, pairs)) return;
   if (!(ImprovementOfAMove(times, run - 1, 0, run, spacing_s) > kRequiredImprovement)) return;
   Impact& member = impacts[static_cast<std::size_t>(members[static_cast<std::size_t>(run - 1)])];
   member.onset_uncertainty_s = std::hypot(member.onset_uncertainty_s, 0.5 * spacing_s);
