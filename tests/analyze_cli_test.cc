@@ -454,6 +454,26 @@ TEST(AnalyzeCli, LimitedBouncesTimedOnTheirClicksStateTheBounceAfterThem) {
        "--level-jitter-db 3 --snr-db 40 --limiter-lookahead-s 0.0005 --limiter-release-s 0.06 "
        "--limiter-gain-db 25.7 --agc-target-dbfs -12.8 --agc-slew-db-per-s 6 "
        "--agc-level-time-s 0.1"},
+      // Seed 956 #30 (a fixed 11.2 dB, the click 11.8 dB under each bounce 5.4 ms before it): the
+      // first click and bounce both at the ceiling, so the bounce neither rose a threshold over
+      // the click's ringing nor stood 6 dB over its first millisecond, and only two members had
+      // their clicks merged (no pairs weighed): the first member on its click at a stated 18 us,
+      // eta-bar 0.6370 +- 0.0000 against 0.6340 (88 sigmas). Its bounce's fresh attack at the
+      // spacing (Impact::later_rise_s) puts it on the click of the pair.
+      {"limited_click_first",
+       "--sample-rate-hz 96000 --contact-duration-s 7e-05 --surface plate --restitution 0.605 "
+       "--drop-height-m 0.597 --seed 31 --precursor-lead-s 0.0054 --precursor-gain-db -11.8 "
+       "--level-jitter-db 3 --snr-db 40 --adc linear-phase --limiter-lookahead-s 0.005 "
+       "--limiter-release-s 0.2 --limiter-gain-db 11.2"},
+      // Seed 956 #84 (22 kHz, an AGC from 25.4 dB): members 0-3 on their clicks, 4 on, the rest
+      // on their bounces with the clicks merged; the interval from the 4th to the 5th 5.1 ms
+      // short at a stated 0.2 ms, eta-bar 26 sigmas off. The 4th's fresh attack at the spacing.
+      {"limited_click_run",
+       "--sample-rate-hz 22050 --contact-duration-s 3.5e-05 --surface plate --restitution 0.855 "
+       "--drop-height-m 0.440 --seed 85 --precursor-lead-s 0.0053 --precursor-gain-db -9.6 "
+       "--level-jitter-db 3 --snr-db 40 --limiter-lookahead-s 0.005 --limiter-release-s 0.06 "
+       "--limiter-gain-db 25.4 --agc-target-dbfs -22.8 --agc-slew-db-per-s 6 "
+       "--agc-level-time-s 0.1"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <vector>
 
 #include "detector/onset_picker.h"
 
@@ -82,6 +83,33 @@ std::optional<double> LaterSoundOnsetS(std::span<const float> after_onset, int s
   const std::span<const float> window = after_onset.subspan(early, peak + 1 - early);
   const OnsetPick pick = PickOnset(window, 0, window.size() - 1);
   return (static_cast<double>(early) + pick.index) / sample_rate_hz;
+}
+
+std::optional<LaterRise> SharpestLaterRise(std::span<const float> after_onset, int sample_rate_hz) {
+  if (sample_rate_hz <= 0) return std::nullopt;
+  // The rise is looked for from where another sound of a pair may begin (pairs lie at least 2 ms
+  // apart, merged_alternatives.cc), so the 2 ms before it are the onset's own sound.
+  const auto before = static_cast<std::size_t>(std::ceil(2e-3 * sample_rate_hz));
+  const auto rising =
+      std::max<std::size_t>(2, static_cast<std::size_t>(std::ceil(0.5e-3 * sample_rate_hz)));
+  if (after_onset.size() < before + rising) return std::nullopt;
+  std::vector<double> energy(after_onset.size() + 1, 0.0);  // running sum of squares
+  for (std::size_t i = 0; i < after_onset.size(); ++i) {
+    energy[i + 1] = energy[i] + static_cast<double>(after_onset[i]) * after_onset[i];
+  }
+  // Differences of the running sum carry its rounding: 100 dB under the window's mean power is
+  // taken as no sound at all, so digital silence after a sound shows no rise of rounding noise.
+  const double floor = 1e-10 * energy.back() / static_cast<double>(after_onset.size());
+  std::optional<LaterRise> sharpest;
+  double best_ratio = 0;
+  for (std::size_t at = before; at + rising <= after_onset.size(); ++at) {
+    const double earlier = (energy[at] - energy[at - before]) / static_cast<double>(before);
+    const double later = (energy[at + rising] - energy[at]) / static_cast<double>(rising);
+    if (!(earlier > floor) || !(later > best_ratio * earlier)) continue;
+    best_ratio = later / earlier;
+    sharpest = LaterRise{static_cast<double>(at) / sample_rate_hz, 10.0 * std::log10(best_ratio)};
+  }
+  return sharpest;
 }
 
 double PeakOverFirstMillisecondDb(std::span<const float> after_onset, int sample_rate_hz) {

@@ -35,6 +35,19 @@ std::optional<double> LaterSoundOnsetS(std::span<const float> after_onset, int s
 // (dB): 0 where the onset's own sound is the loudest, +infinity after a silent first millisecond.
 double PeakOverFirstMillisecondDb(std::span<const float> after_onset, int sample_rate_hz);
 
+// The sharpest rise of level after the onset's first 2 ms: where the energy of the next 0.5 ms
+// stands furthest above that of the 2 ms before it. A phone's look-ahead limiter holds a drop's
+// loud sounds at one ceiling, so a bounce after its click no longer out-levels the click's first
+// millisecond (LaterSoundOnsetS finds nothing), but it still begins with a fresh attack out of
+// the click's ringing, which the limiter, turning its gain down for the attack's peak, lowers
+// with it. Energy, not peak, over the 2 ms before: a plate's beating modes swing the peak of
+// every quarter millisecond by 5-10 dB (the limited sweep files' ringing at 96 kHz).
+struct LaterRise {
+  double after_onset_s = 0;  // where the 0.5 ms that rose begins
+  double rise_db = 0;        // its mean power over that of the 2 ms before, dB
+};
+std::optional<LaterRise> SharpestLaterRise(std::span<const float> after_onset, int sample_rate_hz);
+
 }  // namespace bouncecal::audio
 
 #endif  // BOUNCECAL_AUDIO_SRC_DETECTOR_LATER_ATTACK_H_

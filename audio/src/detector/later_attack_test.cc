@@ -89,5 +89,51 @@ TEST(LaterSound, ItsPeakOverTheFirstMillisecondIsTheLevelDifference) {
   EXPECT_EQ(PeakOverFirstMillisecondDb({}, kRate), 0.0);
 }
 
+// A limiter holds a click and its bounce at one ceiling: two equal hits 5 ms apart. The bounce
+// is no louder than the click's first millisecond, so no later sound is offered, but its attack
+// out of the click's ringing (down to exp(-0.5) of the click, in phase) is a fresh rise: the
+// energy of its first 0.5 ms over the 2 ms before, (0.5 e^-0.5 + 0.5 e^-0.025)^2 / (0.5 e^-0.4)^2
+// ~ 7.4 dB averaged over the oscillation, found where the bounce begins (to one sample) and
+// within 0.3 dB (the windows' part periods: 1.5 and 6 periods of 3 kHz).
+TEST(LaterRise, ABounceLevelledWithItsClickRisesFreshOutOfItsRinging) {
+  std::vector<float> x(17 * kRate / 1000, 0.0f);
+  AddHit(x, 0.0, 0.5);
+  AddHit(x, 5e-3, 0.5);
+  EXPECT_FALSE(LaterSoundOnsetS(x, kRate));
+  const auto rise = SharpestLaterRise(x, kRate);
+  ASSERT_TRUE(rise);
+  EXPECT_NEAR(rise->after_onset_s, 5e-3, 1.0 / kRate);
+  EXPECT_NEAR(rise->rise_db, 7.4, 0.3);
+}
+
+// One hit's ringing only decays, and two modes beating (3 and 3.3 kHz, equal amplitude: the
+// peak swings to zero every 3.3 ms) raise the energy of 0.5 ms over the 2 ms before by 5.0 dB
+// at most, under the 6 dB that marks a fresh attack (merged_alternatives.cc): the 2 ms average
+// spans most of a beat's trough.
+TEST(LaterRise, RingingAloneHasNoFreshRise) {
+  std::vector<float> one(17 * kRate / 1000, 0.0f);
+  AddHit(one, 0.0, 0.5);
+  const auto decay = SharpestLaterRise(one, kRate);
+  ASSERT_TRUE(decay);
+  EXPECT_LT(decay->rise_db, 0.0);
+  std::vector<float> beating = one;
+  const double omega = 2 * std::numbers::pi * 3300;
+  for (std::size_t i = 0; i < beating.size(); ++i) {
+    const double t = static_cast<double>(i) / kRate;
+    beating[i] += static_cast<float>(0.5 * std::exp(-t / 10e-3) * std::sin(omega * t + 0.5));
+  }
+  const auto beat = SharpestLaterRise(beating, kRate);
+  ASSERT_TRUE(beat);
+  EXPECT_LT(beat->rise_db, 5.5);
+}
+
+TEST(LaterRise, TooShortOrSilentGivesNone) {
+  EXPECT_FALSE(SharpestLaterRise({}, kRate));
+  const std::vector<float> short_one(2 * kRate / 1000, 0.5f);
+  EXPECT_FALSE(SharpestLaterRise(short_one, kRate));
+  const std::vector<float> silence(17 * kRate / 1000, 0.0f);
+  EXPECT_FALSE(SharpestLaterRise(silence, kRate));
+}
+
 }  // namespace
 }  // namespace bouncecal::audio

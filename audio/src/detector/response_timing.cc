@@ -440,6 +440,10 @@ ResponseTimingSummary ResponseTimer::Apply(DetectionResult& detection,
         impact.later_onset_s = static_cast<double>(onset) / sample_rate_hz_ + *later;
         impact.later_sound_over_onset_db = PeakOverFirstMillisecondDb(after_onset, sample_rate_hz_);
       }
+      if (const auto rise = SharpestLaterRise(after_onset, sample_rate_hz_)) {
+        impact.later_rise_s = static_cast<double>(onset) / sample_rate_hz_ + rise->after_onset_s;
+        impact.later_rise_db = rise->rise_db;
+      }
     }
     if (own[w]) continue;
     impact.onset_uncertainty_s = std::hypot(impact.onset_uncertainty_s, first_lobe_sigma_s);

@@ -702,6 +702,8 @@ void TimeEveryPairOnOneSound(std::vector<Impact>& impacts, std::vector<MergedEve
     member.timed_from_response = false;
     member.later_onset_s = std::numeric_limits<double>::quiet_NaN();
     member.later_sound_over_onset_db = std::numeric_limits<double>::quiet_NaN();
+    member.later_rise_s = std::numeric_limits<double>::quiet_NaN();
+    member.later_rise_db = std::numeric_limits<double>::quiet_NaN();
     // The span before the onset it left is no longer this onset's.
     member.unsearched_span_s = 0;
   }
@@ -793,6 +795,76 @@ void DoubtAFirstMemberBeforeALouderMergedSound(std::vector<Impact>& impacts,
   }
   if (2 * showing >= static_cast<int>(members.size()) - 1) return;
   first.onset_uncertainty_s = std::hypot(first.onset_uncertainty_s, 0.5 * spacing_s);
+}
+
+// A member timed on its click, next to members timed on their bounces, whose pairs neither the
+// merger nor the later-sound test recorded: a phone's look-ahead limiter holds a drop's loud
+// click and bounce at one ceiling, so the bounce rises less than a threshold over the click's
+// ringing and is not 6 dB over its first millisecond, and no rule that weighs levels or pairs
+// sees it (with fewer than kMinPairedMembers pairs recorded, the whole sequence is not weighed).
+// The bounce still begins with a fresh attack out of the click's ringing (Impact::later_rise_s),
+// and where that attack lies at the spacing of the sounds merged before the other members, the
+// member is on the earlier sound of the same pair: its two intervals are off by the spacing, and
+// the ratios, the first member's especially, may not show it. So where most of the sounds merged
+// before members (not more than kMaxQuieterDb under them) lie at one spacing, at two members or
+// more, a member without one whose sharpest later rise lies at that spacing and rose by
+// kFreshAttackDb, next to a member with one, states at least half the spacing; not a member the
+// response timing timed (its own evidence). bench/silent_wrong_sweep.py --limiter seeds 956-959
+// (1600 files, 860 eta-bars; stop 74): silent wrong 10 -> 6 (956p #30: the first member on its
+// click 5.3 ms before its bounce, both at the ceiling, two members with their clicks merged;
+// eta-bar 88 -> 2.1 sigmas off; 956p #84 26 -> 1.9, 958 #26 10.7 -> 2.0, 958p #137 5.2 -> 2.9),
+// 15 eta-bar sigmas wider (the other 11 by 1.1-4.5 times, 10 within one sigma before: members on
+// their clicks beside ones on their bounces, whose errors cancelled in eta-bar). Seeds 940-955
+// without a limiter (3857 eta-bars): no answer changed, 14 sigmas wider by 1.1-1.8 times. Without
+// the level and majority conditions, copies of the shared recordings widened up to 200 times
+// (ub-mth337's steel_surface as 48 kHz float: noise sounds 26-35 dB under four members, 5.3-10 ms
+// before them); stating half the spacing in quadrature on members other rules had doubted widened
+// 15 more answers. 6 dB: two modes of a plate beating at full depth raise the energy by 5 dB (the
+// peak of each 0.25 ms, which they swing by 5-10 dB, marked 61 right intervals at 4 dB).
+constexpr double kFreshAttackDb = 6.0;
+void DoubtAMemberBeforeAFreshAttackAtTheSpacing(std::vector<Impact>& impacts,
+                                                const std::vector<MergedEvent>& merged,
+                                                const BounceSequence& sequence) {
+  const auto& members = sequence.impact_indices;
+  const auto member_at = [&](std::size_t k) -> Impact& {
+    return impacts[static_cast<std::size_t>(members[k])];
+  };
+  std::vector<std::vector<double>> before(members.size());
+  std::vector<double> spacings;
+  for (const MergedEvent& event : merged) {
+    for (std::size_t k = 0; k < members.size(); ++k) {
+      const double onset_s = member_at(k).onset_s;
+      if (event.winner_s == onset_s && event.time_s < onset_s &&
+          event.level_difference_db <= kMaxQuieterDb) {
+        before[k].push_back(onset_s - event.time_s);
+        spacings.push_back(onset_s - event.time_s);
+      }
+    }
+  }
+  if (spacings.size() < 2) return;
+  const double spacing_s = Median(spacings);
+  const double tolerance_s = PairTolerance(spacing_s);
+  std::vector<bool> shows(members.size(), false);
+  for (std::size_t k = 0; k < members.size(); ++k) {
+    shows[k] = std::any_of(before[k].begin(), before[k].end(),
+                           [&](double s) { return std::fabs(s - spacing_s) <= tolerance_s; });
+  }
+  const auto showing = std::count(shows.begin(), shows.end(), true);
+  const auto with_one = std::count_if(before.begin(), before.end(),
+                                      [](const std::vector<double>& b) { return !b.empty(); });
+  if (showing < 2 || 2 * showing <= with_one) return;
+  for (std::size_t k = 0; k < members.size(); ++k) {
+    Impact& member = member_at(k);
+    if (member.timed_from_response) continue;
+    const bool beside_one = (k > 0 && shows[k - 1]) || (k + 1 < members.size() && shows[k + 1]);
+    if (shows[k] || !beside_one || !(member.later_rise_db >= kFreshAttackDb) ||
+        !(std::fabs(member.later_rise_s - member.onset_s - spacing_s) <= tolerance_s)) {
+      continue;
+    }
+    // At least half the spacing: a member another rule already doubted by as much (the same
+    // switch, seen by the ratios or the pairs) is not doubted twice.
+    member.onset_uncertainty_s = std::max(member.onset_uncertainty_s, 0.5 * spacing_s);
+  }
 }
 
 }  // namespace
@@ -913,6 +985,7 @@ void TakeMergedOnsetsThatFitTheSequence(std::vector<Impact>& impacts,
     }
     DoubtAFirstMemberOnAQuieterSound(impacts, sequence, weighed);
     DoubtAFirstMemberBeforeALouderMergedSound(impacts, merged, sequence, weighed);
+    DoubtAMemberBeforeAFreshAttackAtTheSpacing(impacts, merged, sequence);
   }
 }
 

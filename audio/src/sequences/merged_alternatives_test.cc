@@ -765,5 +765,61 @@ TEST(FirstMember, BeforeALouderMergedSoundItStatesHalfTheSpacing) {
   }
 }
 
+// Members 1 and 4 on their bounces, each with its click merged 5.4 ms before it (11 dB under: two
+// pairs, too few to weigh the sequence whole); member `on_click` has no click merged and its
+// sharpest later rise `rise_db` at `rise_after_s` after it (a bounce that a limiter levelled with
+// its click). Returns every member's stated sigma.
+struct ClickPattern {
+  bool two_clicks = true;
+  double clicks_quieter_db = 11;
+  bool timed_from_response = false;
+};
+std::vector<double> SigmasWithAFreshAttackAfter(std::size_t on_click, double rise_after_s,
+                                                double rise_db, ClickPattern pattern = {}) {
+  constexpr double kSpacingS = 5.4e-3;
+  auto impacts = Drop(8, 0.005);
+  std::vector<MergedEvent> merged;
+  for (std::size_t k : {std::size_t{1}, std::size_t{4}}) {
+    if (k == 4 && !pattern.two_clicks) continue;
+    merged.push_back(Lost(impacts[k].onset_s - kSpacingS, impacts[k].onset_s));
+    merged.back().level_difference_db = pattern.clicks_quieter_db;
+  }
+  impacts[on_click].timed_from_response = pattern.timed_from_response;
+  impacts[on_click].later_rise_s = impacts[on_click].onset_s + rise_after_s;
+  impacts[on_click].later_rise_db = rise_db;
+  const auto onsets = impacts;
+  TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
+  std::vector<double> sigmas;
+  for (std::size_t k = 0; k < impacts.size(); ++k) {
+    EXPECT_EQ(impacts[k].onset_s, onsets[k].onset_s) << "member " << k << " moved";
+    sigmas.push_back(impacts[k].onset_uncertainty_s);
+  }
+  return sigmas;
+}
+
+// silent_wrong_sweep.py --limiter --precursors seed 956 #30: the first member on its click, its
+// bounce's fresh attack 5.3 ms after it, two other members with their clicks merged at 5.2 and 5.0
+// ms. The member beside one on its bounce states half the spacing; a rise under 6 dB (a plate's
+// beating modes reach 5), one away from the spacing, a member beside none on its bounce, a single
+// merged click (no spacing shown), merged sounds 25 dB under their members (noise, not clicks a
+// limiter could level) or a member timed from its response leaves every sigma as it was.
+TEST(FreshAttack, AtTheSpacingOfTheMergedClicksItStatesHalfTheSpacing) {
+  const double doubted = 2.7e-3;
+  for (std::size_t on_click : {std::size_t{0}, std::size_t{2}}) {
+    const auto sigmas = SigmasWithAFreshAttackAfter(on_click, 5.3e-3, 8.0);
+    for (std::size_t k = 0; k < sigmas.size(); ++k) {
+      EXPECT_NEAR(sigmas[k], k == on_click ? doubted : 30e-6, 1e-9) << on_click << " " << k;
+    }
+  }
+  for (const auto& sigmas :
+       {SigmasWithAFreshAttackAfter(0, 5.3e-3, 5.0), SigmasWithAFreshAttackAfter(0, 3.0e-3, 8.0),
+        SigmasWithAFreshAttackAfter(6, 5.3e-3, 8.0),
+        SigmasWithAFreshAttackAfter(0, 5.3e-3, 8.0, {.two_clicks = false}),
+        SigmasWithAFreshAttackAfter(0, 5.3e-3, 8.0, {.clicks_quieter_db = 25}),
+        SigmasWithAFreshAttackAfter(0, 5.3e-3, 8.0, {.timed_from_response = true})}) {
+    for (std::size_t k = 0; k < sigmas.size(); ++k) EXPECT_EQ(sigmas[k], 30e-6) << k;
+  }
+}
+
 }  // namespace
 }  // namespace bouncecal::audio

@@ -98,6 +98,12 @@ struct Impact {
   // With later_onset_s: how far that later sound's peak stands above the onset's own first
   // millisecond (dB).
   double later_sound_over_onset_db = std::numeric_limits<double>::quiet_NaN();
+  // The sharpest rise of level from 2 ms after the onset to the next impact (detector/
+  // later_attack.h, SharpestLaterRise): where it begins, s from the first sample, and its 0.5 ms
+  // energy over that of the 2 ms before it (dB); NaN where the response was too short. A bounce
+  // after a click that a limiter levelled with it shows here, not in later_onset_s.
+  double later_rise_s = std::numeric_limits<double>::quiet_NaN();
+  double later_rise_db = std::numeric_limits<double>::quiet_NaN();
   // Where the onset's search began before the last peak of an earlier candidate that closed while
   // still rising, so that the picker could not look before that peak: half the span from the
   // search's start to the onset, s (the sound that candidate rose into may be this one, begun
