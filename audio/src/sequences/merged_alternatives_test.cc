@@ -773,6 +773,7 @@ struct ClickPattern {
   bool two_clicks = true;
   double clicks_quieter_db = 11;
   bool timed_from_response = false;
+  bool first_click_has_an_attack_after_it = false;  // member 1 is on a click too
 };
 std::vector<double> SigmasWithAFreshAttackAfter(std::size_t on_click, double rise_after_s,
                                                 double rise_db, ClickPattern pattern = {}) {
@@ -783,6 +784,10 @@ std::vector<double> SigmasWithAFreshAttackAfter(std::size_t on_click, double ris
     if (k == 4 && !pattern.two_clicks) continue;
     merged.push_back(Lost(impacts[k].onset_s - kSpacingS, impacts[k].onset_s));
     merged.back().level_difference_db = pattern.clicks_quieter_db;
+  }
+  if (pattern.first_click_has_an_attack_after_it) {
+    impacts[1].later_rise_s = impacts[1].onset_s + kSpacingS;
+    impacts[1].later_rise_db = 9.0;
   }
   impacts[on_click].timed_from_response = pattern.timed_from_response;
   impacts[on_click].later_rise_s = impacts[on_click].onset_s + rise_after_s;
@@ -802,7 +807,9 @@ std::vector<double> SigmasWithAFreshAttackAfter(std::size_t on_click, double ris
 // ms. The member beside one on its bounce states half the spacing; a rise under 6 dB (a plate's
 // beating modes reach 5), one away from the spacing, a member beside none on its bounce, a single
 // merged click (no spacing shown), merged sounds 25 dB under their members (noise, not clicks a
-// limiter could level) or a member timed from its response leaves every sigma as it was.
+// limiter could level), a member timed from its response, or a neighbour with a sound merged
+// before it that has an attack at the spacing after it too (on a click itself: --limiter
+// --precursors seed 961 #37) leaves every sigma as it was.
 TEST(FreshAttack, AtTheSpacingOfTheMergedClicksItStatesHalfTheSpacing) {
   const double doubted = 2.7e-3;
   for (std::size_t on_click : {std::size_t{0}, std::size_t{2}}) {
@@ -816,7 +823,9 @@ TEST(FreshAttack, AtTheSpacingOfTheMergedClicksItStatesHalfTheSpacing) {
         SigmasWithAFreshAttackAfter(6, 5.3e-3, 8.0),
         SigmasWithAFreshAttackAfter(0, 5.3e-3, 8.0, {.two_clicks = false}),
         SigmasWithAFreshAttackAfter(0, 5.3e-3, 8.0, {.clicks_quieter_db = 25}),
-        SigmasWithAFreshAttackAfter(0, 5.3e-3, 8.0, {.timed_from_response = true})}) {
+        SigmasWithAFreshAttackAfter(0, 5.3e-3, 8.0, {.timed_from_response = true}),
+        SigmasWithAFreshAttackAfter(0, 5.3e-3, 8.0,
+                                    {.first_click_has_an_attack_after_it = true})}) {
     for (std::size_t k = 0; k < sigmas.size(); ++k) EXPECT_EQ(sigmas[k], 30e-6) << k;
   }
 }
