@@ -474,6 +474,15 @@ TEST(AnalyzeCli, LimitedBouncesTimedOnTheirClicksStateTheBounceAfterThem) {
        "--level-jitter-db 3 --snr-db 40 --limiter-lookahead-s 0.005 --limiter-release-s 0.06 "
        "--limiter-gain-db 25.4 --agc-target-dbfs -22.8 --agc-slew-db-per-s 6 "
        "--agc-level-time-s 0.1"},
+      // Seed 960 #178 (22 kHz counter, an AGC from 25 dB, clicks 7.5 ms ahead): members 0-3 on
+      // their clicks, aligned to one another by the response timing, the rest on their bounces
+      // with two clicks merged (no pairs weighed): eta-bar 100 sigmas off. The run's end.
+      {"limited_aligned_run",
+       "--sample-rate-hz 22050 --contact-duration-s 3.5e-05 --surface counter --restitution 0.766 "
+       "--drop-height-m 0.249 --seed 179 --precursor-lead-s 0.0075 --precursor-gain-db -10.9 "
+       "--level-jitter-db 3 --snr-db 40 --limiter-lookahead-s 0.0005 --limiter-release-s 0.02 "
+       "--limiter-gain-db 25.0 --agc-target-dbfs -14.0 --agc-slew-db-per-s 6 "
+       "--agc-level-time-s 0.1"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);

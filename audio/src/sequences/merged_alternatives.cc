@@ -876,6 +876,30 @@ void DoubtAMemberBeforeAFreshAttackAtTheSpacing(std::vector<Impact>& impacts,
     // switch, seen by the ratios or the pairs) is not doubted twice.
     member.onset_uncertainty_s = std::max(member.onset_uncertainty_s, 0.5 * spacing_s);
   }
+  // The same switch after a leading run: the limiter can leave the first few, loudest bounces all
+  // on their clicks with nothing recorded of either sound's pair, the response timing aligning
+  // them to one another, and the member after the run on its bounce with its click merged; with
+  // two pairs the whole sequence is not weighed, so DoubtTheEndOfALeadingRunOfUnknownSound does
+  // not run. Where moving the run by the spacing fits the ratios it touches clearly better, its
+  // last member states half the spacing. --limiter --precursors seeds 960 #178 and 962 #152
+  // (members 0-3 on their clicks, aligned at +-11-73 us): eta-bar 100 and 60 sigmas off, now 1.8
+  // and 1.9; over the 1600 + 1200 limited files 4 more sigmas wider (three by 30-144 times), each
+  // a run's last member on its click beside the first on its bounce (eta-bar right by
+  // cancellation); in seeds 940-955 one, by 20 times (943 #87: the 6th and 7th members 3.9 ms
+  // after their bounces, which were merged before them; the run's last member now covers the
+  // interval to the 6th, 3.9 ms off).
+  std::size_t run = 0;
+  while (run < members.size() && before[run].empty()) ++run;
+  if (run >= 2 && run < members.size() && on_bounce(run)) {
+    std::vector<double> times;
+    for (std::size_t k = 0; k < members.size(); ++k) times.push_back(member_at(k).onset_s);
+    const int last = static_cast<int>(run) - 1;
+    if (ImprovementOfAMove(times, last, 0, static_cast<int>(run), spacing_s) >
+        kRequiredImprovement) {
+      Impact& member = member_at(run - 1);
+      member.onset_uncertainty_s = std::max(member.onset_uncertainty_s, 0.5 * spacing_s);
+    }
+  }
 }
 
 }  // namespace
