@@ -890,7 +890,9 @@ void DoubtAMemberBeforeAFreshAttackAtTheSpacing(std::vector<Impact>& impacts,
   // interval to the 6th, 3.9 ms off).
   std::size_t run = 0;
   while (run < members.size() && before[run].empty()) ++run;
-  if (run >= 2 && run < members.size() && on_bounce(run)) {
+  // Two members at least show the spacing, so a run of two leaves four members and two ratios
+  // (the fewest a line through them needs); said again here, where ImprovementOfAMove needs it.
+  if (run >= 2 && run + 2 <= members.size() && on_bounce(run)) {
     std::vector<double> times;
     for (std::size_t k = 0; k < members.size(); ++k) times.push_back(member_at(k).onset_s);
     const int last = static_cast<int>(run) - 1;
