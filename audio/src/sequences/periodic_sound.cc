@@ -34,8 +34,9 @@ constexpr double kPeriodChance = 1e-9;
 // Opus): no window held more than 6 intervals, so no period was tried, and a chain of five hum
 // events with flights of 8, 4, 2 and 1 periods read eta-bar 0.7501 +- 0.0009 against the ball's
 // 0.8525, while 28 of the file's 33 intervals from 20 to 120 ms lie within 0.3 ms of a multiple
-// of 20 ms (a binomial chance of 1e-37). Three, not fewer: the windows are 0.6 ms wide, and a
-// drop's own intervals fall two to a window often enough.
+// of 20 ms (a binomial chance of 1e-37). Three is a window's fewest that is more than a
+// coincidence of two of a drop's intervals (two was not tried: the comb would judge those too,
+// only at the price of more periods tried); no period in 20000 drops among random sounds.
 constexpr int kMinPeakPairs = 3;
 // A chain's flight is on the lattice within this many robust sds of the lattice's own intervals
 // about their multiples (where that is wider than kHalfWidthS): the search tries every chain, so
