@@ -47,6 +47,15 @@ function(bouncecal_add_tests)
   add_executable(${ARG_NAME} ${ARG_SOURCES})
   target_link_libraries(${ARG_NAME} PRIVATE ${ARG_LIBRARIES} bouncecal::test_support GTest::gtest
     GTest::gtest_main)
+  # Compile time, which CI pays twice (Release and sanitized) on 2 cores: the test files hold
+  # little hot code (the work is in the libraries, still -O3), so -O1 here; GoogleTest's,
+  # nlohmann-json's and the commonest standard headers are parsed once per executable. Test files
+  # of a Release build: 716 -> 447 CPU s (377 + 70 for the ten precompiled headers); sanitized
+  # (-O0): 702 -> 586; the Release ctest time unchanged (2026-12-06, GCC 12, 2 cores).
+  target_compile_options(${ARG_NAME} PRIVATE $<$<CONFIG:Release>:-O1>)
+  target_precompile_headers(${ARG_NAME} PRIVATE
+    <gtest/gtest.h> <nlohmann/json.hpp> <algorithm> <cmath> <filesystem> <fstream> <limits>
+    <numbers> <random> <sstream> <string> <vector>)
   target_compile_definitions(${ARG_NAME} PRIVATE
     BOUNCECAL_SHARED_DIR="${BOUNCECAL_SHARED_DIR}"
     BOUNCECAL_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
