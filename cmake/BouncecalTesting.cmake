@@ -49,8 +49,8 @@ function(bouncecal_add_tests)
     GTest::gtest_main)
   # Compile time, which CI pays twice (Release and sanitized) on 2 cores: the test files hold
   # little hot code (the work is in the libraries, still -O3), so -O1 here (the same rounding:
-  # no -ffast-math, and ISO C++20 contracts no FMA, so an inline function a test file and a
-  # library both instantiate gives the same bits from either copy); GoogleTest's,
+  # no -ffast-math, and the x86-64 baseline has no FMA to contract into, so an inline function a
+  # test file and a library both instantiate gives the same bits from either copy); GoogleTest's,
   # nlohmann-json's and the commonest standard headers are parsed once per executable. Test files
   # of a Release build: 716 -> 447 CPU s (377 + 70 for the ten precompiled headers); sanitized
   # (-O0): 702 -> 586; the Release ctest time unchanged (2026-12-06, GCC 12, 2 cores).
