@@ -878,9 +878,9 @@ void DoubtAMemberBeforeAFreshAttackAtTheSpacing(std::vector<Impact>& impacts,
   // An attack at the spacing after half the members that show a sound before it, or more, is a
   // trait of the drop's bounces (a reflection, a ball's second touch), not of clicks: --limiter
   // seed 964 #54, a counter drop with a rise 9.2 ms after most bounces, 5-8 dB, whose merged
-  // sounds lay 7.3-10.1 ms before four members (without this, stating half the spacing on its
-  // first member widened eta-bar +-0.0005 -> 0.0084, right either way); seed 950p #90 without
-  // a limiter, +-0.0059 -> 0.0050, right.
+  // sounds lay 7.3-10.1 ms before four members (with every member the response timing timed
+  // doubted, its second, on its bounce, widened eta-bar +-0.0005 -> 0.0084, right either way);
+  // seed 950p #90 without a limiter, a member on its bounce, +-0.0059 -> 0.0050, right.
   std::ptrdiff_t bounces_attacked = 0;
   for (std::size_t k = 0; k < members.size(); ++k) bounces_attacked += shows[k] && attack_after[k];
   const bool attacks_mark_clicks = 2 * bounces_attacked < showing;
