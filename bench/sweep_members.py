@@ -21,7 +21,8 @@ by more than 200 us either way, and how many crossed 3 stated sigmas; then each 
 as silent_wrong_sweep.py scores it (silent wrong, sequences gained and lost, and how many of the
 changed eta-bars came closer to the exact onsets' or went further, and how many stated sigmas
 grew or shrank by more than 10 %; the 12 that grew most are listed with their ratio and how
-far each was off, as a right answer widened many times is what a doubt rule costs). This is
+far each was off, as a right answer widened many times is what a doubt rule costs, and the
+first 4 that shrank). This is
 how a timing change is judged before the sweep is rerun from scratch: the same files (10782
 with a sequence on the machine of 2026-12-06), both binaries, in a few minutes (--reuse reads
 the first binary's results from an earlier --save instead of running it again: half the time
@@ -198,11 +199,13 @@ def compare(base, other):
     print(f"  eta-bar sigmas by more than 10 %: wider {len(wider)} (of them within one sigma "
           f"of the exact before: {len(right_wider)}), narrower {len(narrower)}")
     # The widest few, with how far each was off: a right answer widened many times is a cost.
-    for key in sorted(wider, key=lambda k: bars_b[k]["sigma"] / bars_a[k]["sigma"],
-                      reverse=True)[:12]:
+    def growth(key):  # a sigma of exactly 0 (exact onsets) grows without bound
+        return bars_b[key]["sigma"] / max(bars_a[key]["sigma"], 1e-12)
+
+    for key in sorted(wider, key=growth, reverse=True)[:12]:
         error = f"off {off(bars_a[key]):.4f}" if bars_a[key]["exact"] is not None else "no exact"
         print(f"  wider: {key} +-{bars_a[key]['sigma']:.4f} -> {bars_b[key]['sigma']:.4f} "
-              f"({bars_b[key]['sigma'] / bars_a[key]['sigma']:.1f}x), {error}")
+              f"({growth(key):.1f}x), {error}")
     for key in sorted(narrower)[:4]:
         print(f"  narrower: {key} +-{bars_a[key]['sigma']:.4f} -> {bars_b[key]['sigma']:.4f}")
     moved_z = sorted(((abs(bars_b[k]["z"]) - abs(bars_a[k]["z"]), k) for k in changed
