@@ -1381,6 +1381,17 @@ SequenceResult FindSequences(const std::vector<Impact>& impacts, const SequenceO
         best = std::move(joined);
     }
     best.members.front() = FirstMemberThatFitsTheDrop(impacts, free, best.members);
+    if (const std::size_t leading = periodic ? LeadingEventsOfThePeriodicSound(
+                                                   impacts, best.members, *periodic,
+                                                   static_cast<std::size_t>(options.min_impacts))
+                                             : 0;
+        leading > 0) {
+      // What is left answers to the chance test as if found so: the source's events counted in
+      // the chain's favour.
+      best.members.erase(best.members.begin(), best.members.begin() + static_cast<long>(leading));
+      best.chance_alignment = std::numeric_limits<double>::quiet_NaN();
+      if (!passes_the_chance_test(best)) continue;
+    }
     if (const auto leading = LeadingSoundsBeforeTheDrop(impacts, best.members); leading > 0) {
       best.members.erase(best.members.begin(), best.members.begin() + static_cast<long>(leading));
     }

@@ -1,6 +1,7 @@
 #ifndef BOUNCECAL_AUDIO_SRC_SEQUENCES_PERIODIC_SOUND_H_
 #define BOUNCECAL_AUDIO_SRC_SEQUENCES_PERIODIC_SOUND_H_
 
+#include <cstddef>
 #include <optional>
 #include <vector>
 
@@ -39,6 +40,19 @@ std::optional<PeriodicSound> FindPeriodicSound(const std::vector<Impact>& impact
 // lattice has all of them there. `members` in time order.
 double ChanceOfFlightsOnTheLattice(const std::vector<Impact>& impacts,
                                    const std::vector<int>& members, const PeriodicSound& sound);
+
+// How many of a chain's first members are events of the periodic sound before the drop: each
+// with an event of the file one or two periods before or after it, not much quieter than itself,
+// while the two members after them are on no lattice slot (PeriodicSound::on_lattice). A sound
+// that repeats before a drop has events wherever the chain finder looks for a bounce before the
+// first, and one whose ratio fits by chance can begin the sequence: hum events 20 ms apart offer
+// first ratios 0.03 apart for a first flight of 0.5 s, so the ratio cannot tell them. A first
+// bounce lies so by chance a few times in a hundred where the sound is as loud as the bounce (a
+// limiter's ceiling), and is then lost from the sequence, not misread. Never leaves fewer than
+// `fewest_left` members (at least 3).
+std::size_t LeadingEventsOfThePeriodicSound(const std::vector<Impact>& impacts,
+                                            const std::vector<int>& members,
+                                            const PeriodicSound& sound, std::size_t fewest_left);
 
 }  // namespace bouncecal::audio
 

@@ -208,5 +208,58 @@ TEST(PeriodicSound, FlightsNearMultiplesOnlyWithinTheirLooseTimingAreNoEvidence)
   EXPECT_LT(ChanceOfFlightsOnTheLattice(impacts, members, sound), 1e-6);
 }
 
+// A chain's first members that sound like the periodic source (an event one or two periods from
+// each, at most 10 dB quieter) before two members off every lattice slot are the source's, not
+// the drop's (silent_wrong_sweep.py --limiter seed 970 #124: a hum event 0.49 s before the first
+// bounce began the sequence, eta-bar 0.504 against 0.547). Not where the lattice neighbour is a
+// faint sound in the member's ringing (a codec's once a frame, 16 dB under), where the members
+// after are on slots too (a reflection one period after every bounce), or where too few members
+// would be left.
+TEST(PeriodicSound, FirstMembersThatSoundLikeTheSourceBeforeTheDropAreItsEvents) {
+  constexpr double kPeriodS = 0.02;
+  const std::vector<double> bounces = {0.60, 0.97, 1.22, 1.39, 1.505};
+  struct Case {
+    std::vector<double> leading;  // members before the bounces, each with hum 1-2 periods away
+    double neighbour_db;          // the hum's level; the members are at -10 dBFS
+    bool reflected;               // a sound one period after every bounce
+    std::size_t fewest_left;
+    std::size_t expected;
+  };
+  for (const Case& c : {Case{{0.14}, -10, false, 3, 1}, Case{{0.12, 0.14}, -12, false, 3, 2},
+                        Case{{0.14}, -26, false, 3, 0}, Case{{0.14}, -10, true, 3, 0},
+                        Case{{0.14}, -10, false, 6, 0}}) {
+    SCOPED_TRACE(::testing::Message() << c.leading.size() << " " << c.neighbour_db << " "
+                                      << c.reflected << " " << c.fewest_left);
+    std::vector<Impact> impacts;
+    // Hum from 0 to 0.2 s, every slot heard but the members' own.
+    for (int k = 0; k <= 10; ++k) {
+      const double t = kPeriodS * k;
+      if (std::none_of(c.leading.begin(), c.leading.end(),
+                       [&](double member) { return std::fabs(member - t) < 1e-9; })) {
+        impacts.push_back(At(t));
+        impacts.back().peak_dbfs = c.neighbour_db;
+      }
+    }
+    for (const double t : c.leading) impacts.push_back(At(t));
+    for (const double t : bounces) {
+      impacts.push_back(At(t));
+      if (c.reflected) impacts.push_back(At(t + kPeriodS));
+    }
+    impacts = Sorted(impacts);
+    const auto sound = FindPeriodicSound(impacts, 4e-3, 1.0);
+    ASSERT_TRUE(sound);
+    std::vector<int> members;
+    for (std::size_t i = 0; i < impacts.size(); ++i) {
+      const double t = impacts[i].onset_s;
+      const bool leading = std::any_of(c.leading.begin(), c.leading.end(),
+                                       [&](double member) { return std::fabs(member - t) < 1e-9; });
+      const bool bounce = std::any_of(bounces.begin(), bounces.end(),
+                                      [&](double b) { return std::fabs(b - t) < 1e-9; });
+      if (leading || bounce) members.push_back(static_cast<int>(i));
+    }
+    EXPECT_EQ(LeadingEventsOfThePeriodicSound(impacts, members, *sound, c.fewest_left), c.expected);
+  }
+}
+
 }  // namespace
 }  // namespace bouncecal::audio
