@@ -893,6 +893,18 @@ TEST(FreshAttack, AtTheSpacingOfTheMergedClicksItStatesHalfTheSpacing) {
   }
 }
 
+// After the stage: no member moved, the members `doubted` state half the spacing, the others keep
+// Drop's 30 us.
+void ExpectOnlyTheseStateHalfTheSpacing(const std::vector<Impact>& after,
+                                        const std::vector<Impact>& before,
+                                        const std::vector<std::size_t>& doubted, double spacing_s) {
+  for (std::size_t k = 0; k < after.size(); ++k) {
+    ASSERT_EQ(after[k].onset_s, before[k].onset_s) << "member " << k << " moved";
+    const bool stated = std::find(doubted.begin(), doubted.end(), k) != doubted.end();
+    EXPECT_NEAR(after[k].onset_uncertainty_s, stated ? 0.5 * spacing_s : 30e-6, kSameOnsetS) << k;
+  }
+}
+
 // The first four members on their clicks 7 ms before their bounces, with nothing recorded of the
 // bounces (a limiter levelled each with its click), the rest on their bounces, two with their
 // clicks merged (--limiter --precursors seed 960 #178, 7.4 ms): the run's last member states half
@@ -916,12 +928,9 @@ TEST(FreshAttack, ALeadingRunOnTheClicksOfTheMergedPairsStatesItsEnd) {
     }
     const auto onsets = impacts;
     TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
-    for (std::size_t k = 0; k < impacts.size(); ++k) {
-      ASSERT_EQ(impacts[k].onset_s, onsets[k].onset_s) << "member " << k << " moved";
-      const bool doubted = run_on_clicks && k == 3;
-      EXPECT_NEAR(impacts[k].onset_uncertainty_s, doubted ? 0.5 * kSpacingS : 30e-6, kSameOnsetS)
-          << k;
-    }
+    ExpectOnlyTheseStateHalfTheSpacing(
+        impacts, onsets, run_on_clicks ? std::vector<std::size_t>{3} : std::vector<std::size_t>{},
+        kSpacingS);
   }
 }
 
@@ -966,12 +975,9 @@ TEST(FreshAttack, ALeadingRunMostlyFollowedByTheBouncesAttacksStatesItsEnd) {
     }
     const auto onsets = impacts;
     TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
-    for (std::size_t k = 0; k < impacts.size(); ++k) {
-      ASSERT_EQ(impacts[k].onset_s, onsets[k].onset_s) << "member " << k << " moved";
-      EXPECT_NEAR(impacts[k].onset_uncertainty_s, c.doubted && k == 3 ? 0.5 * kSpacingS : 30e-6,
-                  kSameOnsetS)
-          << k;
-    }
+    ExpectOnlyTheseStateHalfTheSpacing(
+        impacts, onsets, c.doubted ? std::vector<std::size_t>{3} : std::vector<std::size_t>{},
+        kSpacingS);
   }
 }
 
@@ -1006,12 +1012,9 @@ TEST(FreshAttack, AttacksAtOneSpacingStateItWhereOneClickIsMerged) {
     merged[0].level_difference_db = 10.4;
     const auto onsets = impacts;
     TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
-    for (std::size_t k = 0; k < impacts.size(); ++k) {
-      ASSERT_EQ(impacts[k].onset_s, onsets[k].onset_s) << "member " << k << " moved";
-      const bool doubted = c.doubted && (k == 1 || k == 3);
-      EXPECT_NEAR(impacts[k].onset_uncertainty_s, doubted ? 0.5 * kSpacingS : 30e-6, kSameOnsetS)
-          << k;
-    }
+    ExpectOnlyTheseStateHalfTheSpacing(
+        impacts, onsets, c.doubted ? std::vector<std::size_t>{1, 3} : std::vector<std::size_t>{},
+        kSpacingS);
   }
 }
 
@@ -1063,12 +1066,9 @@ TEST(FreshAttack, ALeadingRunWithNothingMergedStatesItsEndByItsAttacks) {
     std::vector<MergedEvent> merged;
     const auto onsets = impacts;
     TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
-    for (std::size_t k = 0; k < impacts.size(); ++k) {
-      ASSERT_EQ(impacts[k].onset_s, onsets[k].onset_s) << "member " << k << " moved";
-      EXPECT_NEAR(impacts[k].onset_uncertainty_s, c.doubted && k == 3 ? 0.5 * kSpacingS : 30e-6,
-                  kSameOnsetS)
-          << k;
-    }
+    ExpectOnlyTheseStateHalfTheSpacing(
+        impacts, onsets, c.doubted ? std::vector<std::size_t>{3} : std::vector<std::size_t>{},
+        kSpacingS);
   }
 }
 
@@ -1152,12 +1152,9 @@ TEST(PairedSounds, ALeadingRunOnTheQuieterSoundOfTooFewPairsStatesItsEnd) {
     }
     const auto onsets = impacts;
     TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
-    for (std::size_t k = 0; k < impacts.size(); ++k) {
-      ASSERT_EQ(impacts[k].onset_s, onsets[k].onset_s) << "member " << k << " moved";
-      EXPECT_NEAR(impacts[k].onset_uncertainty_s, c.doubted && k == 3 ? 0.5 * kSpacingS : 30e-6,
-                  kSameOnsetS)
-          << k;
-    }
+    ExpectOnlyTheseStateHalfTheSpacing(
+        impacts, onsets, c.doubted ? std::vector<std::size_t>{3} : std::vector<std::size_t>{},
+        kSpacingS);
   }
 }
 
