@@ -319,6 +319,16 @@ double ImprovementOfAMove(const std::vector<double>& times, int k, int from, int
   return (now.misfit - fit.misfit) / (fit.scatter * fit.scatter);
 }
 
+// Whether member k's move alone by shift_s, which fits the ratios `own` scatters squared better
+// (ImprovementOfAMove), does so clearly (kRequiredImprovement) and better than moving every member
+// after it, or every member before it, the other way: a run on the other sound, whose switch the
+// member beside it shows too.
+bool MovedAloneClearlyBetter(const std::vector<double>& times, int k, double shift_s, double own) {
+  const int n = static_cast<int>(times.size());
+  return own > kRequiredImprovement && ImprovementOfAMove(times, k, k + 1, n, -shift_s) < own &&
+         ImprovementOfAMove(times, k, 0, k, -shift_s) < own;
+}
+
 // A member inside the sequence with no pair recorded can sit on the other sound of the pairs than
 // its neighbours as well as an end member can (DoubtAnEndMemberOfUnknownSound): a click that
 // sounds at the loud bounces and is lost under the quiet ones leaves a bounce timed on itself
@@ -352,10 +362,7 @@ void DoubtAMiddleMemberOfUnknownSound(std::vector<Impact>& impacts, const std::v
         shift = s;
       }
     }
-    if (!(own > kRequiredImprovement) || ImprovementOfAMove(times, k, k + 1, n, -shift) >= own ||
-        ImprovementOfAMove(times, k, 0, k, -shift) >= own) {
-      continue;
-    }
+    if (!MovedAloneClearlyBetter(times, k, shift, own)) continue;
     Impact& member = impacts[static_cast<std::size_t>(members[static_cast<std::size_t>(k)])];
     member.onset_uncertainty_s = std::hypot(member.onset_uncertainty_s, 0.5 * spacing_s);
   }
@@ -384,9 +391,7 @@ void DoubtAPairedMemberTheRatiosMoveAlone(
     const OtherSound* other = pairs[static_cast<std::size_t>(k)].second;
     if (!other) continue;
     const double shift = other->time_s - times[static_cast<std::size_t>(k)];
-    const double own = ImprovementOfAMove(times, k, k, k + 1, shift);
-    if (!(own > kRequiredImprovement) || ImprovementOfAMove(times, k, k + 1, n, -shift) >= own ||
-        ImprovementOfAMove(times, k, 0, k, -shift) >= own) {
+    if (!MovedAloneClearlyBetter(times, k, shift, ImprovementOfAMove(times, k, k, k + 1, shift))) {
       continue;
     }
     Impact& member = impacts[static_cast<std::size_t>(members[static_cast<std::size_t>(k)])];
@@ -847,6 +852,35 @@ void DoubtAFirstMemberBeforeALouderMergedSound(std::vector<Impact>& impacts,
   first.onset_uncertainty_s = std::hypot(first.onset_uncertainty_s, 0.5 * spacing_s);
 }
 
+// A bounce's fresh attack out of its click's ringing (Impact::later_rise_db): why 6 dB, below.
+constexpr double kFreshAttackDb = 6.0;
+
+// The spacing at which most members' fresh attacks (kFreshAttackDb) lie, where two or more lie
+// within a pair's tolerance of one another: the median of the largest such group; nullopt where
+// no two agree. A bounce's attack out of its click's ringing lies at the click's lead at every
+// member on its click, while a plate's beating or a stray sound lands anywhere in a flight.
+std::optional<double> SpacingOfTheFreshAttacks(const std::vector<Impact>& impacts,
+                                               const std::vector<int>& members) {
+  std::vector<double> attacks;
+  for (const int index : members) {
+    const Impact& member = impacts[static_cast<std::size_t>(index)];
+    const double offset_s = member.later_rise_s - member.onset_s;
+    if (member.later_rise_db >= kFreshAttackDb && offset_s >= kMinPairSpacingS) {
+      attacks.push_back(offset_s);
+    }
+  }
+  std::vector<double> best;
+  for (const double centre : attacks) {
+    std::vector<double> group;
+    for (const double offset_s : attacks) {
+      if (std::fabs(offset_s - centre) <= PairTolerance(centre)) group.push_back(offset_s);
+    }
+    if (group.size() > best.size()) best = std::move(group);
+  }
+  if (best.size() < 2) return std::nullopt;
+  return Median(best);
+}
+
 // A member timed on its click, next to members timed on their bounces, whose pairs neither the
 // merger nor the later-sound test recorded: a phone's look-ahead limiter holds a drop's loud
 // click and bounce at one ceiling, so the bounce rises less than a threshold over the click's
@@ -883,33 +917,6 @@ void DoubtAFirstMemberBeforeALouderMergedSound(std::vector<Impact>& impacts,
 // rules had doubted widened 15 more answers. 6 dB: two modes of a plate beating at full depth raise
 // the energy by 5 dB (the peak of each 0.25 ms, which they swing by 5-10 dB, marked 61 right
 // intervals at 4 dB).
-constexpr double kFreshAttackDb = 6.0;
-
-// The spacing at which most members' fresh attacks (kFreshAttackDb) lie, where two or more lie
-// within a pair's tolerance of one another: the median of the largest such group; nullopt where
-// no two agree. A bounce's attack out of its click's ringing lies at the click's lead at every
-// member on its click, while a plate's beating or a stray sound lands anywhere in a flight.
-std::optional<double> SpacingOfTheFreshAttacks(const std::vector<Impact>& impacts,
-                                               const std::vector<int>& members) {
-  std::vector<double> attacks;
-  for (const int index : members) {
-    const Impact& member = impacts[static_cast<std::size_t>(index)];
-    const double offset_s = member.later_rise_s - member.onset_s;
-    if (member.later_rise_db >= kFreshAttackDb && offset_s >= kMinPairSpacingS) {
-      attacks.push_back(offset_s);
-    }
-  }
-  std::vector<double> best;
-  for (const double centre : attacks) {
-    std::vector<double> group;
-    for (const double offset_s : attacks) {
-      if (std::fabs(offset_s - centre) <= PairTolerance(centre)) group.push_back(offset_s);
-    }
-    if (group.size() > best.size()) best = std::move(group);
-  }
-  if (best.size() < 2) return std::nullopt;
-  return Median(best);
-}
 void DoubtAMemberBeforeAFreshAttackAtTheSpacing(std::vector<Impact>& impacts,
                                                 const std::vector<MergedEvent>& merged,
                                                 const BounceSequence& sequence) {
