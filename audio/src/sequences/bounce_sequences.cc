@@ -15,6 +15,7 @@
 #include "bouncecal/option_error.h"
 #include "sequences/expected_ratio.h"
 #include "sequences/leading_sounds.h"
+#include "sequences/level_scatter.h"
 #include "sequences/periodic_sound.h"
 #include "sequences/poisson_binomial.h"
 #include "sequences/ratio_scatter.h"
@@ -689,18 +690,46 @@ bool PassesOverLouderSounds(const std::vector<Impact>& impacts, const std::vecto
 // other skipped bounces inaudible in the plate's ringing) is that improbable on its own.
 constexpr double kSkippedBounceWindow = 0.03;
 constexpr double kSkippedBounceChance = 1e-4;
-// How much fainter than the quieter member of its flight a sound may be and still be taken for a
-// bounce there: level jitter between consecutive bounces of a few dB, and a codec's or a room's
-// changes to the peak. Bounces whose levels jitter by 3 dB (sd; real recordings show 1-4 dB from
-// bounce to bounce) differ from a neighbour by 4.2 dB (sd), so a skipped bounce lies up to ~6 dB
-// under the quieter member beside it. At 3 dB a --precursors sweep file (seed 928 #177, the
+// How much fainter than the quieter member of its flight a sound may at least be and still be
+// taken for a bounce there: level jitter between consecutive bounces of a few dB, and a codec's or
+// a room's changes to the peak. Bounces whose levels jitter by 3 dB (sd; real recordings show 1-4
+// dB from bounce to bounce) differ from a neighbour by 4.2 dB (sd), so a skipped bounce lies up to
+// ~6 dB under the quieter member beside it. At 3 dB a --precursors sweep file (seed 928 #177, the
 // skipped bounces heard 0.4, 1.7 and 4.8 ms from their places, the first 4.3 dB under) kept its
 // chain of every other bounce (eta-bar 0.52 against 0.31, 28 sigmas, exit 0).
 constexpr double kSkippedBounceLevelDb = 6.0;
+// Where the chain's own levels scatter more, the margin is kSkippedBounceLevelZ (one-sided 1e-3)
+// times the spread of a difference of two levels with the scatter the chain's levels show about
+// a line in bounce number (at least kFewestScatterLevels of them). Why: with 3 dB of level jitter
+// a skipped bounce lies 6.5 dB under a neighbour (4.2 dB sd) as often as 1 in 16 (--limiter
+// --precursors seed 974 #137: a chain of every other bounce, its skipped 2nd and 4th bounces
+// heard 0.3 and 1.7 ms from their places, the 4th 6.5 dB under; counted faint, the skip test
+// read them as chance, eta-bar 0.586 against 0.355, 39 sigmas, exit 0; the chain's levels scatter
+// by 1.9 dB about their line, a margin of 8.1 dB). Only for every other bounce: a chain of every
+// third has twice the places, and at the wider margin a room's stray sounds filled them (seed 954
+// #169, an MP3 with reverb and 3 dB of jitter: a margin of 9.6 dB counted 6 strays 9-17 dB under
+// the members loud, 4 of them in the 16 windows 0.3-4 ms from their places, chance 1e-5, and the
+// drop of every bounce was refused).
+constexpr double kSkippedBounceLevelZ = 3.1;
+constexpr std::size_t kFewestScatterLevels = 4;
+
+double SkippedBounceLevelMarginDb(const std::vector<Impact>& impacts,
+                                  const std::vector<int>& members) {
+  std::vector<double> levels;
+  for (const int member : members) {
+    const double level = impacts[static_cast<size_t>(member)].peak_dbfs;
+    if (std::isfinite(level)) levels.push_back(level);
+  }
+  if (levels.size() < kFewestScatterLevels) return kSkippedBounceLevelDb;
+  return std::max(kSkippedBounceLevelDb,
+                  kSkippedBounceLevelZ * std::sqrt(2.0) * LevelScatterAboutALine(levels));
+}
 
 struct SkippedBounces {
   // The chain would be of every order-th bounce: 2 (every other), or 3.
   int order = 2;
+  // How much fainter than the quieter member of its flight a sound counts as a bounce there.
+  double level_margin_db = kSkippedBounceLevelDb;
   int found = 0;  // places with a sound where a skipped bounce would be
   // Places tested: one per flight for every other bounce (and the bounce before the first member),
   // two per flight for every third.
@@ -727,20 +756,22 @@ SkippedBounces SkippedBouncesOfOrder(const std::vector<Impact>& impacts,
                                      int order) {
   SkippedBounces result;
   result.order = order;
+  result.level_margin_db =
+      order == 2 ? SkippedBounceLevelMarginDb(impacts, members) : kSkippedBounceLevelDb;
   const auto onset = [&](int index) { return impacts[static_cast<size_t>(index)].onset_s; };
   const std::size_t m = members.size();
   if (m < 3) return result;
   const double span_s = onset(members.back()) - onset(members.front());
   if (!(span_s > 0)) return result;
   // Sounds between consecutive members, and those of them as loud as a bounce there could be:
-  // within kSkippedBounceLevelDb of the flight's quieter member (a skipped bounce's impact speed,
-  // and so roughly its level, lies between its neighbours').
+  // within the level margin of the flight's quieter member (a skipped bounce's impact speed, and
+  // so roughly its level, lies between its neighbours').
   int others = 0;
   int loud_others = 0;
   const auto loud = [&](int i, std::size_t k) {
     const double quieter = std::min(impacts[static_cast<size_t>(members[k])].peak_dbfs,
                                     impacts[static_cast<size_t>(members[k + 1])].peak_dbfs);
-    return impacts[static_cast<size_t>(i)].peak_dbfs >= quieter - kSkippedBounceLevelDb;
+    return impacts[static_cast<size_t>(i)].peak_dbfs >= quieter - result.level_margin_db;
   };
   for (std::size_t k = 0; k + 1 < m; ++k) {
     for (int i = members[k] + 1; i < members[k + 1]; ++i) {
@@ -851,7 +882,7 @@ SkippedBounces SkippedBouncesOfOrder(const std::vector<Impact>& impacts,
       for (int i = members[0] - 1; i >= 0 && onset(i) >= place_s - half_width_s; --i) {
         if (!free[static_cast<size_t>(i)] || onset(i) > place_s + half_width_s) continue;
         heard = true;
-        if (impacts[static_cast<size_t>(i)].peak_dbfs >= level - kSkippedBounceLevelDb) {
+        if (impacts[static_cast<size_t>(i)].peak_dbfs >= level - result.level_margin_db) {
           heard_loud = true;
           closest_loud_s = std::min(closest_loud_s, std::fabs(onset(i) - place_s));
         }
@@ -962,8 +993,8 @@ std::optional<Chain> ThroughSkippedBounces(const std::vector<Impact>& impacts,
   const auto level = [&](int i) { return impacts[static_cast<size_t>(i)].peak_dbfs; };
   const auto bounce_in_last_flight = [&](int at, std::size_t flight) {
     return flight + 1 < members.size() && at < members[flight + 1] &&
-           level(at) >=
-               std::min(level(members[flight]), level(members[flight + 1])) - kSkippedBounceLevelDb;
+           level(at) >= std::min(level(members[flight]), level(members[flight + 1])) -
+                            skipped.level_margin_db;
   };
   for (const auto& [k, sound] : skipped.heard) {
     if (k + 2 >= members.size()) break;
