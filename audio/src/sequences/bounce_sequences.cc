@@ -751,6 +751,29 @@ double ChanceOfFilling(const std::vector<double>& half_widths_s, int found, doub
   return PoissonBinomialTail(probabilities, static_cast<std::size_t>(found));
 }
 
+// Where the place-th of the order - 1 bounces a flight skips lies, as a share of the flight, for
+// a chain whose next flight is `ratio` times this one: the ball's restitution e = ratio^(1/order),
+// the flight the skipped ones' sum, dt (1 + e + ... + e^(order-1)), and the place-th skipped
+// bounce after the first `place` of them.
+double SkippedShare(double ratio, int order, int place) {
+  const double e = std::pow(ratio, 1.0 / order);
+  double all_flights = 0;
+  double before = 0;
+  for (int j = 0; j < order; ++j) {
+    all_flights += std::pow(e, j);
+    if (j < place) before += std::pow(e, j);
+  }
+  return before / all_flights;
+}
+
+// Where a member's bounce is if it was timed on a click that rang into it: the later sound
+// (Impact::later_onset_s); its onset otherwise.
+double BounceTimeOf(const Impact& member) {
+  return std::isfinite(member.later_onset_s) && member.later_onset_s > member.onset_s
+             ? member.later_onset_s
+             : member.onset_s;
+}
+
 SkippedBounces SkippedBouncesOfOrder(const std::vector<Impact>& impacts,
                                      const std::vector<bool>& free, const std::vector<int>& members,
                                      int order) {
@@ -807,15 +830,8 @@ SkippedBounces SkippedBouncesOfOrder(const std::vector<Impact>& impacts,
     const double next_flight_s = onset(members[k + 2]) - onset(members[k + 1]);
     const double ratio = next_flight_s / flight_s;
     if (!(ratio > 0 && ratio < 1)) continue;
-    // The ball's restitution e = ratio^(1/order): the flight is the skipped ones' sum, dt (1 + e
-    // + ... + e^(order-1)), and the j-th skipped bounce lies after the first j of them.
-    const double e = std::pow(ratio, 1.0 / order);
-    double all_flights = 0;
-    for (int j = 0; j < order; ++j) all_flights += std::pow(e, j);
-    double before = 0;
     for (int place = 1; place < order; ++place) {
-      before += std::pow(e, place - 1);
-      const double skipped_s = onset(members[k]) + flight_s * before / all_flights;
+      const double skipped_s = onset(members[k]) + flight_s * SkippedShare(ratio, order, place);
       const double half_width_s = kSkippedBounceWindow * flight_s;
       // A flight between two members timed on a quieter sound before their bounces (a click
       // that rang into its bounce keeps one candidate, Impact::later_onset_s the bounce's start)
@@ -823,15 +839,27 @@ SkippedBounces SkippedBouncesOfOrder(const std::vector<Impact>& impacts,
       // early by the clicks' lead. --precursors seed 948 #137 (clicks 5 ms ahead): the chain of
       // every other bounce had its skipped 2nd and 4th bounces 5.5 and 6.3 ms from its places in
       // 21 and 11 ms windows (chance 3.7e-4; eta-bar 0.7092 against 0.4598, 43 sigmas) and 0.3
-      // and 2.3 ms from the later sounds' places. The nearer place counts, its p-value doubled.
-      const double later_from_s = impacts[static_cast<size_t>(members[k])].later_onset_s;
-      const double later_to_s = impacts[static_cast<size_t>(members[k + 1])].later_onset_s;
-      const bool on_clicks =
-          std::isfinite(later_from_s) && std::isfinite(later_to_s) && later_to_s > later_from_s;
-      const double skipped_later_s =
-          on_clicks ? later_from_s + (later_to_s - later_from_s) * before / all_flights : skipped_s;
+      // and 2.3 ms from the later sounds' places. The ratio that places them, and so e, is the
+      // bounces' too, the next member's later sound included where it has one (one without is
+      // taken to be on its bounce): where the first two members were on their clicks 6.9 ms early
+      // and the third on its bounce (--limiter --precursors seed 969 #137), the clicks' ratio put
+      // the skipped bounces 1.8 and 1.0 ms from the sounds heard (chance 1.1e-3; eta-bar 0.7585
+      // against 0.5086, 22 sigmas, exit 0), the bounces' 0.1 and 0.2 ms. The nearer place counts,
+      // its p-value doubled. A flight with only one member on a click keeps one place: a second
+      // place there doubled the p-value of a sound 0.35 ms from the chain's own (seed 970 #50, a
+      // member on its bounce with a later sound 2.9 ms after it) and let its chain of every other
+      // bounce through.
+      const double from_s = BounceTimeOf(impacts[static_cast<size_t>(members[k])]);
+      const double to_s = BounceTimeOf(impacts[static_cast<size_t>(members[k + 1])]);
+      const double next_s = BounceTimeOf(impacts[static_cast<size_t>(members[k + 2])]);
+      const double bounces_ratio = (next_s - to_s) / (to_s - from_s);
+      const bool on_clicks = from_s != onset(members[k]) && to_s != onset(members[k + 1]);
+      const bool two_places = on_clicks && to_s > from_s && bounces_ratio > 0 && bounces_ratio < 1;
+      const double bounces_place_s =
+          two_places ? from_s + (to_s - from_s) * SkippedShare(bounces_ratio, order, place)
+                     : skipped_s;
       const auto deviation = [&](int i) {
-        return std::min(std::fabs(onset(i) - skipped_s), std::fabs(onset(i) - skipped_later_s));
+        return std::min(std::fabs(onset(i) - skipped_s), std::fabs(onset(i) - bounces_place_s));
       };
       bool heard = false;
       bool heard_loud = false;
@@ -854,7 +882,7 @@ SkippedBounces SkippedBouncesOfOrder(const std::vector<Impact>& impacts,
       result.found += heard ? 1 : 0;
       found_loud += heard_loud ? 1 : 0;
       if (heard_loud) {
-        closest_loud.push_back({closest_loud_s, half_width_s, on_clicks ? 2.0 : 1.0});
+        closest_loud.push_back({closest_loud_s, half_width_s, two_places ? 2.0 : 1.0});
       }
       ++result.flights;
       half_widths_s.push_back(half_width_s);
