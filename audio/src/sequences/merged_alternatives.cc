@@ -1019,28 +1019,26 @@ void DoubtAMemberBeforeAFreshAttackAtTheSpacing(std::vector<Impact>& impacts,
   // on its bounce; in seeds 940-955 one (940p #152, the same).
   std::size_t run = 0;
   while (run < members.size() && !shows[run]) ++run;
-  // With no sound merged at the spacing anywhere, the run ends after its last attacked member, and
-  // at least half of it attacked and a move the ratios prefer at all state its end (972p #60:
-  // members 0-3 on their clicks 2.4 ms early, the 3rd and 4th with attacks of 8-9 dB; the 1.4 %
-  // switch on a 0.169 s flight stays under the ratios' 1 % floor squared twelve times). Over the
-  // 7200 limited files of seeds 956-973 and 8000 without a limiter, 145 of 156 and 102 of 109
-  // member sigmas that these attack rules and the one below widened belong to members beside an
-  // interval off by more than 1 ms.
-  // Of the runs that end after an attacked member, at least half attacked, the one whose move the
-  // ratios prefer most; where attacked members after it are passed over, clearly
-  // (kRequiredImprovement). A member on its bounce can have a rise at the spacing too (an echo or
-  // a beat): the 7th member of --limiter --precursors seed 979 #42 had one of 8.3 dB, which
-  // stretched the run of members 0-3 on their clicks (5.0 ms early, attacked 7-9 dB) over the
-  // sequence, and nothing was stated (eta-bar 0.4802 +- 0.0001 against 0.4916, 82 sigmas; its
-  // move of members 0-3 20.5 scatters squared better; now +- 0.0064). Any preference for an earlier
-  // end doubted ub-mth337's rubber ball (rises 4.0-4.5 ms after its first three bounces, 7-14 dB,
-  // and after every later one at other spacings; 0.45 better). Ending the run at two members
-  // without an attack instead cut 979p #89's run of five on their clicks after its 2nd member (the
-  // 3rd and 4th rose by 5.5 and 4.3 dB only).
-  // The attacks must mark the run, as they mark clicks above: after its end members are attacked
-  // at the spacing at most half as often as in it. A reflection or a beat follows every bounce
-  // alike (alessia rimbalzi's Palla with noise 50 dB under it: rises of 7-13 dB 9.6-10.6 ms after
-  // its 2nd, 4th and 5th of 6 bounces, and its 4th stated 5 ms).
+  // With no sound merged at the spacing anywhere, the run ends after an attacked member, at least
+  // half of it attacked: the end up to the last attacked member where the ratios prefer its move
+  // at all (972p #60: members 0-3 on their clicks 2.4 ms early, the 3rd and 4th with attacks of
+  // 8-9 dB; the 1.4 % switch on a 0.169 s flight stays under the ratios' 1 % floor squared twelve
+  // times). Over the 7200 limited files of seeds 956-973 and 8000 without a limiter, 145 of 156 and
+  // 102 of 109 member sigmas that these attack rules and the one below widened belong to members
+  // beside an interval off by more than 1 ms. An earlier end, passing over attacked members after
+  // it, where the ratios prefer its move clearly (kRequiredImprovement), and the most of the ends
+  // tried: a member on its bounce can have a rise at the spacing too (an echo or a beat), and the
+  // 7th member of --limiter --precursors seed 979 #42 had one of 8.3 dB, which stretched the run of
+  // members 0-3 on their clicks (5.0 ms early, attacked 7-9 dB) over the sequence, and nothing was
+  // stated (eta-bar 0.4802 +- 0.0001 against 0.4916, 82 sigmas; the move of members 0-3 20.5
+  // scatters squared better; now +- 0.0064). Any preference for an earlier end doubted ub-mth337's
+  // rubber ball (rises 4.0-4.5 ms after its first three bounces, 7-14 dB, and after every later
+  // one at other spacings; 0.45 better). Ending the run at two members without an attack instead
+  // cut 979p #89's run of five on their clicks after its 2nd member (its 3rd and 4th rose by 5.5
+  // and 4.3 dB only). And the attacks must mark the run, as they mark clicks above: after its end
+  // members are attacked at the spacing at most half as often as in it, for a reflection or a beat
+  // follows every bounce alike (alessia rimbalzi's Palla with noise 50 dB under it: rises of 7-13
+  // dB 9.6-10.6 ms after its 2nd, 4th and 5th of 6 bounces, and its 4th stated 5 ms).
   const bool unpaired_run = showing == 0;
   std::size_t last_attacked_end = 0;  // the run up to the last attacked member
   for (std::size_t k = 0; k < members.size(); ++k) {
