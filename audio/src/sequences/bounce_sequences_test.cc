@@ -1096,6 +1096,54 @@ TEST(BounceSequences, ACodecsEventsBeforeADropDoNotOutrankItByLength) {
   EXPECT_GE(drop.size(), 16u);
 }
 
+// A drop (8 kHz, a phone's AGC and limiter) whose five bounces rose in a band (ratios 0.79),
+// then ones heard only in the ringing, and after it the noise the AGC raised: residual-only
+// sounds 30-90 ms apart. A chain of the 2nd and 8th bounces and five of those sounds (flights
+// 1.49 s to 17 ms, ratios 0.38-0.45) outranked the drop by length and passed the chance test
+// (7.5e-3 expected chance chains, against the drop's 1.2e-4); its first flight held the drop's
+// 3rd-5th bounces, where the ball it claims was in the air. Eta-bar 0.848 against the exact 0.373.
+TEST(BounceSequences, AChainWhoseFirstFlightHoldsALikelierDropsBouncesYieldsToThatDrop) {
+  const auto impacts = FromDetected({
+#include "agc_noise_after_drop_impacts_test.inc"
+  });
+  const auto result = FindBounceSequences(impacts, SequenceOptions{});
+  ASSERT_FALSE(result.sequences.empty());
+  const auto& drop = result.sequences.front().impact_indices;
+  ASSERT_GE(drop.size(), 5u);
+  // The drop's band-detected bounces in order (0.6275, 1.1458, 1.5562, 1.8815, 2.1391 s).
+  EXPECT_EQ(std::vector<int>(drop.begin(), drop.begin() + 5), (std::vector<int>{2, 5, 6, 7, 9}));
+  for (const auto& sequence : result.sequences) {
+    for (int i : sequence.impact_indices) {
+      EXPECT_LT(impacts[static_cast<std::size_t>(i)].onset_s, 3.1) << "a sound after the drop";
+    }
+  }
+}
+
+// Three knocks before a drop (knock_sweep.py seed 1000 #189, as the detector gave it) time like
+// bounces into its first one: a chain of the knocks and the first bounce needs no chance test.
+// The chain from the third knock over the first bounce on through the later ones runs through
+// that chain's first flight too, but the knocks' chain times far more like chance than it, so
+// it does not take the drop's first bounce (it did when a rival needing no test always won:
+// eta-bar 0.4554 lost).
+TEST(BounceSequences, KnocksThatTimeIntoADropsFirstFlightDoNotTakeItsFirstBounce) {
+  const auto impacts = FromDetected({{0.364487, 0.000417, -6.3, 0},
+                                     {1.074894, 0.000407, -6.3, 0},
+                                     {1.370702, 0.000408, -5.6, 0},
+                                     {1.517444, 0.000020, -6.2, 0},
+                                     {1.888507, 0.000011, -9.1, 0},
+                                     {2.162352, 0.000011, -11.5, 0},
+                                     {2.364449, 0.000011, -15.1, 0},
+                                     {2.513597, 0.000011, -17.8, 0},
+                                     {2.623667, 0.000027, -21.0, 0},
+                                     {2.704900, 0.000018, -22.9, 1},
+                                     {2.764848, 0.000154, -23.8, 1}});
+  const auto result = FindBounceSequences(impacts, SequenceOptions{});
+  ASSERT_FALSE(result.sequences.empty());
+  const auto& drop = result.sequences.front().impact_indices;
+  EXPECT_EQ(drop.front(), 3);
+  EXPECT_EQ(drop.size(), 8u);
+}
+
 // zaky-ptv's ping-pong (a phone video's soundtrack, 75 sounds in 3 s) as Opus 64k, as the
 // detector gave it. Onsets stated +-0.25-1.1 ms widen each bounce's window, and after the 9th
 // bounce the window holds a band-detected sound of the room (2.2553 s) beside the louder
