@@ -389,9 +389,16 @@ TEST(PairedSounds, AFirstMemberOfUnknownSoundStatesHalfTheSpacing) {
 // move shifts one ratio by 1.5 %, under the 1 % floor's 12 scatters squared), and the first member
 // states half the 6 ms spacing. On its bounce with its click merged, even 21 dB under it (beyond
 // the level the pairs weigh), or timed from its response, it keeps its sigma.
+// Variant 3: one member on its bounce has no click merged but a sound at the spacing after it (an
+// echo, the ringing's swell), the one pair whose member is the earlier sound: the first member
+// still states half the spacing (--limiter --precursors seed 982 #164: the first member on its
+// click 4.9 ms early, two members with their clicks merged, the 7th with a sound 5.2 ms after it;
+// eta-bar 0.4492 +- 0.0012 against the exact 0.4450, 3.6 sigmas, now +- 0.0024). Variant 4: the
+// second member is that one, on its click with its bounce after it, so the first member on its
+// click is where its neighbour is: it keeps its sigma (--limiter --precursors seed 958 #50).
 TEST(PairedSounds, AFirstMemberOfUnknownSoundAmongBouncesStatesHalfTheSpacing) {
   constexpr double kLeadS = 6e-3;
-  for (int variant = 0; variant < 3; ++variant) {
+  for (int variant = 0; variant < 5; ++variant) {
     SCOPED_TRACE(variant);
     std::vector<Impact> impacts;
     std::vector<MergedEvent> merged;
@@ -403,15 +410,25 @@ TEST(PairedSounds, AFirstMemberOfUnknownSoundAmongBouncesStatesHalfTheSpacing) {
       impacts[0].onset_s -= kLeadS;
       impacts[0].timed_from_response = variant == 2;
     }
+    if (variant == 3) {
+      std::erase_if(merged, [&](const MergedEvent& e) { return e.winner_s == truth[6]; });
+      impacts[6].later_onset_s = truth[6] + kLeadS;
+    }
+    if (variant == 4) {
+      std::erase_if(merged, [&](const MergedEvent& e) { return e.winner_s == truth[1]; });
+      impacts[1].onset_s -= kLeadS;
+      impacts[1].later_onset_s = truth[1];
+    }
     const auto onsets = impacts;
     TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
     for (std::size_t k = 0; k < impacts.size(); ++k) {
       ASSERT_EQ(impacts[k].onset_s, onsets[k].onset_s) << "member " << k << " moved";
-      if (k > 0) {
+      if (k > 0 && variant < 3) {
         EXPECT_EQ(impacts[k].onset_uncertainty_s, 30e-6) << k;
       }
     }
-    const double first_sigma = variant == 0 ? std::hypot(30e-6, 0.5 * kLeadS) : 30e-6;
+    const double first_sigma =
+        variant == 0 || variant == 3 ? std::hypot(30e-6, 0.5 * kLeadS) : 30e-6;
     EXPECT_NEAR(impacts[0].onset_uncertainty_s, first_sigma, 1e-9);
   }
 }
