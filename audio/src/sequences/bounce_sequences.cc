@@ -1316,8 +1316,8 @@ SequenceResult FindSequences(const std::vector<Impact>& impacts, const SequenceO
   int epoch = 0;
   // Each first impact's next best chains, as its last tracking left them (ChainFinder::BestFrom).
   std::vector<std::vector<Chain>> runners_up(static_cast<size_t>(n));
-  // The chain each first impact has in the heap, as last pushed (a rival's members are read
-  // from here, ChainThroughTheFlight).
+  // The chain each first impact has in the heap, as last pushed: where chain_through_the_flight
+  // looks for a rival (with the first impact's runners_up).
   std::vector<Chain> pushed(static_cast<size_t>(n));
   // First impacts whose chain was taken as a rival once: never again (it may fail what follows).
   std::vector<bool> rival_taken(static_cast<size_t>(n), false);
