@@ -863,6 +863,13 @@ void DoubtAFirstMemberBeforeALouderMergedSound(std::vector<Impact>& impacts,
 // A bounce's fresh attack out of its click's ringing (Impact::later_rise_db): why 6 dB, below.
 constexpr double kFreshAttackDb = 6.0;
 
+// A bounce's attack where the limiter held it and its click at one ceiling rises only 4-6 dB out
+// of the click's ringing (--limiter --precursors seed 962 #34: 4.4-6.3 dB after the four members
+// of a leading run on their clicks). So weak a rise counts only at the spacing of the sounds
+// merged before other members, and only where such rises mark a leading run, for a beat or an
+// echo rises as often after every bounce (DoubtAMemberBeforeAFreshAttackAtTheSpacing).
+constexpr double kWeakAttackDb = 4.0;
+
 // The spacing at which most members' fresh attacks (kFreshAttackDb) lie, where two or more lie
 // within a pair's tolerance of one another: the median of the largest such group; nullopt where
 // no two agree. A bounce's attack out of its click's ringing lies at the click's lead at every
@@ -964,13 +971,21 @@ void DoubtAMemberBeforeAFreshAttackAtTheSpacing(std::vector<Impact>& impacts,
   const auto with_one = std::count_if(before.begin(), before.end(),
                                       [](const std::vector<double>& b) { return !b.empty(); });
   // Most sounds merged before members must lie at the spacing (where it came from the attacks,
-  // none merged at all will do: the leading run below).
-  if (from_attacks ? 2 * showing < with_one : (showing < 2 || 2 * showing <= with_one)) return;
-  std::vector<bool> attack_after(members.size(), false);
-  for (std::size_t k = 0; k < members.size(); ++k) {
+  // none merged at all, or one stray sound, will do: the leading run below; fresh --limiter
+  // --precursors seed 980 #140 had a sound merged 6.6 ms before its 7th member, 7.6 dB under it,
+  // where its leading run's attacks of 10-13 dB lay 4.7-5.1 ms after members 0-3 on their clicks:
+  // eta-bar 0.2215 +- 0.0003 against the exact 0.2274, 23 sigmas; now +- 0.0032).
+  if (from_attacks ? 2 * showing + 1 < with_one : (showing < 2 || 2 * showing <= with_one)) return;
+  const auto attacked_at_the_spacing = [&](std::size_t k, double min_rise_db) {
     const Impact& member = member_at(k);
-    attack_after[k] = member.later_rise_db >= kFreshAttackDb &&
-                      std::fabs(member.later_rise_s - member.onset_s - spacing_s) <= tolerance_s;
+    return member.later_rise_db >= min_rise_db &&
+           std::fabs(member.later_rise_s - member.onset_s - spacing_s) <= tolerance_s;
+  };
+  std::vector<bool> attack_after(members.size(), false);
+  std::vector<bool> weak_attack_after(members.size(), false);
+  for (std::size_t k = 0; k < members.size(); ++k) {
+    attack_after[k] = attacked_at_the_spacing(k, kFreshAttackDb);
+    weak_attack_after[k] = attacked_at_the_spacing(k, kWeakAttackDb);
   }
   // On its bounce: a sound merged before it at the spacing, and no attack at the spacing after it
   // (a member on its click can have another sound before it too: in the --precursors sweep's
@@ -1072,17 +1087,56 @@ void DoubtAMemberBeforeAFreshAttackAtTheSpacing(std::vector<Impact>& impacts,
       }
     }
   }
+  // With sounds merged at the spacing, the run ends at the first member on its bounce or before
+  // it, after a member attacked at the spacing, where the ratios prefer the move most: the members
+  // between may be unknown (nothing merged, no attack) or show both sounds. --limiter --precursors
+  // seed 959 #146: members 0-3 on their clicks 5.7 ms early, attacked 6-7 dB, the 5th on its bounce
+  // with nothing merged, the 6th-9th with their clicks merged; the run taken to the 6th could not
+  // fit the ratios (eta-bar 0.2524 +- 0.0003 against 0.2656, 43 sigmas; now +- 0.0071). Fresh seed
+  // 981 #86: the 4th member on its click with a sound 15 dB under it 4.7 ms before, at the spacing
+  // as the tolerance goes, ended the run at itself (18 sigmas; now 1.8).
+  bool bounce_after_the_run = false;
+  if (!unpaired_run) {
+    std::size_t first_on_bounce = 0;
+    while (first_on_bounce < members.size() && !on_bounce(first_on_bounce)) ++first_on_bounce;
+    double best = -std::numeric_limits<double>::infinity();
+    for (std::size_t end = 2;
+         first_on_bounce < members.size() && end <= first_on_bounce && end + 2 <= members.size();
+         ++end) {
+      if (end != first_on_bounce && !weak_attack_after[end - 1]) continue;
+      const int last = static_cast<int>(end) - 1;
+      const double improvement =
+          ImprovementOfAMove(times, last, 0, static_cast<int>(end), spacing_s);
+      if (improvement > best) {
+        best = improvement;
+        run = end;
+        bounce_after_the_run = true;
+      }
+    }
+  }
   // A run of two leaves four members and two ratios at least (the fewest a line through them
   // needs), where ImprovementOfAMove needs it.
-  if (run >= 2 && run + 2 <= members.size() && (unpaired_run || on_bounce(run))) {
+  if (run >= 2 && run + 2 <= members.size() && (unpaired_run || bounce_after_the_run)) {
     const int last = static_cast<int>(run) - 1;
     const double improvement = ImprovementOfAMove(times, last, 0, static_cast<int>(run), spacing_s);
-    const auto run_end = attack_after.begin() + static_cast<std::ptrdiff_t>(run);
-    const auto attacked = std::count(attack_after.begin(), run_end, true);
-    const bool most_attacked = 2 * attacked > static_cast<std::ptrdiff_t>(run);
-    if (unpaired_run ? 2 * attacked >= static_cast<std::ptrdiff_t>(run) &&
-                           (improvement > kRequiredImprovement ||
-                            (run == last_attacked_end && improvement > 0))
+    const auto in_run = static_cast<std::ptrdiff_t>(run);
+    const auto run_end = attack_after.begin() + in_run;
+    const auto strongly_attacked = std::count(attack_after.begin(), run_end, true);
+    // Beside sounds merged at the spacing, weak attacks count where they mark the run (after it,
+    // at most half as often as in it): seed 962 #34, members 0-3 on their clicks 7.9 ms early with
+    // rises of 4.4-6.3 dB at the spacing, one of them 6 dB; the move fitted 11.3 scatters squared
+    // better, eta-bar 0.2589 +- 0.0006 against 0.2707 (21 sigmas; now +- 0.0062).
+    const auto weak_end = weak_attack_after.begin() + in_run;
+    const auto weakly_attacked = std::count(weak_attack_after.begin(), weak_end, true);
+    const auto weakly_attacked_after = std::count(weak_end, weak_attack_after.end(), true);
+    const auto after_run = static_cast<std::ptrdiff_t>(members.size()) - in_run;
+    const bool weak_attacks_mark_the_run =
+        2 * weakly_attacked_after * in_run <= weakly_attacked * after_run;
+    const auto attacked =
+        !unpaired_run && weak_attacks_mark_the_run ? weakly_attacked : strongly_attacked;
+    const bool most_attacked = 2 * attacked > in_run;
+    if (unpaired_run ? 2 * attacked >= in_run && (improvement > kRequiredImprovement ||
+                                                  (run == last_attacked_end && improvement > 0))
                      : improvement > kRequiredImprovement ||
                            (attacks_mark_clicks && most_attacked && improvement > 0)) {
       Impact& member = member_at(run - 1);
