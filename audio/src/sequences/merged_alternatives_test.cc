@@ -922,6 +922,39 @@ void ExpectOnlyTheseStateHalfTheSpacing(const std::vector<Impact>& after,
   }
 }
 
+// A drop whose first four members sit on their clicks `spacing_s` before their bounces (or on
+// their bounces), the first of them with rises of `rises_db` at the spacing after them, and the
+// members `clicks_merged` with their clicks merged `clicks_quieter_db` under them at the spacing;
+// after the stage only the run's last member states half the spacing, where `doubted`.
+struct LeadingRunOnClicks {
+  double spacing_s = 0;
+  bool on_clicks = true;
+  std::vector<double> rises_db;
+  std::vector<std::size_t> clicks_merged;
+  double clicks_quieter_db = 10;
+};
+
+void ExpectTheRunsEndStatedIf(const LeadingRunOnClicks& run, bool doubted) {
+  auto impacts = Drop(10, 0.001);
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (run.on_clicks) impacts[k].onset_s -= run.spacing_s;
+    if (k < run.rises_db.size()) {
+      impacts[k].later_rise_s = impacts[k].onset_s + run.spacing_s;
+      impacts[k].later_rise_db = run.rises_db[k];
+    }
+  }
+  std::vector<MergedEvent> merged;
+  for (const std::size_t k : run.clicks_merged) {
+    merged.push_back(Lost(impacts[k].onset_s - run.spacing_s, impacts[k].onset_s));
+    merged.back().level_difference_db = run.clicks_quieter_db;
+  }
+  const auto onsets = impacts;
+  TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
+  ExpectOnlyTheseStateHalfTheSpacing(
+      impacts, onsets, doubted ? std::vector<std::size_t>{3} : std::vector<std::size_t>{},
+      run.spacing_s);
+}
+
 // The first four members on their clicks 7 ms before their bounces, with nothing recorded of the
 // bounces (a limiter levelled each with its click), the rest on their bounces, two with their
 // clicks merged (--limiter --precursors seed 960 #178, 7.4 ms): the run's last member states half
@@ -931,23 +964,14 @@ void ExpectOnlyTheseStateHalfTheSpacing(const std::vector<Impact>& after,
 // 12 required is not reached by 0.5 % scatter of the flights, whose 2 % scatter of ratios a 5 ms
 // switch does not stand out of.)
 TEST(FreshAttack, ALeadingRunOnTheClicksOfTheMergedPairsStatesItsEnd) {
-  constexpr double kSpacingS = 7e-3;
   for (const bool run_on_clicks : {true, false}) {
     SCOPED_TRACE(run_on_clicks);
-    auto impacts = Drop(10, 0.001);
-    if (run_on_clicks) {
-      for (std::size_t k = 0; k < 4; ++k) impacts[k].onset_s -= kSpacingS;
-    }
-    std::vector<MergedEvent> merged;
-    for (std::size_t k : {std::size_t{4}, std::size_t{6}}) {
-      merged.push_back(Lost(impacts[k].onset_s - kSpacingS, impacts[k].onset_s));
-      merged.back().level_difference_db = 11;
-    }
-    const auto onsets = impacts;
-    TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
-    ExpectOnlyTheseStateHalfTheSpacing(
-        impacts, onsets, run_on_clicks ? std::vector<std::size_t>{3} : std::vector<std::size_t>{},
-        kSpacingS);
+    ExpectTheRunsEndStatedIf({.spacing_s = 7e-3,
+                              .on_clicks = run_on_clicks,
+                              .rises_db = {},
+                              .clicks_merged = {4, 6},
+                              .clicks_quieter_db = 11},
+                             run_on_clicks);
   }
 }
 
@@ -1055,27 +1079,14 @@ TEST(FreshAttack, ALeadingRunEndsBeforeTheFirstMemberOnItsBounce) {
 // attack at it, and the run's last member states half the spacing. With the run on its bounces
 // every sigma stays.
 TEST(FreshAttack, ALeadingRunEndsWhereTheRatiosClearlyEndItWithoutAnAttack) {
-  constexpr double kSpacingS = 7.4e-3;
   for (const bool run_on_clicks : {true, false}) {
     SCOPED_TRACE(run_on_clicks);
-    auto impacts = Drop(10, 0.001);
-    for (std::size_t k = 0; k < 4; ++k) {
-      if (run_on_clicks) impacts[k].onset_s -= kSpacingS;
-      if (k < 2) {
-        impacts[k].later_rise_s = impacts[k].onset_s + kSpacingS;
-        impacts[k].later_rise_db = 4.8;
-      }
-    }
-    std::vector<MergedEvent> merged;
-    for (const std::size_t k : {std::size_t{5}, std::size_t{6}, std::size_t{7}}) {
-      merged.push_back(Lost(impacts[k].onset_s - kSpacingS, impacts[k].onset_s));
-      merged.back().level_difference_db = 10.0;
-    }
-    const auto onsets = impacts;
-    TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
-    ExpectOnlyTheseStateHalfTheSpacing(
-        impacts, onsets, run_on_clicks ? std::vector<std::size_t>{3} : std::vector<std::size_t>{},
-        kSpacingS);
+    ExpectTheRunsEndStatedIf({.spacing_s = 7.4e-3,
+                              .on_clicks = run_on_clicks,
+                              .rises_db = {4.8, 4.8},
+                              .clicks_merged = {5, 6, 7},
+                              .clicks_quieter_db = 10},
+                             run_on_clicks);
   }
 }
 
