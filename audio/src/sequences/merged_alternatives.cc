@@ -1033,8 +1033,8 @@ void DoubtAMemberBeforeAFreshAttackAtTheSpacing(std::vector<Impact>& impacts,
   // cancellation); in seeds 940-955 one, by 20 times (943 #87: the 6th and 7th members 3.9 ms
   // after their bounces, which were merged before them; the run's last member now covers the
   // interval to the 6th, 3.9 ms off).
-  // The run ends at the first member with a sound merged at the spacing: a stray sound at another
-  // distance is not its pair. Where the ratios lean towards the move but not by
+  // Where the run ends is found below; a stray sound at another distance is not a pair and ends
+  // nothing. Where the ratios lean towards the move but not by
   // kRequiredImprovement, most of the run's members with a fresh attack at the spacing after
   // them say the same (--limiter --precursors seed 963 #145: members 0-3 on their clicks 5.4 ms
   // early, the 3rd with a sound 11.5 ms before it, the move 4.7 scatters squared better, eta-bar
@@ -1042,7 +1042,6 @@ void DoubtAMemberBeforeAFreshAttackAtTheSpacing(std::vector<Impact>& impacts,
   // (seeds 956-966), 8 more sigmas wider, each a run's last member on its click beside the first
   // on its bounce; in seeds 940-955 one (940p #152, the same).
   std::size_t run = 0;
-  while (run < members.size() && !shows[run]) ++run;
   // With no sound merged at the spacing anywhere, the run ends after an attacked member, at least
   // half of it attacked: the end up to the last attacked member where the ratios prefer its move
   // at all (972p #60: members 0-3 on their clicks 2.4 ms early, the 3rd and 4th with attacks of
@@ -1069,7 +1068,6 @@ void DoubtAMemberBeforeAFreshAttackAtTheSpacing(std::vector<Impact>& impacts,
     if (attack_after[k]) last_attacked_end = k + 1;
   }
   if (unpaired_run) {
-    run = 0;
     double best = -std::numeric_limits<double>::infinity();
     const auto all_attacked = std::count(attack_after.begin(), attack_after.end(), true);
     const auto n = static_cast<std::ptrdiff_t>(members.size());
@@ -1088,15 +1086,17 @@ void DoubtAMemberBeforeAFreshAttackAtTheSpacing(std::vector<Impact>& impacts,
       }
     }
   }
-  // With sounds merged at the spacing, the run ends at the first member on its bounce or before
-  // it, after a member attacked at the spacing (or anywhere the ratios prefer the move by
-  // kRequiredImprovement), where the ratios prefer the move most: the members
-  // between may be unknown (nothing merged, no attack) or show both sounds. --limiter --precursors
-  // seed 959 #146: members 0-3 on their clicks 5.7 ms early, attacked 6-7 dB, the 5th on its bounce
-  // with nothing merged, the 6th-9th with their clicks merged; the run taken to the 6th could not
-  // fit the ratios (eta-bar 0.2524 +- 0.0003 against 0.2656, 43 sigmas; now +- 0.0071). Fresh seed
-  // 981 #86: the 4th member on its click with a sound 15 dB under it 4.7 ms before, at the spacing
-  // as the tolerance goes, ended the run at itself (18 sigmas; now 1.8).
+  // With sounds merged at the spacing, the run ends at the first member on its bounce (a sound
+  // merged before it at the spacing, no attack after it) or before it, after a member attacked at
+  // the spacing or wherever the ratios prefer the move by kRequiredImprovement: of these ends, the
+  // one the ratios prefer most. The members between may be unknown (nothing merged, no attack) or
+  // show both sounds. It ended at the first member with a sound merged at the spacing, and missed
+  // --limiter --precursors seed 959 #146 (members 0-3 on their clicks 5.7 ms early, attacked 6-7
+  // dB, the 5th on its bounce with nothing merged, the 6th-9th with their clicks merged: the run
+  // taken to the 6th could not fit the ratios; eta-bar 0.2524 +- 0.0003 against 0.2656, 43 sigmas,
+  // now +- 0.0071) and fresh seed 981 #86 (the 4th member on its click with a sound 15 dB under it
+  // 4.7 ms before, at the spacing as the tolerance goes, ended the run at itself; 18 sigmas, now
+  // 1.8).
   bool bounce_after_the_run = false;
   if (!unpaired_run) {
     std::size_t first_on_bounce = 0;
