@@ -924,14 +924,18 @@ void ExpectOnlyTheseStateHalfTheSpacing(const std::vector<Impact>& after,
 
 // A drop whose first four members sit on their clicks `spacing_s` before their bounces (or on
 // their bounces), the first of them with rises of `rises_db` at the spacing after them, and the
-// members `clicks_merged` with their clicks merged `clicks_quieter_db` under them at the spacing;
-// after the stage only the run's last member states half the spacing, where `doubted`.
+// members `clicks_merged` with a sound merged under them (dB) at the spacing before them; after
+// the stage only the run's last member states half the spacing, where `doubted`.
+struct MergedClick {
+  std::size_t member;
+  double quieter_db;
+};
+
 struct LeadingRunOnClicks {
   double spacing_s = 0;
   bool on_clicks = true;
   std::vector<double> rises_db;
-  std::vector<std::size_t> clicks_merged;
-  double clicks_quieter_db = 10;
+  std::vector<MergedClick> clicks_merged;
 };
 
 void ExpectTheRunsEndStatedIf(const LeadingRunOnClicks& run, bool doubted) {
@@ -944,9 +948,9 @@ void ExpectTheRunsEndStatedIf(const LeadingRunOnClicks& run, bool doubted) {
     }
   }
   std::vector<MergedEvent> merged;
-  for (const std::size_t k : run.clicks_merged) {
+  for (const auto& [k, quieter_db] : run.clicks_merged) {
     merged.push_back(Lost(impacts[k].onset_s - run.spacing_s, impacts[k].onset_s));
-    merged.back().level_difference_db = run.clicks_quieter_db;
+    merged.back().level_difference_db = quieter_db;
   }
   const auto onsets = impacts;
   TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
@@ -969,8 +973,7 @@ TEST(FreshAttack, ALeadingRunOnTheClicksOfTheMergedPairsStatesItsEnd) {
     ExpectTheRunsEndStatedIf({.spacing_s = 7e-3,
                               .on_clicks = run_on_clicks,
                               .rises_db = {},
-                              .clicks_merged = {4, 6},
-                              .clicks_quieter_db = 11},
+                              .clicks_merged = {{4, 11.0}, {6, 11.0}}},
                              run_on_clicks);
   }
 }
@@ -1031,43 +1034,18 @@ TEST(FreshAttack, ALeadingRunMostlyFollowedByTheBouncesAttacksStatesItsEnd) {
 // with a sound merged before it, and its last member states half the spacing. With the run on its
 // bounces (a move the ratios do not prefer) every sigma stays.
 TEST(FreshAttack, ALeadingRunEndsBeforeTheFirstMemberOnItsBounce) {
-  constexpr double kSpacingS = 5.8e-3;
-  struct Case {
-    bool run_on_clicks;
-    bool run_attacked;
-    bool stray_sound_before_the_last;  // and the member after the run with its click merged
-    bool doubted;
-  };
-  for (const Case c : {Case{true, true, false, true}, Case{true, true, true, true},
-                       Case{false, true, false, false}}) {
-    SCOPED_TRACE(::testing::Message()
-                 << c.run_on_clicks << c.run_attacked << c.stray_sound_before_the_last);
-    auto impacts = Drop(10, 0.001);
-    for (std::size_t k = 0; k < 4; ++k) {
-      if (c.run_on_clicks) impacts[k].onset_s -= kSpacingS;
-      if (c.run_attacked) {
-        impacts[k].later_rise_s = impacts[k].onset_s + kSpacingS;
-        impacts[k].later_rise_db = 7.0;
-      }
+  const std::vector<MergedClick> after_an_unknown_member = {{5, 10.0}, {6, 10.0}, {7, 10.0}};
+  const std::vector<MergedClick> stray_before_the_last = {{3, 15.4}, {4, 10.0}};
+  for (const bool run_on_clicks : {true, false}) {
+    for (const auto& clicks_merged : {after_an_unknown_member, stray_before_the_last}) {
+      SCOPED_TRACE(::testing::Message() << "on clicks " << run_on_clicks << ", "
+                                        << clicks_merged.size() << " sounds merged");
+      ExpectTheRunsEndStatedIf({.spacing_s = 5.8e-3,
+                                .on_clicks = run_on_clicks,
+                                .rises_db = {7.0, 7.0, 7.0, 7.0},
+                                .clicks_merged = clicks_merged},
+                               run_on_clicks);
     }
-    std::vector<MergedEvent> merged;
-    const auto merge_before = [&](std::size_t k, double before_s, double quieter_db) {
-      merged.push_back(Lost(impacts[k].onset_s - before_s, impacts[k].onset_s));
-      merged.back().level_difference_db = quieter_db;
-    };
-    if (c.stray_sound_before_the_last) {
-      merge_before(3, kSpacingS, 15.4);
-      merge_before(4, kSpacingS, 10.0);
-    } else {
-      for (const std::size_t k : {std::size_t{5}, std::size_t{6}, std::size_t{7}}) {
-        merge_before(k, kSpacingS, 10.0);
-      }
-    }
-    const auto onsets = impacts;
-    TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
-    ExpectOnlyTheseStateHalfTheSpacing(
-        impacts, onsets, c.doubted ? std::vector<std::size_t>{3} : std::vector<std::size_t>{},
-        kSpacingS);
   }
 }
 
@@ -1084,8 +1062,7 @@ TEST(FreshAttack, ALeadingRunEndsWhereTheRatiosClearlyEndItWithoutAnAttack) {
     ExpectTheRunsEndStatedIf({.spacing_s = 7.4e-3,
                               .on_clicks = run_on_clicks,
                               .rises_db = {4.8, 4.8},
-                              .clicks_merged = {5, 6, 7},
-                              .clicks_quieter_db = 10},
+                              .clicks_merged = {{5, 10.0}, {6, 10.0}, {7, 10.0}}},
                              run_on_clicks);
   }
 }
