@@ -91,7 +91,8 @@ std::vector<MeasuredSequence> DistinctSequences(const std::vector<MeasuredSequen
           kept.impacts.size() == sequence.impacts.size() &&
           std::equal(kept.impacts.begin(), kept.impacts.end(), sequence.impacts.begin(),
                      [](const TimedImpact& a, const TimedImpact& b) {
-                       return a.onset_s == b.onset_s && a.uncertainty_s == b.uncertainty_s;
+                       return a.onset_s == b.onset_s && a.uncertainty_s == b.uncertainty_s &&
+                              a.incoming_flight_uncertainty_s == b.incoming_flight_uncertainty_s;
                      });
       if (same) original = &kept;
     }

@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "bouncecal/calibrate/jittered_drop.h"
+#include "bouncecal/calibrate/restitution.h"
 #include "bouncecal/dem/contact_laws.h"
 #include "bouncecal/error.h"
 
@@ -706,6 +707,30 @@ TEST(Fit, DropHeightUncertaintyWidensTheInterval) {
   EXPECT_NEAR(uncertain.parameters[0].standard_error, 0.0034, 0.0006);
   options.drop_height_given = false;
   EXPECT_NE(MessageOf({recording}, options).find("needs drop_height_m"), std::string::npos);
+}
+
+// A flight's own uncertainty (a leading run that may sit on other sounds together) is a shift of
+// every earlier onset. Into the 2nd impact it is the 1st onset's doubt, to the last digit the
+// sandwich keeps. Into the 4th (a run of three, drop height known) it moves the flight that ends
+// eta-bar's first three losses: 1 ms moves eta-bar by 2 e / (3 dt_2) 1 ms = 0.0024 against the
+// onsets' 0.0001. The scatter posterior may scale every stated timing sd down to an eighth where
+// the residuals are smaller (scatter_posterior.h), which still leaves gamma's standard error more
+// than twice that of the onsets alone (d gamma / d eta ~ 1).
+TEST(Fit, AFlightUncertaintyWidensTheFitAsAShiftOfEveryEarlierOnset) {
+  const auto options = QuickOptions();
+  const auto recording = SimulatedRecording(WaltonBraun(0.4), 8, 10e-6, 12);
+  const double se_exact = Fit({recording}, options).parameters[0].standard_error;
+  auto first_flight = recording;
+  first_flight.impacts[1].incoming_flight_uncertainty_s = 1e-3;
+  auto first_onset = recording;
+  first_onset.impacts[0].uncertainty_s = std::hypot(10e-6, 1e-3);
+  const double se_flight = Fit({first_flight}, options).parameters[0].standard_error;
+  EXPECT_NEAR(se_flight, Fit({first_onset}, options).parameters[0].standard_error,
+              1e-9 * se_flight);
+
+  auto run_of_three = recording;
+  run_of_three.impacts[3].incoming_flight_uncertainty_s = 1e-3;
+  EXPECT_GT(Fit({run_of_three}, options).parameters[0].standard_error, 2 * se_exact);
 }
 
 TEST(Fit, AnalyticCheckNamesAirDragAsDragNotGravity) {

@@ -102,9 +102,37 @@ Linearized Linearize(const SequencePlan& plan, const FitOptions& options, const 
     linear.onsets.col(m) = -(data[0] - data[1]) / (2 * kOnsetStepS);
     eta_by_onset.col(m) = (eta[0] - eta[1]) / (2 * kOnsetStepS);
   }
+  // A shift common to the onsets before impact m (TimedImpact::incoming_flight_uncertainty_s)
+  // moves everything by the sum of their columns: one more independent timing source each.
+  std::vector<Eigen::Index> shifted_flights;
+  for (Eigen::Index m = 1; m < onsets; ++m) {
+    if (plan.impacts[static_cast<size_t>(m)].incoming_flight_uncertainty_s > 0)
+      shifted_flights.push_back(m);
+  }
+  const auto shifts = static_cast<Eigen::Index>(shifted_flights.size());
+  const auto with_shifts = [&](const Eigen::MatrixXd& by_onset) {
+    Eigen::MatrixXd by_source(by_onset.rows(), onsets + shifts);
+    by_source.leftCols(onsets) = by_onset;
+    for (Eigen::Index s = 0; s < shifts; ++s)
+      by_source.col(onsets + s) =
+          by_onset.leftCols(shifted_flights[static_cast<size_t>(s)]).rowwise().sum();
+    return by_source;
+  };
+  Eigen::VectorXd source_variance(onsets + shifts);
+  source_variance.head(onsets) = linear.onset_variance;
+  for (Eigen::Index s = 0; s < shifts; ++s) {
+    const double sigma = plan.impacts[static_cast<size_t>(shifted_flights[static_cast<size_t>(s)])]
+                             .incoming_flight_uncertainty_s;
+    source_variance[onsets + s] = sigma * sigma;
+  }
+  const Eigen::MatrixXd eta_by_source = with_shifts(eta_by_onset);
   result.impacts.timing_covariance =
-      eta_by_onset * linear.onset_variance.asDiagonal() * eta_by_onset.transpose();
-  if (!full) return result;
+      eta_by_source * source_variance.asDiagonal() * eta_by_source.transpose();
+  if (!full) {
+    linear.onset_variance = source_variance;
+    linear.onsets = with_shifts(linear.onsets);
+    return result;
+  }
 
   const size_t p = map.size();
   linear.parameters.resize(terms_count, static_cast<Eigen::Index>(p));
@@ -164,6 +192,12 @@ Linearized Linearize(const SequencePlan& plan, const FitOptions& options, const 
     linear.drop_height = (residual - linear.residual) / step * plan.drop_height_uncertainty_m;
     linear.drop_height_group = plan.drop_height_group;
   }
+  // The shifts' columns come last, after the first flight's share above; an eta_k's jitter
+  // moves onsets, never a shift.
+  linear.onsets = with_shifts(linear.onsets);
+  linear.onset_variance = source_variance;
+  linear.jitter.conservativeResize(onsets + shifts, Eigen::NoChange);
+  linear.jitter.bottomRows(shifts).setZero();
   return result;
 }
 

@@ -62,6 +62,10 @@ std::vector<ImpactRow> Rows(const nlohmann::json& recording) {
       }
       row.sequence = s;
       row.k = static_cast<int>(position) + 1;
+      if (sequence.contains("incoming_flight_uncertainty_s")) {
+        row.incoming_flight_uncertainty_s =
+            Entry(sequence["incoming_flight_uncertainty_s"], position).value_or(0.0);
+      }
       row.interval_s = Entry(sequence.at("intervals_s"), position);
       row.bounce_height_m = Entry(sequence.at("bounce_height_m"), position);
       const auto& with_e = sequence.at("restitution_impact_index");

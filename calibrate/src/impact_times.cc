@@ -4,7 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
-#include <map>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
@@ -54,15 +54,21 @@ std::string Where(const std::filesystem::path& path, int line) {
 // Column positions: by header name when the file has a header, else onset_s, uncertainty,
 // sequence in that order. A "kind" column (the synthesiser's truth files) keeps only
 // ball_impact rows; a "drop" column serves as the sequence number (-1 rows are not drops).
+// `bouncecal analyze --csv` also names each row's file and channel, whose sequences are numbered
+// from 0 in each, and leaves the sequence blank for an impact in none.
 struct CsvColumns {
   int onset = 0;
   int uncertainty = 1;
   int sequence = 2;
   int kind = -1;
+  int flight_uncertainty = -1;  // analyze --csv's incoming_flight_uncertainty_s
+  int file = -1;
+  int channel = -1;
+  bool named = false;  // from a header
 };
 
 std::optional<CsvColumns> HeaderColumns(const std::vector<std::string>& fields) {
-  CsvColumns columns{-1, -1, -1, -1};
+  CsvColumns columns{-1, -1, -1, -1, -1, -1, -1, true};
   for (size_t i = 0; i < fields.size(); ++i) {
     const std::string name = Lower(fields[i]);
     const int index = static_cast<int>(i);
@@ -70,6 +76,9 @@ std::optional<CsvColumns> HeaderColumns(const std::vector<std::string>& fields) 
     if (name == "onset_uncertainty_s" || name == "uncertainty_s") columns.uncertainty = index;
     if (name == "sequence" || name == "drop") columns.sequence = index;
     if (name == "kind") columns.kind = index;
+    if (name == "incoming_flight_uncertainty_s") columns.flight_uncertainty = index;
+    if (name == "file") columns.file = index;
+    if (name == "channel") columns.channel = index;
   }
   if (columns.onset < 0) return std::nullopt;
   return columns;
@@ -80,9 +89,16 @@ std::string Field(const std::vector<std::string>& fields, int index) {
                                                                : std::string();
 }
 
+// The rows of one sequence: of one recording (file and channel, where named) and number.
+struct CsvSequence {
+  std::string file, channel;
+  long long number = 0;
+  std::vector<TimedImpact> impacts;
+};
+
 std::vector<MeasuredSequence> ReadCsv(const std::filesystem::path& path, std::istream& stream,
                                       const ImpactTimesOptions& options) {
-  std::map<long long, std::vector<TimedImpact>> by_sequence;
+  std::vector<CsvSequence> by_sequence;  // in the order the file first names each
   std::string line;
   int line_number = 0;
   bool seen_data = false;
@@ -117,29 +133,50 @@ std::vector<MeasuredSequence> ReadCsv(const std::filesystem::path& path, std::is
     }
     double sequence = 0;
     const std::string sequence_text = Field(fields, columns.sequence);
+    // A blank sequence under a header that names the column is an impact in no sequence (analyze
+    // --csv): taken into sequence 0, a stray sound of clipping.wav (detector suite) turned its
+    // eta-bar 0.5505 +- 0.0003 into -0.04 +- 0.29.
+    if (sequence_text.empty() && columns.named && columns.sequence >= 0) continue;
     if (!sequence_text.empty() &&
         (!ParseDouble(sequence_text, sequence) || sequence != std::floor(sequence))) {
       throw InputError(Where(path, line_number) + ": sequence '" + sequence_text +
                        "' must be an integer");
     }
+    double flight_sigma = 0;
+    const std::string flight_text = Field(fields, columns.flight_uncertainty);
+    if (!flight_text.empty() && (!ParseDouble(flight_text, flight_sigma) || flight_sigma < 0)) {
+      throw InputError(Where(path, line_number) + ": incoming flight uncertainty '" + flight_text +
+                       "' must be a non-negative number of seconds");
+    }
     if (sequence < 0) continue;  // the truth files' -1: not part of a drop
-    by_sequence[static_cast<long long>(sequence)].push_back({onset, sigma});
+    const std::string file = Field(fields, columns.file), channel = Field(fields, columns.channel);
+    const auto number = static_cast<long long>(sequence);
+    auto group = std::find_if(by_sequence.begin(), by_sequence.end(), [&](const CsvSequence& s) {
+      return s.file == file && s.channel == channel && s.number == number;
+    });
+    if (group == by_sequence.end()) {
+      by_sequence.push_back({file, channel, number, {}});
+      group = std::prev(by_sequence.end());
+    }
+    group->impacts.push_back({onset, sigma, flight_sigma});
   }
   std::vector<MeasuredSequence> sequences;
-  for (auto& [number, impacts] : by_sequence) {
+  for (auto& group : by_sequence) {
+    auto& impacts = group.impacts;
     std::sort(impacts.begin(), impacts.end(),
               [](const TimedImpact& a, const TimedImpact& b) { return a.onset_s < b.onset_s; });
+    // No flight of the sequence ends at its first impact.
+    if (!impacts.empty()) impacts.front().incoming_flight_uncertainty_s = 0;
+    // A recording's rows are named as its analysis is (drop.wav#1 for its first sequence).
     // Appended, not "#" + to_string(...): GCC 12 warns falsely (-Wrestrict) on that insert.
-    std::string suffix;
-    if (by_sequence.size() > 1) suffix.append("#").append(std::to_string(number));
-    sequences.push_back({path.filename().string() + suffix,
-                         path,
-                         std::move(impacts),
-                         {},
-                         {},
-                         0.0,
-                         std::nullopt,
-                         0.0});
+    std::string name = path.filename().string(), suffix;
+    if (!group.file.empty()) {
+      name = std::filesystem::path(group.file).filename().string();
+      suffix.append("#").append(std::to_string(group.number + 1));
+    } else if (by_sequence.size() > 1) {
+      suffix.append("#").append(std::to_string(group.number));
+    }
+    sequences.push_back({name + suffix, path, std::move(impacts), {}, {}, 0.0, std::nullopt, 0.0});
   }
   return sequences;
 }
@@ -221,12 +258,22 @@ std::vector<MeasuredSequence> ReadJson(const std::filesystem::path& path, std::i
         ++number;
         MeasuredSequence measured{
             source + "#" + std::to_string(number), path, {}, {}, {}, 0.0, std::nullopt, 0.0};
-        for (const auto& onset_json : sequence.at("onsets_s")) {
-          const double onset = onset_json.get<double>();
+        const auto& onsets = sequence.at("onsets_s");
+        // Older files have no incoming-flight uncertainties: none was stated then.
+        const nlohmann::json* flight_sigmas = nullptr;
+        if (sequence.contains("incoming_flight_uncertainty_s") &&
+            sequence["incoming_flight_uncertainty_s"].size() == onsets.size()) {
+          flight_sigmas = &sequence["incoming_flight_uncertainty_s"];
+        }
+        for (std::size_t j = 0; j < onsets.size(); ++j) {
+          const double onset = onsets[j].get<double>();
           TimedImpact timed{onset, options.default_uncertainty_s};
           // The analyzer copies onsets verbatim, so equality to a nanosecond finds the impact.
           for (const auto& impact : known) {
             if (std::abs(impact.onset_s - onset) < 1e-9) timed.uncertainty_s = impact.uncertainty_s;
+          }
+          if (flight_sigmas && j > 0) {
+            timed.incoming_flight_uncertainty_s = (*flight_sigmas)[j].get<double>();
           }
           measured.impacts.push_back(timed);
         }

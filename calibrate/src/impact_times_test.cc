@@ -55,6 +55,68 @@ TEST(ReadImpactTimes, AnalyzeJsonTakesUncertaintiesFromTheImpactList) {
   EXPECT_DOUBLE_EQ(sequences[0].impacts[2].uncertainty_s, 5e-6);
 }
 
+// A leading run doubted as a whole states the flight after it (TimedImpact::
+// incoming_flight_uncertainty_s): calibrate must read it back, or its interval would narrow by
+// the switch's doubt. None is taken into a sequence's first onset, and a file written before the
+// field states none.
+TEST(ReadImpactTimes, AnalyzeJsonKeepsTheFlightUncertaintiesOfEachSequence) {
+  const auto path = WriteTemp("flights.json", R"({"file": "/x/drop.wav",
+    "impacts": [{"onset_s": 0.1, "onset_uncertainty_s": 3e-6, "sequence": 0},
+                {"onset_s": 0.4, "onset_uncertainty_s": 4e-6, "sequence": 0},
+                {"onset_s": 0.6, "onset_uncertainty_s": 5e-6, "sequence": 0},
+                {"onset_s": 1.1, "onset_uncertainty_s": 3e-6, "sequence": 1},
+                {"onset_s": 1.4, "onset_uncertainty_s": 4e-6, "sequence": 1},
+                {"onset_s": 1.6, "onset_uncertainty_s": 5e-6, "sequence": 1}],
+    "sequences": [{"onsets_s": [0.1, 0.4, 0.6], "incoming_flight_uncertainty_s": [1, 0, 2.5e-3]},
+                  {"onsets_s": [1.1, 1.4, 1.6]}]})");
+  const auto sequences = ReadImpactTimes(path);
+  ASSERT_EQ(sequences.size(), 2u);
+  const auto flights = [](const MeasuredSequence& sequence) {
+    std::vector<double> sigmas;
+    for (const auto& impact : sequence.impacts)
+      sigmas.push_back(impact.incoming_flight_uncertainty_s);
+    return sigmas;
+  };
+  EXPECT_EQ(flights(sequences[0]), (std::vector<double>{0, 0, 2.5e-3}));
+  EXPECT_EQ(flights(sequences[1]), (std::vector<double>{0, 0, 0}));
+  EXPECT_DOUBLE_EQ(sequences[0].impacts[2].uncertainty_s, 5e-6);
+}
+
+// The same through `bouncecal analyze --csv`'s columns (any order, by name).
+TEST(ReadImpactTimes, AnalyzeCsvKeepsTheFlightUncertainties) {
+  const auto path = WriteTemp("flights.csv",
+                              "sequence,onset_s,onset_uncertainty_s,incoming_flight_uncertainty_s\n"
+                              "0,0.1,3e-6,0.000000000\n0,0.4,4e-6,0.000000000\n"
+                              "0,0.6,5e-6,0.002500000\n");
+  const auto sequences = ReadImpactTimes(path);
+  ASSERT_EQ(sequences.size(), 1u);
+  ASSERT_EQ(sequences[0].impacts.size(), 3u);
+  EXPECT_EQ(sequences[0].impacts[1].incoming_flight_uncertainty_s, 0.0);
+  EXPECT_EQ(sequences[0].impacts[2].incoming_flight_uncertainty_s, 2.5e-3);
+  EXPECT_THROW(ReadImpactTimes(WriteTemp("bad_flight.csv",
+                                         "onset_s,incoming_flight_uncertainty_s\n0.1,0\n0.4,-1\n")),
+               InputError);
+}
+
+// `bouncecal analyze --csv` of two recordings: each numbers its sequences from 0, and an impact
+// in no sequence has the column blank. Each recording's sequence stays its own, named as its
+// analysis names it, and the stray impact joins none (taken into sequence 0 before, a stray
+// sound of the detector suite's clipping.wav turned its eta-bar 0.5505 +- 0.0003 into -0.04).
+TEST(ReadImpactTimes, AnalyzeCsvKeepsRecordingsApartAndStrayImpactsOut) {
+  const auto path = WriteTemp("two_recordings.csv",
+                              "file,channel,sequence,k,onset_s,onset_uncertainty_s\n"
+                              "/x/a.wav,0,0,1,0.1,3e-6\n/x/a.wav,0,,,0.25,3e-6\n"
+                              "/x/a.wav,0,0,2,0.4,3e-6\n/x/a.wav,0,0,3,0.6,3e-6\n"
+                              "/x/b.wav,0,0,1,0.2,3e-6\n/x/b.wav,0,0,2,0.5,3e-6\n"
+                              "/x/b.wav,0,0,3,0.7,3e-6\n");
+  const auto sequences = ReadImpactTimes(path);
+  ASSERT_EQ(sequences.size(), 2u);
+  EXPECT_EQ(sequences[0].source, "a.wav#1");
+  EXPECT_EQ(sequences[1].source, "b.wav#1");
+  for (const auto& sequence : sequences) EXPECT_EQ(sequence.impacts.size(), 3u) << sequence.source;
+  EXPECT_EQ(sequences[0].impacts[1].onset_s, 0.4);
+}
+
 // One recording entry as bouncecal analyze --json writes it, with three impacts starting at t0.
 std::string RecordingEntry(const std::string& file, double t0) {
   const auto t = [t0](double dt) { return std::to_string(t0 + dt); };

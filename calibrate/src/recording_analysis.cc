@@ -45,7 +45,8 @@ void AnalyzeSequences(RecordingAnalysis& analysis, const RecordingAnalysisOption
     entry.sequence = sequence;
     for (int index : sequence.impact_indices) {
       const auto& impact = impacts[static_cast<std::size_t>(index)];
-      entry.onsets.push_back({impact.onset_s, impact.onset_uncertainty_s});
+      entry.onsets.push_back(
+          {impact.onset_s, impact.onset_uncertainty_s, impact.incoming_flight_uncertainty_s});
     }
     entry.physics = AnalyzeRestitution(entry.onsets, physics_options);
     if (options.drop_height_m) {

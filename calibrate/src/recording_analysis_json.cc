@@ -40,14 +40,17 @@ nlohmann::json ToJson(const std::optional<DropHeightCheck>& check) {
 
 nlohmann::json ToJson(const SequenceAnalysis& entry, const RecordingAnalysis& analysis) {
   const auto& p = entry.physics;
-  nlohmann::json onsets = nlohmann::json::array(), sigmas = nlohmann::json::array();
+  nlohmann::json onsets = nlohmann::json::array(), sigmas = nlohmann::json::array(),
+                 flight_sigmas = nlohmann::json::array();
   for (const auto& onset : entry.onsets) {
     onsets.push_back(onset.onset_s);
     sigmas.push_back(onset.uncertainty_s);
+    flight_sigmas.push_back(onset.incoming_flight_uncertainty_s);
   }
   return {
       {"onsets_s", onsets},
       {"onset_uncertainty_s", sigmas},
+      {"incoming_flight_uncertainty_s", flight_sigmas},
       {"intervals_s", p.intervals_s},
       {"interval_uncertainty_s", p.interval_uncertainty_s},
       {"restitution", p.restitution},
@@ -197,13 +200,13 @@ std::string AnalysisCsv(const std::vector<RecordingAnalysis>& analyses) {
   csv += "\n";
   for (const auto& analysis : analyses) {
     for (const auto& row : ImpactRows(ToJson(analysis))) {
-      csv += fmt::format("{},{},{},{},{:.9f},{:.9f},{:.2f},{},{},{},{},{},{},{},{}\n",
-                         CsvField(row.file.value_or("")), row.channel, Optional(row.sequence),
-                         Optional(row.k), row.onset_s, row.onset_uncertainty_s, row.peak_dbfs,
-                         Fixed(row.interval_s, 9), Fixed(row.bounce_height_m, 9),
-                         Fixed(row.restitution, 6), Fixed(row.restitution_uncertainty, 6),
-                         Fixed(row.energy_loss, 6), Fixed(row.energy_loss_uncertainty, 6),
-                         row.residual_only, row.timed_from_response);
+      csv += fmt::format(
+          "{},{},{},{},{:.9f},{:.9f},{:.9f},{:.2f},{},{},{},{},{},{},{},{}\n",
+          CsvField(row.file.value_or("")), row.channel, Optional(row.sequence), Optional(row.k),
+          row.onset_s, row.onset_uncertainty_s, row.incoming_flight_uncertainty_s, row.peak_dbfs,
+          Fixed(row.interval_s, 9), Fixed(row.bounce_height_m, 9), Fixed(row.restitution, 6),
+          Fixed(row.restitution_uncertainty, 6), Fixed(row.energy_loss, 6),
+          Fixed(row.energy_loss_uncertainty, 6), row.residual_only, row.timed_from_response);
     }
   }
   return csv;

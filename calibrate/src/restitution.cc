@@ -8,13 +8,18 @@
 namespace bouncecal::calibrate {
 namespace {
 
-// sigma of a quantity from its gradient with respect to the onsets, onsets independent.
+// sigma of a quantity from its gradient with respect to the onsets, onsets independent, and of
+// the shifts common to the onsets before an impact with an incoming-flight uncertainty, which
+// move the quantity by the sum of those onsets' gradients.
 double PropagatedSigma(const std::vector<double>& gradient,
                        const std::vector<TimedImpact>& impacts) {
   double variance = 0;
+  double earlier_gradient = 0;
   for (size_t i = 0; i < gradient.size(); ++i) {
+    const double shift_term = earlier_gradient * impacts[i].incoming_flight_uncertainty_s;
     const double term = gradient[i] * impacts[i].uncertainty_s;
-    variance += term * term;
+    variance += term * term + shift_term * shift_term;
+    earlier_gradient += gradient[i];
   }
   return std::sqrt(variance);
 }
@@ -38,8 +43,10 @@ void Validate(const std::vector<TimedImpact>& impacts, const RestitutionOptions&
     throw ConfigError("first N must be at least 1, got " + std::to_string(options.first_n));
   }
   for (size_t i = 0; i < impacts.size(); ++i) {
-    if (!std::isfinite(impacts[i].onset_s) || !std::isfinite(impacts[i].uncertainty_s) ||
-        impacts[i].uncertainty_s < 0) {
+    const TimedImpact& impact = impacts[i];
+    if (!std::isfinite(impact.onset_s) || !(impact.uncertainty_s >= 0) ||
+        !std::isfinite(impact.uncertainty_s) || !(impact.incoming_flight_uncertainty_s >= 0) ||
+        !std::isfinite(impact.incoming_flight_uncertainty_s)) {
       throw ConfigError("impact " + std::to_string(i + 1) +
                         " has a non-finite onset or a negative/non-finite uncertainty");
     }
@@ -64,7 +71,8 @@ RestitutionAnalysis AnalyzeRestitution(const std::vector<TimedImpact>& impacts,
   const size_t n = impacts.size();
   for (size_t j = 0; j + 1 < n; ++j) {
     const double dt = impacts[j + 1].onset_s - impacts[j].onset_s;
-    const double sigma = std::hypot(impacts[j].uncertainty_s, impacts[j + 1].uncertainty_s);
+    const double sigma = std::hypot(impacts[j].uncertainty_s, impacts[j + 1].uncertainty_s,
+                                    impacts[j + 1].incoming_flight_uncertainty_s);
     result.intervals_s.push_back(dt);
     result.interval_uncertainty_s.push_back(sigma);
     result.bounce_height_m.push_back(g * dt * dt / 8.0);

@@ -8,14 +8,16 @@ namespace bouncecal::calibrate::internal {
 
 // The linearised fit of one sequence at the fitted parameters x: residuals r = model - data with
 // weights w = 1/sigma^2 (chi-square = sum w r^2), and how r moves with x, with the onsets and with
-// the drop height; and how the onsets move when one impact's energy loss changes.
+// the drop height; and how the onsets move when one impact's energy loss changes. The timing
+// sources are each onset, then each shift common to the onsets before an impact with an
+// incoming-flight uncertainty (TimedImpact), independent of one another.
 struct SequenceLinearization {
   Eigen::MatrixXd parameters;      // d r / d x                  (terms x p)
   Eigen::VectorXd weights;         // 1 / sigma^2                 (terms)
   Eigen::VectorXd residual;        // r at x                      (terms)
-  Eigen::MatrixXd onsets;          // d r / d t_m                 (terms x onsets)
-  Eigen::VectorXd onset_variance;  // stated sigma_t^2 per onset  (onsets)
-  Eigen::MatrixXd jitter;          // d t_m / d eta_k             (onsets x impacts)
+  Eigen::MatrixXd onsets;          // d r / d t_m                 (terms x sources)
+  Eigen::VectorXd onset_variance;  // stated sigma_t^2 per source (sources)
+  Eigen::MatrixXd jitter;          // d t_m / d eta_k, 0 a shift  (sources x impacts)
   Eigen::VectorXd drop_height;     // sigma_h0 d r / d h0, empty when h0 is not uncertain (terms)
   int drop_height_group = 0;       // sequences of one group share one measured height
 };

@@ -23,7 +23,8 @@ std::vector<MeasuredSequence> FromRecording(const std::filesystem::path& path,
     }
     for (int index : grouping.sequences[s].impact_indices) {
       const auto& impact = impacts[static_cast<size_t>(index)];
-      sequence.impacts.push_back({impact.onset_s, impact.onset_uncertainty_s});
+      sequence.impacts.push_back(
+          {impact.onset_s, impact.onset_uncertainty_s, impact.incoming_flight_uncertainty_s});
     }
     if (static_cast<int>(sequence.impacts.size()) >= options.impact_times.min_impacts)
       sequences.push_back(std::move(sequence));

@@ -87,8 +87,8 @@ class Analysis(Result):
 
     def records(self):
         """One Result per detected impact, in time order, with the columns of `bouncecal
-        analyze --csv`: file, channel, sequence, k, onset_s, onset_uncertainty_s, peak_dbfs,
-        interval_s, bounce_height_m, restitution, restitution_uncertainty, energy_loss,
+        analyze --csv`: file, channel, sequence, k, onset_s, onset_uncertainty_s,
+        incoming_flight_uncertainty_s, peak_dbfs, interval_s, bounce_height_m, restitution, restitution_uncertainty, energy_loss,
         energy_loss_uncertainty, residual_only, timed_from_response (docs/json.md). k is the
         impact's 1-based place in its sequence (eta_k's k, restitution_impact_index + 1);
         sequence and k are None for an impact in no sequence, and what the sequence does not

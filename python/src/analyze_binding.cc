@@ -117,6 +117,7 @@ py::list ImpactRowsToPython(py::handle analysis) {
         optional_int(row.k),
         py::float_(row.onset_s),
         py::float_(row.onset_uncertainty_s),
+        py::float_(row.incoming_flight_uncertainty_s),
         py::float_(row.peak_dbfs),
         OptionalFloat(row.interval_s),
         OptionalFloat(row.bounce_height_m),

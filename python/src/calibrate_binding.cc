@@ -109,12 +109,17 @@ std::vector<calibrate::MeasuredSequence> SequencesFromAnalysis(
     const py::dict fields_s = list[s];
     const auto onsets = fields_s["onsets_s"].cast<std::vector<double>>();
     const auto sigmas = fields_s["onset_uncertainty_s"].cast<std::vector<double>>();
+    // Results of an older module have no incoming-flight uncertainties: none was stated then.
+    std::vector<double> flight_sigmas(onsets.size(), 0.0);
+    if (fields_s.contains("incoming_flight_uncertainty_s"))
+      flight_sigmas = fields_s["incoming_flight_uncertainty_s"].cast<std::vector<double>>();
     calibrate::MeasuredSequence sequence;
     sequence.source = name + "#" + std::to_string(s + 1);
     if (file) sequence.path = *file;
     sequence.content_hash = hash;
     for (std::size_t i = 0; i < onsets.size() && i < sigmas.size(); ++i) {
-      sequence.impacts.push_back({onsets[i], sigmas[i]});
+      sequence.impacts.push_back(
+          {onsets[i], sigmas[i], i > 0 && i < flight_sigmas.size() ? flight_sigmas[i] : 0.0});
     }
     // As LoadSequences: fewer impacts carry no restitution.
     if (sequence.impacts.size() >= 3) sequences.push_back(std::move(sequence));

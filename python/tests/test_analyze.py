@@ -94,7 +94,7 @@ def test_analyze_returns_numpy_columns_of_the_documented_types_and_lengths(steel
     onsets = len(sequence.onsets_s)
     assert sequence.restitution_impact_index.dtype == numpy.int64
     for name, length in (("onsets_s", onsets), ("onset_uncertainty_s", onsets),
-                         ("intervals_s", onsets - 1), ("interval_uncertainty_s", onsets - 1),
+                         ("incoming_flight_uncertainty_s", onsets), ("intervals_s", onsets - 1), ("interval_uncertainty_s", onsets - 1),
                          ("bounce_height_m", onsets - 1), ("restitution", onsets - 1),
                          ("energy_loss_uncertainty", onsets - 1)):
         assert sequence[name].dtype == numpy.float64, name

@@ -90,6 +90,19 @@ def test_an_analysis_or_its_onsets_fit_like_the_recording(steel_sample):
     assert from_array.card(created_at=0).recordings == []
 
 
+def test_an_analysis_passes_its_flight_uncertainties_to_the_fit(steel_sample):
+    # A leading run the detector doubts as a whole states the flight after it
+    # (incoming_flight_uncertainty_s, docs/json.md); calibrate must take it from an analysis as it
+    # does from the recording, or the interval would narrow by the doubt. 1 ms on the flight that
+    # ends eta-bar's first three losses is 20 times the sample's onset sigmas.
+    options = dict(ball="steel-10mm", analytic_check=False)
+    analysis = bouncecal.analyze(steel_sample)
+    stated = bouncecal.calibrate([analysis], **options).fitted_parameters[0].standard_error
+    analysis.sequences[0].incoming_flight_uncertainty_s[3] = 1e-3
+    doubted = bouncecal.calibrate([analysis], **options).fitted_parameters[0].standard_error
+    assert doubted > 2 * stated
+
+
 def test_a_card_needs_the_ball(steel_sample, tmp_path):
     fit = bouncecal.calibrate(steel_sample, analytic_check=False)
     assert fit.ball_given is False

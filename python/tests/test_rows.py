@@ -16,13 +16,14 @@ import pytest
 import bouncecal
 from conftest import STEREO_SAMPLE
 
-COLUMNS = ["file", "channel", "sequence", "k", "onset_s", "onset_uncertainty_s", "peak_dbfs",
-           "interval_s", "bounce_height_m", "restitution", "restitution_uncertainty",
+COLUMNS = ["file", "channel", "sequence", "k", "onset_s", "onset_uncertainty_s",
+           "incoming_flight_uncertainty_s", "peak_dbfs", "interval_s", "bounce_height_m", "restitution", "restitution_uncertainty",
            "energy_loss", "energy_loss_uncertainty", "residual_only", "timed_from_response"]
 FLAGS = ("residual_only", "timed_from_response")  # written true / false
 # Half a unit in the last place the CSV writes each column with (calibrate::AnalysisCsv): onsets,
 # intervals and heights with 9 decimals, e and eta with 6, the peak level with 2.
-CSV_ROUNDING = {"onset_s": 5e-10, "onset_uncertainty_s": 5e-10, "interval_s": 5e-10,
+CSV_ROUNDING = {"onset_s": 5e-10, "onset_uncertainty_s": 5e-10,
+                "incoming_flight_uncertainty_s": 5e-10, "interval_s": 5e-10,
                 "bounce_height_m": 5e-10, "peak_dbfs": 5e-3, "restitution": 5e-7,
                 "restitution_uncertainty": 5e-7, "energy_loss": 5e-7,
                 "energy_loss_uncertainty": 5e-7}

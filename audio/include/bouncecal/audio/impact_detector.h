@@ -112,6 +112,11 @@ struct Impact {
   // a bounce sequence states it for its members that the response timing did not time
   // (StateUnsearchedOnsetSpans, weak_member_doubt.h).
   double unsearched_span_s = 0;
+  // One sigma of the flight that ends at this impact beyond the two onsets' own, s: where every
+  // earlier member of its bounce sequence may sit on another sound together (a leading run timed
+  // on its clicks, merged_alternatives.h), the run's shift moves this flight alone, and each
+  // ratio inside the run keeps its value. 0 elsewhere.
+  double incoming_flight_uncertainty_s = 0;
 };
 
 // A rise that was merged into a louder impact less than min_gap_ms away.

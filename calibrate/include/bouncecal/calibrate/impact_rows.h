@@ -21,6 +21,9 @@ struct ImpactRow {
   std::optional<int> k;         // 1-based place in the sequence, as eta_k is numbered
   double onset_s = 0;
   double onset_uncertainty_s = 0;
+  // The sequence's own uncertainty of the flight that ends at this impact (TimedImpact); 0 for an
+  // impact in no sequence or a document written before it was stated.
+  double incoming_flight_uncertainty_s = 0;
   double peak_dbfs = 0;
   // What the sequence gives: the flight after this impact and the height it reached, m; e_k and
   // eta_k with their uncertainties. None where the sequence does not give them (no flight after
@@ -36,21 +39,23 @@ struct ImpactRow {
 };
 
 // The columns, in the order the CSV writes them and Python's rows hold them.
-inline constexpr std::array<std::string_view, 15> kImpactRowColumns = {"file",
-                                                                       "channel",
-                                                                       "sequence",
-                                                                       "k",
-                                                                       "onset_s",
-                                                                       "onset_uncertainty_s",
-                                                                       "peak_dbfs",
-                                                                       "interval_s",
-                                                                       "bounce_height_m",
-                                                                       "restitution",
-                                                                       "restitution_uncertainty",
-                                                                       "energy_loss",
-                                                                       "energy_loss_uncertainty",
-                                                                       "residual_only",
-                                                                       "timed_from_response"};
+inline constexpr std::array<std::string_view, 16> kImpactRowColumns = {
+    "file",
+    "channel",
+    "sequence",
+    "k",
+    "onset_s",
+    "onset_uncertainty_s",
+    "incoming_flight_uncertainty_s",
+    "peak_dbfs",
+    "interval_s",
+    "bounce_height_m",
+    "restitution",
+    "restitution_uncertainty",
+    "energy_loss",
+    "energy_loss_uncertainty",
+    "residual_only",
+    "timed_from_response"};
 
 // One row per entry of `recording`'s "impacts", in time order. Throws InputError when the entry
 // lacks a field the rows need or an impact names a sequence it does not hold.

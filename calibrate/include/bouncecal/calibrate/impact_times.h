@@ -44,10 +44,14 @@ struct ImpactTimesOptions {
 // Reads impact times from
 //  - a CSV file: one impact per line, columns onset_s[,onset_uncertainty_s[,sequence]]; an
 //    optional header line, '#' comments and blank lines are skipped; rows with the same sequence
-//    number (any integer) form one sequence, otherwise the whole file is one sequence;
+//    number (any integer) form one sequence, otherwise the whole file is one sequence. Where a
+//    header names the sequence column, a row with it blank is in no sequence; header columns
+//    file and channel keep each recording's sequences apart, and incoming_flight_uncertainty_s
+//    gives each flight's own uncertainty (TimedImpact): the rows of `bouncecal analyze --csv`;
 //  - the JSON `bouncecal analyze --json` writes ("format": "bouncecal-analysis/1",
-//    docs/json.md): per entry of "recordings", "sequences": [{"onsets_s": [...]}, ...] and
-//    "impacts": [{"onset_s", "onset_uncertainty_s"}] giving each onset's uncertainty. The shapes
+//    docs/json.md): per entry of "recordings", "sequences": [{"onsets_s": [...],
+//    "incoming_flight_uncertainty_s": [...]}, ...] and "impacts": [{"onset_s",
+//    "onset_uncertainty_s"}] giving each onset's uncertainty. The shapes
 //    written before the format field (one such entry, or an array of them) are still read; a
 //    document of another format, or of a later version, is an InputError saying so.
 // The format is chosen by the extension (.csv / .json). Throws InputError naming the file and the

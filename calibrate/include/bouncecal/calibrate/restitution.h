@@ -25,6 +25,10 @@ struct RestitutionOptions {
 struct TimedImpact {
   double onset_s = 0;
   double uncertainty_s = 0;
+  // One sigma of the flight that ends at this impact beyond its two onsets' own: a shift common
+  // to every earlier onset of the sequence (Impact::incoming_flight_uncertainty_s), which moves
+  // this flight alone. 0 on a sequence's first impact.
+  double incoming_flight_uncertainty_s = 0;
 };
 
 struct RestitutionAnalysis {
@@ -47,7 +51,8 @@ struct RestitutionAnalysis {
 
 // Throws ConfigError for non-finite or non-increasing onsets, a non-positive gravity, drop
 // height or first_n. Uncertainties are propagated to first order from independent onset errors
-// (an onset enters two intervals with opposite signs, so the correlation is kept).
+// (an onset enters two intervals with opposite signs, so the correlation is kept) and independent
+// incoming-flight errors (every earlier onset shifted together).
 RestitutionAnalysis AnalyzeRestitution(const std::vector<TimedImpact>& impacts,
                                        const RestitutionOptions& options = {});
 
