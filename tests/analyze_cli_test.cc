@@ -447,7 +447,7 @@ TEST(AnalyzeCli, LimitedBouncesTimedOnTheirClicksStateTheBounceAfterThem) {
       // Seed 959 #55 (AGC from 25.7 dB): the first four bounces, all limited, timed on their clicks
       // and aligned to one another (+-5 us) with nothing recorded of the bounces, the pairs putting
       // the rest on their bounces; the interval after the run 7 ms short: eta-bar 0.3894 +-
-      // 0.0001 against 0.4025 (224 sigmas). The run's last member states half the spacing.
+      // 0.0001 against 0.4025 (224 sigmas). The flight after the run states half the spacing.
       {"limited_run",
        "--sample-rate-hz 96000 --contact-duration-s 7e-05 --surface plate --restitution 0.773 "
        "--drop-height-m 0.452 --seed 56 --precursor-lead-s 0.0070 --precursor-gain-db -10.4 "
@@ -490,6 +490,40 @@ TEST(AnalyzeCli, LimitedBouncesTimedOnTheirClicksStateTheBounceAfterThem) {
     ASSERT_TRUE(FoundFromTheFirstBounce(drop, 8e-3));
     ExpectNotSilentWrong(drop.sequence, drop.truth);
   }
+}
+
+// The leading run of the case above timed on its clicks (seed 960 #178) is doubted as the flight
+// after it (incoming_flight_uncertainty_s); calibrate must read that doubt back from the JSON and
+// from the CSV alike, or the fit's interval would narrow by it.
+TEST(AnalyzeCli, TheFlightAfterALimitedRunReachesCalibrateFromJsonAndCsv) {
+  const auto wav = ScratchPath("flight_run.wav");
+  SynthesizedBounceTimes(
+      wav,
+      "--sample-rate-hz 22050 --contact-duration-s 3.5e-05 --surface counter --restitution 0.766 "
+      "--drop-height-m 0.249 --seed 179 --precursor-lead-s 0.0075 --precursor-gain-db -10.9 "
+      "--level-jitter-db 3 --snr-db 40 --limiter-lookahead-s 0.0005 --limiter-release-s 0.02 "
+      "--limiter-gain-db 25.0 --agc-target-dbfs -14.0 --agc-slew-db-per-s 6 "
+      "--agc-level-time-s 0.1");
+  const auto json = ScratchPath("flight_run.json"), csv = ScratchPath("flight_run.csv");
+  const auto analyzed = RunBouncecal("analyze '" + wav.string() + "' --json '" + json.string() +
+                                     "' --csv '" + csv.string() + "'");
+  ASSERT_EQ(analyzed.exit_status, 0) << analyzed.output;
+  const auto flights =
+      ReadJsonFile(json)["recordings"][0]["sequences"][0]["incoming_flight_uncertainty_s"]
+          .get<std::vector<double>>();
+  // Half the 7.5 ms spacing, on the flight after the run of four.
+  ASSERT_GE(flights.size(), 5u);
+  EXPECT_NEAR(flights[4], 0.5 * 7.5e-3, 0.5e-3);
+  const auto eta_bar_line = [](const fs::path& input) {
+    const auto fit = RunBouncecal("calibrate '" + input.string() + "' --ball steel-10mm");
+    EXPECT_EQ(fit.exit_status, 0) << fit.output;
+    const auto at = fit.output.find("eta-bar(first 3)");
+    return at == std::string::npos ? std::string()
+                                   : fit.output.substr(at, fit.output.find('\n', at) - at);
+  };
+  const std::string from_json = eta_bar_line(json);
+  EXPECT_FALSE(from_json.empty());
+  EXPECT_EQ(eta_bar_line(csv), from_json);
 }
 
 // A 32 kHz drop on a counter in a 0.29 s reverb with 60 Hz hum at -27 dBFS (the sweep's seed 101

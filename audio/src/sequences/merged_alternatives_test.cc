@@ -275,6 +275,12 @@ std::vector<double> IntervalErrors(const std::vector<Impact>& impacts,
   return errors;
 }
 
+// The stated sigma of the interval from member k to the next: both onsets' and the flight's own.
+double IntervalSigma(const std::vector<Impact>& impacts, std::size_t k) {
+  return std::hypot(impacts[k].onset_uncertainty_s, impacts[k + 1].onset_uncertainty_s,
+                    impacts[k + 1].incoming_flight_uncertainty_s);
+}
+
 // silent_wrong_sweep.py --precursors seed 7 #63's pattern: the first four members on their
 // clicks, the rest on their bounces. Each member's neighbours on both sides of the switch fit
 // either sound as badly; the sequence as a whole takes one sound of every pair, and every
@@ -339,8 +345,7 @@ TEST(PairedSounds, IntervalsAcrossASwitchTheRatiosCannotDecideAreStatedWithIt) {
     TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
     const auto errors = IntervalErrors(impacts, truth);
     for (std::size_t k = 0; k < errors.size(); ++k) {
-      const double sigma =
-          std::hypot(impacts[k].onset_uncertainty_s, impacts[k + 1].onset_uncertainty_s);
+      const double sigma = IntervalSigma(impacts, k);
       EXPECT_LE(std::fabs(errors[k]), 2 * sigma) << "interval " << k;
     }
     for (std::size_t k = 0; k < impacts.size(); ++k) {
@@ -525,8 +530,7 @@ TEST(PairedSounds, MembersEitherChoiceWouldMoveStateTheSpacingWhereNoChoiceIsTak
   }
   const auto errors = IntervalErrors(impacts, truth);
   for (std::size_t k = 0; k < errors.size(); ++k) {
-    const double sigma =
-        std::hypot(impacts[k].onset_uncertainty_s, impacts[k + 1].onset_uncertainty_s);
+    const double sigma = IntervalSigma(impacts, k);
     EXPECT_LE(std::fabs(errors[k]), 2 * sigma) << "interval " << k;
   }
 }
@@ -602,8 +606,7 @@ TEST(PairedSounds, ASequenceWeighedAgainAfterAMemberMovedStatesTheSwitchItLeft) 
   TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
   const auto errors = IntervalErrors(impacts, clicks);
   for (std::size_t k = 0; k < 5; ++k) {
-    const double sigma =
-        std::hypot(impacts[k].onset_uncertainty_s, impacts[k + 1].onset_uncertainty_s);
+    const double sigma = IntervalSigma(impacts, k);
     EXPECT_LE(std::fabs(errors[k]), 2 * sigma) << "interval " << k;
   }
 }
@@ -911,21 +914,34 @@ TEST(FreshAttack, AtTheSpacingOfTheMergedClicksItStatesHalfTheSpacing) {
 }
 
 // After the stage: no member moved, the members `doubted` state half the spacing, the others keep
-// Drop's 30 us.
+// Drop's 30 us; the flights into the members `doubted_flights` state half the spacing (a run
+// before them shifted together), the others nothing.
 void ExpectOnlyTheseStateHalfTheSpacing(const std::vector<Impact>& after,
                                         const std::vector<Impact>& before,
-                                        const std::vector<std::size_t>& doubted, double spacing_s) {
+                                        const std::vector<std::size_t>& doubted, double spacing_s,
+                                        const std::vector<std::size_t>& doubted_flights = {}) {
+  const auto in = [](const std::vector<std::size_t>& list, std::size_t k) {
+    return std::find(list.begin(), list.end(), k) != list.end();
+  };
   for (std::size_t k = 0; k < after.size(); ++k) {
     ASSERT_EQ(after[k].onset_s, before[k].onset_s) << "member " << k << " moved";
-    const bool stated = std::find(doubted.begin(), doubted.end(), k) != doubted.end();
-    EXPECT_NEAR(after[k].onset_uncertainty_s, stated ? 0.5 * spacing_s : 30e-6, kSameOnsetS) << k;
+    EXPECT_NEAR(after[k].onset_uncertainty_s, in(doubted, k) ? 0.5 * spacing_s : 30e-6, kSameOnsetS)
+        << k;
+    EXPECT_NEAR(after[k].incoming_flight_uncertainty_s,
+                in(doubted_flights, k) ? 0.5 * spacing_s : 0.0, kSameOnsetS)
+        << "flight into " << k;
   }
+}
+
+// A leading run of members 0-3 states its switch as the flight after it, into the 4th member.
+std::vector<std::size_t> FlightAfterTheRunIf(bool doubted) {
+  return doubted ? std::vector<std::size_t>{4} : std::vector<std::size_t>{};
 }
 
 // A drop whose first four members sit on their clicks `spacing_s` before their bounces (or on
 // their bounces), the first of them with rises of `rises_db` at the spacing after them, and the
 // members `clicks_merged` with a sound merged under them (dB) at the spacing before them; after
-// the stage only the run's last member states half the spacing, where `doubted`.
+// the stage only the flight after the run states half the spacing, where `doubted`.
 struct MergedClick {
   std::size_t member;
   double quieter_db;
@@ -954,19 +970,18 @@ void ExpectTheRunsEndStatedIf(const LeadingRunOnClicks& run, bool doubted) {
   }
   const auto onsets = impacts;
   TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
-  ExpectOnlyTheseStateHalfTheSpacing(
-      impacts, onsets, doubted ? std::vector<std::size_t>{3} : std::vector<std::size_t>{},
-      run.spacing_s);
+  ExpectOnlyTheseStateHalfTheSpacing(impacts, onsets, {}, run.spacing_s,
+                                     FlightAfterTheRunIf(doubted));
 }
 
 // The first four members on their clicks 7 ms before their bounces, with nothing recorded of the
 // bounces (a limiter levelled each with its click), the rest on their bounces, two with their
-// clicks merged (--limiter --precursors seed 960 #178, 7.4 ms): the run's last member states half
-// the spacing, the others keep their sigmas. With the run on its bounces too, nothing changes.
-// (The switch lengthens the 0.17 s flight after the run by 4.1 %, and moving the run back fits
-// the ratios it touches 31 scatters squared better, at the 1 % floor of the ln-ratio scatter; the
-// 12 required is not reached by 0.5 % scatter of the flights, whose 2 % scatter of ratios a 5 ms
-// switch does not stand out of.)
+// clicks merged (--limiter --precursors seed 960 #178, 7.4 ms): the flight after the run states
+// half the spacing, the members keep their sigmas. With the run on its bounces too, nothing
+// changes. (The switch lengthens the 0.17 s flight after the run by 4.1 %, and moving the run back
+// fits the ratios it touches 31 scatters squared better, at the 1 % floor of the ln-ratio scatter;
+// the 12 required is not reached by 0.5 % scatter of the flights, whose 2 % scatter of ratios a 5
+// ms switch does not stand out of.)
 TEST(FreshAttack, ALeadingRunOnTheClicksOfTheMergedPairsStatesItsEnd) {
   for (const bool run_on_clicks : {true, false}) {
     SCOPED_TRACE(run_on_clicks);
@@ -981,7 +996,7 @@ TEST(FreshAttack, ALeadingRunOnTheClicksOfTheMergedPairsStatesItsEnd) {
 // A leading run on its clicks, aligned by the response timing, whose switch the ratios lean
 // towards but not by the 12 scatters squared they need alone (flights scattering 0.8 %; 0.4-1.6 %
 // pass alike, at 0.2 % the ratios alone doubt the run with half of it attacked): where
-// most of the run's members have a fresh attack at the spacing after them, the run's last member
+// most of the run's members have a fresh attack at the spacing after them, the flight after the run
 // states half the spacing, also where a member of the run has another sound merged before it, off
 // the spacing (--limiter --precursors seed 963 #145: members 0-3 on their clicks 5.4 ms early, the
 // 3rd with a sound 11.5 ms before it; the run's move fitted 4.7 scatters squared better, eta-bar
@@ -1019,9 +1034,8 @@ TEST(FreshAttack, ALeadingRunMostlyFollowedByTheBouncesAttacksStatesItsEnd) {
     }
     const auto onsets = impacts;
     TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
-    ExpectOnlyTheseStateHalfTheSpacing(
-        impacts, onsets, c.doubted ? std::vector<std::size_t>{3} : std::vector<std::size_t>{},
-        kSpacingS);
+    ExpectOnlyTheseStateHalfTheSpacing(impacts, onsets, {}, kSpacingS,
+                                       FlightAfterTheRunIf(c.doubted));
   }
 }
 
@@ -1031,8 +1045,8 @@ TEST(FreshAttack, ALeadingRunMostlyFollowedByTheBouncesAttacksStatesItsEnd) {
 // with their clicks merged; eta-bar 43 sigmas off), or the run's last member showing a stray sound
 // before it at the spacing besides its attack (fresh seed 981 #86: a sound 15 dB under the 4th
 // member, 4.7 ms before it). The run ends after its attacked members, not at the first member
-// with a sound merged before it, and its last member states half the spacing. With the run on its
-// bounces (a move the ratios do not prefer) every sigma stays.
+// with a sound merged before it, and the flight after it states half the spacing. With the run on
+// its bounces (a move the ratios do not prefer) every sigma stays.
 TEST(FreshAttack, ALeadingRunEndsBeforeTheFirstMemberOnItsBounce) {
   const std::vector<MergedClick> after_an_unknown_member = {{5, 10.0}, {6, 10.0}, {7, 10.0}};
   const std::vector<MergedClick> stray_before_the_last = {{3, 15.4}, {4, 10.0}};
@@ -1054,7 +1068,7 @@ TEST(FreshAttack, ALeadingRunEndsBeforeTheFirstMemberOnItsBounce) {
 // and 2nd only, the 5th on its bounce with nothing merged, the 6th-8th with their clicks merged;
 // eta-bar 28 sigmas off): an end the ratios prefer clearly (the move of members 0-3 fits them
 // far better than 12 scatters squared, a 7.4 ms switch on a 0.17 s flight) is taken without an
-// attack at it, and the run's last member states half the spacing. With the run on its bounces
+// attack at it, and the flight after the run states half the spacing. With the run on its bounces
 // every sigma stays.
 TEST(FreshAttack, ALeadingRunEndsWhereTheRatiosClearlyEndItWithoutAnAttack) {
   for (const bool run_on_clicks : {true, false}) {
@@ -1072,7 +1086,7 @@ TEST(FreshAttack, ALeadingRunEndsWhereTheRatiosClearlyEndItWithoutAnAttack) {
 // the spacing after members 0-3, 7.9 ms early, one of them 6 dB; eta-bar 21 sigmas off), beside
 // members on their bounces with their clicks merged at that spacing: the weak attacks mark the
 // run, and with a move the ratios lean towards (flights scattering 0.8 %, under the 12 scatters
-// squared the ratios need alone) its last member states half the spacing. With rises under
+// squared the ratios need alone) the flight after it states half the spacing. With rises under
 // 4 dB, or the same weak rise after every later member too (an echo or a beat, not the run's
 // bounces), every sigma stays.
 TEST(FreshAttack, WeakAttacksAtTheSpacingOfTheMergedPairsMarkALeadingRun) {
@@ -1103,9 +1117,8 @@ TEST(FreshAttack, WeakAttacksAtTheSpacingOfTheMergedPairsMarkALeadingRun) {
     }
     const auto onsets = impacts;
     TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
-    ExpectOnlyTheseStateHalfTheSpacing(
-        impacts, onsets, c.doubted ? std::vector<std::size_t>{3} : std::vector<std::size_t>{},
-        kSpacingS);
+    ExpectOnlyTheseStateHalfTheSpacing(impacts, onsets, {}, kSpacingS,
+                                       FlightAfterTheRunIf(c.doubted));
   }
 }
 
@@ -1168,8 +1181,8 @@ TEST(FreshAttack, AThreeMemberSequenceHasNoRatiosToLeanOn) {
 // members 0-3 on their clicks 2.4 ms before their bounces, the 3rd and 4th with attacks of 8-9 dB
 // at the spacing, the 1st and 2nd 4 dB there; the rest on their bounces; eta-bar 0.3490 +- 0.0003
 // against the exact 0.3536): the attacks state the spacing and, where at least half the run is
-// attacked and moving it by the spacing fits the ratios better at all, the run's last member
-// states half of it. (The switch lengthens the 0.169 s flight after the run by 1.4 %, under the
+// attacked and moving it by the spacing fits the ratios better at all, the flight after the
+// run states half of it. (The switch lengthens the 0.169 s flight after the run by 1.4 %, under the
 // ratios' 1 % floor squared twelve times.) The run ends after the attacked member where its move
 // fits the ratios best, and members between without an attack (rises just under 6 dB) do not cut
 // it short. An attacked member after it (a bounce's echo or beat at the spacing; seed 979 #42, the
@@ -1204,17 +1217,16 @@ TEST(FreshAttack, ALeadingRunWithNothingMergedStatesItsEndByItsAttacks) {
     std::vector<MergedEvent> merged;
     const auto onsets = impacts;
     TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
-    ExpectOnlyTheseStateHalfTheSpacing(
-        impacts, onsets, c.doubted ? std::vector<std::size_t>{3} : std::vector<std::size_t>{},
-        c.spacing_s);
+    ExpectOnlyTheseStateHalfTheSpacing(impacts, onsets, {}, c.spacing_s,
+                                       FlightAfterTheRunIf(c.doubted));
   }
 }
 
 // The leading run of the test above, on its clicks 5 ms early and attacked 11 dB at the spacing,
 // with one stray sound merged before a later member at another distance (fresh --limiter
 // --precursors seed 980 #140: 6.6 ms before the 7th member, 7.6 dB under it; eta-bar 23 sigmas
-// off): one sound is no spacing of pairs to hold the attacks' against, and the run's last member
-// states half the spacing. With the run on its bounces every sigma stays.
+// off): one sound is no spacing of pairs to hold the attacks' against, and the flight after
+// the run states half the spacing. With the run on its bounces every sigma stays.
 TEST(FreshAttack, OneStraySoundMergedDoesNotHideALeadingRunsAttacks) {
   constexpr double kSpacingS = 5e-3;
   struct Case {
@@ -1238,9 +1250,8 @@ TEST(FreshAttack, OneStraySoundMergedDoesNotHideALeadingRunsAttacks) {
     }
     const auto onsets = impacts;
     TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
-    ExpectOnlyTheseStateHalfTheSpacing(
-        impacts, onsets, c.doubted ? std::vector<std::size_t>{3} : std::vector<std::size_t>{},
-        kSpacingS);
+    ExpectOnlyTheseStateHalfTheSpacing(impacts, onsets, {}, kSpacingS,
+                                       FlightAfterTheRunIf(c.doubted));
   }
 }
 
@@ -1294,8 +1305,8 @@ TEST(PairedSounds, APairedMemberAloneOnItsSoundStatesHalfTheSpacing) {
 // louder (one or two pairs, too few to weigh the sequence whole), and the others show their
 // bounces' attacks at that spacing (--limiter --precursors seed 973 #95: members 0-3 on their
 // clicks 5.9 ms early, the 3rd's and 4th's bounces merged 5-6 dB louder, the 1st's and 2nd's
-// attacks 6.0-6.4 dB; the 5th on its bounce; eta-bar 0.5782 +- 0.0035 against 0.5942): the run's
-// last member states half the spacing. With the run on its bounces (louder echoes after two of
+// attacks 6.0-6.4 dB; the 5th on its bounce; eta-bar 0.5782 +- 0.0035 against 0.5942): the flight
+// after the run states half the spacing. With the run on its bounces (louder echoes after two of
 // them: the move fits worse), or a member of the run with neither (the run ends before it, too
 // short), every sigma stays.
 TEST(PairedSounds, ALeadingRunOnTheQuieterSoundOfTooFewPairsStatesItsEnd) {
@@ -1324,9 +1335,8 @@ TEST(PairedSounds, ALeadingRunOnTheQuieterSoundOfTooFewPairsStatesItsEnd) {
     }
     const auto onsets = impacts;
     TakeMergedOnsetsThatFitTheSequence(impacts, merged, OneSequence(impacts));
-    ExpectOnlyTheseStateHalfTheSpacing(
-        impacts, onsets, c.doubted ? std::vector<std::size_t>{3} : std::vector<std::size_t>{},
-        kSpacingS);
+    ExpectOnlyTheseStateHalfTheSpacing(impacts, onsets, {}, kSpacingS,
+                                       FlightAfterTheRunIf(c.doubted));
   }
 }
 
