@@ -13,6 +13,7 @@
 
 #include "bouncecal/error.h"
 #include "bouncecal/option_error.h"
+#include "csv_line.h"
 
 namespace bouncecal::calibrate {
 namespace {
@@ -21,20 +22,6 @@ std::string Lower(std::string text) {
   std::transform(text.begin(), text.end(), text.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return text;
-}
-
-std::string Trim(const std::string& text) {
-  const auto first = text.find_first_not_of(" \t\r");
-  if (first == std::string::npos) return "";
-  return text.substr(first, text.find_last_not_of(" \t\r") - first + 1);
-}
-
-std::vector<std::string> SplitCsv(const std::string& line) {
-  std::vector<std::string> fields;
-  std::stringstream stream(line);
-  std::string field;
-  while (std::getline(stream, field, ',')) fields.push_back(Trim(field));
-  return fields;
 }
 
 bool ParseDouble(const std::string& text, double& value) {
@@ -105,9 +92,9 @@ std::vector<MeasuredSequence> ReadCsv(const std::filesystem::path& path, std::is
   CsvColumns columns;
   while (std::getline(stream, line)) {
     ++line_number;
-    line = Trim(line);
+    line = internal::TrimBlanks(line);
     if (line.empty() || line[0] == '#') continue;
-    const auto fields = SplitCsv(line);
+    const auto fields = internal::SplitCsvLine(line);
     double onset = 0;
     if (!seen_data && !fields[0].empty() &&
         std::isalpha(static_cast<unsigned char>(fields[0][0]))) {

@@ -100,19 +100,21 @@ TEST(ReadImpactTimes, AnalyzeCsvKeepsTheFlightUncertainties) {
 
 // `bouncecal analyze --csv` of two recordings: each numbers its sequences from 0, and an impact
 // in no sequence has the column blank. Each recording's sequence stays its own, named as its
-// analysis names it, and the stray impact joins none (taken into sequence 0 before, a stray
-// sound of the detector suite's clipping.wav turned its eta-bar 0.5505 +- 0.0003 into -0.04).
+// analysis names it (a name with a comma in quotes), and the stray impact joins none (taken into
+// sequence 0 before, a stray sound of the detector suite's clipping.wav turned its eta-bar 0.5505
+// +- 0.0003 into -0.04).
 TEST(ReadImpactTimes, AnalyzeCsvKeepsRecordingsApartAndStrayImpactsOut) {
-  const auto path = WriteTemp("two_recordings.csv",
-                              "file,channel,sequence,k,onset_s,onset_uncertainty_s\n"
-                              "/x/a.wav,0,0,1,0.1,3e-6\n/x/a.wav,0,,,0.25,3e-6\n"
-                              "/x/a.wav,0,0,2,0.4,3e-6\n/x/a.wav,0,0,3,0.6,3e-6\n"
-                              "/x/b.wav,0,0,1,0.2,3e-6\n/x/b.wav,0,0,2,0.5,3e-6\n"
-                              "/x/b.wav,0,0,3,0.7,3e-6\n");
+  const auto path =
+      WriteTemp("two_recordings.csv",
+                "file,channel,sequence,k,onset_s,onset_uncertainty_s\n"
+                "/x/a.wav,0,0,1,0.1,3e-6\n/x/a.wav,0,,,0.25,3e-6\n"
+                "/x/a.wav,0,0,2,0.4,3e-6\n/x/a.wav,0,0,3,0.6,3e-6\n"
+                "\"/x/b, second.wav\",0,0,1,0.2,3e-6\n\"/x/b, second.wav\",0,0,2,0.5,3e-6\n"
+                "\"/x/b, second.wav\",0,0,3,0.7,3e-6\n");
   const auto sequences = ReadImpactTimes(path);
   ASSERT_EQ(sequences.size(), 2u);
   EXPECT_EQ(sequences[0].source, "a.wav#1");
-  EXPECT_EQ(sequences[1].source, "b.wav#1");
+  EXPECT_EQ(sequences[1].source, "b, second.wav#1");
   for (const auto& sequence : sequences) EXPECT_EQ(sequence.impacts.size(), 3u) << sequence.source;
   EXPECT_EQ(sequences[0].impacts[1].onset_s, 0.4);
 }

@@ -7,10 +7,10 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "bouncecal/error.h"
 #include "bouncecal/option_error.h"
+#include "csv_line.h"
 
 namespace bouncecal::calibrate {
 namespace {
@@ -20,39 +20,6 @@ constexpr const char* kColumns = "recording, drop_height_m, drop_height_uncertai
 // 'path', appended rather than "'" + ...: GCC 12 warns falsely (-Wrestrict) on that form.
 std::string Quoted(const std::filesystem::path& path) {
   return std::string("'").append(path.string()).append("'");
-}
-
-std::string Trim(const std::string& text) {
-  const auto first = text.find_first_not_of(" \t\r");
-  if (first == std::string::npos) return {};
-  return text.substr(first, text.find_last_not_of(" \t\r") - first + 1);
-}
-
-// Comma-separated fields; a field in double quotes may hold commas ("" is a quote).
-std::vector<std::string> SplitCsv(const std::string& line) {
-  std::vector<std::string> fields(1);
-  bool quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-        fields.back() += '"';
-        ++i;
-      } else if (c == '"') {
-        quoted = false;
-      } else {
-        fields.back() += c;
-      }
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      fields.emplace_back();
-    } else {
-      fields.back() += c;
-    }
-  }
-  for (auto& field : fields) field = Trim(field);
-  return fields;
 }
 
 std::optional<double> Length(const std::string& text, const std::string& where,
@@ -92,12 +59,12 @@ std::vector<ManifestEntry> ReadCsv(const std::filesystem::path& path, std::istre
   std::vector<std::string> header;
   std::string line;
   for (int number = 1; std::getline(stream, line); ++number) {
-    line = Trim(line);
+    line = internal::TrimBlanks(line);
     if (line.empty() || line[0] == '#') continue;
     // Appended, not "'" + ...: GCC 12 warns falsely (-Wrestrict) on that form.
     const std::string where =
         std::string("'").append(path.string()).append("' line ").append(std::to_string(number));
-    const auto fields = SplitCsv(line);
+    const auto fields = internal::SplitCsvLine(line);
     if (header.empty()) {
       header = fields;
       for (const auto& column : header) {
