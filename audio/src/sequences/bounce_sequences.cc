@@ -1521,6 +1521,17 @@ SequenceResult FindSequences(const std::vector<Impact>& impacts, const SequenceO
         best = std::move(joined);
     }
     best.members.front() = FirstMemberThatFitsTheDrop(impacts, free, best.members);
+    if (const auto head = LouderHeadInAnEarlyFlight(impacts, free, best.members);
+        head.replaced > 0) {
+      // The chain so headed answers to the chance test as if found so; where it does not pass,
+      // the chain stays as it was.
+      Chain headed = best;
+      headed.members.erase(headed.members.begin(),
+                           headed.members.begin() + static_cast<long>(head.replaced));
+      headed.members.insert(headed.members.begin(), head.impact);
+      headed.chance_alignment = std::numeric_limits<double>::quiet_NaN();
+      if (passes_the_chance_test(headed)) best = std::move(headed);
+    }
     if (const std::size_t leading = periodic ? LeadingEventsOfThePeriodicSound(
                                                    impacts, best.members, *periodic,
                                                    static_cast<std::size_t>(options.min_impacts))

@@ -232,5 +232,66 @@ TEST(LeadingSounds, AShortChainsFirstRatioWithinTheBallsStepOrItsTimingKeepsItsM
   EXPECT_TRUE(ShortChainsFirstFlightMisfits(tight, All(tight)));
 }
 
+// A drop of constant restitution 0.709 with a sound before it whose first ratio reads 0.596, as
+// knock_sweep.py seed 1000 #127 (its onset stated +-1.3 ms on its 0.48 s flight): four identical
+// later ratios leave the line no scatter to estimate, and Student's t at 2 degrees of freedom
+// (100) on the ratio's own timing let a ratio 70 of its sigmas off pass. That timing is stated,
+// not estimated, and takes the normal quantile (3.9): the sound is cut. A first bounce off by 3 of
+// its ratio's sigmas (the same +-1.3 ms) is kept.
+TEST(LeadingSounds, ASoundOffIdenticalLaterRatiosIsCutThoughItsOnsetIsStatedWide) {
+  const auto chain = [](double first_ratio, double first_sigma_s) {
+    const double e = 0.709;
+    std::vector<Impact> impacts;
+    const double first_flight = 0.48;
+    double t = 1.0, flight = first_ratio * first_flight;
+    impacts.push_back({.onset_s = t - first_flight, .onset_uncertainty_s = first_sigma_s});
+    for (int k = 0; k < 6; ++k) {
+      impacts.push_back({.onset_s = t, .onset_uncertainty_s = 20e-6});
+      t += flight;
+      flight *= e;
+    }
+    return impacts;
+  };
+  const auto knocked = chain(0.596, 1.3e-3);
+  EXPECT_EQ(LeadingSoundsBeforeTheDrop(knocked, All(knocked)), 1u);
+  // d ratio / d first onset = ratio / first flight.
+  const auto within_its_timing = chain(0.709 + 3 * 0.709 / 0.48 * 1.3e-3, 1.3e-3);
+  EXPECT_EQ(LeadingSoundsBeforeTheDrop(within_its_timing, All(within_its_timing)), 0u);
+}
+
+// Two sounds before a drop (0.88 s apart, 14 dBFS) whose chain runs on into the drop's 2nd bounce
+// over its 1st, the loudest sound, in the 2nd sound's flight (knock_sweep.py seed 1000 #287:
+// ratios 0.568, 0.577, then 0.687): the 1st bounce heads the chain in place of both. Not where
+// it is quieter than the bounce after it (a bounce before hits faster).
+TEST(LeadingSounds, ALouderSoundInAnEarlyFlightWhoseRatioFitsTheDropHeadsTheChain) {
+  const auto drop = [](double first_bounce_dbfs) {
+    const double e = 0.687;
+    std::vector<Impact> impacts{
+        {.onset_s = 0.4326, .onset_uncertainty_s = 50e-6, .peak_dbfs = -14},
+        {.onset_s = 1.3113, .onset_uncertainty_s = 50e-6, .peak_dbfs = -14}};
+    double t = 1.3913, flight = 0.4194, level = first_bounce_dbfs;
+    for (int k = 0; k < 8; ++k) {
+      impacts.push_back({.onset_s = t, .onset_uncertainty_s = 20e-6, .peak_dbfs = level});
+      t += flight;
+      flight *= e;
+      level = k == 0 ? -8.3 : level + 20 * std::log10(e);
+    }
+    return impacts;
+  };
+  // The chain: both sounds, then the drop from its 2nd bounce (the 1st, index 2, left out).
+  const auto chain_over_the_first = [](const std::vector<Impact>& impacts) {
+    std::vector<int> members{0, 1};
+    for (int k = 3; k < static_cast<int>(impacts.size()); ++k) members.push_back(k);
+    return members;
+  };
+  const auto knocks = drop(-5.0);
+  std::vector<bool> free(knocks.size(), true);
+  const auto head = LouderHeadInAnEarlyFlight(knocks, free, chain_over_the_first(knocks));
+  EXPECT_EQ(head.replaced, 2u);
+  EXPECT_EQ(head.impact, 2);
+  const auto quiet = drop(-9.0);
+  EXPECT_EQ(LouderHeadInAnEarlyFlight(quiet, free, chain_over_the_first(quiet)).replaced, 0u);
+}
+
 }  // namespace
 }  // namespace bouncecal::audio
