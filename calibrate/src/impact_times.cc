@@ -260,7 +260,13 @@ std::vector<MeasuredSequence> ReadJson(const std::filesystem::path& path, std::i
             if (std::abs(impact.onset_s - onset) < 1e-9) timed.uncertainty_s = impact.uncertainty_s;
           }
           if (flight_sigmas && j > 0) {
-            timed.incoming_flight_uncertainty_s = (*flight_sigmas)[j].get<double>();
+            const double sigma = (*flight_sigmas)[j].get<double>();
+            if (!(sigma >= 0) || !std::isfinite(sigma)) {
+              throw InputError("'" + path.string() + "' sequence " + std::to_string(number) +
+                               ": incoming_flight_uncertainty_s must be a non-negative number "
+                               "of seconds");
+            }
+            timed.incoming_flight_uncertainty_s = sigma;
           }
           measured.impacts.push_back(timed);
         }

@@ -80,6 +80,16 @@ TEST(ReadImpactTimes, AnalyzeJsonKeepsTheFlightUncertaintiesOfEachSequence) {
   EXPECT_EQ(flights(sequences[0]), (std::vector<double>{0, 0, 2.5e-3}));
   EXPECT_EQ(flights(sequences[1]), (std::vector<double>{0, 0, 0}));
   EXPECT_DOUBLE_EQ(sequences[0].impacts[2].uncertainty_s, 5e-6);
+  // A negative one is refused naming the file, as the CSV reader refuses it.
+  const auto negative = WriteTemp("negative_flight.json", R"({"file": "/x/drop.wav",
+    "impacts": [], "sequences": [{"onsets_s": [0.1, 0.4, 0.6],
+                                  "incoming_flight_uncertainty_s": [0, -1e-3, 0]}]})");
+  try {
+    ReadImpactTimes(negative);
+    FAIL() << "expected InputError";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find(negative.string()), std::string::npos) << error.what();
+  }
 }
 
 // The same through `bouncecal analyze --csv`'s columns (any order, by name).
