@@ -87,7 +87,8 @@ def analyse(bouncecal, entry):
     for impact in members:
         nearest = min(range(len(truth)), key=lambda j: abs(truth[j] - impact["onset_s"]))
         rows.append({"truth": nearest, "error": impact["onset_s"] - truth[nearest],
-                     "sigma": impact["onset_uncertainty_s"],
+                     "sigma": impact["onset_uncertainty_s"], "onset": impact["onset_s"],
+                     "peak_dbfs": impact["peak_dbfs"],
                      "residual_only": impact["residual_only"]})
     band = [r["error"] for r in rows if not r["residual_only"]] or [r["error"] for r in rows]
     constant = statistics.median(band)

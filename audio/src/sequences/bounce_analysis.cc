@@ -4,6 +4,7 @@
 #include <utility>
 #include <vector>
 
+#include "sequences/leading_sounds.h"
 #include "sequences/merged_alternatives.h"
 #include "sequences/tentative_extension.h"
 #include "sequences/weak_member_doubt.h"
@@ -30,6 +31,7 @@ SequenceResult GroupBounces(DetectionResult& detection, const SequenceOptions& o
   TakeMergedOnsetsThatFitTheSequence(detection.impacts, detection.merged, grouping.sequences);
   StateUnsearchedOnsetSpans(detection.impacts, grouping.sequences);
   StateDoubtOfWeakMembers(detection.impacts, grouping.sequences);
+  DoubtAFirstFlightOffTheLaterRatios(detection.impacts, grouping.sequences);
   return grouping;
 }
 

@@ -23,6 +23,19 @@ constexpr std::size_t kLeadingRatiosJudged = 4;
 // The same level (two-sided 1e-4) under a normal law, for the judged ratio's own timing noise:
 // stated, not estimated.
 constexpr double kLeadingOutlierZ = 3.89;
+// Two-sided 1e-2 quantiles of Student's t with 2, 3 and 4 degrees of freedom: a first ratio
+// beyond these, though kept, states the alternative (DoubtAFirstFlightOffTheLaterRatios). Three
+// later ratios (their mean) give 2 degrees of freedom too.
+constexpr double kFirstFlightDoubtT[] = {9.925, 5.841, 4.604};
+// A ball's restitution falls with impact speed, and the first ratio is its fastest impact's, so it
+// may lie below the line through the slower ones by more than that line's scatter: the shared
+// recordings' first ratios lie 0.0015-0.028 below it (alessia rimbalzi 0.0125 with later
+// ratios that scatter by 0.002, so that its 32-bit float and 3 kHz low-passed copies stood 5.0
+// and 6.4 sigmas off; ub-mth337 basketball 0.018, fr4nci Audio 0.019, Palla-audio 0.028), the
+// detector suite's drops 0.007, and none above it by more than 0.003 but for balls whose ratios
+// scatter. Below the line, this one-sigma allowance joins the line's scatter: a first ratio up to
+// 0.035 low (4 degrees of freedom) is a ball's.
+constexpr double kFastestImpactRatioDrop = 0.0075;
 // FirstMemberThatFitsTheDrop: a first ratio this many sigmas off the line through the next ones
 // is a misfit (two-sided ~3e-3 under a normal law), an alternative within this many fits, and
 // alternatives are the sounds this close to the first member: an impact's echoes and precursors
@@ -60,7 +73,7 @@ ChainRatios RatiosOf(const std::vector<Impact>& impacts, const std::vector<int>&
 
 // What the line through the reference ratios after ratio j says of it.
 struct LineAtRatio {
-  std::size_t references = 0;  // m; 0: fewer than 4, nothing judged
+  std::size_t references = 0;  // how many later ratios judge it; 0: too few, nothing judged
   double value = 0;            // the line's value at ratio j
   double variance = 0;         // of a ratio about the line there, its own timing left out
 };
@@ -306,6 +319,30 @@ HeadInAnEarlyFlight LouderHeadInAnEarlyFlight(const std::vector<Impact>& impacts
     }
   }
   return best;
+}
+
+void DoubtAFirstFlightOffTheLaterRatios(std::vector<Impact>& impacts,
+                                        const std::vector<BounceSequence>& sequences) {
+  for (const BounceSequence& sequence : sequences) {
+    const std::vector<int>& members = sequence.impact_indices;
+    if (members.size() < 6) continue;
+    const ChainRatios chain = RatiosOf(impacts, members);
+    LineAtRatio line = JudgeByLaterRatios(chain, 0);
+    if (line.references == 0) line = MeanOfThreeLaterRatios(chain, 0);
+    if (line.references == 0 || !(line.value > 0)) continue;
+    const double t = kFirstFlightDoubtT[line.references >= 4 ? line.references - 4 : 0];
+    const double off = chain.ratios[0] - line.value;
+    const double allowance = off < 0 ? kFastestImpactRatioDrop * kFastestImpactRatioDrop : 0.0;
+    if (std::fabs(off) <= t * Spread(line, chain.variances[0] + allowance)) continue;
+    const auto onset = [&](std::size_t k) {
+      return impacts[static_cast<std::size_t>(members[k])].onset_s;
+    };
+    const double first_flight_s = onset(1) - onset(0);
+    const double bounce_before_s = (onset(2) - onset(1)) / line.value;
+    Impact& second = impacts[static_cast<std::size_t>(members[1])];
+    second.incoming_flight_uncertainty_s =
+        std::max(second.incoming_flight_uncertainty_s, std::fabs(first_flight_s - bounce_before_s));
+  }
 }
 
 namespace {

@@ -301,5 +301,52 @@ TEST(LeadingSounds, ALouderSoundInAnEarlyFlightWhoseRatioFitsTheDropHeadsTheChai
   EXPECT_EQ(short_head.impact, 2);
 }
 
+// A stray sound before a drop of e = 0.716 whose last member is stated +-5.7 ms and sits 0.5 ms
+// late (knock_sweep.py seed 1000 #213): the line through the later ratios scatters enough for the
+// 1e-4 cut to keep a first ratio of 0.752, but not beyond the 1e-2 doubt, so the first flight
+// states how far it is from the flight a bounce before would have flown (the next flight over
+// the later ratios' value: a 23.6 ms doubt on a 0.469 s flight; the line's value at the first
+// ratio is 0.716 to 0.7 %, pulled down by the late last member, 1.7 ms more).
+TEST(LeadingSounds, AFirstRatioKeptOffTheLaterOnesStatesTheFirstFlight) {
+  const auto chain = [](double first_ratio, int bounces, double last_late_s) {
+    const double e = 0.716, first_flight = 0.469;
+    std::vector<Impact> impacts;
+    double t = 1.0, flight = first_ratio * first_flight;
+    impacts.push_back({.onset_s = t - first_flight, .onset_uncertainty_s = 240e-6});
+    for (int k = 0; k < bounces; ++k) {
+      impacts.push_back({.onset_s = t, .onset_uncertainty_s = 15e-6});
+      t += flight;
+      flight *= e;
+    }
+    impacts.back().onset_s += last_late_s;
+    impacts.back().onset_uncertainty_s = last_late_s > 0 ? 5.7e-3 : 15e-6;
+    return impacts;
+  };
+  const auto doubt_of = [](std::vector<Impact> impacts) {
+    EXPECT_EQ(LeadingSoundsBeforeTheDrop(impacts, All(impacts)), 0u);
+    BounceSequence sequence;
+    sequence.impact_indices = All(impacts);
+    DoubtAFirstFlightOffTheLaterRatios(impacts, {sequence});
+    for (std::size_t k = 0; k < impacts.size(); ++k) {
+      if (k != 1) {
+        EXPECT_EQ(impacts[k].incoming_flight_uncertainty_s, 0) << k;
+      }
+    }
+    return impacts[1].incoming_flight_uncertainty_s;
+  };
+  const double doubt_s = 0.752 * 0.469 / 0.716 - 0.469;
+  EXPECT_NEAR(doubt_of(chain(0.752, 8, 0.5e-3)), doubt_s, 0.01 * 0.469);
+  EXPECT_EQ(doubt_of(chain(0.716, 8, 0.5e-3)), 0);
+  // Below the line a ball's fastest impact may lie by up to 0.035 (its restitution falls with
+  // impact speed); a sound before the drop 0.045 below is doubted.
+  EXPECT_EQ(doubt_of(chain(0.716 - 0.03, 8, 0.5e-3)), 0);
+  EXPECT_NEAR(doubt_of(chain(0.716 - 0.045, 8, 0.5e-3)), 0.045 / 0.716 * 0.469, 0.01 * 0.469);
+  // A chain of 6: three later ratios, their mean (2 degrees of freedom).
+  EXPECT_NEAR(doubt_of(chain(0.752, 5, 0)), doubt_s, 1e-9);
+  EXPECT_EQ(doubt_of(chain(0.716, 5, 0)), 0);
+  // A chain of 5 has two later ratios: nothing to judge by.
+  EXPECT_EQ(doubt_of(chain(0.752, 4, 0)), 0);
+}
+
 }  // namespace
 }  // namespace bouncecal::audio
