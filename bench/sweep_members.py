@@ -26,7 +26,9 @@ first 4 that shrank). This is
 how a timing change is judged before the sweep is rerun from scratch: the same files (10782
 with a sequence on the machine of 2026-12-06), both binaries, in a few minutes (--reuse reads
 the first binary's results from an earlier --save instead of running it again: half the time
-when one base is compared with several changes).
+when one base is compared with several changes). A saved member also holds its onset and peak
+level (`onset`, `peak_dbfs`), so a rule on a sequence's timing and levels can be modelled offline
+over every file before it is built (2026-12-07: the leading-ratio doubt of leading_sounds.h).
 Deterministic; needs only Python's standard library.
 """
 import argparse

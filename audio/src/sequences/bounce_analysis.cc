@@ -31,7 +31,7 @@ SequenceResult GroupBounces(DetectionResult& detection, const SequenceOptions& o
   TakeMergedOnsetsThatFitTheSequence(detection.impacts, detection.merged, grouping.sequences);
   StateUnsearchedOnsetSpans(detection.impacts, grouping.sequences);
   StateDoubtOfWeakMembers(detection.impacts, grouping.sequences);
-  DoubtAFirstFlightOffTheLaterRatios(detection.impacts, grouping.sequences);
+  DoubtLeadingFlightsOffTheLaterRatios(detection.impacts, grouping.sequences);
   return grouping;
 }
 
