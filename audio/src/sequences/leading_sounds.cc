@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
-#include <limits>
 #include <optional>
 #include <utility>
 
@@ -304,14 +303,10 @@ HeadInAnEarlyFlight LouderHeadInAnEarlyFlight(const std::vector<Impact>& impacts
     }
     const Impact& next = at(members[k + 1]);
     const Impact& after_next = at(members[k + 2]);
-    double loudest_replaced = -std::numeric_limits<double>::infinity();
-    for (std::size_t j = 0; j <= k; ++j) {
-      loudest_replaced = std::max(loudest_replaced, at(members[j]).peak_dbfs);
-    }
     for (int i = members[k] + 1; i < members[k + 1]; ++i) {
       const Impact& candidate = at(i);
       if (!free[static_cast<std::size_t>(i)] || candidate.residual_only ||
-          !(candidate.peak_dbfs > next.peak_dbfs) || !(candidate.peak_dbfs > loudest_replaced)) {
+          !(candidate.peak_dbfs > next.peak_dbfs)) {
         continue;
       }
       const double dt0 = next.onset_s - candidate.onset_s;
