@@ -115,7 +115,9 @@ struct Impact {
   // One sigma of the flight that ends at this impact beyond the two onsets' own, s: where every
   // earlier member of its bounce sequence may sit on another sound together (a leading run timed
   // on its clicks, merged_alternatives.h), the run's shift moves this flight alone, and each
-  // ratio inside the run keeps its value. 0 elsewhere.
+  // ratio inside the run keeps its value; where the members before it may be sounds before the
+  // drop (a leading ratio off the later ones, leading_sounds.h), how far this flight is from the
+  // one a bounce would have flown. 0 elsewhere.
   double incoming_flight_uncertainty_s = 0;
 };
 
