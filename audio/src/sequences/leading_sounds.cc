@@ -346,8 +346,8 @@ void DoubtLeadingFlightsOffTheLaterRatios(std::vector<Impact>& impacts,
       // ends at member j + 1) may be any length; bounces before member j + 1 would have flown
       // flight j + 1 over the later ratios' value, once per bounce back. Each flight is its own
       // doubt: as one shift of members 0..j, two sounds' ratios move oppositely and their
-      // eta-bar hardly (knock_sweep.py seed 5000 #119: 0.703 and 0.752 against 0.660, 0.0625
-      // off at +-0.0073).
+      // eta-bar hardly (knock_sweep.py seed 5000 #119, stated with the mean of three at 1e-2:
+      // 0.703 and 0.752 against 0.660, 0.0625 off at +-0.0073).
       double ball_flight_s = onset(j + 2) - onset(j + 1);
       for (std::size_t k = j + 1; k-- > 0;) {
         ball_flight_s /= line.value;

@@ -389,13 +389,14 @@ TEST(LeadingSounds, ASecondRatioOffTheLaterOnesStatesTheFlightsBeforeTheDrop) {
 // is judged at 1e-3 and kept unstated; 0.2 above, as a sound before the drop times, it is not.
 TEST(LeadingSounds, ThreeLaterRatiosThatAgreeByChanceDoNotDoubtABallsScatter) {
   const auto chain = [](double second_ratio) {
-    std::vector<Impact> impacts;
     double t = 1.0, flight = 0.2557;
-    for (double ratio : {0.637, second_ratio, 0.627, 0.629, 0.625, 1.0, 1.0}) {
-      impacts.push_back({.onset_s = t, .onset_uncertainty_s = 20e-6});
+    std::vector<Impact> impacts{{.onset_s = t, .onset_uncertainty_s = 20e-6}};
+    for (double ratio : {0.637, second_ratio, 0.627, 0.629, 0.625}) {
       t += flight;
+      impacts.push_back({.onset_s = t, .onset_uncertainty_s = 20e-6});
       flight *= ratio;
     }
+    impacts.push_back({.onset_s = t + flight, .onset_uncertainty_s = 20e-6});
     BounceSequence sequence;
     sequence.impact_indices = All(impacts);
     DoubtLeadingFlightsOffTheLaterRatios(impacts, {sequence});
