@@ -675,6 +675,73 @@ bool PassesOverLouderSounds(const std::vector<Impact>& impacts, const std::vecto
   return false;
 }
 
+// The first ratio is the one nothing predicts: tracking takes every third impact the window of
+// the first flight offers and keeps the longest chain, so chance sounds after a ball's bounces
+// can carry a chain from its first two bounces to a later one, past the bounce in between. A
+// free sound inside the chain's second flight that is louder than the member ending it (by
+// kSplitLouderDb), and splits that flight into two whose ratio agrees with the first one's (the
+// ball's next two flights), is that bounce as likely as a stray: the chain's ratios from its third
+// member on are then another ball's, and a chain that only its timing admits (NeedsTheChanceTest)
+// cannot tell which, so it is not a sequence. The agreement allowed: kSplitFitSigmas times the two
+// ratios' timing sigmas and a ball's scatter (kSplitRatioScatter per ratio) together. Why:
+// --limiter seed 985 #21 (Opus 32k, an AGC): the first two bounces, then the 4th over the 3rd
+// (louder, 0.123 and 0.067 s after the 2nd: ratios 0.536 and 0.543) and on through five
+// residual-only sounds of the noise after the drop (ratios 0.83-0.87, 3.1e-3 expected chance
+// chains); eta-bar 0.2886 +- 0.010 against the exact 0.7127.
+constexpr double kSplitFitSigmas = 2.0;
+constexpr double kSplitRatioScatter = 0.03;
+// Louder by more than a tie: a limiter's ceiling or a normalised file holds every loud sound at
+// one level (--limiter seed 984 #15: the drop's bounces and the noise between them all at -1.00
+// dBFS, one of the five noise sounds in its second flight splitting it at 1.7 sigmas; a right
+// eta-bar was lost without the margin).
+constexpr double kSplitLouderDb = 1.0;
+
+bool SecondFlightHoldsALouderNextBounce(const std::vector<Impact>& impacts,
+                                        const std::vector<bool>& free,
+                                        const std::vector<int>& members,
+                                        const SequenceOptions& options) {
+  if (members.size() < 3) return false;
+  const Impact& first = impacts[static_cast<size_t>(members[0])];
+  const Impact& second = impacts[static_cast<size_t>(members[1])];
+  const Impact& third = impacts[static_cast<size_t>(members[2])];
+  const double first_flight_s = second.onset_s - first.onset_s;
+  const double variance_first_s2 = first.onset_uncertainty_s * first.onset_uncertainty_s +
+                                   second.onset_uncertainty_s * second.onset_uncertainty_s;
+  for (int i = members[1] + 1; i < members[2]; ++i) {
+    const Impact& split = impacts[static_cast<size_t>(i)];
+    if (!free[static_cast<size_t>(i)] || !(split.peak_dbfs > third.peak_dbfs + kSplitLouderDb)) {
+      continue;
+    }
+    const double before_s = split.onset_s - second.onset_s;
+    const double after_s = third.onset_s - split.onset_s;
+    const double ratio_before = before_s / first_flight_s;
+    const double ratio_after = after_s / before_s;
+    if (ratio_before < options.min_ratio || ratio_before > options.max_ratio ||
+        ratio_after < options.min_ratio || ratio_after > options.max_ratio) {
+      continue;
+    }
+    const double variance_before_s2 = second.onset_uncertainty_s * second.onset_uncertainty_s +
+                                      split.onset_uncertainty_s * split.onset_uncertainty_s;
+    const double variance_after_s2 = split.onset_uncertainty_s * split.onset_uncertainty_s +
+                                     third.onset_uncertainty_s * third.onset_uncertainty_s;
+    // The two ratios' variances from their flights' relative errors and a ball's scatter; the
+    // split's onset enters both, and summing them as if independent only widens the allowance.
+    const double ratio_before_var = ratio_before * ratio_before *
+                                    (variance_before_s2 / (before_s * before_s) +
+                                     variance_first_s2 / (first_flight_s * first_flight_s) +
+                                     kSplitRatioScatter * kSplitRatioScatter);
+    const double ratio_after_var =
+        ratio_after * ratio_after *
+        (variance_after_s2 / (after_s * after_s) + variance_before_s2 / (before_s * before_s) +
+         kSplitRatioScatter * kSplitRatioScatter);
+    if (std::fabs(ratio_after - ratio_before) <=
+        kSplitFitSigmas * std::sqrt(ratio_before_var + ratio_after_var)) {
+      return true;
+    }
+  }
+  return false;
+}
+
 // Where a chain's skipped bounces would be: a chain of every other bounce of a ball of
 // restitution e times like a ball of restitution e^2 (its flights D_k = dt_2k (1 + e) shrink by
 // e^2), so its own timing cannot tell, and its eta-bar is 1 - e^4 instead of 1 - e^2 (the
@@ -1433,6 +1500,16 @@ SequenceResult FindSequences(const std::vector<Impact>& impacts, const SequenceO
     }
     return std::nullopt;
   };
+  // The next chain from a first impact, after its chain `refused` (a first impact has one chain in
+  // the heap at a time, so its runners-up are those of the tracking that gave that one).
+  const auto try_next_from = [&](int first, const Chain& refused_chain) {
+    auto& next = runners_up[static_cast<size_t>(first)];
+    const auto rank = static_cast<std::size_t>(refused_chain.alternative);
+    if (rank < next.size() && static_cast<int>(next[rank].members.size()) >= options.min_impacts) {
+      next[rank].epoch = refused_chain.epoch;
+      push(std::move(next[rank]));
+    }
+  };
   while (!heap.empty()) {
     Chain best = heap.top();
     heap.pop();
@@ -1459,18 +1536,14 @@ SequenceResult FindSequences(const std::vector<Impact>& impacts, const SequenceO
       // residual-only sounds (7 members against 6; 9.8 expected chance chains), and the file
       // formed no sequence. The next chain from that impact is tried (up to
       // kChainsTriedFromOneImpact), each counted against it.
-      // A first impact has one chain in the heap at a time, so its runners-up are those of the
-      // tracking that gave this one.
-      auto& next = runners_up[static_cast<size_t>(first)];
-      const auto rank = static_cast<std::size_t>(best.alternative);
-      if (rank < next.size() &&
-          static_cast<int>(next[rank].members.size()) >= options.min_impacts) {
-        next[rank].epoch = best.epoch;
-        push(std::move(next[rank]));
-      }
+      try_next_from(first, best);
       continue;
     }
     if (NeedsTheChanceTest(impacts, free, options, as_popped.members)) {
+      if (SecondFlightHoldsALouderNextBounce(impacts, free, best.members, options)) {
+        try_next_from(first, best);
+        continue;
+      }
       if (auto through = chain_through_the_flight(as_popped)) {
         heap.push(std::move(as_popped));
         best = std::move(*through);

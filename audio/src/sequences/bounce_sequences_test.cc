@@ -10,6 +10,7 @@
 #include <random>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include "bouncecal/error.h"
 #include "sequence_test_support.h"
@@ -1117,6 +1118,73 @@ TEST(BounceSequences, AChainWhoseFirstFlightHoldsALikelierDropsBouncesYieldsToTh
       EXPECT_LT(impacts[static_cast<std::size_t>(i)].onset_s, 3.1) << "a sound after the drop";
     }
   }
+}
+
+// The --limiter sweep's seed 985 #21 (Opus 32k, an AGC), as the detector gave it: the drop's first
+// two bounces (0.5142, 0.7438 s, band-detected), its 3rd (0.8669 s) and 4th (0.9337 s) found only
+// in the ringing, the later ones lost to the codec, and after the drop residual-only sounds of the
+// noise the AGC raised.
+std::vector<Impact> DropWithAChanceTailAfterItsFourthBounce() {
+  return FromDetected({{0.491344, 0.002160, -17.2, 1},
+                       {0.514241, 0.000257, -1.0, 0},
+                       {0.621094, 0.001788, -4.0, 1},
+                       {0.696073, 0.002682, -6.0, 1},
+                       {0.743812, 0.000255, -2.1, 0},
+                       {0.866870, 0.001788, -3.4, 1},
+                       {0.933698, 0.001957, -6.1, 1},
+                       {1.034615, 0.001788, -10.3, 1},
+                       {1.099698, 0.002666, -11.5, 1},
+                       {1.116531, 0.001788, -12.8, 1},
+                       {1.221573, 0.002071, -17.2, 1},
+                       {1.237177, 0.001788, -15.8, 1},
+                       {1.356063, 0.002695, -18.5, 1},
+                       {1.456740, 0.001788, -18.7, 1},
+                       {1.655802, 0.002838, -19.9, 1},
+                       {2.001323, 0.000452, -22.5, 0}});
+}
+
+SequenceOptions OpusOptions() {
+  SequenceOptions options;
+  options.codec_frame_s = 0.02;  // an Opus frame
+  return options;
+}
+
+// Tracking took the 4th bounce over the louder 3rd (ratios 0.827 against the drop's 0.536) and went
+// on through five of the noise's sounds (ratios 0.83-0.87), which time like a ball at 3.1e-3
+// expected chance chains: eta-bar 0.2886 +- 0.010 against the exact 0.7127. The 3rd bounce splits
+// that chain's second flight into two whose ratio agrees with the first one's (0.536, 0.543), so
+// the chain is not a sequence; the drop's own four impacts time like chance (0.09) and form none
+// either: no answer rather than a wrong one.
+TEST(BounceSequences, AChainPastALouderSoundThatTimesAsTheNextBounceIsNoSequence) {
+  const auto impacts = DropWithAChanceTailAfterItsFourthBounce();
+  const auto result = FindBounceSequences(impacts, OpusOptions());
+  for (const auto& sequence : result.sequences) {
+    const auto& members = sequence.impact_indices;
+    EXPECT_FALSE(std::find(members.begin(), members.end(), 4) != members.end() &&
+                 std::find(members.begin(), members.end(), 6) != members.end() &&
+                 std::find(members.begin(), members.end(), 5) == members.end())
+        << "a sequence from the 2nd bounce to the 4th past the 3rd";
+  }
+}
+
+// The same chain where the louder sound in its second flight does not time as the next bounce
+// (moved 12 ms later: ratios 0.588 and 0.406, 6.0 of their sigmas apart with the 3 % scatter,
+// where the rule's 2 take 0.536 and 0.543 at 0.21), or is quieter than the member after it, stays
+// the sequence it was: the rule refuses only a chain whose third member has that rival.
+TEST(BounceSequences, AChainPastASoundThatDoesNotTimeAsTheNextBounceStays) {
+  const auto expect_the_chain = [](const std::vector<Impact>& impacts) {
+    const auto result = FindBounceSequences(impacts, OpusOptions());
+    ASSERT_FALSE(result.sequences.empty());
+    const auto& members = result.sequences.front().impact_indices;
+    ASSERT_GE(members.size(), 3u);
+    EXPECT_EQ(std::vector<int>(members.begin(), members.begin() + 3), (std::vector<int>{1, 4, 6}));
+  };
+  auto moved = DropWithAChanceTailAfterItsFourthBounce();
+  moved[5].onset_s += 0.012;
+  expect_the_chain(moved);
+  auto quieter = DropWithAChanceTailAfterItsFourthBounce();
+  quieter[5].peak_dbfs = -7.0;
+  expect_the_chain(quieter);
 }
 
 // Three knocks before a drop (knock_sweep.py seed 1000 #189, as the detector gave it) time like
